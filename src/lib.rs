@@ -1,0 +1,55 @@
+//! # handrig
+//!
+//! MediaPipe hand and pose tracking to VRM avatar motion, every frame: finger rotations for
+//! all 30 finger bones and the hand, a wrist IK target placed so the avatar's index fingertip
+//! lands where the user's does (fingertip alignment), and the arm rotations reaching it.
+//!
+//! ## Conventions
+//!
+//! Stated once, here and in the README; every public item follows them.
+//!
+//! * Units: **meters**, **radians**, milliseconds for time.
+//! * Frame: **right-handed, +Y up**. The avatar **faces +Z** (VRM 1.0). VRM 0.x models face
+//!   -Z; handrig turns them 180 degrees about +Y internally and turns every result back, so
+//!   all inputs and outputs are in **the model's own frame** and apply directly to three-vrm's
+//!   normalized bones (for VRM 0.x that is three-vrm's "negate quaternion x and z").
+//! * Quaternions: **x, y, z, w** order, unit length.
+//! * Bones: VRM 1.0 humanoid names (`leftIndexProximal`, ...), normalized: identity rest
+//!   rotation, rotations are local to the parent normalized bone.
+//! * The avatar's left is +X (VRM 1.0 frame); "left" and "right" without qualification mean the
+//!   avatar's sides.
+//!
+//! ## Layout
+//!
+//! * [`bones`]: the 55 humanoid bones, parent map, sides and fingers.
+//! * [`skeleton`]: rest pose and forward kinematics over normalized bones.
+//! * [`vrm`]: reading `.vrm` (glTF binary) files, VRM 1.0 and 0.x.
+//! * [`mediapipe`]: input types and the camera-to-avatar conversion.
+//! * [`hand`]: wrist and finger rotations from 21 hand landmarks.
+//! * [`align`]: fingertip alignment (the wrist IK target).
+//! * [`body`]: body mapping and calibration from pose landmarks.
+//! * [`ik`]: arm IK solvers.
+//! * [`rig`]: the per-frame pipeline tying them together ([`Rig`]).
+//! * `wasm` (wasm32 only): the JavaScript bindings.
+
+#![warn(missing_docs)]
+
+pub mod align;
+pub mod body;
+pub mod bones;
+pub mod error;
+pub mod hand;
+pub mod ik;
+pub mod mediapipe;
+pub mod rig;
+pub mod skeleton;
+pub mod vrm;
+
+#[cfg(target_arch = "wasm32")]
+pub mod wasm;
+
+pub use bones::{Finger, HumanBone, Side, BONE_COUNT};
+pub use error::{Error, Result};
+pub use mediapipe::{CameraMapping, FrameInput, HandObservation, Handedness, PoseObservation};
+pub use rig::{Rig, RigOptions, SolveOutput};
+pub use skeleton::{Skeleton, VrmVersion, WorldPose};

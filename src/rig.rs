@@ -1,0 +1,416 @@
+//! The per-frame pipeline: MediaPipe frame in, normalized-bone rotations, IK targets and
+//! alignment reports out.
+//!
+//! Per avatar side, in order: pick the hand that drives it, solve hand orientation and finger
+//! rotations ([`crate::hand`]), find the pose wrist (from `wrists` or pose landmarks via
+//! [`crate::body`]), place the wrist IK target by fingertip alignment ([`crate::align`]) using
+//! forward kinematics of *this* frame's hand and finger rotations, and reach it with the arm
+//! solver ([`crate::ik`]). Finally forward kinematics of the whole avatar.
+
+use glam::{Quat, Vec3};
+use serde::Deserialize;
+
+use crate::align::{self, AlignmentOptions, AlignmentReport};
+use crate::body::{BodyMapper, CalibrationOptions};
+use crate::bones::{HumanBone, Side, BONE_COUNT};
+use crate::error::Result;
+use crate::hand::{HandSolver, HandStrategy};
+use crate::ik::{ArmSolver, ArmSolverState};
+use crate::mediapipe::{hand_landmark, CameraMapping, FrameInput, HAND_LANDMARKS};
+use crate::skeleton::{Skeleton, WorldPose};
+
+/// Options of a [`Rig`], set at construction (JS: the `options` argument of `new HandRig`).
+/// Every field has a documented default; JS names are the camelCase field names.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+pub struct RigOptions {
+    /// The image given to MediaPipe was flipped horizontally (selfie view). Default `false`.
+    pub input_mirrored: bool,
+    /// The avatar mirrors the user, VTuber style: the user's right hand drives the avatar's
+    /// left. Default `false`.
+    pub mirror: bool,
+    /// How hands are solved. Default `"analytic"`.
+    pub hand_strategy: HandStrategy,
+    /// Fingertip alignment.
+    pub alignment: AlignmentOptions,
+    /// Which arm IK solver reaches the wrist target. Default `"twoBone"`.
+    pub arm_solver: ArmSolver,
+    /// Body-scale calibration from pose landmarks.
+    pub calibration: CalibrationOptions,
+    /// Hands whose handedness score is below this are ignored. Default `0.5`.
+    pub min_hand_score: f32,
+}
+
+impl Default for RigOptions {
+    fn default() -> Self {
+        RigOptions {
+            input_mirrored: false,
+            mirror: false,
+            hand_strategy: HandStrategy::default(),
+            alignment: AlignmentOptions::default(),
+            arm_solver: ArmSolver::default(),
+            calibration: CalibrationOptions::default(),
+            min_hand_score: 0.5,
+        }
+    }
+}
+
+impl RigOptions {
+    /// How MediaPipe input maps onto the avatar.
+    #[must_use]
+    pub fn camera(&self) -> CameraMapping {
+        CameraMapping {
+            input_mirrored: self.input_mirrored,
+            mirror: self.mirror,
+        }
+    }
+}
+
+/// A wrist IK target in the internal frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IkTarget {
+    /// Where the avatar's hand bone (wrist joint) should be.
+    pub position: Vec3,
+    /// World rotation the avatar's normalized hand bone should have.
+    pub rotation: Quat,
+}
+
+/// Everything one `solve` produces, in handrig's internal frame. Fixed-size: reused frame to
+/// frame without allocation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolveOutput {
+    /// Local rotation of every normalized bone (identity where nothing was solved).
+    pub local: [Quat; BONE_COUNT],
+    /// Which bones were solved this frame (only these are reported).
+    pub solved: [bool; BONE_COUNT],
+    /// Forward kinematics of `local`.
+    pub world: WorldPose,
+    /// Wrist IK targets per side (`[left, right]`), when a pose wrist was known.
+    pub ik_targets: [Option<IkTarget>; 2],
+    /// Fingertip-alignment reports per side.
+    pub alignment: [Option<AlignmentReport>; 2],
+}
+
+impl Default for SolveOutput {
+    fn default() -> Self {
+        SolveOutput {
+            local: [Quat::IDENTITY; BONE_COUNT],
+            solved: [false; BONE_COUNT],
+            world: WorldPose::default(),
+            ik_targets: [None, None],
+            alignment: [None, None],
+        }
+    }
+}
+
+/// The solver for one avatar: owns the skeleton, the options and every buffer, so
+/// [`Rig::solve`] allocates nothing.
+#[derive(Clone, Debug)]
+pub struct Rig {
+    skeleton: Skeleton,
+    options: RigOptions,
+    hands: HandSolver,
+    body: BodyMapper,
+    arms: ArmSolverState,
+    landmarks: [Vec3; HAND_LANDMARKS],
+}
+
+impl Rig {
+    /// Creates a rig for `skeleton`.
+    ///
+    /// # Errors
+    /// Options out of range (field named in the message).
+    pub fn new(skeleton: Skeleton, options: RigOptions) -> Result<Self> {
+        options.alignment.validate()?;
+        options.calibration.validate()?;
+        if !(0.0..=1.0).contains(&options.min_hand_score) {
+            return Err(crate::Error::invalid(
+                "options.minHandScore",
+                "must be a number in 0..1",
+            ));
+        }
+        let hands = HandSolver::new(&skeleton, options.hand_strategy)?;
+        let body = BodyMapper::new(&skeleton, &options.calibration);
+        let arms = ArmSolverState::new(&skeleton, options.arm_solver)?;
+        Ok(Rig {
+            skeleton,
+            options,
+            hands,
+            body,
+            arms,
+            landmarks: [Vec3::ZERO; HAND_LANDMARKS],
+        })
+    }
+
+    /// The avatar's skeleton.
+    #[must_use]
+    pub fn skeleton(&self) -> &Skeleton {
+        &self.skeleton
+    }
+
+    /// The options in force.
+    #[must_use]
+    pub fn options(&self) -> &RigOptions {
+        &self.options
+    }
+
+    /// Body-scale calibration state.
+    #[must_use]
+    pub fn body(&self) -> &BodyMapper {
+        &self.body
+    }
+
+    /// Restarts body-scale calibration.
+    pub fn reset_calibration(&mut self) {
+        self.body.reset();
+    }
+
+    /// Solves one frame into `out` (internal frame; see [`Rig::export_rotation`] and
+    /// [`Rig::export_position`] for the model frame). Allocates nothing.
+    ///
+    /// # Errors
+    /// Invalid input (non-finite numbers are rejected before any state changes). Degenerate
+    /// hands are not errors: that hand is skipped and its previous rotations are kept.
+    pub fn solve(&mut self, frame: &FrameInput, out: &mut SolveOutput) -> Result<()> {
+        validate_frame(frame)?;
+        let camera = self.options.camera();
+        out.solved = [false; BONE_COUNT];
+        out.ik_targets = [None, None];
+        out.alignment = [None, None];
+        // Everything not solved this frame goes back to rest.
+        out.local = [Quat::IDENTITY; BONE_COUNT];
+
+        if let Some(pose) = &frame.pose {
+            self.body.observe(&self.skeleton, pose, camera);
+        }
+
+        for side in Side::BOTH {
+            self.solve_side(side, frame, camera, out);
+        }
+        self.skeleton.forward(&out.local, &mut out.world);
+        Ok(())
+    }
+
+    fn solve_side(
+        &mut self,
+        side: Side,
+        frame: &FrameInput,
+        camera: CameraMapping,
+        out: &mut SolveOutput,
+    ) {
+        // The hand that drives this side: highest score among those mapping here.
+        let hand = frame
+            .hands()
+            .iter()
+            .filter(|h| h.score >= self.options.min_hand_score)
+            .filter(|h| camera.avatar_side(h.handedness) == side)
+            .max_by(|a, b| a.score.total_cmp(&b.score));
+
+        let mut hand_rotation = None;
+        if let Some(h) = hand {
+            for (dst, src) in self.landmarks.iter_mut().zip(h.world.iter()) {
+                *dst = camera.to_avatar(*src);
+            }
+            hand_rotation = self
+                .hands
+                .solve(&self.skeleton, side, &self.landmarks, &mut out.local);
+            if hand_rotation.is_some() {
+                for b in crate::bones::Finger::ALL
+                    .iter()
+                    .flat_map(|f| side.finger(*f))
+                    .chain([side.hand()])
+                {
+                    out.solved[b.index()] = self.skeleton.has(b);
+                }
+            }
+        }
+
+        // The pose wrist and the body scale that applies to it.
+        let wrist_input = frame.wrists[side.index()];
+        let (pose_wrist, scale, pole) = match (wrist_input, &frame.pose) {
+            (Some(w), _) => (
+                Some(self.skeleton.version().position_to_internal(w.position)),
+                1.0,
+                None,
+            ),
+            (None, Some(pose)) => {
+                let mapped = self.body.map_arm(&self.skeleton, side, pose, camera);
+                (
+                    mapped.map(|m| m.wrist),
+                    self.body.scale(),
+                    mapped.and_then(|m| m.elbow),
+                )
+            }
+            (None, None) => (None, 1.0, None),
+        };
+        let rotation_override = wrist_input
+            .and_then(|w| w.rotation)
+            .map(|q| self.skeleton.version().rotation_to_internal(q));
+        let Some(hand_rot) = hand_rotation.or(rotation_override) else {
+            // No hand and no wrist rotation: with a pose wrist the arm can still reach it.
+            if let Some(target) = pose_wrist {
+                self.reach(side, target, None, pole, out);
+            }
+            return;
+        };
+
+        let Some(pose_wrist) = pose_wrist else {
+            // Hands only: the arm stays at rest and the hand takes the solved world rotation.
+            set_hand_world_rotation(&self.skeleton, side, hand_rot, out);
+            return;
+        };
+
+        let target = match hand {
+            Some(_) => {
+                let a = align::wrist_target(
+                    &self.skeleton,
+                    side,
+                    &self.options.alignment,
+                    pose_wrist,
+                    &self.landmarks,
+                    scale,
+                    hand_rot,
+                    &out.local,
+                );
+                out.alignment[side.index()] = Some(a);
+                a.ik_wrist
+            }
+            None => pose_wrist,
+        };
+        out.ik_targets[side.index()] = Some(IkTarget {
+            position: target,
+            rotation: hand_rot,
+        });
+        let reach = self.reach(side, target, Some(hand_rot), pole, out);
+        if let Some(report) = out.alignment[side.index()].as_mut() {
+            report.reachable = reach.reachable;
+            report.error = align::alignment_error(
+                &self.skeleton,
+                side,
+                &self.options.alignment,
+                report,
+                &out.local,
+                &mut out.world,
+            );
+        }
+    }
+
+    fn reach(
+        &mut self,
+        side: Side,
+        target: Vec3,
+        hand_rotation: Option<Quat>,
+        pole: Option<Vec3>,
+        out: &mut SolveOutput,
+    ) -> crate::ik::ArmReach {
+        // World frame of the arm's parent chain (torso at rest: handrig does not move it).
+        self.skeleton.forward(&out.local, &mut out.world);
+        let reach = self.arms.solve(
+            &self.skeleton,
+            side,
+            target,
+            hand_rotation,
+            pole,
+            &mut out.local,
+            &out.world,
+        );
+        for b in side.arm() {
+            if b != side.arm()[0] {
+                out.solved[b.index()] |= self.skeleton.has(b);
+            }
+        }
+        reach
+    }
+
+    /// Converts a rotation from the internal frame to the model's own frame (VRM 0.x: negate
+    /// x and z).
+    #[inline]
+    #[must_use]
+    pub fn export_rotation(&self, q: Quat) -> Quat {
+        self.skeleton.version().rotation_to_internal(q)
+    }
+
+    /// Converts a position from the internal frame to the model's own frame.
+    #[inline]
+    #[must_use]
+    pub fn export_position(&self, p: Vec3) -> Vec3 {
+        self.skeleton.version().position_to_internal(p)
+    }
+}
+
+/// Sets the hand's local rotation so its world rotation is `hand_world`, given the arm's
+/// current local rotations.
+fn set_hand_world_rotation(
+    skeleton: &Skeleton,
+    side: Side,
+    hand_world: Quat,
+    out: &mut SolveOutput,
+) {
+    let hand = side.hand();
+    let mut parent_world = Quat::IDENTITY;
+    let mut chain = [HumanBone::Hips; 8];
+    let mut n = 0;
+    let mut b = skeleton.parent(hand);
+    while let Some(p) = b {
+        if n < chain.len() {
+            chain[n] = p;
+            n += 1;
+        }
+        b = skeleton.parent(p);
+    }
+    for link in chain[..n].iter().rev() {
+        parent_world *= out.local[link.index()];
+    }
+    out.local[hand.index()] = (parent_world.inverse() * hand_world).normalize();
+}
+
+fn validate_frame(frame: &FrameInput) -> Result<()> {
+    if !frame.time_ms.is_finite() {
+        return Err(crate::Error::invalid(
+            "frame.timeMs",
+            "must be a finite number",
+        ));
+    }
+    for (i, h) in frame.hands().iter().enumerate() {
+        if let Some(k) = h.world.iter().position(|p| !p.is_finite()) {
+            return Err(crate::Error::invalid(
+                format!("frame.hands[{i}].worldLandmarks[{k}]"),
+                "must be three finite numbers",
+            ));
+        }
+        if !h.score.is_finite() {
+            return Err(crate::Error::invalid(
+                format!("frame.hands[{i}].score"),
+                "must be a finite number",
+            ));
+        }
+    }
+    if let Some(p) = &frame.pose {
+        if let Some(k) = p.world.iter().position(|p| !p.is_finite()) {
+            return Err(crate::Error::invalid(
+                format!("frame.pose.worldLandmarks[{k}]"),
+                "must be three finite numbers",
+            ));
+        }
+    }
+    for side in Side::BOTH {
+        if let Some(w) = &frame.wrists[side.index()] {
+            if !w.position.is_finite() {
+                return Err(crate::Error::invalid(
+                    format!("frame.wrists.{}.position", side.as_str()),
+                    "must be three finite numbers",
+                ));
+            }
+            if let Some(q) = w.rotation {
+                if !q.is_finite() || (q.length() - 1.0).abs() > 1e-2 {
+                    return Err(crate::Error::invalid(
+                        format!("frame.wrists.{}.rotation", side.as_str()),
+                        "must be a unit quaternion [x, y, z, w]",
+                    ));
+                }
+            }
+        }
+    }
+    let _ = hand_landmark::WRIST;
+    Ok(())
+}

@@ -1,0 +1,349 @@
+//! The humanoid skeleton of one avatar: which bones exist, their rest positions, and forward
+//! kinematics over normalized bones.
+//!
+//! Normalized bones (three-vrm's `VRMHumanoidRig`): every bone has identity rest rotation, and
+//! its local position is its rest world offset from its *effective parent*, the nearest
+//! existing humanoid ancestor. A local rotation therefore means the same thing on every avatar:
+//! "rotate this bone, in the parent's frame, away from the avatar's rest pose".
+
+use glam::{Quat, Vec3};
+
+use crate::bones::{HumanBone, BONE_COUNT};
+use crate::error::{Error, Result};
+
+/// Which VRM specification the avatar follows; decides its facing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum VrmVersion {
+    /// VRM 0.x: the model faces -Z.
+    V0,
+    /// VRM 1.0: the model faces +Z (handrig's internal frame).
+    #[default]
+    V1,
+}
+
+impl VrmVersion {
+    /// `"0"` or `"1"`, as `restPose.vrmVersion` spells it.
+    #[must_use]
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            VrmVersion::V0 => "0",
+            VrmVersion::V1 => "1",
+        }
+    }
+
+    /// Converts a position from the model's own frame to handrig's internal +Z-facing frame
+    /// (a 180 degree turn about +Y for VRM 0.x; identity for 1.0). Its own inverse.
+    #[inline]
+    #[must_use]
+    pub fn position_to_internal(self, p: Vec3) -> Vec3 {
+        match self {
+            VrmVersion::V0 => Vec3::new(-p.x, p.y, -p.z),
+            VrmVersion::V1 => p,
+        }
+    }
+
+    /// Converts a rotation between the model's own frame and the internal frame (conjugation
+    /// by the 180 degree Y turn: negate x and z, as three-vrm users do for VRM 0.x). Its own
+    /// inverse.
+    #[inline]
+    #[must_use]
+    pub fn rotation_to_internal(self, q: Quat) -> Quat {
+        match self {
+            VrmVersion::V0 => Quat::from_xyzw(-q.x, q.y, -q.z, q.w),
+            VrmVersion::V1 => q,
+        }
+    }
+}
+
+/// World positions and rotations of every bone, indexed by [`HumanBone::index`]. Entries of
+/// absent bones are unspecified (kept at rest / identity).
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorldPose {
+    /// World position of each bone's joint (meters).
+    pub position: [Vec3; BONE_COUNT],
+    /// World rotation of each normalized bone (identity at rest).
+    pub rotation: [Quat; BONE_COUNT],
+}
+
+impl Default for WorldPose {
+    fn default() -> Self {
+        WorldPose {
+            position: [Vec3::ZERO; BONE_COUNT],
+            rotation: [Quat::IDENTITY; BONE_COUNT],
+        }
+    }
+}
+
+/// An avatar's humanoid skeleton in handrig's internal frame (+Z facing, see the crate docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Skeleton {
+    present: [bool; BONE_COUNT],
+    parent: [Option<HumanBone>; BONE_COUNT],
+    rest_world: [Vec3; BONE_COUNT],
+    rest_local: [Vec3; BONE_COUNT],
+    version: VrmVersion,
+}
+
+impl Skeleton {
+    /// Builds a skeleton from rest world positions given **in the model's own frame** (for VRM
+    /// 0.x, the -Z-facing frame three-vrm reports), converting to the internal frame.
+    ///
+    /// # Errors
+    /// Non-finite positions, a bone given twice, or missing VRM 1.0 required bones.
+    pub fn new(bones: &[(HumanBone, Vec3)], version: VrmVersion) -> Result<Self> {
+        let mut present = [false; BONE_COUNT];
+        let mut rest_world = [Vec3::ZERO; BONE_COUNT];
+        for &(bone, p) in bones {
+            if !p.is_finite() {
+                return Err(Error::invalid(
+                    format!("restPose.bones.{bone}"),
+                    "position must be three finite numbers",
+                ));
+            }
+            if present[bone.index()] {
+                return Err(Error::invalid(
+                    format!("restPose.bones.{bone}"),
+                    "bone given more than once",
+                ));
+            }
+            present[bone.index()] = true;
+            rest_world[bone.index()] = version.position_to_internal(p);
+        }
+        let missing: Vec<&'static str> = HumanBone::ALL
+            .iter()
+            .filter(|b| b.is_required() && !present[b.index()])
+            .map(|b| b.as_str())
+            .collect();
+        if !missing.is_empty() {
+            return Err(Error::MissingRequiredBones(missing));
+        }
+        let mut parent = [None; BONE_COUNT];
+        let mut rest_local = [Vec3::ZERO; BONE_COUNT];
+        for bone in HumanBone::ALL {
+            if !present[bone.index()] {
+                continue;
+            }
+            let mut p = bone.parent();
+            while let Some(candidate) = p {
+                if present[candidate.index()] {
+                    break;
+                }
+                p = candidate.parent();
+            }
+            parent[bone.index()] = p;
+            rest_local[bone.index()] = match p {
+                Some(p) => rest_world[bone.index()] - rest_world[p.index()],
+                None => rest_world[bone.index()],
+            };
+        }
+        Ok(Skeleton {
+            present,
+            parent,
+            rest_world,
+            rest_local,
+            version,
+        })
+    }
+
+    /// The VRM version (facing) of the model this skeleton came from.
+    #[inline]
+    #[must_use]
+    pub fn version(&self) -> VrmVersion {
+        self.version
+    }
+
+    /// Whether the avatar has `bone`.
+    #[inline]
+    #[must_use]
+    pub fn has(&self, bone: HumanBone) -> bool {
+        self.present[bone.index()]
+    }
+
+    /// The bones the avatar has, parent-first.
+    pub fn bones(&self) -> impl Iterator<Item = HumanBone> + '_ {
+        HumanBone::ALL.into_iter().filter(|b| self.has(*b))
+    }
+
+    /// Effective parent: the nearest existing humanoid ancestor (`None` for the root).
+    #[inline]
+    #[must_use]
+    pub fn parent(&self, bone: HumanBone) -> Option<HumanBone> {
+        self.parent[bone.index()]
+    }
+
+    /// Rest world position in the internal frame, if the bone exists.
+    #[inline]
+    #[must_use]
+    pub fn rest_world(&self, bone: HumanBone) -> Option<Vec3> {
+        self.has(bone).then(|| self.rest_world[bone.index()])
+    }
+
+    /// Rest offset from the effective parent in the internal frame (the normalized bone's
+    /// local position); the root's is its world position. Zero for absent bones.
+    #[inline]
+    #[must_use]
+    pub fn rest_local(&self, bone: HumanBone) -> Vec3 {
+        self.rest_local[bone.index()]
+    }
+
+    /// Forward kinematics: world positions and rotations of every present bone from local
+    /// rotations (indexed by [`HumanBone::index`]; entries of absent bones are ignored). The
+    /// root stays at its rest position. Allocates nothing.
+    pub fn forward(&self, local: &[Quat; BONE_COUNT], out: &mut WorldPose) {
+        for bone in HumanBone::ALL {
+            let i = bone.index();
+            if !self.present[i] {
+                continue;
+            }
+            match self.parent[i] {
+                Some(p) => {
+                    let pr = out.rotation[p.index()];
+                    out.position[i] = out.position[p.index()] + pr * self.rest_local[i];
+                    out.rotation[i] = pr * local[i];
+                }
+                None => {
+                    out.position[i] = self.rest_local[i];
+                    out.rotation[i] = local[i];
+                }
+            }
+        }
+    }
+
+    /// Forward kinematics of one chain below an already-posed bone: the world position of
+    /// `tip` when `from` sits at `from_position` with world rotation `from_rotation` and the
+    /// bones between take their rotations from `local`. Returns `None` when `tip` is absent or
+    /// not below `from`. Allocates nothing; cost is proportional to the chain length.
+    #[must_use]
+    pub fn chain_tip(
+        &self,
+        from: HumanBone,
+        from_position: Vec3,
+        from_rotation: Quat,
+        tip: HumanBone,
+        local: &[Quat; BONE_COUNT],
+    ) -> Option<Vec3> {
+        if !self.has(tip) || !self.has(from) {
+            return None;
+        }
+        // Walk up from the tip collecting the chain (at most 4 links below a hand).
+        let mut chain = [HumanBone::Hips; 8];
+        let mut n = 0;
+        let mut b = tip;
+        while b != from {
+            if n == chain.len() {
+                return None;
+            }
+            chain[n] = b;
+            n += 1;
+            b = self.parent(b)?;
+        }
+        let mut pos = from_position;
+        let mut rot = from_rotation;
+        for &link in chain[..n].iter().rev() {
+            pos += rot * self.rest_local(link);
+            rot *= local[link.index()];
+        }
+        Some(pos)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bones::HumanBone as B;
+
+    fn minimal() -> Vec<(HumanBone, Vec3)> {
+        let mut v = vec![
+            (B::Hips, Vec3::new(0.0, 1.0, 0.0)),
+            (B::Spine, Vec3::new(0.0, 1.1, 0.0)),
+            (B::Head, Vec3::new(0.0, 1.6, 0.0)),
+            (B::LeftUpperArm, Vec3::new(0.2, 1.4, 0.0)),
+            (B::LeftLowerArm, Vec3::new(0.45, 1.4, 0.0)),
+            (B::LeftHand, Vec3::new(0.7, 1.4, 0.0)),
+            (B::RightUpperArm, Vec3::new(-0.2, 1.4, 0.0)),
+            (B::RightLowerArm, Vec3::new(-0.45, 1.4, 0.0)),
+            (B::RightHand, Vec3::new(-0.7, 1.4, 0.0)),
+        ];
+        for (s, x) in [(1.0f32, "left"), (-1.0, "right")] {
+            let _ = x;
+            v.push((
+                if s > 0.0 {
+                    B::LeftUpperLeg
+                } else {
+                    B::RightUpperLeg
+                },
+                Vec3::new(0.1 * s, 0.9, 0.0),
+            ));
+            v.push((
+                if s > 0.0 {
+                    B::LeftLowerLeg
+                } else {
+                    B::RightLowerLeg
+                },
+                Vec3::new(0.1 * s, 0.5, 0.0),
+            ));
+            v.push((
+                if s > 0.0 { B::LeftFoot } else { B::RightFoot },
+                Vec3::new(0.1 * s, 0.1, 0.0),
+            ));
+        }
+        v
+    }
+
+    #[test]
+    fn effective_parent_skips_missing_bones() {
+        let s = Skeleton::new(&minimal(), VrmVersion::V1).unwrap();
+        // leftUpperArm's parents leftShoulder, upperChest, chest are absent: spine.
+        assert_eq!(s.parent(B::LeftUpperArm), Some(B::Spine));
+        assert_eq!(s.parent(B::Head), Some(B::Spine));
+        assert!(s
+            .rest_local(B::LeftUpperArm)
+            .abs_diff_eq(Vec3::new(0.2, 0.3, 0.0), 1e-6));
+    }
+
+    #[test]
+    fn missing_required_is_an_error_naming_the_bones() {
+        let mut bones = minimal();
+        bones.retain(|(b, _)| *b != B::Head && *b != B::LeftHand);
+        let err = Skeleton::new(&bones, VrmVersion::V1).unwrap_err();
+        assert_eq!(err, Error::MissingRequiredBones(vec!["head", "leftHand"]));
+        assert!(err.to_string().contains("head, leftHand"));
+    }
+
+    #[test]
+    fn forward_at_identity_is_rest_and_rotation_moves_children() {
+        let s = Skeleton::new(&minimal(), VrmVersion::V1).unwrap();
+        let mut local = [Quat::IDENTITY; BONE_COUNT];
+        let mut w = WorldPose::default();
+        s.forward(&local, &mut w);
+        for b in s.bones() {
+            assert!((w.position[b.index()] - s.rest_world(b).unwrap()).length() < 1e-6);
+        }
+        // Bend the left elbow 90 degrees about +Y: the hand swings from +X to -Z.
+        local[B::LeftLowerArm.index()] = Quat::from_rotation_y(core::f32::consts::FRAC_PI_2);
+        s.forward(&local, &mut w);
+        let hand = w.position[B::LeftHand.index()];
+        assert!(
+            (hand - Vec3::new(0.45, 1.4, -0.25)).length() < 1e-6,
+            "{hand}"
+        );
+        let tip = s.chain_tip(
+            B::LeftLowerArm,
+            w.position[B::LeftLowerArm.index()],
+            w.rotation[B::LeftLowerArm.index()],
+            B::LeftHand,
+            &local,
+        );
+        assert!((tip.unwrap() - hand).length() < 1e-6);
+    }
+
+    #[test]
+    fn vrm0_rest_is_turned_to_face_plus_z() {
+        let s = Skeleton::new(&minimal(), VrmVersion::V0).unwrap();
+        // Positions given in the -Z-facing model frame are turned 180 degrees about +Y.
+        assert_eq!(s.rest_world(B::LeftHand), Some(Vec3::new(-0.7, 1.4, 0.0)));
+        let q = Quat::from_xyzw(0.1, 0.2, 0.3, 0.9).normalize();
+        let back = VrmVersion::V0.rotation_to_internal(VrmVersion::V0.rotation_to_internal(q));
+        assert!(back.abs_diff_eq(q, 1e-7));
+    }
+}
