@@ -1,0 +1,358 @@
+// A VRM avatar for one view: loading with three-vrm, the rest pose handrig needs, applying
+// handrig results to the normalized bones, and drawing the skeleton (the bundled robot has no
+// body mesh, and a drawn skeleton shows fingers clearly on any avatar).
+//
+// Frames: handrig's inputs and outputs are in the model's own frame (VRM 0.x models face -Z,
+// 1.0 models face +Z) and apply directly to three-vrm's normalized bones. Everything here that
+// talks to handrig therefore works in vrm.scene's local space; only the display turns VRM 0.x
+// models around (VRMUtils.rotateVRM0) so every avatar faces the viewer.
+
+import * as THREE from "three";
+import { GLTFLoader } from "three/addons/loaders/GLTFLoader.js";
+import { VRMLoaderPlugin, VRMUtils } from "@pixiv/three-vrm";
+
+/** The 55 VRM 1.0 humanoid bone names, parent first (three-vrm's order). */
+export const HUMAN_BONES = [
+  "hips", "spine", "chest", "upperChest", "neck", "head", "leftEye", "rightEye", "jaw",
+  "leftUpperLeg", "leftLowerLeg", "leftFoot", "leftToes",
+  "rightUpperLeg", "rightLowerLeg", "rightFoot", "rightToes",
+  "leftShoulder", "leftUpperArm", "leftLowerArm", "leftHand",
+  "rightShoulder", "rightUpperArm", "rightLowerArm", "rightHand",
+  "leftThumbMetacarpal", "leftThumbProximal", "leftThumbDistal",
+  "leftIndexProximal", "leftIndexIntermediate", "leftIndexDistal",
+  "leftMiddleProximal", "leftMiddleIntermediate", "leftMiddleDistal",
+  "leftRingProximal", "leftRingIntermediate", "leftRingDistal",
+  "leftLittleProximal", "leftLittleIntermediate", "leftLittleDistal",
+  "rightThumbMetacarpal", "rightThumbProximal", "rightThumbDistal",
+  "rightIndexProximal", "rightIndexIntermediate", "rightIndexDistal",
+  "rightMiddleProximal", "rightMiddleIntermediate", "rightMiddleDistal",
+  "rightRingProximal", "rightRingIntermediate", "rightRingDistal",
+  "rightLittleProximal", "rightLittleIntermediate", "rightLittleDistal",
+];
+
+export const FINGERS = ["thumb", "index", "middle", "ring", "little"];
+
+/**
+ * Distal over previous phalanx length per finger (thumb..little), the same table handrig's
+ * alignment uses for its "tip" point (src/align.rs TIP_RATIO, Buryanov & Kotiuk 2010). Used
+ * to draw fingertips past the distal joint and to place the avatar marker for point = "tip".
+ */
+export const TIP_RATIO = { thumb: 0.7, index: 0.71, middle: 0.66, ring: 0.67, little: 0.88 };
+
+/** The distal bone name of `finger` on `side` ("left" | "right"). */
+export function distalBone(side, finger) {
+  const cap = finger[0].toUpperCase() + finger.slice(1);
+  return `${side}${cap}Distal`;
+}
+
+/** Parses `.vrm` bytes into a three-vrm VRM. Throws with a readable message on bad files. */
+export async function parseVrm(bytes) {
+  const loader = new GLTFLoader();
+  loader.register((parser) => new VRMLoaderPlugin(parser));
+  const buffer = bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength);
+  const gltf = await new Promise((resolve, reject) => loader.parse(buffer, "", resolve, reject));
+  const vrm = gltf.userData.vrm;
+  if (!vrm || !vrm.humanoid) throw new Error("not a VRM file (no VRM humanoid extension)");
+  return vrm;
+}
+
+/** "0" for VRM 0.x, "1" for VRM 1.0. */
+export function vrmVersionOf(vrm) {
+  return String(vrm.meta?.metaVersion ?? "1") === "0" ? "0" : "1";
+}
+
+/**
+ * Rest world positions of the normalized bones in the model's own frame, as handrig's
+ * `new HandRig(restPose)` wants them (same as the package's three-vrm adapter
+ * `restPoseFromVRM`): { bones: { name: [x, y, z] }, vrmVersion }.
+ */
+export function restPoseFromVrm(vrm) {
+  vrm.humanoid.resetNormalizedPose();
+  vrm.scene.updateMatrixWorld(true);
+  const toModel = new THREE.Matrix4().copy(vrm.scene.matrixWorld).invert();
+  const bones = {};
+  const p = new THREE.Vector3();
+  for (const name of HUMAN_BONES) {
+    const node = vrm.humanoid.getNormalizedBoneNode(name);
+    if (!node) continue;
+    node.getWorldPosition(p).applyMatrix4(toModel);
+    bones[name] = [p.x, p.y, p.z];
+  }
+  return { bones, vrmVersion: vrmVersionOf(vrm) };
+}
+
+const SIDE_COLOR = { left: 0x4aa3ff, right: 0xff9a3c, center: 0xb8bec9 };
+const FINGER_COLOR = {
+  thumb: 0xff5d5d, index: 0xffe14d, middle: 0x62e36b, ring: 0x4fd9ff, little: 0xc77dff,
+};
+
+function boneSide(name) {
+  if (name.startsWith("left")) return "left";
+  if (name.startsWith("right")) return "right";
+  return "center";
+}
+function boneFinger(name) {
+  const m = /^(?:left|right)(Thumb|Index|Middle|Ring|Little)/.exec(name);
+  return m ? m[1].toLowerCase() : null;
+}
+
+/**
+ * One avatar in one scene, with its skeleton drawing and alignment markers.
+ * `scene` is the three.js scene of its view.
+ */
+export class Avatar {
+  constructor(vrm, scene, name) {
+    this.vrm = vrm;
+    this.name = name;
+    this.version = vrmVersionOf(vrm);
+    this.scene = scene;
+    this.rest = restPoseFromVrm(vrm);
+    // Display only: face the viewer like a VRM 1.0 model. handrig math stays in vrm.scene's
+    // local (model) frame, where the rest pose above was taken.
+    if (this.version === "0") VRMUtils.rotateVRM0(vrm);
+    scene.add(vrm.scene);
+    vrm.scene.updateMatrixWorld(true);
+
+    this.nodes = new Map();
+    for (const name of HUMAN_BONES) {
+      const node = vrm.humanoid.getNormalizedBoneNode(name);
+      if (node) this.nodes.set(name, node);
+    }
+    this.boneCount = this.nodes.size;
+    this.armLength = this.#armLength();
+    this.#buildSkeleton();
+    this.#buildMarkers();
+  }
+
+  /** Upper + lower arm length at rest (m), averaged over sides; sizes the drawing. */
+  #armLength() {
+    const b = this.rest.bones;
+    const d = (a, c) => (b[a] && b[c] ? Math.hypot(b[a][0] - b[c][0], b[a][1] - b[c][1], b[a][2] - b[c][2]) : NaN);
+    const lens = ["left", "right"]
+      .map((s) => d(`${s}UpperArm`, `${s}LowerArm`) + d(`${s}LowerArm`, `${s}Hand`))
+      .filter(Number.isFinite);
+    return lens.length ? lens.reduce((x, y) => x + y) / lens.length : 0.5;
+  }
+
+  /** The effective parent of a bone: the nearest normalized-bone ancestor (as three-vrm). */
+  #parentOf(name) {
+    const byNode = new Map([...this.nodes].map(([n, node]) => [node, n]));
+    let p = this.nodes.get(name).parent;
+    while (p) {
+      if (byNode.has(p)) return byNode.get(p);
+      p = p.parent;
+    }
+    return null;
+  }
+
+  #buildSkeleton() {
+    this.skeleton = new THREE.Group();
+    this.skeleton.name = "handrig-skeleton";
+    this.scene.add(this.skeleton);
+    const cyl = new THREE.CylinderGeometry(1, 1, 1, 12, 1, false);
+    const sph = new THREE.SphereGeometry(1, 14, 10);
+    this.segments = [];
+    this.joints = [];
+    const children = new Map();
+    for (const name of this.nodes.keys()) {
+      const parent = this.#parentOf(name);
+      if (parent) {
+        if (!children.has(parent)) children.set(parent, []);
+        children.get(parent).push(name);
+      }
+    }
+    const L = this.armLength;
+    const material = (name) => {
+      const finger = boneFinger(name);
+      const color = finger ? FINGER_COLOR[finger] : SIDE_COLOR[boneSide(name)];
+      return new THREE.MeshStandardMaterial({ color, roughness: 0.55, metalness: 0.05 });
+    };
+    const radiusFor = (name, len) => {
+      const finger = boneFinger(name);
+      const lo = finger ? 0.006 * L : 0.012 * L;
+      const hi = finger ? 0.014 * L : 0.04 * L;
+      return Math.min(hi, Math.max(lo, 0.14 * len));
+    };
+    const restLen = (a, c) => {
+      const b = this.rest.bones;
+      return Math.hypot(b[a][0] - b[c][0], b[a][1] - b[c][1], b[a][2] - b[c][2]);
+    };
+
+    for (const name of this.nodes.keys()) {
+      if (name.endsWith("Eye") || name === "jaw") continue;
+      const parent = this.#parentOf(name);
+      if (parent) {
+        const len = restLen(parent, name);
+        const mesh = new THREE.Mesh(cyl, material(name));
+        const r = radiusFor(name, len);
+        this.skeleton.add(mesh);
+        this.segments.push({ from: parent, to: name, mesh, r, tip: null });
+        const joint = new THREE.Mesh(sph, mesh.material);
+        joint.scale.setScalar(r * 1.25);
+        this.skeleton.add(joint);
+        this.joints.push({ name, mesh: joint });
+      }
+      // Leaves that end a limb get a tip segment past the joint along the bone's own
+      // direction (rest offset from its parent, rotated with the bone): the distal phalanx,
+      // a hand without fingers, the head, the toes.
+      const kids = (children.get(name) || []).filter((c) => !c.endsWith("Eye") && c !== "jaw");
+      if (kids.length === 0 && parent) {
+        const finger = boneFinger(name);
+        const k = finger ? TIP_RATIO[finger] : name.endsWith("Hand") ? 0.35 : name === "head" ? 0.9 : 0.6;
+        const local = this.nodes.get(name).position.clone().multiplyScalar(k);
+        const len = local.length();
+        const mesh = new THREE.Mesh(cyl, material(name));
+        this.skeleton.add(mesh);
+        this.segments.push({ from: name, to: null, local, mesh, r: radiusFor(name, len) * (finger ? 0.9 : 1) });
+      }
+    }
+  }
+
+  #buildMarkers() {
+    // Markers live in vrm.scene's local space: handrig positions are in the model frame.
+    this.markers = new THREE.Group();
+    this.markers.name = "handrig-markers";
+    this.vrm.scene.add(this.markers);
+    const r = 0.016 * this.armLength;
+    const mk = (color, geo) => {
+      const m = new THREE.Mesh(geo, new THREE.MeshBasicMaterial({ color, depthTest: false, transparent: true, opacity: 0.9 }));
+      m.renderOrder = 10;
+      m.visible = false;
+      this.markers.add(m);
+      return m;
+    };
+    const sphere = new THREE.SphereGeometry(r, 16, 12);
+    const ring = new THREE.TorusGeometry(r * 1.25, r * 0.3, 8, 24);
+    const cube = new THREE.BoxGeometry(r * 1.4, r * 1.4, r * 1.4);
+    this.marks = {};
+    for (const side of ["left", "right"]) {
+      this.marks[side] = {
+        target: mk(0xff3b6b, sphere),
+        avatar: mk(0x35e06f, ring),
+        ik: mk(0xffd23b, cube),
+      };
+      const line = new THREE.Line(
+        new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(), new THREE.Vector3()]),
+        new THREE.LineBasicMaterial({ color: 0xffffff, depthTest: false }),
+      );
+      line.renderOrder = 11;
+      line.visible = false;
+      this.markers.add(line);
+      this.marks[side].line = line;
+    }
+  }
+
+  /** Shows or hides the model's own meshes (the skeleton drawing stays). */
+  setMeshesVisible(visible) {
+    this.vrm.scene.traverse((o) => {
+      if (o.isMesh && !this.markers.children.includes(o)) o.visible = visible;
+    });
+  }
+
+  /**
+   * Applies a handrig result: every normalized bone goes to rest, then the solved bones take
+   * their local rotations (what the package's `applyToVRM` does), then three-vrm copies them
+   * onto the raw bones.
+   */
+  apply(result) {
+    for (const node of this.nodes.values()) node.quaternion.identity();
+    if (result) {
+      for (const [name, q] of Object.entries(result.bones)) {
+        const node = this.nodes.get(name);
+        if (node) node.quaternion.set(q[0], q[1], q[2], q[3]);
+      }
+    }
+    this.vrm.update(0);
+    this.vrm.scene.updateMatrixWorld(true);
+  }
+
+  /** World position of a normalized bone (scene frame of the view). */
+  boneWorld(name, out = new THREE.Vector3()) {
+    const node = this.nodes.get(name);
+    return node ? node.getWorldPosition(out) : null;
+  }
+
+  /** A normalized bone's position in the model frame (what handrig reports). */
+  boneModel(name, out = new THREE.Vector3()) {
+    const w = this.boneWorld(name, out);
+    return w ? this.vrm.scene.worldToLocal(w) : null;
+  }
+
+  /**
+   * The avatar's aligned point (model frame) as three-vrm shows it: the distal joint of
+   * `finger`, or for point = "tip" that joint extended by TIP_RATIO along the distal bone.
+   */
+  alignedPointModel(side, finger, point, out = new THREE.Vector3()) {
+    const name = distalBone(side, finger);
+    const node = this.nodes.get(name);
+    if (!node) return null;
+    if (point === "tip") out.copy(node.position).multiplyScalar(TIP_RATIO[finger]);
+    else out.set(0, 0, 0);
+    node.localToWorld(out);
+    return this.vrm.scene.worldToLocal(out);
+  }
+
+  /** Moves the capsules onto the current normalized bones. */
+  updateSkeleton() {
+    const a = new THREE.Vector3();
+    const b = new THREE.Vector3();
+    const up = new THREE.Vector3(0, 1, 0);
+    const dir = new THREE.Vector3();
+    for (const s of this.segments) {
+      this.nodes.get(s.from).getWorldPosition(a);
+      if (s.to) this.nodes.get(s.to).getWorldPosition(b);
+      else this.nodes.get(s.from).localToWorld(b.copy(s.local));
+      dir.subVectors(b, a);
+      const len = dir.length();
+      s.mesh.visible = len > 1e-6;
+      if (!s.mesh.visible) continue;
+      s.mesh.position.addVectors(a, b).multiplyScalar(0.5);
+      s.mesh.quaternion.setFromUnitVectors(up, dir.divideScalar(len));
+      s.mesh.scale.set(s.r, len, s.r);
+    }
+    for (const j of this.joints) this.nodes.get(j.name).getWorldPosition(j.mesh.position);
+  }
+
+  /**
+   * Places the markers for one side from a handrig result (model frame): target point, the
+   * avatar's aligned point as three-vrm shows it, the wrist IK target, and a line between the
+   * first two. Returns the distance (m) between target and the shown avatar point, or null.
+   */
+  updateMarkers(result, finger, point) {
+    let shown = {};
+    for (const side of ["left", "right"]) {
+      const m = this.marks[side];
+      const al = result?.alignment?.[side];
+      const ik = result?.ikTargets?.[side];
+      m.ik.visible = !!ik;
+      if (ik) m.ik.position.fromArray(ik.position);
+      const avatarPoint = al ? this.alignedPointModel(side, finger, point) : null;
+      m.target.visible = !!al;
+      m.avatar.visible = !!avatarPoint;
+      m.line.visible = !!(al && avatarPoint);
+      shown[side] = null;
+      if (!al) continue;
+      m.target.position.fromArray(al.targetDip);
+      if (avatarPoint) {
+        m.avatar.position.copy(avatarPoint);
+        // Face the ring toward +Z of the model so it reads as a circle from the front.
+        const pos = m.line.geometry.attributes.position;
+        pos.setXYZ(0, al.targetDip[0], al.targetDip[1], al.targetDip[2]);
+        pos.setXYZ(1, avatarPoint.x, avatarPoint.y, avatarPoint.z);
+        pos.needsUpdate = true;
+        m.line.geometry.computeBoundingSphere();
+        shown[side] = avatarPoint.distanceTo(m.target.position);
+      }
+    }
+    return shown;
+  }
+
+  dispose() {
+    this.scene.remove(this.vrm.scene);
+    this.scene.remove(this.skeleton);
+    VRMUtils.deepDispose(this.vrm.scene);
+    this.skeleton.traverse((o) => {
+      if (o.isMesh) o.material.dispose();
+    });
+  }
+}

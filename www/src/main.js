@@ -1,0 +1,578 @@
+// handrig demo page: two views of the same avatar driven by the same frame, one rig without
+// fingertip alignment (left) and one with the options from the panel (right).
+//
+// State for the browser tests is exposed as window.__handrigDemo (see the bottom of this file):
+// tests read numbers from it instead of scraping the readouts.
+
+import * as THREE from "three";
+import { OrbitControls } from "three/addons/controls/OrbitControls.js";
+import init, { HandRig } from "handrig";
+
+import { Avatar, parseVrm } from "./avatar.js";
+import { loadRecordings } from "./recording.js";
+import { buildOptionsPanel, getPath } from "./options-panel.js";
+import { LOCAL_WASM_BASE, Webcam, modelSource } from "./webcam.js";
+
+const $ = (id) => document.getElementById(id);
+const VIEW_KEYS = ["without", "with"];
+const SOLVE_WINDOW = 60;
+
+const demo = {
+  state: "loading",
+  error: null,
+  source: "recording",
+  frame: 0,
+  frameCount: 0,
+  playing: false,
+  renderCount: 0,
+  avatarLoads: 0,
+  avatar: null,
+  options: null,
+  optionDescriptions: null,
+  results: { without: null, with: null },
+  errorMm: { without: { left: null, right: null }, with: { left: null, right: null } },
+  shownErrorMm: { without: { left: null, right: null }, with: { left: null, right: null } },
+  solveUs: { without: null, with: null },
+  solveUsMean: { without: null, with: null },
+  solveErrors: 0,
+};
+window.__handrigDemo = demo;
+
+const status = (text, isError = false) => {
+  const el = $("status");
+  el.textContent = text;
+  el.classList.toggle("error", isError);
+};
+
+// ---------------------------------------------------------------- rendering
+
+const canvas = $("view");
+const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+renderer.setScissorTest(true);
+
+const bodyCamera = new THREE.PerspectiveCamera(30, 1, 0.01, 50);
+const controls = new OrbitControls(bodyCamera, canvas);
+controls.enableDamping = false;
+
+function makeScene(bg) {
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color(bg);
+  scene.add(new THREE.HemisphereLight(0xffffff, 0x404050, 2.2));
+  const key = new THREE.DirectionalLight(0xffffff, 2.0);
+  key.position.set(1, 2, 3);
+  scene.add(key);
+  const grid = new THREE.GridHelper(4, 40, 0x3a3f4a, 0x2a2e36);
+  scene.add(grid);
+  return scene;
+}
+
+/** Per view: scene, avatar, rig, close-up camera, last result and timings. */
+const views = Object.fromEntries(
+  VIEW_KEYS.map((key, i) => [
+    key,
+    {
+      key,
+      scene: makeScene(i === 0 ? 0x1b1e25 : 0x1d2229),
+      closeCamera: new THREE.PerspectiveCamera(35, 1, 0.005, 20),
+      avatar: null,
+      rig: null,
+      result: null,
+      times: [],
+    },
+  ]),
+);
+
+let dirty = true;
+let renderWaiters = [];
+controls.addEventListener("change", () => (dirty = true));
+
+/** Viewport rectangles in CSS pixels (origin top-left): body view on top, hand close-up below. */
+function layout() {
+  const w = canvas.clientWidth;
+  const h = canvas.clientHeight;
+  const half = Math.floor(w / 2);
+  const bodyH = Math.round(h * 0.62);
+  const rects = {};
+  VIEW_KEYS.forEach((key, i) => {
+    const x = i * half;
+    rects[key] = {
+      body: { x, y: 0, w: i ? w - half : half, h: bodyH },
+      close: { x, y: bodyH, w: i ? w - half : half, h: h - bodyH },
+    };
+  });
+  return rects;
+}
+
+function resize() {
+  const w = canvas.clientWidth;
+  const h = canvas.clientHeight;
+  if (canvas.width !== Math.round(w * renderer.getPixelRatio()) || canvas.height !== Math.round(h * renderer.getPixelRatio())) {
+    renderer.setSize(w, h, false);
+  }
+  dirty = true;
+}
+new ResizeObserver(resize).observe(canvas);
+
+function frameCamera(avatar) {
+  // Upper body: centred between the shoulders and the hips, the arm length sets the distance.
+  const b = avatar.rest.bones;
+  const L = avatar.armLength;
+  const shoulderY = b.leftUpperArm && b.rightUpperArm ? (b.leftUpperArm[1] + b.rightUpperArm[1]) / 2 : b.head?.[1] ?? 1.3;
+  const cy = shoulderY - 0.35 * L;
+  const dist = (1.45 * L) / Math.tan(THREE.MathUtils.degToRad(bodyCamera.fov / 2));
+  bodyCamera.position.set(0, cy + 0.1 * L, dist);
+  controls.target.set(0, cy, 0);
+  controls.update();
+}
+
+const tmpA = new THREE.Vector3();
+const tmpB = new THREE.Vector3();
+
+/** Aims a view's close-up camera at the aligned hand (or the right hand). */
+function aimCloseUp(view) {
+  const av = view.avatar;
+  const res = view.result;
+  const { finger, point, side } = alignedFocus(res);
+  const shown = av.alignedPointModel(side, finger, point, tmpA);
+  const L = av.armLength;
+  let center;
+  let spread = 0;
+  if (shown && res?.alignment?.[side]) {
+    tmpB.fromArray(res.alignment[side].targetDip);
+    spread = shown.distanceTo(tmpB);
+    center = shown.add(tmpB).multiplyScalar(0.5);
+    av.vrm.scene.localToWorld(center);
+  } else {
+    center = av.boneWorld(`${side}Hand`, tmpA) ?? av.boneWorld("head", tmpA) ?? tmpA.set(0, 1, 0);
+  }
+  const d = Math.max(0.55 * L, 3 * spread);
+  view.closeCamera.position.set(center.x + 0.25 * d, center.y + 0.2 * d, center.z + d);
+  view.closeCamera.lookAt(center);
+}
+
+function render() {
+  const rects = layout();
+  const pr = renderer.getPixelRatio();
+  const H = canvas.clientHeight;
+  for (const key of VIEW_KEYS) {
+    const v = views[key];
+    if (!v.avatar) continue;
+    for (const part of ["body", "close"]) {
+      const r = rects[key][part];
+      if (r.w <= 0 || r.h <= 0) continue;
+      const cam = part === "body" ? bodyCamera : v.closeCamera;
+      cam.aspect = r.w / r.h;
+      cam.updateProjectionMatrix();
+      if (part === "close") aimCloseUp(v);
+      // WebGL viewports count from the bottom.
+      renderer.setViewport(r.x, H - r.y - r.h, r.w, r.h);
+      renderer.setScissor(r.x, H - r.y - r.h, r.w, r.h);
+      renderer.render(v.scene, cam);
+    }
+  }
+  void pr;
+  demo.renderCount++;
+  const waiters = renderWaiters;
+  renderWaiters = [];
+  for (const w of waiters) w();
+}
+
+// ---------------------------------------------------------------- rigs and solving
+
+let panel = null;
+let recording = null;
+let placement = null;
+let webcam = null;
+let avatarBytes = null;
+let avatarName = "";
+
+/** Which side/finger/point the markers and close-up follow. */
+function alignedFocus(result) {
+  const opts = demo.options ?? {};
+  const finger = getPath(opts, "alignment.finger") ?? "index";
+  const point = getPath(opts, "alignment.point") ?? "dip";
+  let side = "right";
+  if (result?.alignment && !result.alignment.right && result.alignment.left) side = "left";
+  return { finger, point, side };
+}
+
+function optionsFor(key) {
+  const o = structuredClone(demo.options ?? {});
+  if (key === "without") {
+    o.alignment = { ...(o.alignment ?? {}), enabled: false };
+  }
+  return o;
+}
+
+function createRigs() {
+  for (const key of VIEW_KEYS) {
+    const v = views[key];
+    v.rig?.free();
+    v.rig = null;
+    v.times = [];
+    v.result = null;
+  }
+  if (!views.with.avatar) return;
+  const rest = views.with.avatar.rest;
+  for (const key of VIEW_KEYS) {
+    views[key].rig = new HandRig(rest, optionsFor(key));
+  }
+  placement = recording?.placementFor(rest) ?? null;
+}
+
+function currentFrame() {
+  if (demo.source === "recording") {
+    return recording ? recording.frameAt(demo.frame, placement) : null;
+  }
+  return null;
+}
+
+const round = (x, d = 3) => (x == null ? null : Math.round(x * 10 ** d) / 10 ** d);
+
+function solveAndShow(frame) {
+  for (const key of VIEW_KEYS) {
+    const v = views[key];
+    if (!v.rig || !v.avatar) continue;
+    let result = null;
+    const t0 = performance.now();
+    try {
+      result = v.rig.solve(frame);
+    } catch (e) {
+      demo.solveErrors++;
+      status(`solve failed: ${e.message}`, true);
+      console.warn("handrig solve failed:", e);
+    }
+    const us = (performance.now() - t0) * 1000;
+    v.result = result;
+    v.times.push(us);
+    if (v.times.length > SOLVE_WINDOW) v.times.shift();
+    demo.results[key] = result;
+    demo.solveUs[key] = us;
+    demo.solveUsMean[key] = v.times.reduce((a, b) => a + b, 0) / v.times.length;
+    v.avatar.apply(result);
+    v.avatar.updateSkeleton();
+    const { finger, point } = alignedFocus(result);
+    const shown = v.avatar.updateMarkers(result, finger, point);
+    for (const side of ["left", "right"]) {
+      const al = result?.alignment?.[side];
+      demo.errorMm[key][side] = al ? al.error * 1000 : null;
+      demo.shownErrorMm[key][side] = shown[side] == null ? null : shown[side] * 1000;
+    }
+  }
+  demo.result = demo.results.with;
+  updateReadouts();
+}
+
+const fmtMm = (x) => (x == null ? "–" : x.toFixed(x < 10 ? 2 : 1));
+const fmtUs = (x) => (x == null ? "–" : x.toFixed(0));
+
+function updateReadouts() {
+  for (const key of VIEW_KEYS) {
+    $(`ro-right-${key}`).textContent = fmtMm(demo.errorMm[key].right);
+    $(`ro-left-${key}`).textContent = fmtMm(demo.errorMm[key].left);
+    $(`ro-us-${key}`).textContent = fmtUs(demo.solveUs[key]);
+    $(`ro-usmean-${key}`).textContent = fmtUs(demo.solveUsMean[key]);
+    const e = demo.errorMm[key];
+    const side = e.right != null ? "right" : e.left != null ? "left" : null;
+    $(`err-${key}`).textContent = side
+      ? `${side} error ${fmtMm(e[side])} mm · solve ${fmtUs(demo.solveUs[key])} µs`
+      : `solve ${fmtUs(demo.solveUs[key])} µs`;
+  }
+  const alignOn = getPath(demo.options ?? {}, "alignment.enabled") !== false;
+  $("label-with").querySelector("b").textContent = alignOn ? "with alignment" : "alignment off (panel)";
+  $("frame-label").textContent = demo.source === "recording" ? `frame ${demo.frame} / ${demo.frameCount - 1}` : "live";
+  $("scrub").value = String(demo.frame);
+}
+
+// ---------------------------------------------------------------- avatar loading
+
+async function loadAvatar(bytes, name) {
+  status(`loading ${name}…`);
+  // Two independent copies: each view poses its own.
+  const vrms = await Promise.all(VIEW_KEYS.map(() => parseVrm(bytes)));
+  const next = {};
+  try {
+    VIEW_KEYS.forEach((key, i) => (next[key] = new Avatar(vrms[i], views[key].scene, name)));
+  } catch (e) {
+    for (const a of Object.values(next)) a.dispose();
+    throw e;
+  }
+  const old = VIEW_KEYS.map((k) => views[k].avatar);
+  const oldRigs = VIEW_KEYS.map((k) => views[k].rig);
+  VIEW_KEYS.forEach((key) => (views[key].avatar = next[key]));
+  try {
+    createRigs();
+  } catch (e) {
+    // The new avatar cannot be rigged (e.g. required bones missing): put the old one back.
+    for (const a of Object.values(next)) a.dispose();
+    VIEW_KEYS.forEach((key, i) => {
+      views[key].avatar = old[i];
+      views[key].rig = null;
+    });
+    if (old[0]) createRigs();
+    void oldRigs;
+    throw e;
+  }
+  for (const a of old) a?.dispose();
+  avatarBytes = bytes;
+  avatarName = name;
+  const a = views.with.avatar;
+  for (const k of VIEW_KEYS) views[k].avatar.setMeshesVisible($("show-meshes").checked);
+  demo.avatar = { name, vrmVersion: a.version, boneCount: a.boneCount, armLength: a.armLength };
+  demo.avatarLoads++;
+  $("avatar-info").textContent = `${name}: VRM ${a.version === "0" ? "0.x" : "1.0"}, ${a.boneCount} humanoid bones, arm ${(a.armLength * 100).toFixed(1)} cm`;
+  frameCamera(a);
+  dirty = true;
+  status(`${name} loaded`);
+}
+
+async function loadAvatarFile(file) {
+  try {
+    const bytes = new Uint8Array(await file.arrayBuffer());
+    await loadAvatar(bytes, file.name);
+  } catch (e) {
+    status(`could not load ${file.name}: ${e.message}`, true);
+    console.warn("avatar load failed:", e);
+  }
+}
+
+// ---------------------------------------------------------------- UI wiring
+
+function setFrame(i) {
+  const n = demo.frameCount;
+  if (!n) return;
+  demo.frame = ((Math.round(i) % n) + n) % n;
+  dirty = true;
+}
+
+let lastTick = 0;
+let playClock = 0;
+
+function setPlaying(on) {
+  demo.playing = on && demo.source === "recording";
+  $("play").textContent = demo.playing ? "Pause" : "Play";
+  playClock = demo.frame;
+  lastTick = performance.now();
+}
+
+function wireUi() {
+  $("play").addEventListener("click", () => setPlaying(!demo.playing));
+  $("step-back").addEventListener("click", () => (setPlaying(false), setFrame(demo.frame - 1)));
+  $("step-fwd").addEventListener("click", () => (setPlaying(false), setFrame(demo.frame + 1)));
+  $("scrub").addEventListener("input", (e) => {
+    setPlaying(false);
+    setFrame(Number(e.target.value));
+  });
+  canvas.addEventListener("keydown", (e) => {
+    if (e.key === " ") setPlaying(!demo.playing);
+    if (e.key === "ArrowLeft") setFrame(demo.frame - 1);
+    if (e.key === "ArrowRight") setFrame(demo.frame + 1);
+  });
+
+  for (const r of document.querySelectorAll('input[name="source"]')) {
+    r.addEventListener("change", () => setSource(r.value));
+  }
+
+  // Drag and drop anywhere on the page.
+  const stage = $("stage");
+  window.addEventListener("dragover", (e) => {
+    e.preventDefault();
+    stage.classList.add("dragging");
+  });
+  window.addEventListener("dragleave", () => stage.classList.remove("dragging"));
+  window.addEventListener("drop", (e) => {
+    e.preventDefault();
+    stage.classList.remove("dragging");
+    const file = [...(e.dataTransfer?.files ?? [])].find((f) => /\.(vrm|glb)$/i.test(f.name)) ?? e.dataTransfer?.files?.[0];
+    if (file) loadAvatarFile(file);
+  });
+  $("vrm-file").addEventListener("change", (e) => {
+    const f = e.target.files?.[0];
+    if (f) loadAvatarFile(f);
+  });
+  $("show-meshes").addEventListener("change", (e) => {
+    for (const k of VIEW_KEYS) views[k].avatar?.setMeshesVisible(e.target.checked);
+    dirty = true;
+  });
+
+  $("wasm-base").value = LOCAL_WASM_BASE;
+  $("webcam-start").addEventListener("click", startWebcam);
+  $("webcam-stop").addEventListener("click", stopWebcam);
+}
+
+function setSource(src) {
+  demo.source = src;
+  $("recording-controls").hidden = src !== "recording";
+  $("webcam-controls").hidden = src !== "webcam";
+  if (src !== "webcam") stopWebcam();
+  setPlaying(false);
+  // A new source is a new session for the rigs (calibration, kept rotations).
+  try {
+    createRigs();
+  } catch (e) {
+    status(`rig: ${e.message}`, true);
+  }
+  dirty = true;
+}
+
+async function startWebcam() {
+  const ws = $("webcam-status");
+  try {
+    const hand = await modelSource($("hand-model-url").value, $("hand-model-file").files?.[0]);
+    const pose = await modelSource($("pose-model-url").value, $("pose-model-file").files?.[0]);
+    if (!hand) {
+      ws.textContent = "Give the hand landmarker model (.task) as a URL or a local file first.";
+      return;
+    }
+    ws.textContent = "loading MediaPipe…";
+    webcam = new Webcam($("webcam-video"));
+    await webcam.start({ hand, pose, wasmBase: $("wasm-base").value.trim() });
+    $("webcam-start").disabled = true;
+    $("webcam-stop").disabled = false;
+    ws.textContent = pose ? "running: hands and pose" : "running: hands only (arms stay at rest)";
+  } catch (e) {
+    webcam?.stop();
+    webcam = null;
+    ws.textContent = `webcam failed: ${e.message}`;
+    console.warn("webcam failed:", e);
+  }
+}
+
+function stopWebcam() {
+  webcam?.stop();
+  webcam = null;
+  $("webcam-start").disabled = false;
+  $("webcam-stop").disabled = true;
+}
+
+function onOptionsChanged(opts) {
+  demo.options = opts;
+  try {
+    createRigs();
+    status(`options: ${JSON.stringify(opts)}`);
+  } catch (e) {
+    status(`options rejected: ${e.message}`, true);
+  }
+  dirty = true;
+}
+
+// ---------------------------------------------------------------- main loop
+
+let solvedFrame = -1;
+let solvedRigs = null;
+
+function tick(now) {
+  requestAnimationFrame(tick);
+  if (demo.state !== "ready") return;
+  if (demo.source === "recording") {
+    if (demo.playing && demo.frameCount) {
+      playClock += ((now - lastTick) / 1000) * recording.fps;
+      const f = Math.floor(playClock) % demo.frameCount;
+      if (f !== demo.frame) setFrame(f);
+    }
+    lastTick = now;
+    const rigs = views.with.rig;
+    if (dirty || demo.frame !== solvedFrame || rigs !== solvedRigs) {
+      solveAndShow(currentFrame());
+      solvedFrame = demo.frame;
+      solvedRigs = rigs;
+      render();
+      dirty = false;
+    }
+  } else {
+    const frame = webcam?.detect(now);
+    if (frame) {
+      solveAndShow(frame);
+      dirty = true;
+    }
+    if (dirty) {
+      render();
+      dirty = false;
+    }
+  }
+}
+
+/** Resolves after the next render (after pending changes are drawn). */
+function nextRender() {
+  dirty = true;
+  return new Promise((resolve) => renderWaiters.push(resolve));
+}
+
+// ---------------------------------------------------------------- start
+
+async function main() {
+  wireUi();
+  await init();
+  demo.optionDescriptions = HandRig.optionDescriptions();
+  panel = buildOptionsPanel($("options"), demo.optionDescriptions, onOptionsChanged);
+  demo.options = panel.values();
+
+  recording = await loadRecordings();
+  demo.frameCount = recording.length;
+  $("scrub").max = String(recording.length - 1);
+
+  const r = await fetch("./assets/debug-robot.vrm");
+  if (!r.ok) throw new Error(`cannot load the bundled avatar: HTTP ${r.status}`);
+  await loadAvatar(new Uint8Array(await r.arrayBuffer()), "debug-robot.vrm");
+
+  resize();
+  demo.state = "ready";
+  setPlaying(!new URLSearchParams(location.search).has("paused"));
+  requestAnimationFrame(tick);
+}
+
+// Test and console hooks. Everything async resolves once the change is on screen.
+Object.assign(demo, {
+  ready: null,
+  setFrame: (i) => {
+    setPlaying(false);
+    setFrame(i);
+    return nextRender();
+  },
+  play: () => setPlaying(true),
+  pause: () => setPlaying(false),
+  setOption: (path, value) => {
+    panel.set(path, value);
+    return nextRender();
+  },
+  nextRender,
+  /** Reloads the current avatar bytes (e.g. after a test changed it). */
+  reloadAvatar: () => (avatarBytes ? loadAvatar(avatarBytes, avatarName) : Promise.resolve()),
+  /**
+   * Where a bone of a view's avatar is on the page, in CSS pixels relative to the canvas's
+   * top-left corner, in the body view (part "body") or the close-up ("close").
+   */
+  screenPoint(key, bone, part = "body") {
+    const v = views[key];
+    const p = v?.avatar?.boneWorld(bone);
+    if (!p) return null;
+    const r = layout()[key][part];
+    const cam = part === "body" ? bodyCamera : v.closeCamera;
+    cam.aspect = r.w / r.h;
+    cam.updateProjectionMatrix();
+    p.project(cam);
+    const rect = canvas.getBoundingClientRect();
+    return {
+      x: rect.left + r.x + ((p.x + 1) / 2) * r.w,
+      y: rect.top + r.y + ((1 - p.y) / 2) * r.h,
+    };
+  },
+  viewRects: () => {
+    const rect = canvas.getBoundingClientRect();
+    const out = {};
+    for (const [k, parts] of Object.entries(layout())) {
+      out[k] = {};
+      for (const [p, r] of Object.entries(parts)) out[k][p] = { x: rect.left + r.x, y: rect.top + r.y, w: r.w, h: r.h };
+    }
+    return out;
+  },
+});
+
+demo.ready = main().catch((e) => {
+  demo.state = "error";
+  demo.error = String(e?.message ?? e);
+  status(`failed to start: ${demo.error}`, true);
+  console.error(e);
+  throw e;
+});

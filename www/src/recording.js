@@ -1,0 +1,123 @@
+// The bundled real recordings, paired frame by frame into handrig frames.
+//
+// Hands: MediaPipe Hands output for a video of a right hand (assets/right-hand-video-mediapipe.json,
+// not mirrored, so the subject's right hand is labelled "Left"; handrig maps it to the avatar's
+// right hand with the default options). It goes to handrig unchanged as `frame.hands`.
+//
+// Wrists: an Azure Kinect body session (assets/kinect-upper-body.json), a different take of a
+// different person, paired with the hand video by frame index (frame i of both; the session is
+// the shorter one, 281 frames, so playback covers 281 frames). Its left hand touches the face
+// around frames 130-160. Kinect gives no hand landmarks, so the avatar's left arm follows the
+// Kinect wrist alone and the avatar's right arm carries the video's hand with alignment.
+//
+// Kinect frame -> avatar frame (handrig's `wrists` input, seed 000's Kinect wrist):
+//   * The recording app's frame is +Y up, the subject faces the camera (+Z: the nose is at
+//     larger z than the back of the head, the hands in front of the body), and the subject's
+//     LEFT shoulder is at -X (it is a left-handed, mirror-view frame).
+//   * The avatar (VRM 1.0 frame) faces +Z with its left at +X, so the conversion is a
+//     reflection of x only: a = (-x, y, z). The subject's left wrist drives the avatar's left.
+//   * Positions are made relative to the subject's shoulder joint (Kinect SHOULDER_*, the
+//     glenohumeral joint = VRM upperArm) and scaled by avatar arm length / subject arm length
+//     (upper + lower arm; the subject's from the median over the session, both sides
+//     averaged, so per-frame tracking noise does not change the scale), then placed at the
+//     avatar's upperArm rest position:
+//         wrist = avatar upperArm + (L_avatar / L_subject) * (a(WRIST) - a(SHOULDER))
+//   * VRM 0.x models face -Z in their own frame and handrig wants `wrists` in the model's own
+//     frame, so for them the offset is turned 180 degrees about +Y (negate x and z).
+// No wrist rotation is given: the hand's rotation comes from the hand landmarks.
+
+const KINECT_FPS = 30;
+
+/** Fetches and pairs the two recordings. */
+export async function loadRecordings(base = "./assets/") {
+  const [hands, kinect] = await Promise.all(
+    ["right-hand-video-mediapipe.json", "kinect-upper-body.json"].map(async (f) => {
+      const r = await fetch(base + f);
+      if (!r.ok) throw new Error(`cannot load ${f}: HTTP ${r.status}`);
+      return r.json();
+    }),
+  );
+  return new PairedRecording(hands, kinect);
+}
+
+const median = (xs) => {
+  const s = [...xs].sort((a, b) => a - b);
+  const m = s.length >> 1;
+  return s.length % 2 ? s[m] : (s[m - 1] + s[m]) / 2;
+};
+const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+
+export class PairedRecording {
+  constructor(hands, kinect) {
+    if (!Array.isArray(hands) || !Array.isArray(kinect?.frames)) {
+      throw new Error("recordings: unexpected format");
+    }
+    this.hands = hands;
+    this.kinect = kinect;
+    const idx = (n) => {
+      const i = kinect.jointNames.indexOf(n);
+      if (i < 0) throw new Error(`kinect recording: joint ${n} missing`);
+      return i;
+    };
+    this.joint = {};
+    for (const side of ["left", "right"]) {
+      const S = side.toUpperCase();
+      this.joint[side] = {
+        shoulder: idx(`SHOULDER_${S}`),
+        elbow: idx(`ELBOW_${S}`),
+        wrist: idx(`WRIST_${S}`),
+      };
+    }
+    this.length = Math.min(hands.length, kinect.frames.length);
+    this.fps = KINECT_FPS;
+    // Subject arm length (m): median over the session per side, sides averaged.
+    const perSide = ["left", "right"].map((side) => {
+      const j = this.joint[side];
+      return median(
+        kinect.frames.map((f) => dist(f.joints[j.shoulder], f.joints[j.elbow]) + dist(f.joints[j.elbow], f.joints[j.wrist])),
+      );
+    });
+    this.subjectArmLength = (perSide[0] + perSide[1]) / 2;
+  }
+
+  /**
+   * Per-avatar placement for `wristsAt`: the avatar's upperArm rest positions (model frame),
+   * its arm length, and whether it is VRM 0.x.
+   */
+  placementFor(restPose) {
+    const b = restPose.bones;
+    const need = ["leftUpperArm", "leftLowerArm", "leftHand", "rightUpperArm", "rightLowerArm", "rightHand"];
+    if (need.some((n) => !b[n])) return null;
+    const arm = (s) => dist(b[`${s}UpperArm`], b[`${s}LowerArm`]) + dist(b[`${s}LowerArm`], b[`${s}Hand`]);
+    return {
+      shoulder: { left: b.leftUpperArm, right: b.rightUpperArm },
+      scale: (arm("left") + arm("right")) / 2 / this.subjectArmLength,
+      vrm0: restPose.vrmVersion === "0",
+    };
+  }
+
+  /** The Kinect wrists of frame `i` in the avatar's model frame (see the top of this file). */
+  wristsAt(i, placement) {
+    if (!placement) return undefined;
+    const f = this.kinect.frames[i].joints;
+    const wrists = {};
+    for (const side of ["left", "right"]) {
+      const j = this.joint[side];
+      const w = f[j.wrist];
+      const s = f[j.shoulder];
+      // a = (-x, y, z): subject's left (-X in Kinect) becomes the avatar's +X.
+      let o = [-(w[0] - s[0]), w[1] - s[1], w[2] - s[2]];
+      if (placement.vrm0) o = [-o[0], o[1], -o[2]];
+      const base = placement.shoulder[side];
+      const k = placement.scale;
+      wrists[side] = { position: [base[0] + k * o[0], base[1] + k * o[1], base[2] + k * o[2]] };
+    }
+    return wrists;
+  }
+
+  /** The handrig frame for index `i` (hands unchanged from MediaPipe, wrists converted). */
+  frameAt(i, placement) {
+    const h = this.hands[i];
+    return { timeMs: h.timeMs, hands: h.hands, wrists: this.wristsAt(i, placement) };
+  }
+}
