@@ -44,11 +44,11 @@ const TYPES = {
   ".tflite": "application/octet-stream",
 };
 
-/** The directory served at /handrig/: the first candidate holding a package.json. */
+/** The directory served at /handrig/: the first candidate holding a package.json or handrig.js. */
 export function findPackageDir(env = process.env) {
   const candidates = [env.HANDRIG_PKG, join(REPO, "pkg"), join(WWW, "assets", "handrig")];
   for (const dir of candidates) {
-    if (dir && existsSync(join(dir, "package.json"))) return resolve(dir);
+    if (dir && ["package.json", "handrig.js"].some((f) => existsSync(join(dir, f)))) return resolve(dir);
   }
   return null;
 }

@@ -213,7 +213,7 @@ export class Avatar {
     this.markers = new THREE.Group();
     this.markers.name = "handrig-markers";
     this.vrm.scene.add(this.markers);
-    const r = 0.016 * this.armLength;
+    const r = 0.02 * this.armLength;
     const mk = (color, geo) => {
       const m = new THREE.Mesh(geo, new THREE.MeshBasicMaterial({ color, depthTest: false, transparent: true, opacity: 0.9 }));
       m.renderOrder = 10;
@@ -335,7 +335,6 @@ export class Avatar {
       m.target.position.fromArray(al.targetDip);
       if (avatarPoint) {
         m.avatar.position.copy(avatarPoint);
-        // Face the ring toward +Z of the model so it reads as a circle from the front.
         const pos = m.line.geometry.attributes.position;
         pos.setXYZ(0, al.targetDip[0], al.targetDip[1], al.targetDip[2]);
         pos.setXYZ(1, avatarPoint.x, avatarPoint.y, avatarPoint.z);

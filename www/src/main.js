@@ -109,19 +109,27 @@ function resize() {
   const h = canvas.clientHeight;
   if (canvas.width !== Math.round(w * renderer.getPixelRatio()) || canvas.height !== Math.round(h * renderer.getPixelRatio())) {
     renderer.setSize(w, h, false);
+    if (views.with.avatar) frameCamera(views.with.avatar);
   }
   dirty = true;
 }
 new ResizeObserver(resize).observe(canvas);
 
 function frameCamera(avatar) {
-  // Upper body: centred between the shoulders and the hips, the arm length sets the distance.
+  // Upper body and both arms in the T-pose fit the body viewport: centred a bit below the
+  // shoulders, the distance set by whichever of half-span and half-height needs more room.
   const b = avatar.rest.bones;
   const L = avatar.armLength;
   const shoulderY = b.leftUpperArm && b.rightUpperArm ? (b.leftUpperArm[1] + b.rightUpperArm[1]) / 2 : b.head?.[1] ?? 1.3;
-  const cy = shoulderY - 0.35 * L;
-  const dist = (1.45 * L) / Math.tan(THREE.MathUtils.degToRad(bodyCamera.fov / 2));
-  bodyCamera.position.set(0, cy + 0.1 * L, dist);
+  const shoulderX = b.leftUpperArm ? Math.abs(b.leftUpperArm[0]) : 0.15;
+  const cy = shoulderY - 0.3 * L;
+  const halfW = shoulderX + 1.35 * L;
+  const halfH = 1.25 * L;
+  const r = layout().with.body;
+  const aspect = r.w > 0 && r.h > 0 ? r.w / r.h : 1;
+  const t = Math.tan(THREE.MathUtils.degToRad(bodyCamera.fov / 2));
+  const dist = Math.max(halfH / t, halfW / (t * aspect));
+  bodyCamera.position.set(0, cy + 0.15 * L, dist);
   controls.target.set(0, cy, 0);
   controls.update();
 }
@@ -153,7 +161,6 @@ function aimCloseUp(view) {
 
 function render() {
   const rects = layout();
-  const pr = renderer.getPixelRatio();
   const H = canvas.clientHeight;
   for (const key of VIEW_KEYS) {
     const v = views[key];
@@ -171,7 +178,6 @@ function render() {
       renderer.render(v.scene, cam);
     }
   }
-  void pr;
   demo.renderCount++;
   const waiters = renderWaiters;
   renderWaiters = [];
@@ -574,5 +580,4 @@ demo.ready = main().catch((e) => {
   demo.error = String(e?.message ?? e);
   status(`failed to start: ${demo.error}`, true);
   console.error(e);
-  throw e;
 });

@@ -103,7 +103,7 @@ export function buildOptionsPanel(form, descriptions, onChange) {
       if (ranged) {
         input.min = String(d.min);
         input.max = String(d.max);
-        input.step = String((d.max - d.min) / 100);
+        input.step = String(d.step ?? (d.max - d.min) / 100);
       } else {
         input.step = "any";
         if (Number.isFinite(d.min)) input.min = String(d.min);
