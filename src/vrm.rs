@@ -24,3 +24,12 @@ pub struct VrmHumanoid {
 pub fn parse(_bytes: &[u8]) -> Result<VrmHumanoid> {
     Err(Error::Vrm("not implemented".into()))
 }
+
+/// Parses a `.vrm` file into a [`crate::Skeleton`].
+///
+/// # Errors
+/// See [`parse`] and [`crate::Skeleton::new`].
+pub fn load_skeleton(bytes: &[u8]) -> Result<crate::Skeleton> {
+    let h = parse(bytes)?;
+    crate::Skeleton::new(&h.bones, h.version)
+}
