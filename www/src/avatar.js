@@ -10,6 +10,8 @@
 import * as THREE from "three";
 import { GLTFLoader } from "three/addons/loaders/GLTFLoader.js";
 import { VRMLoaderPlugin, VRMUtils } from "@pixiv/three-vrm";
+// The package's three-vrm adapter: the rest pose handrig wants, and writing results back.
+import { applyToVRM, restPoseFromVRM } from "handrig/three-vrm";
 
 /** The 55 VRM 1.0 humanoid bone names, parent first (three-vrm's order). */
 export const HUMAN_BONES = [
@@ -61,26 +63,6 @@ export function vrmVersionOf(vrm) {
   return String(vrm.meta?.metaVersion ?? "1") === "0" ? "0" : "1";
 }
 
-/**
- * Rest world positions of the normalized bones in the model's own frame, as handrig's
- * `new HandRig(restPose)` wants them (same as the package's three-vrm adapter
- * `restPoseFromVRM`): { bones: { name: [x, y, z] }, vrmVersion }.
- */
-export function restPoseFromVrm(vrm) {
-  vrm.humanoid.resetNormalizedPose();
-  vrm.scene.updateMatrixWorld(true);
-  const toModel = new THREE.Matrix4().copy(vrm.scene.matrixWorld).invert();
-  const bones = {};
-  const p = new THREE.Vector3();
-  for (const name of HUMAN_BONES) {
-    const node = vrm.humanoid.getNormalizedBoneNode(name);
-    if (!node) continue;
-    node.getWorldPosition(p).applyMatrix4(toModel);
-    bones[name] = [p.x, p.y, p.z];
-  }
-  return { bones, vrmVersion: vrmVersionOf(vrm) };
-}
-
 const SIDE_COLOR = { left: 0x4aa3ff, right: 0xff9a3c, center: 0xb8bec9 };
 const FINGER_COLOR = {
   thumb: 0xff5d5d, index: 0xffe14d, middle: 0x62e36b, ring: 0x4fd9ff, little: 0xc77dff,
@@ -106,7 +88,7 @@ export class Avatar {
     this.name = name;
     this.version = vrmVersionOf(vrm);
     this.scene = scene;
-    this.rest = restPoseFromVrm(vrm);
+    this.rest = restPoseFromVRM(vrm);
     // Display only: face the viewer like a VRM 1.0 model. handrig math stays in vrm.scene's
     // local (model) frame, where the rest pose above was taken.
     if (this.version === "0") VRMUtils.rotateVRM0(vrm);
@@ -250,18 +232,13 @@ export class Avatar {
   }
 
   /**
-   * Applies a handrig result: every normalized bone goes to rest, then the solved bones take
-   * their local rotations (what the package's `applyToVRM` does), then three-vrm copies them
-   * onto the raw bones.
+   * Applies a handrig result: every normalized bone goes to rest (a result lists only the bones
+   * solved this frame), the package's `applyToVRM` writes the solved local rotations, and
+   * three-vrm copies them onto the model's bones in `vrm.update`.
    */
   apply(result) {
-    for (const node of this.nodes.values()) node.quaternion.identity();
-    if (result) {
-      for (const [name, q] of Object.entries(result.bones)) {
-        const node = this.nodes.get(name);
-        if (node) node.quaternion.set(q[0], q[1], q[2], q[3]);
-      }
-    }
+    this.vrm.humanoid.resetNormalizedPose();
+    if (result) applyToVRM(this.vrm, result);
     this.vrm.update(0);
     this.vrm.scene.updateMatrixWorld(true);
   }

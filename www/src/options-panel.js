@@ -24,6 +24,10 @@ export function getPath(obj, path) {
   return path.split(".").reduce((o, k) => (o == null ? undefined : o[k]), obj);
 }
 
+// The package describes ranges with f32 values (0.05 arrives as 0.05000000074505806); a range
+// input snaps to multiples of its step, so such steps would leak float noise into the options.
+const clean = (x) => (Number.isFinite(x) ? Number(Number(x).toPrecision(6)) : x);
+
 const fmt = (v) => (Number.isInteger(v) ? String(v) : Number(v).toFixed(3).replace(/0+$/, "").replace(/\.$/, ""));
 
 /**
@@ -52,7 +56,7 @@ export function buildOptionsPanel(form, descriptions, onChange) {
 
   const emit = (path) => onChange(options(), path);
 
-  for (const d of descriptions) {
+  for (let d of descriptions) {
     const path = pathOf(d);
     if (!path) continue;
     const wrap = document.createElement("div");
@@ -96,6 +100,8 @@ export function buildOptionsPanel(form, descriptions, onChange) {
       ctl.append(sel);
       controls.set(path, { set: (v) => (sel.value = String(v)) });
     } else if (d.type === "number") {
+      d = { ...d, min: clean(d.min), max: clean(d.max), step: clean(d.step), default: clean(d.default) };
+      values.set(path, d.default ?? null);
       const ranged = Number.isFinite(d.min) && Number.isFinite(d.max);
       const input = document.createElement("input");
       input.name = path;
@@ -115,7 +121,7 @@ export function buildOptionsPanel(form, descriptions, onChange) {
       input.value = String(start);
       out.textContent = optional ? "auto" : fmt(start);
       const commit = () => {
-        const v = Number(input.value);
+        const v = clean(Number(input.value));
         if (auto?.checked) {
           values.set(path, null);
           out.textContent = "auto";

@@ -72,3 +72,105 @@ export async function openDemo(env, query = "?paused") {
 }
 
 export const shot = (name) => join(SCREENSHOTS, name);
+
+/**
+ * Pixel statistics of a PNG screenshot inside `rect` (CSS pixels, page coordinates), decoded in
+ * the page (no image library in Node): how many pixels differ from the rect's most common
+ * colour (the background), how many are saturated (the skeleton is drawn in saturated colours
+ * on a grey background), and a hue histogram of the saturated ones in 12 buckets of 30 degrees.
+ */
+export async function pixelStats(page, png, rect) {
+  return page.evaluate(
+    async ({ b64, rect }) => {
+      const img = new Image();
+      img.src = `data:image/png;base64,${b64}`;
+      await img.decode();
+      const c = document.createElement("canvas");
+      c.width = img.width;
+      c.height = img.height;
+      const g = c.getContext("2d", { willReadFrequently: true });
+      g.drawImage(img, 0, 0);
+      const x = Math.max(0, Math.round(rect.x));
+      const y = Math.max(0, Math.round(rect.y));
+      const w = Math.min(img.width - x, Math.round(rect.w));
+      const h = Math.min(img.height - y, Math.round(rect.h));
+      const d = g.getImageData(x, y, w, h).data;
+      const counts = new Map();
+      for (let i = 0; i < d.length; i += 4) {
+        const k = (d[i] << 16) | (d[i + 1] << 8) | d[i + 2];
+        counts.set(k, (counts.get(k) ?? 0) + 1);
+      }
+      let bg = 0;
+      let best = -1;
+      for (const [k, n] of counts) if (n > best) (best = n), (bg = k);
+      const br = bg >> 16, bgG = (bg >> 8) & 255, bb = bg & 255;
+      let nonBg = 0;
+      let saturated = 0;
+      const hues = new Array(12).fill(0);
+      for (let i = 0; i < d.length; i += 4) {
+        const r = d[i], gg = d[i + 1], b = d[i + 2];
+        if (Math.abs(r - br) + Math.abs(gg - bgG) + Math.abs(b - bb) > 24) nonBg++;
+        const max = Math.max(r, gg, b), min = Math.min(r, gg, b);
+        if (max < 70 || (max - min) / max < 0.4) continue;
+        saturated++;
+        let hue;
+        if (max === r) hue = ((gg - b) / (max - min) + 6) % 6;
+        else if (max === gg) hue = (b - r) / (max - min) + 2;
+        else hue = (r - gg) / (max - min) + 4;
+        hues[Math.floor(hue * 2) % 12]++;
+      }
+      return { pixels: w * h, distinctColors: counts.size, nonBg, saturated, hues };
+    },
+    { b64: png.toString("base64"), rect },
+  );
+}
+
+/** How many pixels inside `rect` differ (sum of |dRGB| > 30) between two PNG screenshots. */
+export async function diffPixels(page, pngA, pngB, rect) {
+  return page.evaluate(
+    async ({ a, b, rect }) => {
+      const load = async (b64) => {
+        const img = new Image();
+        img.src = `data:image/png;base64,${b64}`;
+        await img.decode();
+        const c = document.createElement("canvas");
+        c.width = img.width;
+        c.height = img.height;
+        const g = c.getContext("2d", { willReadFrequently: true });
+        g.drawImage(img, 0, 0);
+        return g.getImageData(Math.round(rect.x), Math.round(rect.y), Math.round(rect.w), Math.round(rect.h)).data;
+      };
+      const [da, db] = await Promise.all([load(a), load(b)]);
+      let n = 0;
+      for (let i = 0; i < da.length; i += 4) {
+        if (Math.abs(da[i] - db[i]) + Math.abs(da[i + 1] - db[i + 1]) + Math.abs(da[i + 2] - db[i + 2]) > 30) n++;
+      }
+      return n;
+    },
+    { a: pngA.toString("base64"), b: pngB.toString("base64"), rect },
+  );
+}
+
+/** Dispatches a DataTransfer drop of `bytes` as file `name` on the page's canvas. */
+export async function dropFile(page, bytes, name) {
+  await page.evaluate(
+    ({ b64, name }) => {
+      const bin = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+      const dt = new DataTransfer();
+      dt.items.add(new File([bin], name, { type: "model/gltf-binary" }));
+      const target = document.getElementById("view");
+      target.dispatchEvent(new DragEvent("dragover", { dataTransfer: dt, bubbles: true, cancelable: true }));
+      target.dispatchEvent(new DragEvent("drop", { dataTransfer: dt, bubbles: true, cancelable: true }));
+    },
+    { b64: Buffer.from(bytes).toString("base64"), name },
+  );
+}
+
+/** A square rect of half-size `r` around a point, clipped to `bounds`. */
+export function around(p, r, bounds) {
+  const x0 = Math.max(bounds.x, p.x - r);
+  const y0 = Math.max(bounds.y, p.y - r);
+  const x1 = Math.min(bounds.x + bounds.w, p.x + r);
+  const y1 = Math.min(bounds.y + bounds.h, p.y + r);
+  return { x: x0, y: y0, w: Math.max(1, x1 - x0), h: Math.max(1, y1 - y0) };
+}

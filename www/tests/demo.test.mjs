@@ -1,0 +1,232 @@
+// Browser tests of the demo page on the bundled avatar and recordings: loading, rendering,
+// playback, the alignment error readout, the options panel and the webcam panel.
+
+import { after, before, test } from "node:test";
+import assert from "node:assert/strict";
+import { around, diffPixels, launch, openDemo, pixelStats, shot } from "./helpers.mjs";
+
+let env;
+let page;
+let errors;
+
+before(async () => {
+  env = await launch();
+  ({ page, errors } = await openDemo(env));
+});
+
+after(async () => {
+  await env?.close();
+});
+
+const demoState = () =>
+  page.evaluate(() => {
+    const d = window.__handrigDemo;
+    return {
+      state: d.state,
+      error: d.error,
+      frame: d.frame,
+      frameCount: d.frameCount,
+      avatar: d.avatar,
+      options: d.options,
+      errorMm: d.errorMm,
+      shownErrorMm: d.shownErrorMm,
+      solveUs: d.solveUs,
+      results: d.results,
+    };
+  });
+
+const setFrame = (i) => page.evaluate((i) => window.__handrigDemo.setFrame(i), i);
+const rects = () => page.evaluate(() => window.__handrigDemo.viewRects());
+const screenPoint = (view, bone, part = "body") =>
+  page.evaluate(([v, b, p]) => window.__handrigDemo.screenPoint(v, b, p), [view, bone, part]);
+
+test("the page loads with no console errors and builds the panel from optionDescriptions()", async () => {
+  const s = await demoState();
+  assert.equal(s.state, "ready", `page state ${s.state}: ${s.error}`);
+  // Let a few frames render before judging the console.
+  await page.evaluate(() => window.__handrigDemo.nextRender());
+  assert.deepEqual(errors, []);
+  assert.equal(s.avatar.name, "debug-robot.vrm");
+  assert.equal(s.avatar.vrmVersion, "1");
+  assert.equal(s.avatar.boneCount, 53);
+  assert.equal(s.frameCount, 281, "281 paired frames (the Kinect session is the shorter recording)");
+
+  const descriptions = await page.evaluate(() => window.__handrigDemo.optionDescriptions);
+  assert.ok(descriptions.length >= 6, "the package describes its options");
+  const paths = await page.$$eval("#options .opt", (els) => els.map((e) => e.dataset.path));
+  assert.deepEqual(paths, descriptions.map((d) => d.path ?? d.name));
+  for (const d of descriptions) {
+    const ctl = `#options .opt[data-path="${d.path ?? d.name}"]`;
+    if (d.type === "boolean") assert.equal(await page.locator(`${ctl} input[type=checkbox]`).count(), 1, d.path);
+    if (d.type === "enum") {
+      const values = await page.$$eval(`${ctl} option`, (os) => os.map((o) => o.value));
+      assert.deepEqual(values, d.values.map(String), d.path);
+    }
+    if (d.type === "number") assert.equal(await page.locator(`${ctl} input[name="${d.path ?? d.name}"]`).count(), 1, d.path);
+  }
+});
+
+test("the avatar renders: skeleton pixels in both views, fingers visible", async () => {
+  await setFrame(140);
+  const png = await page.screenshot({ path: shot("demo-frame140.png") });
+  const r = await rects();
+  for (const view of ["without", "with"]) {
+    const s = await pixelStats(page, png, r[view].body);
+    assert.ok(s.nonBg > 0.01 * s.pixels, `${view}: screenshot is not blank (${s.nonBg} of ${s.pixels} pixels)`);
+    assert.ok(s.saturated > 1500, `${view}: skeleton pixels present (${s.saturated})`);
+  }
+  // Fingers are drawn one colour each; the ring finger (cyan, hue bucket 180-210) and the
+  // little finger (violet, 270-300) have no other use on the page, so finding them around the
+  // right hand in the close-up means the fingers are drawn there.
+  const p = await screenPoint("with", "rightMiddleProximal", "close");
+  assert.ok(p, "the right hand is on screen");
+  const hand = await pixelStats(page, png, around(p, 90, r.with.close));
+  assert.ok(hand.hues[6] >= 10, `ring finger pixels near the hand: ${hand.hues}`);
+  assert.ok(hand.hues[9] >= 10, `little finger pixels near the hand: ${hand.hues}`);
+});
+
+test("playback advances: two frames differ in the hand region, play and scrub move the frame", async () => {
+  await setFrame(40);
+  const a = await page.screenshot({ path: shot("demo-frame040.png") });
+  const pa = await screenPoint("with", "rightHand");
+  await setFrame(110);
+  const b = await page.screenshot({ path: shot("demo-frame110.png") });
+  const pb = await screenPoint("with", "rightHand");
+  const r = await rects();
+  const region = around({ x: (pa.x + pb.x) / 2, y: (pa.y + pb.y) / 2 }, 80 + Math.hypot(pa.x - pb.x, pa.y - pb.y) / 2, r.with.body);
+  const changed = await diffPixels(page, a, b, region);
+  assert.ok(changed > 150, `hand region changed between frames 40 and 110 (${changed} pixels)`);
+  const close = await diffPixels(page, a, b, r.with.close);
+  assert.ok(close > 150, `hand close-up changed (${close} pixels)`);
+
+  // Play for a while: the frame moves on by itself.
+  await setFrame(0);
+  await page.click("#play");
+  await page.waitForFunction(() => window.__handrigDemo.frame >= 5, null, { timeout: 20_000 });
+  await page.click("#play");
+  const stopped = (await demoState()).frame;
+  await page.waitForTimeout(400);
+  assert.equal((await demoState()).frame, stopped, "pause stops playback");
+
+  // Scrub.
+  await page.locator("#scrub").fill("200");
+  await page.evaluate(() => window.__handrigDemo.nextRender());
+  assert.equal((await demoState()).frame, 200);
+  assert.match(await page.textContent("#frame-label"), /frame 200 \/ 280/);
+});
+
+test("alignment: the error readout is finite and below 2 mm, without alignment it is larger", async () => {
+  const frames = [];
+  for (let i = 0; i < 281; i += 14) frames.push(i);
+  let reachable = 0;
+  const withMm = [];
+  const withoutMm = [];
+  for (const i of frames) {
+    await setFrame(i);
+    const s = await demoState();
+    const al = s.results.with.alignment.right;
+    assert.ok(al, `frame ${i}: the right hand is aligned`);
+    const mm = s.errorMm.with.right;
+    assert.ok(Number.isFinite(mm), `frame ${i}: finite error`);
+    // The readout shows the same number.
+    const text = await page.textContent("#ro-right-with");
+    assert.ok(Math.abs(Number(text) - mm) < 0.06, `frame ${i}: readout "${text}" vs ${mm}`);
+    // What three-vrm shows (the avatar's normalized distal joint) agrees with handrig's own
+    // forward kinematics: the result applies directly to three-vrm's bones.
+    assert.ok(Math.abs(s.shownErrorMm.with.right - mm) < 0.05, `frame ${i}: shown ${s.shownErrorMm.with.right} vs ${mm}`);
+    if (!al.reachable) continue;
+    reachable++;
+    withMm.push(mm);
+    withoutMm.push(s.errorMm.without.right);
+    assert.ok(mm < 2, `frame ${i}: alignment error ${mm.toFixed(3)} mm < 2 mm`);
+    assert.ok(s.solveUs.with > 0, "solve time measured");
+  }
+  assert.ok(reachable >= frames.length * 0.8, `most frames reachable (${reachable}/${frames.length})`);
+  const median = (xs) => [...xs].sort((a, b) => a - b)[xs.length >> 1];
+  assert.ok(median(withoutMm) > 5 * Math.max(median(withMm), 0.1), `without alignment the error is larger: median ${median(withoutMm)} vs ${median(withMm)} mm`);
+  await setFrame(140);
+  await page.screenshot({ path: shot("demo-alignment-frame140.png") });
+});
+
+/** Changes one option through its control in the panel, as a user would. */
+async function setControl(d, value) {
+  const path = d.path ?? d.name;
+  const ctl = `#options .opt[data-path="${path}"]`;
+  if (d.type === "boolean") await page.locator(`${ctl} input[type=checkbox]`).setChecked(value);
+  else if (d.type === "enum") await page.locator(`${ctl} select`).selectOption(String(value));
+  else if (value === null) await page.locator(`${ctl} input[name="${path}:auto"]`).setChecked(true);
+  else {
+    const auto = page.locator(`${ctl} input[name="${path}:auto"]`);
+    if (await auto.count()) await auto.setChecked(false);
+    await page.locator(`${ctl} input[name="${path}"]`).fill(String(value));
+  }
+  await page.evaluate(() => window.__handrigDemo.nextRender());
+}
+
+test("every control re-creates the rigs with its option, and the controls change the output", async () => {
+  await setFrame(140);
+  const base = await demoState();
+  const descriptions = await page.evaluate(() => window.__handrigDemo.optionDescriptions);
+  const get = (o, path) => path.split(".").reduce((x, k) => x?.[k], o);
+  const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+
+  // What each known option must do to this frame (the subject's right hand, aligned index DIP).
+  const effects = {
+    inputMirrored: (s) => assert.ok(s.results.with.bones.leftIndexProximal && !s.results.with.bones.rightIndexProximal, "hand moves to the avatar's left"),
+    mirror: (s) => assert.ok(s.results.with.bones.leftIndexProximal && !s.results.with.bones.rightIndexProximal, "hand moves to the avatar's left"),
+    "alignment.enabled": (s) => assert.ok(Math.abs(s.errorMm.with.right - s.errorMm.without.right) < 1e-3, "with = without"),
+    "alignment.finger": (s) => assert.ok(dist(s.results.with.alignment.right.targetDip, base.results.with.alignment.right.targetDip) > 0.005, "another finger's target"),
+    "alignment.point": (s) => assert.ok(dist(s.results.with.alignment.right.targetDip, base.results.with.alignment.right.targetDip) > 0.005, "tip target differs from DIP"),
+    "alignment.weight": (s) => {
+      const p = s.results.with.ikTargets.right.position;
+      assert.ok(dist(p, base.results.with.ikTargets.right.position) > 0.002, "IK target moves");
+      assert.ok(dist(p, s.results.without.ikTargets.right.position) > 0.002, "and is not the plain pose wrist");
+    },
+    minHandScore: (s) => assert.ok(!s.results.with.bones.rightIndexProximal && !s.results.with.alignment.right, "the hand (score < 1) is ignored"),
+  };
+  const nonDefault = (d) => {
+    if (d.type === "boolean") return [!d.default];
+    if (d.type === "enum") return d.values.filter((v) => v !== d.default);
+    if (d.path === "minHandScore") return [1];
+    if (d.default == null) return [Number.isFinite(d.min) ? Math.max(d.min, 1.25) : 1.25];
+    return [Number.isFinite(d.min) && Number.isFinite(d.max) ? (d.min + d.max) / 2 : d.default * 2];
+  };
+
+  let checkedEffects = 0;
+  for (const d of descriptions) {
+    const path = d.path ?? d.name;
+    for (const value of nonDefault(d)) {
+      await setControl(d, value);
+      const s = await demoState();
+      assert.equal(get(s.options, path), value, `${path}: the panel's options carry ${value}`);
+      assert.doesNotMatch(await page.textContent("#status"), /rejected|failed/, `${path}=${value} accepted`);
+      assert.ok(s.results.with, `${path}=${value}: the new rig solves`);
+      if (effects[path]) {
+        effects[path](s);
+        checkedEffects++;
+        await page.screenshot({ path: shot(`option-${path.replace(/\./g, "-")}-${value}.png`) });
+      }
+    }
+    // Back to the default: the output is the baseline again (rigs are re-created).
+    await setControl(d, d.default);
+    const s = await demoState();
+    assert.deepEqual(s.options, base.options, `${path} restored`);
+    assert.deepEqual(s.results.with.bones, base.results.with.bones, `${path}: same output after restoring`);
+  }
+  assert.ok(checkedEffects >= 6, `output effects checked for ${checkedEffects} options`);
+  assert.deepEqual(errors, []);
+});
+
+test("webcam mode explains the model files and asks for them", async () => {
+  await page.check('input[name="source"][value="webcam"]');
+  assert.ok(await page.isVisible("#webcam-controls"));
+  assert.match(await page.textContent("#webcam-controls"), /\.task/);
+  assert.match(await page.inputValue("#wasm-base"), /tasks-vision\/wasm$/);
+  await page.click("#webcam-start");
+  assert.match(await page.textContent("#webcam-status"), /hand landmarker model/);
+  await page.check('input[name="source"][value="recording"]');
+  assert.ok(await page.isVisible("#recording-controls"));
+  await setFrame(140);
+  assert.ok((await demoState()).results.with.alignment.right, "recordings work again");
+  assert.deepEqual(errors, []);
+});
