@@ -249,6 +249,12 @@ export class Avatar {
     return node ? node.getWorldPosition(out) : null;
   }
 
+  /** A bone's rest position in the view's world frame (null if the avatar lacks it). */
+  restWorld(name, out = new THREE.Vector3()) {
+    const p = this.rest.bones[name];
+    return p ? this.vrm.scene.localToWorld(out.fromArray(p)) : null;
+  }
+
   /** A normalized bone's position in the model frame (what handrig reports). */
   boneModel(name, out = new THREE.Vector3()) {
     const w = this.boneWorld(name, out);

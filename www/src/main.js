@@ -33,7 +33,7 @@ const demo = {
   errorMm: { without: { left: null, right: null }, with: { left: null, right: null } },
   shownErrorMm: { without: { left: null, right: null }, with: { left: null, right: null } },
   solveUs: { without: null, with: null },
-  solveUsMean: { without: null, with: null },
+  solveUsMedian: { without: null, with: null },
   solveErrors: 0,
 };
 window.__handrigDemo = demo;
@@ -64,7 +64,7 @@ function makeScene(bg) {
   scene.add(key);
   const grid = new THREE.GridHelper(4, 40, 0x3a3f4a, 0x2a2e36);
   scene.add(grid);
-  return scene;
+  return { scene, grid };
 }
 
 /** Per view: scene, avatar, rig, close-up camera, last result and timings. */
@@ -73,7 +73,7 @@ const views = Object.fromEntries(
     key,
     {
       key,
-      scene: makeScene(i === 0 ? 0x1b1e25 : 0x1d2229),
+      ...makeScene(i === 0 ? 0x1b1e25 : 0x1d2229),
       closeCamera: new THREE.PerspectiveCamera(35, 1, 0.005, 20),
       avatar: null,
       rig: null,
@@ -92,7 +92,7 @@ function layout() {
   const w = canvas.clientWidth;
   const h = canvas.clientHeight;
   const half = Math.floor(w / 2);
-  const bodyH = Math.round(h * 0.62);
+  const bodyH = Math.round(h * 0.56);
   const rects = {};
   VIEW_KEYS.forEach((key, i) => {
     const x = i * half;
@@ -116,45 +116,63 @@ function resize() {
 new ResizeObserver(resize).observe(canvas);
 
 function frameCamera(avatar) {
-  // Upper body and both arms in the T-pose fit the body viewport: centred a bit below the
-  // shoulders, the distance set by whichever of half-span and half-height needs more room.
   const b = avatar.rest.bones;
   const L = avatar.armLength;
-  const shoulderY = b.leftUpperArm && b.rightUpperArm ? (b.leftUpperArm[1] + b.rightUpperArm[1]) / 2 : b.head?.[1] ?? 1.3;
-  const shoulderX = b.leftUpperArm ? Math.abs(b.leftUpperArm[0]) : 0.15;
-  const cy = shoulderY - 0.3 * L;
-  const halfW = shoulderX + 1.35 * L;
-  const halfH = 1.25 * L;
   const r = layout().with.body;
   const aspect = r.w > 0 && r.h > 0 ? r.w / r.h : 1;
   const t = Math.tan(THREE.MathUtils.degToRad(bodyCamera.fov / 2));
+  // Rest positions in the view's world frame (VRM 0.x models are turned to face the viewer).
+  const pts = Object.keys(b).map((n) => avatar.restWorld(n));
+  const box = new THREE.Box3().setFromPoints(pts);
+  for (const key of VIEW_KEYS) views[key].grid.position.y = box.min.y;
+  const lu = b.leftUpperArm && avatar.restWorld("leftUpperArm");
+  const ru = b.rightUpperArm && avatar.restWorld("rightUpperArm");
+  const upright =
+    lu && ru && b.head && b.hips && b.head[1] - b.hips[1] > 0.5 * L && Math.abs(lu.y - ru.y) < 0.1 * L && lu.x > ru.x;
+  let cx, cy, halfW, halfH;
+  if (upright) {
+    // Upper body and both arms in the T-pose: centred a bit below the shoulders.
+    cx = (lu.x + ru.x) / 2;
+    cy = (lu.y + ru.y) / 2 - 0.3 * L;
+    halfW = (lu.x - ru.x) / 2 + 1.35 * L;
+    halfH = 1.25 * L;
+  } else {
+    // Anything else (e.g. an armature off the T-pose): the whole rest skeleton.
+    const c = box.getCenter(new THREE.Vector3());
+    const size = box.getSize(new THREE.Vector3());
+    cx = c.x;
+    cy = c.y;
+    halfW = size.x / 2 + 0.5 * L;
+    halfH = size.y / 2 + 0.5 * L;
+  }
   const dist = Math.max(halfH / t, halfW / (t * aspect));
-  bodyCamera.position.set(0, cy + 0.15 * L, dist);
-  controls.target.set(0, cy, 0);
+  bodyCamera.position.set(cx, cy + 0.15 * L, dist);
+  controls.target.set(cx, cy, 0);
   controls.update();
 }
 
 const tmpA = new THREE.Vector3();
 const tmpB = new THREE.Vector3();
+const tmpC = new THREE.Vector3();
 
 /** Aims a view's close-up camera at the aligned hand (or the right hand). */
 function aimCloseUp(view) {
   const av = view.avatar;
   const res = view.result;
   const { finger, point, side } = alignedFocus(res);
-  const shown = av.alignedPointModel(side, finger, point, tmpA);
   const L = av.armLength;
-  let center;
+  // Centre on the hand: between the wrist joint, the avatar's aligned point and the target.
+  const center = av.boneWorld(`${side}Hand`, tmpA) ?? av.boneWorld("head", tmpA) ?? tmpA.set(0, 1, 0);
   let spread = 0;
+  const shown = av.alignedPointModel(side, finger, point, tmpB);
   if (shown && res?.alignment?.[side]) {
-    tmpB.fromArray(res.alignment[side].targetDip);
-    spread = shown.distanceTo(tmpB);
-    center = shown.add(tmpB).multiplyScalar(0.5);
-    av.vrm.scene.localToWorld(center);
-  } else {
-    center = av.boneWorld(`${side}Hand`, tmpA) ?? av.boneWorld("head", tmpA) ?? tmpA.set(0, 1, 0);
+    const target = tmpC.fromArray(res.alignment[side].targetDip);
+    spread = shown.distanceTo(target);
+    av.vrm.scene.localToWorld(shown);
+    av.vrm.scene.localToWorld(target);
+    center.multiplyScalar(0.5).addScaledVector(shown, 0.25).addScaledVector(target, 0.25);
   }
-  const d = Math.max(0.55 * L, 3 * spread);
+  const d = Math.max(0.75 * L, 3 * spread);
   view.closeCamera.position.set(center.x + 0.25 * d, center.y + 0.2 * d, center.z + d);
   view.closeCamera.lookAt(center);
 }
@@ -234,7 +252,10 @@ function currentFrame() {
   return null;
 }
 
-const round = (x, d = 3) => (x == null ? null : Math.round(x * 10 ** d) / 10 ** d);
+const median = (xs) => {
+  const s = [...xs].sort((a, b) => a - b);
+  return s.length ? s[s.length >> 1] : null;
+};
 
 function solveAndShow(frame) {
   for (const key of VIEW_KEYS) {
@@ -255,7 +276,7 @@ function solveAndShow(frame) {
     if (v.times.length > SOLVE_WINDOW) v.times.shift();
     demo.results[key] = result;
     demo.solveUs[key] = us;
-    demo.solveUsMean[key] = v.times.reduce((a, b) => a + b, 0) / v.times.length;
+    demo.solveUsMedian[key] = median(v.times);
     v.avatar.apply(result);
     v.avatar.updateSkeleton();
     const { finger, point } = alignedFocus(result);
@@ -278,7 +299,7 @@ function updateReadouts() {
     $(`ro-right-${key}`).textContent = fmtMm(demo.errorMm[key].right);
     $(`ro-left-${key}`).textContent = fmtMm(demo.errorMm[key].left);
     $(`ro-us-${key}`).textContent = fmtUs(demo.solveUs[key]);
-    $(`ro-usmean-${key}`).textContent = fmtUs(demo.solveUsMean[key]);
+    $(`ro-usmed-${key}`).textContent = fmtUs(demo.solveUsMedian[key]);
     const e = demo.errorMm[key];
     const side = e.right != null ? "right" : e.left != null ? "left" : null;
     $(`err-${key}`).textContent = side

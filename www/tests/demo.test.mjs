@@ -188,8 +188,12 @@ test("every control re-creates the rigs with its option, and the controls change
     if (d.type === "boolean") return [!d.default];
     if (d.type === "enum") return d.values.filter((v) => v !== d.default);
     if (d.path === "minHandScore") return [1];
-    if (d.default == null) return [Number.isFinite(d.min) ? Math.max(d.min, 1.25) : 1.25];
-    return [Number.isFinite(d.min) && Number.isFinite(d.max) ? (d.min + d.max) / 2 : d.default * 2];
+    // A value on the control's step grid (a range input snaps to it), away from the default.
+    const step = d.step ? Number(d.step.toPrecision(6)) : 0.01;
+    const min = Number.isFinite(d.min) ? Number(d.min.toPrecision(6)) : 0;
+    const snap = (x) => Number((min + Math.round((x - min) / step) * step).toPrecision(6));
+    if (d.default == null) return [snap(Math.max(min, 1.25))];
+    return [Number.isFinite(d.min) && Number.isFinite(d.max) ? snap((d.min + d.max) / 2) : snap(d.default * 2)];
   };
 
   let checkedEffects = 0;
