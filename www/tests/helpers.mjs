@@ -1,12 +1,12 @@
 // Shared browser-test helpers: the static server on a free port and headless Debian Chromium
 // through playwright-core (no browser download: executablePath is the system chromium).
 
-import { mkdtempSync, mkdirSync, rmSync } from "node:fs";
+import { existsSync, mkdtempSync, mkdirSync, rmSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { dirname, join, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
-import { startServer } from "../serve.mjs";
+import { findPackageDir, startServer } from "../serve.mjs";
 
 export const WWW = resolve(dirname(fileURLToPath(import.meta.url)), "..");
 export const REPO = resolve(WWW, "..");
@@ -18,6 +18,10 @@ export const CHROMIUM = process.env.CHROMIUM ?? "/usr/bin/chromium";
 
 /** Starts the server on a free port and a fresh headless Chromium profile. */
 export async function launch() {
+  if (!findPackageDir()) {
+    throw new Error("the handrig package is not built: run `make pkg` (node pkg-config/build.mjs) first");
+  }
+  if (!existsSync(CHROMIUM)) throw new Error(`${CHROMIUM} not found: install Debian's chromium or set CHROMIUM`);
   const srv = await startServer({ port: 0 });
   const profile = mkdtempSync(join(tmpdir(), "handrig-chromium-"));
   const context = await chromium.launchPersistentContext(profile, {

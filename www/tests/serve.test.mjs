@@ -3,10 +3,11 @@
 import { test } from "node:test";
 import assert from "node:assert/strict";
 import { createServer } from "node:net";
-import { readFileSync } from "node:fs";
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from "node:fs";
+import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { spawn } from "node:child_process";
-import { WWW, REPO } from "./helpers.mjs";
+import { WWW } from "./helpers.mjs";
 import { findPackageDir, startServer } from "../serve.mjs";
 
 test("serves the page, assets, node_modules and the package; refuses escapes", async () => {
@@ -60,10 +61,16 @@ test("a taken port falls back to a free one", async () => {
   }
 });
 
-test("the package directory is found: HANDRIG_PKG first, then pkg/", () => {
-  assert.equal(findPackageDir({ HANDRIG_PKG: join(REPO, "pkg-config", "does-not-exist") }), findPackageDir({}));
-  assert.equal(findPackageDir({ HANDRIG_PKG: join(WWW, "tests", "..", "assets") }) === join(WWW, "assets"), false,
-    "a directory without package.json or handrig.js is not taken");
+test("the package directory: $HANDRIG_PKG when it holds a package, else the next candidate", () => {
+  const dir = mkdtempSync(join(tmpdir(), "handrig-pkg-"));
+  try {
+    const fallback = findPackageDir({});
+    assert.equal(findPackageDir({ HANDRIG_PKG: dir }), fallback, "an empty directory is not a package");
+    writeFileSync(join(dir, "package.json"), "{}");
+    assert.equal(findPackageDir({ HANDRIG_PKG: dir }), dir);
+  } finally {
+    rmSync(dir, { recursive: true, force: true });
+  }
 });
 
 test("`node serve.mjs` prints the URL and serves it", async () => {
