@@ -6,10 +6,9 @@
 //   PORT=0 node www/serve.mjs     -> a free port
 //
 // Serves www/ at / (the page, its assets and www/node_modules for the import map) and the
-// built handrig package at /handrig/. The package directory is, in order: $HANDRIG_PKG, the
-// repository's pkg/ (what `make demo` builds), www/assets/handrig (a quick local
-// `wasm-pack build --target web` for development). Only 127.0.0.1 is bound: this is a
-// development server, not something to expose.
+// built handrig package at /handrig/: $HANDRIG_PKG if set (e.g. `node pkg-config/build.mjs
+// --out-dir DIR`), else the repository's pkg/ (what `make demo` builds). Only 127.0.0.1 is
+// bound: this is a development server, not something to expose.
 //
 // Responses carry COOP/COEP headers so the page is cross-origin isolated: that makes
 // performance.now() fine-grained enough to show per-frame solve times in microseconds.
@@ -44,11 +43,11 @@ const TYPES = {
   ".tflite": "application/octet-stream",
 };
 
-/** The directory served at /handrig/: the first candidate holding a package.json or handrig.js. */
+/** The directory served at /handrig/: the first candidate holding a built package. */
 export function findPackageDir(env = process.env) {
-  const candidates = [env.HANDRIG_PKG, join(REPO, "pkg"), join(WWW, "assets", "handrig")];
+  const candidates = [env.HANDRIG_PKG, join(REPO, "pkg")];
   for (const dir of candidates) {
-    if (dir && ["package.json", "handrig.js"].some((f) => existsSync(join(dir, f)))) return resolve(dir);
+    if (dir && existsSync(join(dir, "package.json")) && existsSync(join(dir, "index.js"))) return resolve(dir);
   }
   return null;
 }
@@ -146,7 +145,7 @@ if (process.argv[1] && resolve(process.argv[1]) === fileURLToPath(import.meta.ur
   }
   const { url, packageDir } = await startServer({ port });
   if (!packageDir) {
-    console.error("warning: no built handrig package found (pkg/ or www/assets/handrig); run `make demo`");
+    console.error("warning: no built handrig package in pkg/ (or $HANDRIG_PKG): run `make demo` or `node pkg-config/build.mjs`");
   } else {
     console.log(`handrig package: ${packageDir}`);
   }

@@ -257,8 +257,14 @@ const median = (xs) => {
   return s.length ? s[s.length >> 1] : null;
 };
 
+let solveCount = 0;
+
 function solveAndShow(frame) {
-  for (const key of VIEW_KEYS) {
+  // Alternate which rig solves first: the first wasm call after a render can be slowed by
+  // whatever the renderer left running (software GL on a busy machine), and both timings
+  // should see the same conditions.
+  const order = solveCount++ % 2 ? [...VIEW_KEYS].reverse() : VIEW_KEYS;
+  for (const key of order) {
     const v = views[key];
     if (!v.rig || !v.avatar) continue;
     let result = null;
@@ -461,7 +467,8 @@ async function startWebcam() {
   } catch (e) {
     webcam?.stop();
     webcam = null;
-    ws.textContent = `webcam failed: ${e.message}`;
+    // MediaPipe's messages carry a source-location trace: the first line says what failed.
+    ws.textContent = `webcam failed: ${String(e?.message ?? e).split("\n")[0]}`;
     console.warn("webcam failed:", e);
   }
 }

@@ -234,3 +234,28 @@ test("webcam mode explains the model files and asks for them", async () => {
   assert.ok((await demoState()).results.with.alignment.right, "recordings work again");
   assert.deepEqual(errors, []);
 });
+
+test("webcam mode loads the local MediaPipe runtime and reports a bad model file on the page", async () => {
+  await page.check('input[name="source"][value="webcam"]');
+  await page.setInputFiles("#hand-model-file", {
+    name: "not-a-model.task",
+    mimeType: "application/octet-stream",
+    buffer: Buffer.from("this is not a MediaPipe model bundle"),
+  });
+  const before = errors.length;
+  await page.click("#webcam-start");
+  await page.waitForFunction(() => /failed|running/.test(document.getElementById("webcam-status").textContent), null, {
+    timeout: 60_000,
+  });
+  const text = await page.textContent("#webcam-status");
+  // The wasm runtime (served from www/node_modules) loaded and started the graph; it is the
+  // model bundle that is refused.
+  assert.match(text, /^webcam failed: .*(zip|model|archive)/i);
+  assert.doesNotMatch(text, /\n/);
+  // MediaPipe itself logs the refused graph to the console; nothing else may.
+  const extra = errors.slice(before).filter((e) => !/StartGraph failed|MediaPipeTasksStatus/.test(e));
+  assert.deepEqual(extra, []);
+  errors.length = before;
+  assert.equal(await page.isDisabled("#webcam-start"), false, "can try again");
+  await page.check('input[name="source"][value="recording"]');
+});

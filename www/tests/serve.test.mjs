@@ -67,6 +67,8 @@ test("the package directory: $HANDRIG_PKG when it holds a package, else the next
     const fallback = findPackageDir({});
     assert.equal(findPackageDir({ HANDRIG_PKG: dir }), fallback, "an empty directory is not a package");
     writeFileSync(join(dir, "package.json"), "{}");
+    assert.equal(findPackageDir({ HANDRIG_PKG: dir }), fallback, "a package.json alone is not a built package");
+    writeFileSync(join(dir, "index.js"), "");
     assert.equal(findPackageDir({ HANDRIG_PKG: dir }), dir);
   } finally {
     rmSync(dir, { recursive: true, force: true });
