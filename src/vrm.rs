@@ -910,12 +910,3 @@ mod tests {
         }
     }
 }
-
-/// Parses a `.vrm` file into a [`crate::Skeleton`].
-///
-/// # Errors
-/// See [`parse`] and [`crate::Skeleton::new`].
-pub fn load_skeleton(bytes: &[u8]) -> Result<crate::Skeleton> {
-    let h = parse(bytes)?;
-    crate::Skeleton::new(&h.bones, h.version)
-}
