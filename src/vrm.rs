@@ -9,7 +9,7 @@
 //! (`getNormalizedBoneNode(name).getWorldPosition()` on a freshly loaded model), in the
 //! model's own frame: a VRM 0.x model stays -Z-facing here; [`crate::Skeleton::new`] turns it.
 //!
-//! Node transforms follow three.js's `GLTFLoader` to the bit where it matters: a `matrix` is
+//! Node transforms follow three.js's `GLTFLoader` (computed in f64 like JavaScript): a `matrix` is
 //! decomposed into translation, rotation and scale and recomposed (as `Object3D.applyMatrix4`
 //! does, so a sheared matrix loses its shear the same way), `matrix` wins when a node has both,
 //! and rotations are used as written (not renormalized).
@@ -41,6 +41,7 @@ pub struct VrmHumanoid {
 /// three-vrm does. VRM 1.0-beta files that still use the 0.x thumb names
 /// (`leftThumbIntermediate`) get the 0.x thumb renaming, as three-vrm does. In VRM 0.x a
 /// negative node index means "not assigned" and the bone is skipped (three-vrm's reading).
+/// Unlike three-vrm, the extension need not be listed in `extensionsUsed`.
 ///
 /// Does not check that required bones are present; [`load_skeleton`] does.
 ///
@@ -106,12 +107,10 @@ const CHUNK_BIN: u32 = 0x004E_4942; // "BIN\0"
 const HEADER_LEN: usize = 12;
 const CHUNK_HEADER_LEN: usize = 8;
 
-/// The chunks of a GLB, borrowed from the input.
+/// The JSON chunk of a GLB, borrowed from the input. The BIN chunk's framing is validated
+/// but its data is not kept: the humanoid rest pose needs no buffer data.
 struct Glb<'a> {
     json: &'a [u8],
-    /// The BIN chunk: validated for framing only, since the humanoid needs no buffer data.
-    #[allow(dead_code)]
-    bin: Option<&'a [u8]>,
 }
 
 fn read_u32(bytes: &[u8], at: usize) -> Option<u32> {
@@ -174,7 +173,6 @@ impl<'a> Glb<'a> {
         }
 
         let mut json = None;
-        let mut bin = None;
         let mut offset = HEADER_LEN;
         let mut index = 0usize;
         while offset < length {
@@ -222,7 +220,7 @@ impl<'a> Glb<'a> {
                 (_, CHUNK_JSON) => {
                     return Err(vrm_err(format!("chunk {index}: a second JSON chunk")));
                 }
-                (1, CHUNK_BIN) => bin = Some(data),
+                (1, CHUNK_BIN) => {}
                 (_, CHUNK_BIN) => {
                     return Err(vrm_err(format!(
                         "chunk {index}: a BIN chunk must directly follow the JSON chunk"
@@ -239,7 +237,7 @@ impl<'a> Glb<'a> {
                 "JSON chunk missing: the file ends after the {HEADER_LEN}-byte header"
             ))
         })?;
-        Ok(Glb { json, bin })
+        Ok(Glb { json })
     }
 }
 
@@ -379,8 +377,19 @@ fn index_value(v: &Value, n: usize, field: &str) -> Result<usize> {
             .map(|f| f as u64)
     };
     let Some(i) = i else {
+        // Numbers and short strings are quoted back; anything else by kind only, so a huge
+        // value cannot blow up the message.
+        let got = match v {
+            Value::Number(n) => n.to_string(),
+            Value::String(s) if s.len() <= 32 => format!("\"{s}\""),
+            Value::String(_) => "a string".into(),
+            Value::Null => "null".into(),
+            Value::Bool(b) => b.to_string(),
+            Value::Array(_) => "an array".into(),
+            Value::Object(_) => "an object".into(),
+        };
         return Err(vrm_err(format!(
-            "{field}: node index must be a non-negative integer, got {v}"
+            "{field}: node index must be a non-negative integer, got {got}"
         )));
     };
     usize::try_from(i).ok().filter(|&i| i < n).ok_or_else(|| {

@@ -433,7 +433,11 @@ fn bad_node_index_names_the_bone() {
     let b = edited(ROBOT, |j| {
         j["extensions"]["VRMC_vrm"]["humanoid"]["humanBones"]["leftHand"]["node"] = json!("24");
     });
-    assert!(vrm_message(parse(&b)).contains("leftHand.node: node index must be"));
+    assert_eq!(
+        vrm_message(parse(&b)),
+        "extensions.VRMC_vrm.humanoid.humanBones.leftHand.node: node index must be a \
+         non-negative integer, got \"24\""
+    );
 }
 
 #[test]
