@@ -352,12 +352,46 @@ async function loadAvatar(bytes, name) {
   avatarName = name;
   const a = views.with.avatar;
   for (const k of VIEW_KEYS) views[k].avatar.setMeshesVisible($("show-meshes").checked);
-  demo.avatar = { name, vrmVersion: a.version, boneCount: a.boneCount, armLength: a.armLength };
+  const parser = compareWithParser(bytes, a.rest);
+  demo.avatar = { name, vrmVersion: a.version, boneCount: a.boneCount, armLength: a.armLength, parser };
   demo.avatarLoads++;
-  $("avatar-info").textContent = `${name}: VRM ${a.version === "0" ? "0.x" : "1.0"}, ${a.boneCount} humanoid bones, arm ${(a.armLength * 100).toFixed(1)} cm`;
+  $("avatar-info").textContent =
+    `${name}: VRM ${a.version === "0" ? "0.x" : "1.0"}, ${a.boneCount} humanoid bones, arm ${(a.armLength * 100).toFixed(1)} cm. ` +
+    (parser.error
+      ? `handrig's own parser (HandRig.fromVrm) refused it: ${parser.error}`
+      : `HandRig.fromVrm reads the same rest pose as three-vrm to ${(parser.maxDiff * 1e6).toFixed(1)} µm (${parser.bones} bones).`);
   frameCamera(a);
   dirty = true;
   status(`${name} loaded`);
+}
+
+/**
+ * Cross-check: handrig's own .vrm parser (HandRig.fromVrm, no three.js) against the rest pose
+ * the page gives the rigs (three-vrm's normalized bones via restPoseFromVRM). Both are in the
+ * model's own frame. Returns { bones, maxDiff (m), missing, version } or { error }.
+ */
+function compareWithParser(bytes, rest) {
+  let rig;
+  try {
+    rig = HandRig.fromVrm(bytes);
+    const parsed = rig.restWorldPositions();
+    let maxDiff = 0;
+    const missing = [];
+    for (const [name, p] of Object.entries(rest.bones)) {
+      const q = parsed[name];
+      if (!q) {
+        missing.push(name);
+        continue;
+      }
+      maxDiff = Math.max(maxDiff, Math.hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]));
+    }
+    const extra = Object.keys(parsed).filter((n) => !rest.bones[n]);
+    return { bones: Object.keys(parsed).length, maxDiff, missing, extra, version: rig.vrmVersion };
+  } catch (e) {
+    return { error: String(e?.message ?? e) };
+  } finally {
+    rig?.free();
+  }
 }
 
 async function loadAvatarFile(file) {

@@ -47,6 +47,17 @@ async function drop(bytes, name) {
   });
 }
 
+/** handrig's own parser (fromVrm) and three-vrm agree on the rest pose. */
+function assertParserAgrees(avatar) {
+  const p = avatar.parser;
+  assert.equal(p.error, undefined, `HandRig.fromVrm: ${p.error}`);
+  assert.equal(p.version, avatar.vrmVersion);
+  assert.equal(p.bones, avatar.boneCount);
+  assert.deepEqual(p.missing, []);
+  assert.deepEqual(p.extra, []);
+  assert.ok(p.maxDiff < 1e-5, `rest positions agree to ${p.maxDiff} m`);
+}
+
 function assertFiniteResult(result, label) {
   assert.ok(result, `${label}: a result`);
   for (const [bone, q] of Object.entries(result.bones)) {
@@ -71,6 +82,7 @@ test("dropping a VRM 0.x file without fingers and off the T-pose (odd-armature-v
   assert.equal(s.avatar?.name, "odd-armature-vrm0.vrm", s.status);
   assert.equal(s.avatar.vrmVersion, "0");
   assert.equal(s.avatar.boneCount, 17);
+  assertParserAgrees(s.avatar);
   assert.doesNotMatch(s.status, /could not|failed/);
   for (const v of ["without", "with"]) assertFiniteResult(s.results[v], v);
   // No fingers: nothing to align, but the arm still follows the Kinect wrist.
@@ -90,6 +102,7 @@ test("dropping a VRM 0.x file with fingers (tests/fixtures/vrm0-fingers.vrm)", a
   assert.equal(s.avatar?.name, "vrm0-fingers.vrm", s.status);
   assert.equal(s.avatar.vrmVersion, "0");
   assert.ok(s.avatar.boneCount > 17 + 20, `finger bones present (${s.avatar.boneCount})`);
+  assertParserAgrees(s.avatar);
   for (const v of ["without", "with"]) assertFiniteResult(s.results[v], v);
   assert.ok(s.results.with.bones.rightIndexProximal, "the right index finger is solved");
   assert.ok(s.results.with.bones.rightThumbMetacarpal, "the thumb (0.x thumbProximal) is solved");
@@ -110,17 +123,38 @@ test("dropping a VRM 1.0 file (debug-robot.vrm from shared/)", async () => {
   assert.equal(s.avatar?.name, "debug-robot-dropped.vrm", s.status);
   assert.equal(s.avatar.vrmVersion, "1");
   assert.equal(s.avatar.boneCount, 53);
+  assertParserAgrees(s.avatar);
   assertFiniteResult(s.results.with, "with");
   assert.ok(s.results.with.alignment.right, "the right hand is aligned");
   await assertSkeletonDrawn(s, "drop-vrm1-robot.png");
   assert.deepEqual(errors, []);
 });
 
+test("dropping a VRM 1.0 file with human proportions (tests/fixtures/human-proportions-vrm1.vrm)", async (t) => {
+  const file = join(REPO, "tests", "fixtures", "human-proportions-vrm1.vrm");
+  if (!existsSync(file)) {
+    t.skip("tests/fixtures/human-proportions-vrm1.vrm is not in this checkout yet");
+    return;
+  }
+  const s = await drop(readFileSync(file), "human-proportions-vrm1.vrm");
+  assert.equal(s.avatar?.name, "human-proportions-vrm1.vrm", s.status);
+  assert.equal(s.avatar.vrmVersion, "1");
+  assertParserAgrees(s.avatar);
+  assertFiniteResult(s.results.with, "with");
+  const mm = s.errorMm.with.right;
+  assert.ok(Number.isFinite(mm));
+  assert.ok(Math.abs(s.shownErrorMm.with.right - mm) < 0.05, `three-vrm ${s.shownErrorMm.with.right} vs handrig ${mm} mm`);
+  if (s.results.with.alignment.right.reachable) assert.ok(mm < 2, `alignment error ${mm} mm`);
+  await assertSkeletonDrawn(s, "drop-vrm1-human-proportions.png");
+  assert.deepEqual(errors, []);
+});
+
 test("a broken file is reported on the page and the current avatar keeps working", async () => {
   const good = readFileSync(join(SHARED, "avatars", "debug-robot.vrm"));
+  const current = await page.evaluate(() => window.__handrigDemo.avatar.name);
   const s = await drop(good.subarray(0, 1000), "truncated.vrm");
   assert.match(s.status, /could not load truncated\.vrm/);
-  assert.equal(s.avatar.name, "debug-robot-dropped.vrm", "previous avatar kept");
+  assert.equal(s.avatar.name, current, "previous avatar kept");
   assertFiniteResult(s.results.with, "with");
   assert.ok(s.results.with.alignment.right);
   const nonVrm = await drop(Buffer.from("not a vrm at all"), "notes.vrm");
