@@ -247,7 +247,7 @@ function createRigs() {
 
 function currentFrame() {
   if (demo.source === "recording") {
-    return recording ? recording.frameAt(demo.frame, placement) : null;
+    return recording ? recording.frameAt(demo.frame, placement, getPath(demo.options ?? {}, "mirror") === true) : null;
   }
   return null;
 }
@@ -514,11 +514,12 @@ function stopWebcam() {
   $("webcam-stop").disabled = true;
 }
 
-function onOptionsChanged(opts) {
+function onOptionsChanged(opts, path) {
   demo.options = opts;
   try {
     createRigs();
-    status(`options: ${JSON.stringify(opts)}`);
+    const v = getPath(opts, path);
+    status(`${path} = ${v === undefined ? "auto" : v}: rigs re-created`);
   } catch (e) {
     status(`options rejected: ${e.message}`, true);
   }

@@ -24,6 +24,11 @@
 //         wrist = avatar upperArm + (L_avatar / L_subject) * (a(WRIST) - a(SHOULDER))
 //   * VRM 0.x models face -Z in their own frame and handrig wants `wrists` in the model's own
 //     frame, so for them the offset is turned 180 degrees about +Y (negate x and z).
+//   * With the `mirror` option the avatar mirrors the user, and handrig sends the subject's
+//     right hand to the avatar's left. `wrists` are already in the avatar's frame, so mirroring
+//     them is the caller's job: the avatar's left wrist then comes from the subject's RIGHT
+//     Kinect wrist, reflected left-right (x negated in the VRM 1.0 frame). (`inputMirrored`
+//     concerns the image given to MediaPipe only and does not touch the Kinect data.)
 // No wrist rotation is given: the hand's rotation comes from the hand landmarks.
 
 const KINECT_FPS = 30;
@@ -96,17 +101,22 @@ export class PairedRecording {
     };
   }
 
-  /** The Kinect wrists of frame `i` in the avatar's model frame (see the top of this file). */
-  wristsAt(i, placement) {
+  /**
+   * The Kinect wrists of frame `i` in the avatar's model frame (see the top of this file);
+   * `mirror` as handrig's option of that name.
+   */
+  wristsAt(i, placement, mirror = false) {
     if (!placement) return undefined;
     const f = this.kinect.frames[i].joints;
     const wrists = {};
     for (const side of ["left", "right"]) {
-      const j = this.joint[side];
+      const subjectSide = mirror ? (side === "left" ? "right" : "left") : side;
+      const j = this.joint[subjectSide];
       const w = f[j.wrist];
       const s = f[j.shoulder];
       // a = (-x, y, z): subject's left (-X in Kinect) becomes the avatar's +X.
       let o = [-(w[0] - s[0]), w[1] - s[1], w[2] - s[2]];
+      if (mirror) o[0] = -o[0];
       if (placement.vrm0) o = [-o[0], o[1], -o[2]];
       const base = placement.shoulder[side];
       const k = placement.scale;
@@ -116,8 +126,8 @@ export class PairedRecording {
   }
 
   /** The handrig frame for index `i` (hands unchanged from MediaPipe, wrists converted). */
-  frameAt(i, placement) {
+  frameAt(i, placement, mirror = false) {
     const h = this.hands[i];
-    return { timeMs: h.timeMs, hands: h.hands, wrists: this.wristsAt(i, placement) };
+    return { timeMs: h.timeMs, hands: h.hands, wrists: this.wristsAt(i, placement, mirror) };
   }
 }

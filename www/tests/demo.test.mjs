@@ -173,7 +173,14 @@ test("every control re-creates the rigs with its option, and the controls change
   // What each known option must do to this frame (the subject's right hand, aligned index DIP).
   const effects = {
     inputMirrored: (s) => assert.ok(s.results.with.bones.leftIndexProximal && !s.results.with.bones.rightIndexProximal, "hand moves to the avatar's left"),
-    mirror: (s) => assert.ok(s.results.with.bones.leftIndexProximal && !s.results.with.bones.rightIndexProximal, "hand moves to the avatar's left"),
+    mirror: (s) => {
+      assert.ok(s.results.with.bones.leftIndexProximal && !s.results.with.bones.rightIndexProximal, "hand moves to the avatar's left");
+      // The page mirrors the Kinect wrists with it: the avatar's left wrist is the subject's
+      // right wrist reflected (the robot is symmetric about x = 0).
+      const p = base.results.without.ikTargets.right.position;
+      const q = s.results.without.ikTargets.left.position;
+      assert.ok(dist(q, [-p[0], p[1], p[2]]) < 1e-5, `mirrored wrist ${q} vs ${p}`);
+    },
     "alignment.enabled": (s) => assert.ok(Math.abs(s.errorMm.with.right - s.errorMm.without.right) < 1e-3, "with = without"),
     "alignment.finger": (s) => assert.ok(dist(s.results.with.alignment.right.targetDip, base.results.with.alignment.right.targetDip) > 0.005, "another finger's target"),
     "alignment.point": (s) => assert.ok(dist(s.results.with.alignment.right.targetDip, base.results.with.alignment.right.targetDip) > 0.005, "tip target differs from DIP"),
