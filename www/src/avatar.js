@@ -63,6 +63,12 @@ export function vrmVersionOf(vrm) {
   return String(vrm.meta?.metaVersion ?? "1") === "0" ? "0" : "1";
 }
 
+// Scratch vectors for per-frame code (three-vrm's pattern): no allocation while playing.
+const _a = new THREE.Vector3();
+const _b = new THREE.Vector3();
+const _dir = new THREE.Vector3();
+const UP = new THREE.Vector3(0, 1, 0);
+
 const SIDE_COLOR = { left: 0x4aa3ff, right: 0xff9a3c, center: 0xb8bec9 };
 const FINGER_COLOR = {
   thumb: 0xff5d5d, index: 0xffe14d, middle: 0x62e36b, ring: 0x4fd9ff, little: 0xc77dff,
@@ -221,6 +227,7 @@ export class Avatar {
       line.visible = false;
       this.markers.add(line);
       this.marks[side].line = line;
+      this.marks[side].point = new THREE.Vector3();
     }
   }
 
@@ -277,10 +284,10 @@ export class Avatar {
 
   /** Moves the capsules onto the current normalized bones. */
   updateSkeleton() {
-    const a = new THREE.Vector3();
-    const b = new THREE.Vector3();
-    const up = new THREE.Vector3(0, 1, 0);
-    const dir = new THREE.Vector3();
+    const a = _a;
+    const b = _b;
+    const up = UP;
+    const dir = _dir;
     for (const s of this.segments) {
       this.nodes.get(s.from).getWorldPosition(a);
       if (s.to) this.nodes.get(s.to).getWorldPosition(b);
@@ -309,7 +316,7 @@ export class Avatar {
       const ik = result?.ikTargets?.[side];
       m.ik.visible = !!ik;
       if (ik) m.ik.position.fromArray(ik.position);
-      const avatarPoint = al ? this.alignedPointModel(side, finger, point) : null;
+      const avatarPoint = al ? this.alignedPointModel(side, finger, point, m.point) : null;
       m.target.visible = !!al;
       m.avatar.visible = !!avatarPoint;
       m.line.visible = !!(al && avatarPoint);
