@@ -80,7 +80,7 @@ pkg: setup
 pkg-dev: setup
 	node pkg-config/build.mjs --dev
 
-test: setup test-rust test-wasm test-node test-www
+test: setup test-rust test-wasm test-www test-node
 
 test-rust: setup
 	cargo test
