@@ -51,7 +51,7 @@ function parseArgs(argv) {
 }
 
 /** The `key = "string"` entries of Cargo.toml's [package] table (all this script needs). */
-export function cargoPackage(tomlText) {
+function cargoPackage(tomlText) {
   const out = {};
   let inPackage = false;
   for (const line of tomlText.split(/\r?\n/)) {
@@ -68,7 +68,7 @@ export function cargoPackage(tomlText) {
 }
 
 /** The version of `crate` locked in Cargo.lock. */
-export function lockedVersion(lockText, crate) {
+function lockedVersion(lockText, crate) {
   const re = new RegExp(`\\[\\[package\\]\\]\\s*\\nname = "${crate}"\\s*\\nversion = "([^"]+)"`);
   const m = lockText.match(re);
   return m ? m[1] : undefined;
@@ -317,4 +317,4 @@ function main() {
   console.log(`build.mjs: ${path.relative(root, out) || "."}/ ready: handrig ${v}, wasm ${kib} KiB (${args.dev ? "dev" : "release"})`);
 }
 
-if (process.argv[1] && path.resolve(process.argv[1]) === fileURLToPath(import.meta.url)) main();
+main();

@@ -1,8 +1,9 @@
 #!/usr/bin/env node
 // Node tests of the packed package, the way a user gets it:
 //   1. `npm pack` the built package (pkg/, made by `make pkg`);
-//   2. a fresh temp project installs the tarball from file, plus three, @pixiv/three-vrm and
-//      typescript from the npm registry (versions pinned in tests/node/package.json);
+//   2. a fresh temp project installs the tarball from file, plus the test tooling from the npm
+//      registry (three, @pixiv/three-vrm, @types/three, typescript, esbuild: the versions of
+//      tests/node/package.json and its lockfile);
 //   3. the node:test files in tests/node/consumer/ are copied there and run with `node --test`,
 //      so `import "handrig"` / `require("handrig")` resolve through the package's own exports.
 //
@@ -66,6 +67,8 @@ try {
   // 2. A fresh consumer project.
   const project = path.join(tmp, "consumer");
   fs.mkdirSync(project);
+  // Same test tooling as tests/node (devDependencies and lockfile, so three, three-vrm,
+  // typescript and esbuild resolve to the locked versions), plus handrig from the tarball.
   const tools = JSON.parse(fs.readFileSync(path.join(here, "package.json"), "utf8")).devDependencies;
   fs.writeFileSync(
     path.join(project, "package.json"),
@@ -74,12 +77,14 @@ try {
         name: "handrig-consumer",
         private: true,
         type: "commonjs",
-        dependencies: { handrig: `file:${tarball}`, ...tools },
+        dependencies: { handrig: `file:${tarball}` },
+        devDependencies: tools,
       },
       null,
       2,
     )}\n`,
   );
+  fs.copyFileSync(path.join(here, "package-lock.json"), path.join(project, "package-lock.json"));
   execFileSync(npm, ["install", "--no-audit", "--no-fund", "--prefer-offline", "--loglevel", "error"], {
     cwd: project,
     stdio: ["ignore", "inherit", "inherit"],

@@ -77,6 +77,11 @@ describe("TypeScript types", () => {
     assert.equal(status, 0, output);
   });
 
+  it("the same ESM consumer compiles with moduleResolution \"bundler\"", () => {
+    const { status, output } = runTsc("tsconfig.bundler.json");
+    assert.equal(status, 0, output);
+  });
+
   it("the three-vrm adapter accepts three-vrm's VRM type", () => {
     const { status, output } = runTsc("tsconfig.three.json");
     assert.equal(status, 0, output);
