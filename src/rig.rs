@@ -530,6 +530,26 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
             description: "Preset body scale (avatar arm / user arm) for pose input; unset = calibrate automatically.",
         },
         OptionDescription {
+            path: "calibration.frames",
+            kind: Number {
+                min: 1.0,
+                max: crate::body::MAX_CALIBRATION_FRAMES as f32,
+                default: Some(d.calibration.frames as f32),
+                step: 1.0,
+            },
+            description: "Pose frames with a visible arm that automatic body-scale calibration averages (outliers beyond 20% of the median dropped).",
+        },
+        OptionDescription {
+            path: "calibration.minVisibility",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.calibration.min_visibility),
+                step: 0.05,
+            },
+            description: "Pose landmarks below this visibility are ignored (arm at rest without a visible wrist; default elbow pole without a visible elbow).",
+        },
+        OptionDescription {
             path: "minHandScore",
             kind: Number {
                 min: 0.0,
