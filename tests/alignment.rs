@@ -130,10 +130,26 @@ fn hand_turns() -> [Quat; 4] {
     ]
 }
 
+/// The synthetic avatar in both versions, and the real files: the shared robot, the
+/// human-proportioned VRM 1.0 fixture and the VRM 0.x fixture with fingers.
+fn avatars() -> Vec<Skeleton> {
+    let load = |path: &str| {
+        let bytes = std::fs::read(format!("{}/{path}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+        handrig::vrm::load_skeleton(&bytes).unwrap()
+    };
+    vec![
+        avatar(VrmVersion::V1),
+        avatar(VrmVersion::V0),
+        load("../shared/avatars/debug-robot.vrm"),
+        load("tests/fixtures/human-proportions-vrm1.vrm"),
+        load("tests/fixtures/vrm0-fingers.vrm"),
+    ]
+}
+
 #[test]
 fn index_distal_lands_on_the_target_dip() {
-    for version in [VrmVersion::V1, VrmVersion::V0] {
-        let skel = avatar(version);
+    for skel in avatars() {
+        let version = skel.version();
         for side in Side::BOTH {
             let mut rig = Rig::new(skel.clone(), RigOptions::default()).unwrap();
             let mut out = SolveOutput::default();

@@ -286,16 +286,20 @@ impl ArmIk for TwoBoneIk {
         let r = dist.clamp(reach_min, reach_max);
 
         let (bend, memory) = self.bend_direction(chain, &goal, dir);
-        let (cos_a, sin_a) = if a > EPS && r > EPS {
-            let c = (((a - b) * (a + b) + r * r) / (2.0 * a * r)).clamp(-1.0, 1.0);
-            (c, (1.0 - c * c).max(0.0).sqrt())
+        // The elbow's offset along the target line (`along`) and away from it (`height`).
+        // Heron's form with the reach-limit factors written out keeps `height` exact (0) at
+        // full stretch and full fold, where `sqrt(1 - cos^2)` would be off by ~1e-3 rad.
+        let (along, height) = if a > EPS && r > EPS {
+            let along = ((a - b) * (a + b) + r * r) / (2.0 * r);
+            let h2 = (reach_max + r) * (reach_max - r) * (r - reach_min) * (r + reach_min);
+            (along, h2.max(0.0).sqrt() / (2.0 * r))
         } else if a > EPS {
             // Equal bones folded onto the shoulder: the elbow points along the bend.
-            (0.0, 1.0)
+            (0.0, a)
         } else {
-            (1.0, 0.0)
+            (0.0, 0.0)
         };
-        let upper_dir = dir * cos_a + bend * sin_a;
+        let upper_dir = (dir * along + bend * height).try_normalize().unwrap_or(dir);
         let lower_dir = (dir * r - upper_dir * a)
             .try_normalize()
             .unwrap_or(upper_dir);
