@@ -2,6 +2,9 @@
 //! targets on several rest layouts, unreachable and degenerate goals, and elbow continuity
 //! when the target or the pole passes the shoulder's pole axis.
 
+// Native only: proptest and the shared files are not available on wasm32.
+#![cfg(not(target_arch = "wasm32"))]
+
 use core::f32::consts::{FRAC_PI_2, PI};
 use std::sync::OnceLock;
 

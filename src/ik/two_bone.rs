@@ -26,7 +26,7 @@
 //! * Inside it the pole's weight `w` fades smoothly to 0 on the line. The elbow starts from
 //!   its last swivel (carried to the new arm direction) and turns toward the pole's side at
 //!   a rate that grows with `w` per radian the target and pole directions move
-//!   ([`relax_fraction`]): on the line it holds still; leaving the cone it has fully turned.
+//!   (see `relax_fraction`): on the line it holds still; leaving the cone it has fully turned.
 //!   Because the rate is per radian of motion, the elbow's path does not depend on the frame
 //!   rate or on how finely the motion is sampled: it is continuous, never a jump.
 //! * The first solve (or after [`ArmIk::reset`]) has no last swivel: it starts from
