@@ -20,7 +20,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat3, Quat, Vec3};
-use handrig::hand::{palm_frame, HandSolver, HandStrategy};
+use handrig::hand::{palm_frame, Dof, HandSolver, HandStrategy, DOF_COUNT};
 use handrig::mediapipe::{CameraMapping, Handedness, HAND_LANDMARKS};
 use handrig::{Finger, HumanBone, Side, Skeleton, VrmVersion, WorldPose, BONE_COUNT};
 use serde_json::{json, Value};
@@ -273,6 +273,7 @@ fn run() -> Result<(), String> {
         let mut limited: BTreeMap<&str, Bucket> = BTreeMap::new();
         let mut per_bone: BTreeMap<String, Bucket> = BTreeMap::new();
         let mut frames_out = Vec::new();
+        let mut dof_limited = [[0usize; DOF_COUNT]; 5];
         let mut solved = 0usize;
         let mut skipped = 0usize;
         for frame in &rec.frames {
@@ -281,7 +282,7 @@ fn run() -> Result<(), String> {
                 frames_out.push(Value::Null);
                 continue;
             };
-            local = [Quat::IDENTITY; BONE_COUNT];
+            local.fill(Quat::IDENTITY);
             let Some(hand) = solver.solve(&skel, *side, lm, &mut local) else {
                 skipped += 1;
                 frames_out.push(Value::Null);
@@ -289,6 +290,11 @@ fn run() -> Result<(), String> {
             };
             solved += 1;
             let rep = *solver.report(*side);
+            for (counts, flags) in dof_limited.iter_mut().zip(rep.limited.iter()) {
+                for (c, l) in counts.iter_mut().zip(flags) {
+                    *c += usize::from(*l);
+                }
+            }
             for q in local.iter().chain([&hand]) {
                 if !q.is_finite() || (q.length() - 1.0).abs() > 1e-4 {
                     bad_quats += 1;
@@ -339,7 +345,17 @@ fn run() -> Result<(), String> {
                     pb.errors.push(e);
                 }
             }
-            frames_out.push(json!({ "side": side.as_str(), "limited": fl, "local": locals }));
+            let angles: Vec<Vec<f32>> = rep
+                .angles
+                .iter()
+                .map(|a| a.iter().map(|x| x.to_degrees()).collect())
+                .collect();
+            frames_out.push(json!({
+                "side": side.as_str(),
+                "limited": fl,
+                "anglesDeg": angles,
+                "local": locals,
+            }));
         }
         let fingers: Vec<Value> = Finger::ALL
             .iter()
@@ -350,6 +366,10 @@ fn run() -> Result<(), String> {
                     "all": all.entry(n).or_default().stats(),
                     "limitFree": free.entry(n).or_default().stats(),
                     "limited": limited.entry(n).or_default().stats(),
+                    "limitedByDof": Dof::ALL.iter().map(|d| json!({
+                        "dof": d.name(*f),
+                        "frames": dof_limited[f.index()][d.index()],
+                    })).filter(|v| v["frames"] != 0).collect::<Vec<_>>(),
                     "bones": (0..3).map(|s| per_bone.entry(format!("{n}{s}")).or_default().stats()).collect::<Vec<_>>(),
                 })
             })
@@ -414,6 +434,23 @@ fn run() -> Result<(), String> {
                 g("limited", "p95"),
             );
         }
+    }
+    for rec in &report {
+        let mut line = String::new();
+        for f in rec["fingers"].as_array().into_iter().flatten() {
+            for d in f["limitedByDof"].as_array().into_iter().flatten() {
+                line += &format!(
+                    " {} {}: {};",
+                    f["finger"].as_str().unwrap_or(""),
+                    d["dof"].as_str().unwrap_or(""),
+                    d["frames"]
+                );
+            }
+        }
+        println!(
+            "limits active in {} (frames per DOF):{line}",
+            rec["recording"].as_str().unwrap_or("")
+        );
     }
     println!("\nnon-unit or non-finite output quaternions: {bad_quats}");
     let _ = Mat3::IDENTITY;
