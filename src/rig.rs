@@ -417,3 +417,130 @@ fn validate_frame(frame: &FrameInput) -> Result<()> {
     let _ = hand_landmark::WRIST;
     Ok(())
 }
+
+/// The type of one option, for building UIs and docs from [`option_descriptions`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum OptionKind {
+    /// `true` / `false`.
+    Boolean {
+        /// Default value.
+        default: bool,
+    },
+    /// One of a fixed set of strings.
+    Enum {
+        /// The accepted values.
+        values: Vec<&'static str>,
+        /// Default value.
+        default: &'static str,
+    },
+    /// A number in `min..=max`; `default` absent means "unset" (e.g. automatic calibration).
+    Number {
+        /// Smallest accepted value.
+        min: f32,
+        /// Largest accepted value.
+        max: f32,
+        /// Default value, if any.
+        default: Option<f32>,
+        /// Suggested UI step.
+        step: f32,
+    },
+}
+
+/// One option of [`RigOptions`]: its JS path (dot-separated, e.g. `alignment.weight`), type,
+/// range, default and a one-line description.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OptionDescription {
+    /// Dot-separated JS path, e.g. `"alignment.finger"`.
+    pub path: &'static str,
+    /// Type, accepted values and default.
+    pub kind: OptionKind,
+    /// What it does.
+    pub description: &'static str,
+}
+
+/// Every option a [`Rig`] accepts, for UIs (the demo builds its control panel from this) and
+/// docs. Kept next to [`RigOptions`]; a test checks that each path and default round-trips.
+#[must_use]
+pub fn option_descriptions() -> Vec<OptionDescription> {
+    use OptionKind::*;
+    let d = RigOptions::default();
+    vec![
+        OptionDescription {
+            path: "inputMirrored",
+            kind: Boolean { default: d.input_mirrored },
+            description: "The image given to MediaPipe was flipped horizontally (selfie view).",
+        },
+        OptionDescription {
+            path: "mirror",
+            kind: Boolean { default: d.mirror },
+            description: "The avatar mirrors the user: the user's right hand drives the avatar's left.",
+        },
+        OptionDescription {
+            path: "handStrategy",
+            kind: Enum {
+                values: vec!["analytic"],
+                default: "analytic",
+            },
+            description: "How hands are solved: analytic = palm frame + anatomically limited joint angles.",
+        },
+        OptionDescription {
+            path: "armSolver",
+            kind: Enum {
+                values: vec!["twoBone"],
+                default: "twoBone",
+            },
+            description: "Arm IK solver reaching the wrist target: twoBone = analytic two-bone IK with a pole.",
+        },
+        OptionDescription {
+            path: "alignment.enabled",
+            kind: Boolean { default: d.alignment.enabled },
+            description: "Fingertip alignment: place the wrist so the avatar's finger lands where the user's is.",
+        },
+        OptionDescription {
+            path: "alignment.finger",
+            kind: Enum {
+                values: crate::bones::Finger::ALL.iter().map(|f| f.as_str()).collect(),
+                default: d.alignment.finger.as_str(),
+            },
+            description: "Which finger is aligned.",
+        },
+        OptionDescription {
+            path: "alignment.point",
+            kind: Enum {
+                values: vec!["dip", "tip"],
+                default: "dip",
+            },
+            description: "Aligned point: dip = the distal bone's joint (exact); tip = distal bone extended by anatomical ratio.",
+        },
+        OptionDescription {
+            path: "alignment.weight",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.alignment.weight),
+                step: 0.05,
+            },
+            description: "Blend between the plain pose wrist (0) and the fully aligned wrist (1).",
+        },
+        OptionDescription {
+            path: "calibration.bodyScale",
+            kind: Number {
+                min: 0.1,
+                max: 10.0,
+                default: d.calibration.body_scale,
+                step: 0.01,
+            },
+            description: "Preset body scale (avatar arm / user arm) for pose input; unset = calibrate automatically.",
+        },
+        OptionDescription {
+            path: "minHandScore",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.min_hand_score),
+                step: 0.05,
+            },
+            description: "Hands whose handedness score is below this are ignored.",
+        },
+    ]
+}

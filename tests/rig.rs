@@ -1,0 +1,224 @@
+//! Pipeline-level tests of `Rig`: camera mapping on the real recording, the VRM 0.x output
+//! convention, input validation and state after errors.
+
+use glam::{Quat, Vec3};
+use handrig::mediapipe::{HandObservation, Handedness, WristObservation, HAND_LANDMARKS};
+use handrig::{
+    Finger, FrameInput, HumanBone, Rig, RigOptions, Side, Skeleton, SolveOutput, VrmVersion,
+};
+
+/// A T-pose body facing +Z with a full hand per side, in the VRM 1.0 frame; for `V0` the same
+/// body turned 180 degrees about +Y (how a VRM 0.x file stores it).
+fn body(version: VrmVersion) -> Skeleton {
+    let mut bones = vec![
+        (HumanBone::Hips, Vec3::new(0.0, 1.0, 0.0)),
+        (HumanBone::Spine, Vec3::new(0.0, 1.1, 0.0)),
+        (HumanBone::Chest, Vec3::new(0.0, 1.25, 0.0)),
+        (HumanBone::Head, Vec3::new(0.0, 1.55, 0.0)),
+    ];
+    for (s, side) in [(1.0f32, Side::Left), (-1.0, Side::Right)] {
+        let [sh, ua, la, h] = side.arm();
+        bones.push((sh, Vec3::new(0.05 * s, 1.4, 0.0)));
+        bones.push((ua, Vec3::new(0.18 * s, 1.4, 0.0)));
+        bones.push((la, Vec3::new(0.46 * s, 1.4, 0.0)));
+        bones.push((h, Vec3::new(0.72 * s, 1.4, 0.0)));
+        for (f, z) in [
+            (Finger::Index, 0.025f32),
+            (Finger::Middle, 0.0),
+            (Finger::Ring, -0.02),
+            (Finger::Little, -0.04),
+        ] {
+            let [p, i, d] = side.finger(f);
+            bones.push((p, Vec3::new(0.81 * s, 1.4, z)));
+            bones.push((i, Vec3::new(0.855 * s, 1.4, z)));
+            bones.push((d, Vec3::new(0.88 * s, 1.4, z)));
+        }
+        let [m, p, d] = side.finger(Finger::Thumb);
+        bones.push((m, Vec3::new(0.74 * s, 1.39, 0.03)));
+        bones.push((p, Vec3::new(0.78 * s, 1.39, 0.055)));
+        bones.push((d, Vec3::new(0.81 * s, 1.39, 0.07)));
+        let legs = match side {
+            Side::Left => [
+                HumanBone::LeftUpperLeg,
+                HumanBone::LeftLowerLeg,
+                HumanBone::LeftFoot,
+            ],
+            Side::Right => [
+                HumanBone::RightUpperLeg,
+                HumanBone::RightLowerLeg,
+                HumanBone::RightFoot,
+            ],
+        };
+        for (k, b) in legs.iter().enumerate() {
+            bones.push((*b, Vec3::new(0.1 * s, 0.95 - 0.43 * k as f32, 0.0)));
+        }
+    }
+    if version == VrmVersion::V0 {
+        for (_, p) in bones.iter_mut() {
+            *p = Vec3::new(-p.x, p.y, -p.z);
+        }
+    }
+    Skeleton::new(&bones, version).unwrap()
+}
+
+fn recording() -> Vec<(Handedness, [Vec3; HAND_LANDMARKS])> {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/data/hands/right-hand-video-mediapipe.json"
+    ))
+    .unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|f| {
+            let h = &f["hands"][0];
+            let label = Handedness::from_label(h["handedness"].as_str().unwrap()).unwrap();
+            let world = std::array::from_fn(|i| {
+                let c = |k: usize| h["worldLandmarks"][i][k].as_f64().unwrap() as f32;
+                Vec3::new(c(0), c(1), c(2))
+            });
+            (label, world)
+        })
+        .collect()
+}
+
+fn frame_with(label: Handedness, world: [Vec3; HAND_LANDMARKS]) -> FrameInput {
+    let mut f = FrameInput::default();
+    f.hands[0] = HandObservation {
+        handedness: label,
+        score: 0.95,
+        world,
+        image: None,
+    };
+    f.hand_count = 1;
+    f
+}
+
+#[test]
+fn real_recording_drives_the_subjects_right_hand_in_all_four_mappings() {
+    let rec = recording();
+    assert!(
+        rec.iter().all(|(l, _)| *l == Handedness::Left),
+        "recording is labelled Left"
+    );
+    for (input_mirrored, mirror, expected) in [
+        (false, false, Side::Right),
+        (true, false, Side::Left),
+        (false, true, Side::Left),
+        (true, true, Side::Right),
+    ] {
+        let options = RigOptions {
+            input_mirrored,
+            mirror,
+            ..RigOptions::default()
+        };
+        let mut rig = Rig::new(body(VrmVersion::V1), options).unwrap();
+        let mut out = SolveOutput::default();
+        let (label, world) = rec[100];
+        rig.solve(&frame_with(label, world), &mut out).unwrap();
+        assert!(
+            out.solved[expected.hand().index()],
+            "{input_mirrored} {mirror}"
+        );
+        assert!(!out.solved[expected.opposite().hand().index()]);
+    }
+}
+
+#[test]
+fn vrm0_outputs_are_the_vrm1_outputs_turned_into_the_model_frame() {
+    let rec = recording();
+    let mut rig1 = Rig::new(body(VrmVersion::V1), RigOptions::default()).unwrap();
+    let mut rig0 = Rig::new(body(VrmVersion::V0), RigOptions::default()).unwrap();
+    let (mut o1, mut o0) = (SolveOutput::default(), SolveOutput::default());
+    for (label, world) in rec.iter().step_by(37) {
+        let mut f = frame_with(*label, *world);
+        // A wrist target in each model's own frame: the same physical point.
+        let p1 = Vec3::new(-0.5, 1.3, 0.25);
+        f.wrists[1] = Some(WristObservation {
+            position: p1,
+            rotation: None,
+        });
+        rig1.solve(&f, &mut o1).unwrap();
+        f.wrists[1] = Some(WristObservation {
+            position: Vec3::new(-p1.x, p1.y, -p1.z),
+            rotation: None,
+        });
+        rig0.solve(&f, &mut o0).unwrap();
+        for b in HumanBone::ALL {
+            assert_eq!(o1.solved[b.index()], o0.solved[b.index()], "{b}");
+            if !o1.solved[b.index()] {
+                continue;
+            }
+            let q1 = rig1.export_rotation(o1.local[b.index()]);
+            let q0 = rig0.export_rotation(o0.local[b.index()]);
+            // three-vrm's VRM 0.x rule: negate x and z.
+            let expected = Quat::from_xyzw(-q1.x, q1.y, -q1.z, q1.w);
+            assert!(
+                q0.dot(expected).abs() > 1.0 - 1e-5,
+                "{b}: {q0} vs {expected}"
+            );
+            let w1 = rig1.export_position(o1.world.position[b.index()]);
+            let w0 = rig0.export_position(o0.world.position[b.index()]);
+            assert!((w0 - Vec3::new(-w1.x, w1.y, -w1.z)).length() < 1e-5, "{b}");
+        }
+    }
+}
+
+#[test]
+fn invalid_frames_are_rejected_naming_the_field_and_leave_the_rig_usable() {
+    let rec = recording();
+    let mut rig = Rig::new(body(VrmVersion::V1), RigOptions::default()).unwrap();
+    let mut out = SolveOutput::default();
+    let (label, world) = rec[0];
+    let mut bad = world;
+    bad[7].y = f32::NAN;
+    let err = rig.solve(&frame_with(label, bad), &mut out).unwrap_err();
+    assert!(
+        err.to_string().contains("frame.hands[0].worldLandmarks[7]"),
+        "{err}"
+    );
+    let mut f = frame_with(label, world);
+    f.wrists[0] = Some(WristObservation {
+        position: Vec3::new(0.0, f32::INFINITY, 0.0),
+        rotation: None,
+    });
+    let err = rig.solve(&f, &mut out).unwrap_err();
+    assert!(
+        err.to_string().contains("frame.wrists.left.position"),
+        "{err}"
+    );
+    rig.solve(&frame_with(label, world), &mut out).unwrap();
+    assert!(out.solved[HumanBone::RightHand.index()]);
+    for q in out.local {
+        assert!(q.is_finite() && (q.length() - 1.0).abs() < 1e-4);
+    }
+}
+
+#[test]
+fn duplicate_hands_pick_the_higher_score_and_low_scores_are_ignored() {
+    let rec = recording();
+    let mut rig = Rig::new(body(VrmVersion::V1), RigOptions::default()).unwrap();
+    let mut out = SolveOutput::default();
+    let (label, a) = rec[10];
+    let (_, b) = rec[300];
+    let mut f = frame_with(label, a);
+    f.hands[1] = HandObservation {
+        handedness: label,
+        score: 0.99,
+        world: b,
+        image: None,
+    };
+    f.hand_count = 2;
+    rig.solve(&f, &mut out).unwrap();
+    let both = out.local;
+    let mut only_b = frame_with(label, b);
+    only_b.hands[0].score = 0.99;
+    rig.solve(&only_b, &mut out).unwrap();
+    assert_eq!(both, out.local, "the 0.99 hand wins");
+
+    let mut weak = frame_with(label, a);
+    weak.hands[0].score = 0.2;
+    rig.solve(&weak, &mut out).unwrap();
+    assert!(!out.solved[HumanBone::RightHand.index()]);
+}

@@ -1,0 +1,273 @@
+//! wasm-bindgen tests of the JS bindings, run in Node by `wasm-pack test --node`.
+#![cfg(target_arch = "wasm32")]
+
+use handrig::wasm::HandRig;
+use js_sys::{Array, Float32Array, Object, Reflect};
+use serde::Serialize;
+use serde_json::{json, Value};
+use wasm_bindgen::prelude::*;
+use wasm_bindgen_test::wasm_bindgen_test;
+
+const RECORDING: &str = include_str!("../../shared/data/hands/right-hand-video-mediapipe.json");
+
+fn js(v: &Value) -> JsValue {
+    v.serialize(&serde_wasm_bindgen::Serializer::json_compatible())
+        .unwrap()
+}
+
+fn get(o: &JsValue, k: &str) -> JsValue {
+    Reflect::get(o, &JsValue::from_str(k)).unwrap()
+}
+
+fn message(e: JsValue) -> String {
+    let e: js_sys::Error = e.into();
+    String::from(e.message())
+}
+
+/// A T-pose avatar facing +Z with a full right hand (fingers along -X).
+fn rest_pose(version: &str) -> Value {
+    let mut bones = serde_json::Map::new();
+    let mut put = |n: &str, p: [f32; 3]| {
+        // VRM 0.x models face -Z: the same body turned 180 degrees about +Y.
+        let p = if version == "0" {
+            [-p[0], p[1], -p[2]]
+        } else {
+            p
+        };
+        bones.insert(n.to_string(), json!(p));
+    };
+    put("hips", [0.0, 1.0, 0.0]);
+    put("spine", [0.0, 1.1, 0.0]);
+    put("chest", [0.0, 1.25, 0.0]);
+    put("neck", [0.0, 1.45, 0.0]);
+    put("head", [0.0, 1.55, 0.0]);
+    for (s, side) in [(1.0f32, "left"), (-1.0, "right")] {
+        put(&format!("{side}UpperLeg"), [0.1 * s, 0.95, 0.0]);
+        put(&format!("{side}LowerLeg"), [0.1 * s, 0.5, 0.0]);
+        put(&format!("{side}Foot"), [0.1 * s, 0.08, 0.0]);
+        put(&format!("{side}Shoulder"), [0.05 * s, 1.4, 0.0]);
+        put(&format!("{side}UpperArm"), [0.18 * s, 1.4, 0.0]);
+        put(&format!("{side}LowerArm"), [0.46 * s, 1.4, 0.0]);
+        put(&format!("{side}Hand"), [0.72 * s, 1.4, 0.0]);
+        for (f, z) in [
+            ("Index", 0.025f32),
+            ("Middle", 0.0),
+            ("Ring", -0.02),
+            ("Little", -0.04),
+        ] {
+            put(&format!("{side}{f}Proximal"), [0.81 * s, 1.4, z]);
+            put(&format!("{side}{f}Intermediate"), [0.855 * s, 1.4, z]);
+            put(&format!("{side}{f}Distal"), [0.88 * s, 1.4, z]);
+        }
+        put(&format!("{side}ThumbMetacarpal"), [0.74 * s, 1.39, 0.03]);
+        put(&format!("{side}ThumbProximal"), [0.78 * s, 1.39, 0.055]);
+        put(&format!("{side}ThumbDistal"), [0.81 * s, 1.39, 0.07]);
+    }
+    json!({ "bones": bones, "vrmVersion": version })
+}
+
+fn recording_frame(i: usize) -> Value {
+    let frames: Value = serde_json::from_str(RECORDING).unwrap();
+    frames[i].clone()
+}
+
+#[wasm_bindgen_test]
+fn constructs_and_reports_rest_pose() {
+    let rig = HandRig::new(js(&rest_pose("1")), JsValue::UNDEFINED).unwrap();
+    let names: Vec<String> = rig
+        .bone_names()
+        .iter()
+        .map(|v| v.as_string().unwrap())
+        .collect();
+    assert_eq!(names.len(), 49);
+    assert_eq!(names[0], "hips");
+    let rest = rig.rest_world_positions();
+    let hand = get(&rest, "rightHand");
+    assert_eq!(Array::from(&hand).get(0).as_f64().unwrap() as f32, -0.72);
+    assert_eq!(rig.vrm_version(), "1");
+}
+
+#[wasm_bindgen_test]
+fn vrm0_rest_pose_round_trips_in_the_model_frame() {
+    let rig = HandRig::new(js(&rest_pose("0")), JsValue::UNDEFINED).unwrap();
+    let hand = Array::from(&get(&rig.rest_world_positions(), "rightHand"));
+    // Given at +X in the -Z-facing model frame, reported back unchanged.
+    assert!((hand.get(0).as_f64().unwrap() - 0.72).abs() < 1e-6);
+    assert_eq!(rig.vrm_version(), "0");
+}
+
+#[wasm_bindgen_test]
+fn solves_a_real_frame_onto_the_right_hand() {
+    let mut rig = HandRig::new(js(&rest_pose("1")), JsValue::UNDEFINED).unwrap();
+    let result = rig.solve(js(&recording_frame(0))).unwrap();
+    let bones = get(&result, "bones");
+    let q = get(&bones, "rightHand");
+    assert!(
+        !q.is_undefined(),
+        "the subject's right hand drives the avatar's right hand"
+    );
+    assert!(get(&bones, "leftHand").is_undefined());
+    let q: Vec<f64> = Array::from(&q)
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let len = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+    assert!((len - 1.0).abs() < 1e-5, "unit quaternion, got {q:?}");
+    let world: Object = get(&result, "worldPositions").unchecked_into();
+    assert_eq!(Object::keys(&world).length(), 49);
+}
+
+#[wasm_bindgen_test]
+fn accepts_mediapipe_result_shapes_and_flat_arrays() {
+    let frame = recording_frame(3);
+    let hand = &frame["hands"][0];
+    let world: Vec<Value> = hand["worldLandmarks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| json!({"x": p[0], "y": p[1], "z": p[2]}))
+        .collect();
+    let mut rig = HandRig::new(js(&rest_pose("1")), JsValue::UNDEFINED).unwrap();
+    let reference = rig.solve(js(&frame)).unwrap();
+    let reference = Array::from(&get(&get(&reference, "bones"), "rightIndexProximal"));
+
+    // tasks-vision HandLandmarkerResult passed as the frame.
+    let tasks = json!({
+        "worldLandmarks": [world],
+        "handedness": [[{"categoryName": "Left", "score": 0.97, "index": 0, "displayName": "Left"}]],
+    });
+    // legacy Hands result.
+    let legacy = json!({
+        "multiHandWorldLandmarks": [world],
+        "multiHandedness": [{"label": "Left", "score": 0.97, "index": 0}],
+    });
+    for shape in [tasks, legacy] {
+        let r = rig.solve(js(&shape)).unwrap();
+        let q = Array::from(&get(&get(&r, "bones"), "rightIndexProximal"));
+        for i in 0..4 {
+            assert!((q.get(i).as_f64().unwrap() - reference.get(i).as_f64().unwrap()).abs() < 1e-6);
+        }
+    }
+    // Flat Float32Array of 63 numbers.
+    let flat: Vec<f32> = hand["worldLandmarks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|p| (0..3).map(move |k| p[k].as_f64().unwrap() as f32))
+        .collect();
+    let h = Object::new();
+    Reflect::set(&h, &"handedness".into(), &"Left".into()).unwrap();
+    Reflect::set(&h, &"worldLandmarks".into(), &Float32Array::from(&flat[..])).unwrap();
+    let f = Object::new();
+    Reflect::set(&f, &"hands".into(), &Array::of1(&h)).unwrap();
+    let r = rig.solve(f.into()).unwrap();
+    assert!(!get(&get(&r, "bones"), "rightIndexProximal").is_undefined());
+}
+
+#[wasm_bindgen_test]
+fn bad_input_names_the_field_and_the_rig_keeps_working() {
+    let mut bad = rest_pose("1");
+    bad["bones"]["leftPinkyProximal"] = json!([0, 0, 0]);
+    let e = HandRig::new(js(&bad), JsValue::UNDEFINED).err().unwrap();
+    assert!(message(e.into()).contains("leftPinkyProximal"));
+
+    let mut missing = rest_pose("1");
+    missing["bones"].as_object_mut().unwrap().remove("head");
+    let e = HandRig::new(js(&missing), JsValue::UNDEFINED)
+        .err()
+        .unwrap();
+    assert!(message(e.into()).contains("head"));
+
+    let e = HandRig::new(js(&rest_pose("1")), js(&json!({"mirorr": true})))
+        .err()
+        .unwrap();
+    assert!(message(e.into()).contains("mirorr"));
+    let e = HandRig::new(
+        js(&rest_pose("1")),
+        js(&json!({"alignment": {"weight": 2}})),
+    )
+    .err()
+    .unwrap();
+    assert!(message(e.into()).contains("alignment.weight"));
+
+    let mut rig = HandRig::new(js(&rest_pose("1")), JsValue::UNDEFINED).unwrap();
+    let mut f = recording_frame(0);
+    f["hands"][0]["worldLandmarks"]
+        .as_array_mut()
+        .unwrap()
+        .pop();
+    let e = rig.solve(js(&f)).err().unwrap();
+    let m = message(e.into());
+    assert!(
+        m.contains("frame.hands[0].worldLandmarks") && m.contains("21"),
+        "{m}"
+    );
+
+    // NaN cannot travel through JSON: build it in JS.
+    let f = js(&recording_frame(0));
+    // (Array::from would copy: cast instead, to edit in place.)
+    let hands: Array = get(&f, "hands").unchecked_into();
+    let world: Array = get(&hands.get(0), "worldLandmarks").unchecked_into();
+    let p: Array = world.get(7).unchecked_into();
+    p.set(1, JsValue::from_f64(f64::NAN));
+    let m = message(rig.solve(f).err().unwrap().into());
+    assert!(m.contains("frame.hands[0].worldLandmarks[7][1]"), "{m}");
+
+    let m = message(
+        rig.solve(js(
+            &json!({"hands": [{"handedness": "Up", "worldLandmarks": []}]}),
+        ))
+        .err()
+        .unwrap()
+        .into(),
+    );
+    assert!(m.contains("frame.hands[0].handedness"), "{m}");
+    let m = message(rig.solve(JsValue::from_f64(3.0)).err().unwrap().into());
+    assert!(m.starts_with("frame"), "{m}");
+
+    // Still works.
+    let r = rig.solve(js(&recording_frame(1))).unwrap();
+    assert!(!get(&get(&r, "bones"), "rightHand").is_undefined());
+}
+
+#[wasm_bindgen_test]
+fn option_descriptions_cover_every_option() {
+    let d = HandRig::option_descriptions();
+    let paths: Vec<String> = d
+        .iter()
+        .map(|o| get(&o, "path").as_string().unwrap())
+        .collect();
+    for p in [
+        "mirror",
+        "inputMirrored",
+        "alignment.weight",
+        "alignment.finger",
+        "armSolver",
+    ] {
+        assert!(paths.iter().any(|x| x == p), "{p} missing from {paths:?}");
+    }
+    // Every described option, set to its default, is accepted by the constructor, and an
+    // option that is not described is rejected.
+    for o in d.iter() {
+        let path = get(&o, "path").as_string().unwrap();
+        let default = get(&o, "default");
+        let options = Object::new();
+        match path.split_once('.') {
+            Some((group, key)) => {
+                let inner = Object::new();
+                Reflect::set(&inner, &key.into(), &default).unwrap();
+                Reflect::set(&options, &group.into(), &inner).unwrap();
+            }
+            None => {
+                Reflect::set(&options, &path.as_str().into(), &default).unwrap();
+            }
+        }
+        let r = HandRig::new(js(&rest_pose("1")), options.into());
+        assert!(r.is_ok(), "option {path} with its default is rejected");
+    }
+    let e = HandRig::new(
+        js(&rest_pose("1")),
+        js(&json!({"alignment": {"fingr": "index"}})),
+    );
+    assert!(message(e.err().unwrap().into()).contains("options.alignment.fingr"));
+}
