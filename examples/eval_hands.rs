@@ -115,11 +115,8 @@ fn load_skeleton(args: &Args) -> Result<(Skeleton, String), String> {
         None => {
             let bytes = std::fs::read(&args.avatar)
                 .map_err(|e| format!("{}: {e}", args.avatar.display()))?;
-            let h = handrig::vrm::parse(&bytes).map_err(|e| e.to_string())?;
-            Ok((
-                Skeleton::new(&h.bones, h.version).map_err(|e| e.to_string())?,
-                args.avatar.display().to_string(),
-            ))
+            let skel = handrig::vrm::load_skeleton(&bytes).map_err(|e| e.to_string())?;
+            Ok((skel, args.avatar.display().to_string()))
         }
     }
 }

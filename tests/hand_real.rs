@@ -37,10 +37,13 @@ fn lm(v: &Value, map: impl Fn(Vec3) -> Vec3) -> [Vec3; 21] {
     })
 }
 
-/// `(side, landmarks)` of every usable frame of both recordings, avatar frame.
-fn recordings() -> Vec<(&'static str, Vec<(Side, [Vec3; 21])>)> {
+/// One frame: the avatar side and its landmarks in the avatar frame.
+type Frame = (Side, [Vec3; 21]);
+
+/// Every usable frame of both recordings.
+fn recordings() -> Vec<(&'static str, Vec<Frame>)> {
     let camera = CameraMapping::default();
-    let video: Vec<(Side, [Vec3; 21])> = data("right-hand-video-mediapipe.json")
+    let video: Vec<Frame> = data("right-hand-video-mediapipe.json")
         .as_array()
         .unwrap()
         .iter()
@@ -143,7 +146,15 @@ fn check_recordings(skel: &Skeleton, what: &str) {
 }
 
 #[test]
-fn real_recordings_on_a_test_avatar() {
+fn real_recordings_on_the_debug_robot() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/avatars/debug-robot.vrm");
+    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let robot = handrig::vrm::load_skeleton(&bytes).unwrap();
+    check_recordings(&robot, "debug-robot.vrm");
+}
+
+#[test]
+fn real_recordings_on_test_avatars() {
     check_recordings(&avatar(&HandLayout::standard(), &[]), "standard avatar");
     check_recordings(
         &avatar(
