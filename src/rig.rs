@@ -14,7 +14,7 @@ use crate::align::{self, AlignmentOptions, AlignmentReport};
 use crate::body::{BodyMapper, CalibrationOptions};
 use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::Result;
-use crate::hand::{HandSolver, HandStrategy};
+use crate::hand::{HandSolver, HandStatus, HandStrategy};
 use crate::ik::{ArmSolver, ArmSolverState};
 use crate::mediapipe::{hand_landmark, CameraMapping, FrameInput, HAND_LANDMARKS};
 use crate::skeleton::{Skeleton, WorldPose};
@@ -260,8 +260,11 @@ impl Rig {
             return;
         };
 
+        // A held hand (degenerate landmarks this frame) keeps its rotations but its
+        // landmarks cannot place the fingertip: align only freshly solved hands.
+        let fresh = self.hands.report(side).status == HandStatus::Solved;
         let target = match hand {
-            Some(_) => {
+            Some(_) if fresh => {
                 let a = align::wrist_target(
                     &self.skeleton,
                     side,
@@ -275,7 +278,7 @@ impl Rig {
                 out.alignment[side.index()] = Some(a);
                 a.ik_wrist
             }
-            None => pose_wrist,
+            _ => pose_wrist,
         };
         out.ik_targets[side.index()] = Some(IkTarget {
             position: target,
