@@ -289,6 +289,7 @@ fn run(skel: &Skeleton, session: &Session, side: Side, method: Method) -> (Vec<f
     let mut late_vector = skel.rest_world(distal).unwrap() - skel.rest_world(hand).unwrap();
     let mut errors = Vec::new();
     let mut total = 0;
+    let mut held = 0;
     for (i, frame) in session.hands.iter().enumerate() {
         let k = side.index();
         let pose_wrist = avatar_shoulder + scale * (session.wrist[i][k] - session.shoulder[i][k]);
@@ -307,7 +308,12 @@ fn run(skel: &Skeleton, session: &Session, side: Side, method: Method) -> (Vec<f
             rotation: None,
         });
         rig.solve(&input, &mut out).expect("solve");
-        let report = out.alignment[k].expect("alignment report");
+        // No report: the hand solver held last frame's hand (degenerate landmarks), so
+        // nothing was aligned this frame; not scored.
+        let Some(report) = out.alignment[k] else {
+            held += 1;
+            continue;
+        };
         if method == Method::Aligned {
             assert!(
                 (report.target_dip - target_dip).length() < 1e-5,
@@ -325,6 +331,13 @@ fn run(skel: &Skeleton, session: &Session, side: Side, method: Method) -> (Vec<f
         if report.reachable {
             errors.push((distal_pos - target_dip).length());
         }
+    }
+    if held > 0 {
+        println!(
+            "  {} {}: {held} frames with a held hand (not scored)",
+            side.as_str(),
+            method.label()
+        );
     }
     (errors, total)
 }
