@@ -1,9 +1,50 @@
 //! Body mapping and calibration from MediaPipe pose world landmarks.
 //!
-//! The user's arm is mapped onto the avatar's shoulder with one body scale `s`:
-//! `avatar point = avatar shoulder + s * (user point - user shoulder)`.
+//! ## Mapping
+//! The user's arm is carried onto the avatar's shoulder with one body scale `s`:
 //!
-//! FIRST VERSION: fixed scale from options; calibration follows (issue 4).
+//! ```text
+//! avatar point = avatar shoulder + s * (user point - user shoulder)      (avatar frame)
+//! ```
+//!
+//! for the wrist and the elbow (the IK pole), and [`crate::align`] applies the same `s` to the
+//! hand's wrist-to-DIP offset, so the target DIP is `avatar shoulder + s * (user DIP - user
+//! shoulder)`: one similarity transform of the user's whole arm and hand.
+//!
+//! Why this form: a body tracker such as the Kinect of seed 000 already gives the wrist in
+//! the avatar's frame; that is the `wrists` input, where `s = 1` and the target DIP is
+//! `pose wrist + (hand DIP - hand wrist)`, exactly the seed formula. MediaPipe pose landmarks
+//! are instead in the user's own metric body (origin between the hips), and an avatar may be
+//! a 1.2 m chibi or a 1.9 m giant. Anchoring at the shoulder (the IK chain's fixed root) and
+//! scaling by `avatar arm / user arm` keeps every point the user can reach within the
+//! avatar's reach, and keeps the hand's gesture (a touch on the face) in proportion to the
+//! arm that makes it. The residual mismatch, the avatar's hand being proportionally smaller
+//! or larger than the user's, is what fingertip alignment then removes.
+//!
+//! ## Calibration
+//! `s = avatar arm length / user arm length`, arm length = upper + lower arm (shoulder to
+//! elbow plus elbow to wrist). The avatar's is the mean of its two arms' rest lengths. The
+//! user's is sampled once per visible arm per pose frame (shoulder, elbow and wrist at or
+//! above [`CalibrationOptions::min_visibility`]) over [`CalibrationOptions::frames`] frames
+//! that had a sample. Samples further than 20% from their median are dropped (a mis-tracked
+//! elbow, a foreshortened arm) and the rest averaged. While frames are still being
+//! collected, `s` is the same robust estimate over the samples so far (so the first frames
+//! are already usable); before any sample it is `avatar arm / 0.52 m`, a typical adult
+//! shoulder-to-wrist length as MediaPipe measures it. Once complete, `s` stays fixed until
+//! [`BodyMapper::reset`]. A preset [`CalibrationOptions::body_scale`] disables all of this.
+//! Samples live in a fixed array: observing a frame allocates nothing.
+//!
+//! ## Missing or poor input (decided behaviour)
+//! * No pose this frame: nothing is observed or mapped; the [`crate::Rig`] then leaves that
+//!   arm at rest (the hand still gets its solved world rotation when a hand is tracked).
+//! * Shoulder or wrist of the driving side below `min_visibility`: [`BodyMapper::map_arm`]
+//!   returns `None` (MediaPipe guesses landmarks it cannot see; an arm chasing a guess looks
+//!   worse than an arm at rest), so the arm rests as above.
+//! * Elbow below `min_visibility`: the wrist is still mapped, without a pole; the arm IK then
+//!   uses its natural default elbow direction.
+//! * Low-visibility arms add no calibration samples; the scale keeps its last value.
+//! * Pose present but no hand: the arm reaches the mapped wrist; the hand follows the
+//!   forearm (nothing to align).
 
 use glam::Vec3;
 use serde::Deserialize;
@@ -13,19 +54,46 @@ use crate::error::{Error, Result};
 use crate::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation};
 use crate::skeleton::Skeleton;
 
+/// Largest accepted [`CalibrationOptions::frames`]; sizes the sample buffer.
+pub const MAX_CALIBRATION_FRAMES: usize = 300;
+/// Samples further than this fraction from the median are outliers.
+pub const OUTLIER_FRACTION: f32 = 0.2;
+/// The user arm length (m) assumed before any calibration sample: a typical adult
+/// shoulder-to-wrist distance in MediaPipe pose world landmarks.
+pub const REFERENCE_USER_ARM: f32 = 0.52;
+/// Shortest user arm (m) taken as a sample; shorter means collapsed landmarks.
+const MIN_USER_ARM: f32 = 0.05;
+
 /// Calibration options (JS: `options.calibration`).
-#[derive(Clone, Copy, Debug, PartialEq, Default, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(rename_all = "camelCase", default, deny_unknown_fields)]
 pub struct CalibrationOptions {
-    /// A preset body scale; `None` (default) calibrates automatically.
+    /// A preset body scale (avatar arm / user arm), positive; `None` (default) calibrates
+    /// automatically from pose landmarks.
     pub body_scale: Option<f32>,
+    /// How many pose frames with a visible arm calibration collects before it fixes the
+    /// scale; 1..=300. Default 30 (one second at 30 fps).
+    pub frames: usize,
+    /// Landmarks whose visibility is below this (0..1) are treated as not seen. Default 0.5.
+    pub min_visibility: f32,
+}
+
+impl Default for CalibrationOptions {
+    fn default() -> Self {
+        CalibrationOptions {
+            body_scale: None,
+            frames: 30,
+            min_visibility: 0.5,
+        }
+    }
 }
 
 impl CalibrationOptions {
     /// Checks ranges.
     ///
     /// # Errors
-    /// A preset scale that is not positive and finite.
+    /// A preset scale that is not positive and finite, `frames` outside 1..=300,
+    /// `minVisibility` outside 0..1.
     pub fn validate(&self) -> Result<()> {
         if let Some(s) = self.body_scale {
             if !(s.is_finite() && s > 0.0) {
@@ -34,6 +102,18 @@ impl CalibrationOptions {
                     "must be a positive number",
                 ));
             }
+        }
+        if !(1..=MAX_CALIBRATION_FRAMES).contains(&self.frames) {
+            return Err(Error::invalid(
+                "options.calibration.frames",
+                format!("must be an integer in 1..={MAX_CALIBRATION_FRAMES}"),
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.min_visibility) {
+            return Err(Error::invalid(
+                "options.calibration.minVisibility",
+                "must be a number in 0..1",
+            ));
         }
         Ok(())
     }
@@ -48,44 +128,125 @@ pub struct ArmMapping {
     pub elbow: Option<Vec3>,
 }
 
-/// Body mapping state.
+/// Body mapping and calibration state (one per rig).
 #[derive(Clone, Debug)]
 pub struct BodyMapper {
+    options: CalibrationOptions,
+    /// Mean rest arm length (upper + lower) of the avatar, m.
+    avatar_arm: f32,
     scale: f32,
-    preset: Option<f32>,
+    /// User arm length samples (m), `count` valid.
+    samples: [f32; 2 * MAX_CALIBRATION_FRAMES],
+    count: usize,
+    /// Pose frames that contributed at least one sample.
+    frames_seen: usize,
+    /// Scratch for the median (sorted copy), kept here so observing never allocates.
+    scratch: [f32; 2 * MAX_CALIBRATION_FRAMES],
 }
 
 impl BodyMapper {
-    /// New mapper for `skeleton`.
+    /// New mapper for `skeleton`. `options` should have passed
+    /// [`CalibrationOptions::validate`]; out-of-range `frames` is clamped to 1..=300.
     #[must_use]
-    pub fn new(_skeleton: &Skeleton, options: &CalibrationOptions) -> Self {
-        BodyMapper {
-            scale: options.body_scale.unwrap_or(1.0),
-            preset: options.body_scale,
-        }
+    pub fn new(skeleton: &Skeleton, options: &CalibrationOptions) -> Self {
+        let mut options = *options;
+        options.frames = options.frames.clamp(1, MAX_CALIBRATION_FRAMES);
+        let avatar_arm = avatar_arm_length(skeleton);
+        let mut m = BodyMapper {
+            options,
+            avatar_arm,
+            scale: 1.0,
+            samples: [0.0; 2 * MAX_CALIBRATION_FRAMES],
+            count: 0,
+            frames_seen: 0,
+            scratch: [0.0; 2 * MAX_CALIBRATION_FRAMES],
+        };
+        m.reset();
+        m
     }
 
-    /// The body scale in force.
+    /// The body scale in force (avatar arm / user arm).
     #[must_use]
     pub fn scale(&self) -> f32 {
         self.scale
     }
 
-    /// Restarts calibration.
-    pub fn reset(&mut self) {
-        self.scale = self.preset.unwrap_or(1.0);
+    /// The avatar's arm length (m, mean of both arms' upper + lower rest lengths).
+    #[must_use]
+    pub fn avatar_arm(&self) -> f32 {
+        self.avatar_arm
     }
 
-    /// Feeds one pose frame to calibration.
+    /// Whether the scale is final: preset, or calibration has collected all its frames.
+    #[must_use]
+    pub fn is_calibrated(&self) -> bool {
+        self.options.body_scale.is_some() || self.frames_seen >= self.options.frames
+    }
+
+    /// How many pose frames have contributed samples since the last reset.
+    #[must_use]
+    pub fn frames_observed(&self) -> usize {
+        self.frames_seen
+    }
+
+    /// Restarts calibration (a preset scale stays in force).
+    pub fn reset(&mut self) {
+        self.count = 0;
+        self.frames_seen = 0;
+        self.scale = match self.options.body_scale {
+            Some(s) => s,
+            None if self.avatar_arm > 0.0 => self.avatar_arm / REFERENCE_USER_ARM,
+            None => 1.0,
+        };
+    }
+
+    /// Feeds one pose frame to calibration: one arm-length sample per arm whose shoulder,
+    /// elbow and wrist are all visible. Does nothing with a preset scale or once calibrated.
+    /// Allocates nothing.
     pub fn observe(
         &mut self,
         _skeleton: &Skeleton,
-        _pose: &PoseObservation,
+        pose: &PoseObservation,
         _camera: CameraMapping,
     ) {
+        if self.is_calibrated() {
+            return;
+        }
+        let mut added = false;
+        for [sh, el, wr] in [
+            [pl::LEFT_SHOULDER, pl::LEFT_ELBOW, pl::LEFT_WRIST],
+            [pl::RIGHT_SHOULDER, pl::RIGHT_ELBOW, pl::RIGHT_WRIST],
+        ] {
+            // NaN visibility compares false: not seen.
+            let seen = [sh, el, wr]
+                .iter()
+                .all(|&i| pose.visibility[i] >= self.options.min_visibility);
+            if !seen {
+                continue;
+            }
+            // The camera mapping is a reflection at most: lengths are the same either way.
+            let len = (pose.world[el] - pose.world[sh]).length()
+                + (pose.world[wr] - pose.world[el]).length();
+            if len.is_finite() && len >= MIN_USER_ARM && self.count < self.samples.len() {
+                self.samples[self.count] = len;
+                self.count += 1;
+                added = true;
+            }
+        }
+        if added {
+            self.frames_seen += 1;
+            if let Some(user_arm) = robust_mean(&self.samples[..self.count], &mut self.scratch) {
+                if self.avatar_arm > 0.0 {
+                    self.scale = self.avatar_arm / user_arm;
+                }
+            }
+        }
     }
 
-    /// Maps the user's arm driving avatar side `side` onto the avatar.
+    /// Maps the user's arm driving avatar side `side` onto the avatar (internal frame):
+    /// `avatar shoulder + s * (user point - user shoulder)` for the wrist and (when visible)
+    /// the elbow. `None` when the driving side's shoulder or wrist is below `min_visibility`
+    /// or the avatar lacks the upper arm.
     #[must_use]
     pub fn map_arm(
         &self,
@@ -99,12 +260,61 @@ impl BodyMapper {
             Side::Left => (pl::LEFT_SHOULDER, pl::LEFT_ELBOW, pl::LEFT_WRIST),
             Side::Right => (pl::RIGHT_SHOULDER, pl::RIGHT_ELBOW, pl::RIGHT_WRIST),
         };
+        let seen = |i: usize| pose.visibility[i] >= self.options.min_visibility;
+        if !(seen(sh) && seen(wr)) {
+            return None;
+        }
         let shoulder = skeleton.rest_world(side.arm()[1])?;
         let map =
             |i: usize| shoulder + self.scale * camera.to_avatar(pose.world[i] - pose.world[sh]);
-        Some(ArmMapping {
-            wrist: map(wr),
-            elbow: (pose.visibility[el] >= 0.5).then(|| map(el)),
+        let wrist = map(wr);
+        let elbow = seen(el).then(|| map(el));
+        wrist.is_finite().then_some(ArmMapping {
+            wrist,
+            elbow: elbow.filter(|e| e.is_finite()),
         })
     }
+}
+
+/// Mean rest arm length (upper + lower) over the avatar's two arms, m (0 if it has none).
+fn avatar_arm_length(skeleton: &Skeleton) -> f32 {
+    let mut total = 0.0;
+    let mut n = 0.0;
+    for side in Side::BOTH {
+        let [_, upper, lower, hand] = side.arm();
+        if skeleton.has(upper) && skeleton.has(lower) && skeleton.has(hand) {
+            total += skeleton.rest_local(lower).length() + skeleton.rest_local(hand).length();
+            n += 1.0;
+        }
+    }
+    if n > 0.0 {
+        total / n
+    } else {
+        0.0
+    }
+}
+
+/// Mean of the samples within [`OUTLIER_FRACTION`] of their median; `None` for no samples.
+/// `scratch` must be at least as long as `samples`. Sorts in place: no allocation.
+#[must_use]
+pub fn robust_mean(samples: &[f32], scratch: &mut [f32]) -> Option<f32> {
+    let n = samples.len().min(scratch.len());
+    if n == 0 {
+        return None;
+    }
+    let sorted = &mut scratch[..n];
+    sorted.copy_from_slice(&samples[..n]);
+    sorted.sort_unstable_by(f32::total_cmp);
+    let median = if n % 2 == 1 {
+        sorted[n / 2]
+    } else {
+        0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
+    };
+    let (sum, kept) = sorted
+        .iter()
+        .filter(|&&x| (x - median).abs() <= OUTLIER_FRACTION * median)
+        .fold((0.0f32, 0u32), |(s, k), &x| (s + x, k + 1));
+    // The median itself is always kept when it is a sample; with an even count the two
+    // middle samples may both be outliers of their own mean: fall back to the median.
+    Some(if kept > 0 { sum / kept as f32 } else { median })
 }

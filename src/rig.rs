@@ -14,7 +14,7 @@ use crate::align::{self, AlignmentOptions, AlignmentReport};
 use crate::body::{BodyMapper, CalibrationOptions};
 use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::Result;
-use crate::hand::{HandSolver, HandStrategy};
+use crate::hand::{HandSolver, HandStatus, HandStrategy};
 use crate::ik::{ArmSolver, ArmSolverState};
 use crate::mediapipe::{hand_landmark, CameraMapping, FrameInput, HAND_LANDMARKS};
 use crate::skeleton::{Skeleton, WorldPose};
@@ -260,8 +260,11 @@ impl Rig {
             return;
         };
 
+        // A held hand (degenerate landmarks this frame) keeps its rotations but its
+        // landmarks cannot place the fingertip: align only freshly solved hands.
+        let fresh = self.hands.report(side).status == HandStatus::Solved;
         let target = match hand {
-            Some(_) => {
+            Some(_) if fresh => {
                 let a = align::wrist_target(
                     &self.skeleton,
                     side,
@@ -275,7 +278,7 @@ impl Rig {
                 out.alignment[side.index()] = Some(a);
                 a.ik_wrist
             }
-            None => pose_wrist,
+            _ => pose_wrist,
         };
         out.ik_targets[side.index()] = Some(IkTarget {
             position: target,
@@ -528,6 +531,26 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 step: 0.01,
             },
             description: "Preset body scale (avatar arm / user arm) for pose input; unset = calibrate automatically.",
+        },
+        OptionDescription {
+            path: "calibration.frames",
+            kind: Number {
+                min: 1.0,
+                max: crate::body::MAX_CALIBRATION_FRAMES as f32,
+                default: Some(d.calibration.frames as f32),
+                step: 1.0,
+            },
+            description: "Pose frames with a visible arm that automatic body-scale calibration averages (outliers beyond 20% of the median dropped).",
+        },
+        OptionDescription {
+            path: "calibration.minVisibility",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.calibration.min_visibility),
+                step: 0.05,
+            },
+            description: "Pose landmarks below this visibility are ignored (arm at rest without a visible wrist; default elbow pole without a visible elbow).",
         },
         OptionDescription {
             path: "minHandScore",

@@ -1,0 +1,333 @@
+//! The kinematic model of one finger: a 2-DOF base joint described in spherical coordinates
+//! about a pole, and hinges about the axis that base carries. Pure math on fixed-size values;
+//! allocation-free.
+//!
+//! A [`Basis`] `(x, y, z)` is orthonormal (either handedness: left and right hands use mirror
+//! images of one another). A base direction is
+//!
+//! ```text
+//! d(lon, colat) = sin(colat) (cos(lon) x + sin(lon) y) + cos(colat) z
+//! ```
+//!
+//! with `z` the pole. Its local frame is `north` (toward the pole, perpendicular to `d`) and
+//! `east` (increasing longitude). The base joint is the rotation about the pole by the
+//! longitude followed by the rotation about the carried `east` axis by the colatitude: it
+//! takes the local frame of one direction to the local frame of another, so the finger has no
+//! twist other than what the two angles imply.
+//!
+//! The hinges bend toward the *flexion direction*: `north` for fingers (their pole is the
+//! palmar normal, so a hinge bends toward the palm), `east` for the thumb (its pole is the
+//! index metacarpal line: the thumb's flexion plane turns with the opposition angle, Kapandji's
+//! cone of opposition). The hinge axis is `d x flexion`; a positive hinge angle flexes.
+
+use glam::Vec3;
+
+/// An orthonormal basis; `z` is the pole.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Basis {
+    pub x: Vec3,
+    pub y: Vec3,
+    pub z: Vec3,
+}
+
+/// Which rule gives the flexion direction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// Flexion toward the pole (`north`).
+    Finger,
+    /// Flexion along `east`.
+    Thumb,
+}
+
+/// The base direction and its hinge plane at some `(lon, colat)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    /// Bone direction.
+    pub dir: Vec3,
+    /// Unit direction hinges bend toward (perpendicular to `dir`).
+    pub flex: Vec3,
+    /// Hinge axis, `dir x flex`.
+    pub hinge: Vec3,
+}
+
+struct Local {
+    d: Vec3,
+    north: Vec3,
+    east: Vec3,
+    g: Vec3,
+    k: f32,
+}
+
+impl Basis {
+    /// Gram-Schmidt: `z` as given (normalized), `x` from `x_hint`, `y` from `y_hint` (both
+    /// made perpendicular), keeping the hints' orientation. `None` when degenerate.
+    pub fn from_hints(z: Vec3, x_hint: Vec3, y_hint: Vec3) -> Option<Basis> {
+        let z = z.try_normalize()?;
+        let x = (x_hint - x_hint.dot(z) * z).try_normalize()?;
+        let y = (y_hint - y_hint.dot(z) * z - y_hint.dot(x) * x).try_normalize()?;
+        Some(Basis { x, y, z })
+    }
+
+    fn local(&self, lon: f32, colat: f32) -> Local {
+        let (sl, cl) = lon.sin_cos();
+        let (s, k) = colat.sin_cos();
+        let g = cl * self.x + sl * self.y;
+        Local {
+            d: s * g + k * self.z,
+            north: s * self.z - k * g,
+            east: -sl * self.x + cl * self.y,
+            g,
+            k,
+        }
+    }
+
+    /// Longitude and colatitude of a unit direction (colatitude in `0..=pi`).
+    pub fn spherical(&self, v: Vec3) -> (f32, f32) {
+        let (a, b, c) = (v.dot(self.x), v.dot(self.y), v.dot(self.z));
+        (b.atan2(a), a.hypot(b).atan2(c))
+    }
+
+    /// The direction, flexion direction and hinge axis at `(lon, colat)`.
+    pub fn frame(&self, kind: Kind, lon: f32, colat: f32) -> Frame {
+        let l = self.local(lon, colat);
+        let flex = match kind {
+            Kind::Finger => l.north,
+            Kind::Thumb => l.east,
+        };
+        Frame {
+            dir: l.d,
+            flex,
+            hinge: l.d.cross(flex),
+        }
+    }
+}
+
+/// What one finger's fit sees: up to three unit segment directions (`weight` 0 = no data).
+#[derive(Clone, Copy, Debug)]
+pub struct Targets {
+    pub dir: [Vec3; 3],
+    pub weight: [f32; 3],
+    /// Longitude the base prefers when the data cannot tell (a straight finger pointing along
+    /// the pole); only used with [`Kind::Finger`], with a tiny weight.
+    pub lon_prior: f32,
+}
+
+/// Weight of the longitude prior: small enough that it moves a well-determined fit by well
+/// under a tenth of a degree, large enough to fix the plane of a finger pointing at the pole.
+const PRIOR: f32 = 1e-4;
+
+fn residuals(
+    basis: &Basis,
+    kind: Kind,
+    t: &Targets,
+    lon: f32,
+    colat: f32,
+) -> ([f32; 5], [[f32; 2]; 5]) {
+    let l = basis.local(lon, colat);
+    let [t0, t1, t2] = t.dir;
+    let [w0, w1, w2] = t.weight;
+    let (h, dh_lon, dh_col) = match kind {
+        // d x north = g x z: the hinge depends on the longitude only.
+        Kind::Finger => (l.g.cross(basis.z), l.east.cross(basis.z), Vec3::ZERO),
+        Kind::Thumb => (l.d.cross(l.east), -l.d.cross(l.g), -l.north.cross(l.east)),
+    };
+    let mut r = [0.0; 5];
+    let mut j = [[0.0; 2]; 5];
+    r[0] = w0 * t0.dot(l.north);
+    j[0] = [w0 * t0.dot(-l.k * l.east), w0 * t0.dot(l.d)];
+    r[1] = w0 * t0.dot(l.east);
+    j[1] = [w0 * t0.dot(-l.g), 0.0];
+    r[2] = w1 * t1.dot(h);
+    j[2] = [w1 * t1.dot(dh_lon), w1 * t1.dot(dh_col)];
+    r[3] = w2 * t2.dot(h);
+    j[3] = [w2 * t2.dot(dh_lon), w2 * t2.dot(dh_col)];
+    if kind == Kind::Finger {
+        let p = PRIOR.sqrt();
+        r[4] = p * wrap(lon - t.lon_prior);
+        j[4] = [p, 0.0];
+    }
+    (r, j)
+}
+
+fn cost(r: &[f32; 5]) -> f32 {
+    r.iter().map(|x| x * x).sum()
+}
+
+/// Least-squares base angles: the base direction and hinge plane that best explain all
+/// segments (base segment direction, hinge segments' distance from the hinge plane).
+/// Starts at the base segment's own direction; a few damped Gauss-Newton steps.
+pub fn fit(basis: &Basis, kind: Kind, t: &Targets) -> (f32, f32) {
+    let (mut lon, mut colat) = basis.spherical(t.dir[0]);
+    let (mut r, mut j) = residuals(basis, kind, t, lon, colat);
+    let mut c = cost(&r);
+    let mut mu = 1e-4_f32;
+    for _ in 0..20 {
+        let mut a = [[0.0_f32; 2]; 2];
+        let mut g = [0.0_f32; 2];
+        for (ri, ji) in r.iter().zip(j.iter()) {
+            for p in 0..2 {
+                g[p] += ji[p] * ri;
+                for q in 0..2 {
+                    a[p][q] += ji[p] * ji[q];
+                }
+            }
+        }
+        let mut stepped = false;
+        let mut small = false;
+        while mu < 1e4 {
+            let m00 = a[0][0] * (1.0 + mu) + 1e-9;
+            let m11 = a[1][1] * (1.0 + mu) + 1e-9;
+            let det = m00 * m11 - a[0][1] * a[1][0];
+            if det.abs() < 1e-20 || !det.is_finite() {
+                mu *= 10.0;
+                continue;
+            }
+            let dl = -(m11 * g[0] - a[0][1] * g[1]) / det;
+            let dc = -(m00 * g[1] - a[1][0] * g[0]) / det;
+            if !(dl.is_finite() && dc.is_finite()) {
+                mu *= 10.0;
+                continue;
+            }
+            let (nl, nc) = (lon + dl, colat + dc);
+            let (nr, nj) = residuals(basis, kind, t, nl, nc);
+            let nc_cost = cost(&nr);
+            if nc_cost <= c {
+                lon = nl;
+                colat = nc;
+                r = nr;
+                j = nj;
+                small = dl.abs() + dc.abs() < 1e-6 || c - nc_cost < 1e-12;
+                c = nc_cost;
+                mu = (mu * 0.3).max(1e-7);
+                stepped = true;
+                break;
+            }
+            mu *= 10.0;
+        }
+        if !stepped || small {
+            break;
+        }
+    }
+    (lon, colat)
+}
+
+/// Wraps an angle into `(-pi, pi]`.
+#[inline]
+pub fn wrap(a: f32) -> f32 {
+    use core::f32::consts::{PI, TAU};
+    let w = (a + PI).rem_euclid(TAU) - PI;
+    if w <= -PI {
+        w + TAU
+    } else {
+        w
+    }
+}
+
+/// Clamps an angle (radians) into `[lo, hi]` on the circle: outside values go to the nearer
+/// bound. Returns the clamped angle (in the same turn as `lo..hi`).
+#[inline]
+pub fn clamp_angle(a: f32, lo: f32, hi: f32) -> f32 {
+    if a >= lo && a <= hi {
+        return a;
+    }
+    let to_lo = wrap(lo - a).abs();
+    let to_hi = wrap(a - hi).abs();
+    if to_lo <= to_hi {
+        lo
+    } else {
+        hi
+    }
+}
+
+/// Signed hinge angle of direction `v` in the plane `(dir, flex)`, from `dir` toward `flex`.
+#[inline]
+pub fn hinge_angle(dir: Vec3, flex: Vec3, v: Vec3) -> f32 {
+    v.dot(flex).atan2(v.dot(dir))
+}
+
+/// `dir` bent by `angle` toward `flex` (both unit, perpendicular).
+#[inline]
+pub fn bend(dir: Vec3, flex: Vec3, angle: f32) -> Vec3 {
+    let (s, c) = angle.sin_cos();
+    c * dir + s * flex
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn basis() -> Basis {
+        // A left-handed basis on purpose: the math must not care.
+        Basis::from_hints(Vec3::NEG_Y, Vec3::X, Vec3::Z).unwrap()
+    }
+
+    #[test]
+    fn frames_are_orthonormal_and_hinge_bends_toward_flex() {
+        let b = basis();
+        for kind in [Kind::Finger, Kind::Thumb] {
+            for (lon, colat) in [(0.3, 1.2), (-1.0, 0.4), (2.0, 2.5), (0.1, -0.3)] {
+                let f = b.frame(kind, lon, colat);
+                assert!((f.dir.length() - 1.0).abs() < 1e-5);
+                assert!((f.flex.length() - 1.0).abs() < 1e-5);
+                assert!(f.dir.dot(f.flex).abs() < 1e-5);
+                let q = glam::Quat::from_axis_angle(f.hinge.normalize(), 0.5);
+                assert!((q * f.dir - bend(f.dir, f.flex, 0.5)).length() < 1e-5);
+            }
+        }
+    }
+
+    #[test]
+    fn fit_recovers_a_planar_finger_exactly() {
+        let b = basis();
+        for kind in [Kind::Finger, Kind::Thumb] {
+            let (lon, colat) = (0.4_f32, 0.9_f32);
+            let f = b.frame(kind, lon, colat);
+            let t = Targets {
+                dir: [f.dir, bend(f.dir, f.flex, 0.7), bend(f.dir, f.flex, 1.3)],
+                weight: [1.0; 3],
+                lon_prior: 0.0,
+            };
+            let (l, c) = fit(&b, kind, &t);
+            assert!((l - lon).abs() < 2e-3, "{kind:?} lon {l}");
+            assert!((c - colat).abs() < 2e-3, "{kind:?} colat {c}");
+        }
+    }
+
+    #[test]
+    fn fit_balances_an_out_of_plane_segment() {
+        // The distal segment leans sideways: the best hinge plane leans part of the way.
+        let b = basis();
+        let f = b.frame(Kind::Finger, 0.0, 1.0);
+        let side = f.hinge.normalize();
+        let t = Targets {
+            dir: [
+                f.dir,
+                bend(f.dir, f.flex, 0.6),
+                (bend(f.dir, f.flex, 1.2) + 0.3 * side).normalize(),
+            ],
+            weight: [1.0; 3],
+            lon_prior: 0.0,
+        };
+        let (l, _) = fit(&b, Kind::Finger, &t);
+        assert!(
+            l.abs() > 0.01,
+            "plane should lean toward the outlier, lon {l}"
+        );
+        let g = b.frame(Kind::Finger, l, 1.0);
+        let before = t.dir[2].dot(f.hinge).abs();
+        let after = t.dir[2].dot(g.hinge).abs();
+        assert!(after < before);
+    }
+
+    #[test]
+    fn wrap_and_clamp() {
+        use core::f32::consts::PI;
+        assert!((wrap(3.0 * PI) - PI).abs() < 1e-5);
+        assert!((wrap(-0.5) + 0.5).abs() < 1e-6);
+        assert_eq!(clamp_angle(0.2, -0.1, 1.0), 0.2);
+        assert_eq!(clamp_angle(1.5, -0.1, 1.0), 1.0);
+        assert_eq!(clamp_angle(-0.5, -0.1, 1.0), -0.1);
+        // -3 rad is nearer to 1.0 going the other way round the circle.
+        assert_eq!(clamp_angle(-3.0, -0.1, 1.0), 1.0);
+    }
+}

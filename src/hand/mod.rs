@@ -1,0 +1,753 @@
+//! Hand solving: the hand (wrist) world rotation and the 15 finger rotations of one hand from
+//! MediaPipe's 21 world landmarks, through an anatomical hand model with joint limits.
+//!
+//! ## Palm frame
+//!
+//! [`palm_frame`]: forward `f` = wrist to middle MCP, radial `r` = little MCP to index MCP made
+//! perpendicular to `f`, palmar normal `n` (`r x f` on a right hand, `f x r` on a left hand: a
+//! left hand is the mirror image of a right one). The avatar's rest palm frame is the same
+//! construction on the rest positions of `hand`, `indexProximal`, `littleProximal` and
+//! `middleProximal` (substitutes when some are missing: the other proximals, the arm direction,
+//! palm-down as VRM's T-pose prescribes). The hand's world rotation maps the rest palm frame
+//! onto the tracked one, so "direction in the palm frame" means the same on both.
+//!
+//! ## Finger model
+//!
+//! Each finger is a 2-DOF base joint and two hinges (see `chain` for the math). All angles are
+//! measured on the tracked hand (so the limits in [`limits`] are anatomical), expressed in the
+//! palm frame:
+//!
+//! * Index to little: the base is the MCP, in spherical coordinates about the palmar normal:
+//!   flexion = elevation of the proximal phalanx out of the palm plane, abduction = its
+//!   longitude relative to the wrist-to-MCP line (radial +). PIP and DIP bend in the vertical
+//!   plane through the proximal phalanx. The ring and little rays measure about their own
+//!   palmar normal (the plane of wrist, neighbouring MCP and own MCP), which carries the palm's
+//!   cupping at CMC IV/V; index and middle use the palm's.
+//! * Thumb: the base is the CMC, in spherical coordinates about the index metacarpal line
+//!   (wrist to index MCP): abduction = angle between the two metacarpals, opposition = rotation
+//!   about the index metacarpal from the palm plane (radial side) toward palmar. MCP and IP
+//!   bend along the carried "east" direction: palmar when the thumb lies in the palm plane,
+//!   across the palm in opposition (Kapandji's cone of opposition).
+//!
+//! The base angles are a least-squares fit to the whole finger (the hinge plane that best
+//! explains all three segments, not just the first), then clamped to the limits; the hinge
+//! angles are the segments' angles in that plane, clamped.
+//!
+//! ## Avatar rotations
+//!
+//! The clamped model gives every user joint position along the finger; each bone the avatar
+//! has points along the span from its joint to the next bone it has (or the tip), so a
+//! missing intermediate makes the proximal cover MCP to DIP. The first bone (parent: the hand)
+//! gets the rotation taking its rest direction and rest hinge axis to the target direction
+//! and the tracked hinge axis (no other twist); the others turn about their rest hinge axis
+//! only. Rest directions and hinge axes come from the avatar's own rest pose, so bent,
+//! rotated or unevenly spaced rest fingers work. A distal bone's rest direction continues its
+//! parent's (avatars have no tip bone).
+
+use glam::{Mat3, Quat, Vec3};
+use serde::Deserialize;
+
+use crate::bones::{Finger, HumanBone, Side, BONE_COUNT};
+use crate::error::Result;
+use crate::mediapipe::HAND_LANDMARKS;
+use crate::skeleton::Skeleton;
+
+mod chain;
+pub mod limits;
+
+pub use limits::{Dof, JointRange, DOF_COUNT, LIMITS};
+
+use chain::{bend, clamp_angle, hinge_angle, wrap, Basis, Kind, Targets};
+
+/// How hands are solved (JS: `options.handStrategy`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub enum HandStrategy {
+    /// Closed-form palm frame for the hand; per finger a least-squares fit of an anatomical
+    /// joint model with literature joint limits (see the module docs).
+    #[default]
+    Analytic,
+}
+
+/// What the last [`HandSolver::solve`] did for one side.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum HandStatus {
+    /// Nothing solved yet (or the avatar has no usable palm).
+    #[default]
+    NotSolved,
+    /// Solved from this frame's landmarks.
+    Solved,
+    /// This frame's hand was degenerate; the previous rotations were written again.
+    Held,
+    /// This frame's hand was degenerate and there was nothing to hold.
+    Skipped,
+}
+
+/// Anatomical angles and active limits of the last solve of one side.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct HandReport {
+    /// What happened.
+    pub status: HandStatus,
+    /// Joint angles of the tracked hand after limits, radians, `[finger][dof]` (finger order
+    /// of [`Finger::ALL`], DOF order of [`Dof::ALL`]). Meaningful when `status` is `Solved`.
+    pub angles: [[f32; DOF_COUNT]; 5],
+    /// Whether the tracked angle was outside [`LIMITS`] and clamped, `[finger][dof]`.
+    pub limited: [[bool; DOF_COUNT]; 5],
+}
+
+impl HandReport {
+    /// Whether any limit of `finger` was active.
+    #[must_use]
+    pub fn finger_limited(&self, finger: Finger) -> bool {
+        self.limited[finger.index()].iter().any(|l| *l)
+    }
+
+    /// Whether any limit of the hand was active.
+    #[must_use]
+    pub fn any_limited(&self) -> bool {
+        Finger::ALL.iter().any(|f| self.finger_limited(*f))
+    }
+
+    /// The angle of `dof` on `finger`, radians.
+    #[must_use]
+    pub fn angle(&self, finger: Finger, dof: Dof) -> f32 {
+        self.angles[finger.index()][dof.index()]
+    }
+}
+
+/// Shortest segment (m) treated as a direction: below it a segment carries no information.
+const MIN_LENGTH: f32 = 1e-6;
+/// Smallest sine between the palm's forward and across vectors (about 5.7 degrees): below it
+/// the palm is treated as collinear.
+const MIN_PALM_SINE: f32 = 0.1;
+/// Slack before a clamped angle counts as a limit being active.
+const LIMIT_SLACK: f32 = 1e-4;
+/// MediaPipe MCP landmarks of index, middle, ring, little.
+const MCP: [usize; 4] = [5, 9, 13, 17];
+
+/// Palmar normal from forward and radial: a left hand is the mirror image of a right hand.
+#[inline]
+fn palmar(side: Side, f: Vec3, r: Vec3) -> Vec3 {
+    match side {
+        Side::Right => r.cross(f),
+        Side::Left => f.cross(r),
+    }
+}
+
+/// Radial direction from forward and palmar (inverse of [`palmar`]).
+#[inline]
+fn radial(side: Side, f: Vec3, n: Vec3) -> Vec3 {
+    match side {
+        Side::Right => f.cross(n),
+        Side::Left => n.cross(f),
+    }
+}
+
+/// The palm frame of a hand: columns `(f, r, n)` = forward (wrist to `middle`), radial
+/// (`little` to `index`, made perpendicular to forward), palmar normal. All points in one
+/// frame (meters). Orthonormal; determinant -1 on a right hand and +1 on a left hand (mirror
+/// images), so the rotation between two frames of the same side is proper. `None` when degenerate: coincident points or a palm whose forward and
+/// across directions are within about 6 degrees of each other.
+#[must_use]
+pub fn palm_frame(
+    side: Side,
+    wrist: Vec3,
+    index: Vec3,
+    little: Vec3,
+    middle: Vec3,
+) -> Option<Mat3> {
+    frame_from(side, middle - wrist, index - little)
+}
+
+fn frame_from(side: Side, forward: Vec3, across: Vec3) -> Option<Mat3> {
+    let fl = forward.length();
+    let al = across.length();
+    if !(fl > MIN_LENGTH && al > MIN_LENGTH) {
+        return None;
+    }
+    let f = forward / fl;
+    let perp = across - across.dot(f) * f;
+    if perp.length() < MIN_PALM_SINE * al {
+        return None;
+    }
+    let r = perp.normalize();
+    Some(Mat3::from_cols(f, r, palmar(side, f, r)))
+}
+
+/// Which points define the palm frame, chosen from the bones the avatar has; the same choice
+/// is applied to the landmarks so both frames mean the same thing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct PalmDef {
+    /// Bit i: MCP i (index, middle, ring, little) is averaged into the forward point.
+    forward: u8,
+    /// Radial and ulnar MCP (0..4) of the across vector.
+    across: (usize, usize),
+}
+
+impl PalmDef {
+    fn observed(&self, side: Side, lm: &[Vec3; HAND_LANDMARKS]) -> Option<Mat3> {
+        let mut sum = Vec3::ZERO;
+        let mut n = 0.0;
+        for (i, &m) in MCP.iter().enumerate() {
+            if self.forward & (1 << i) != 0 {
+                sum += lm[m];
+                n += 1.0;
+            }
+        }
+        let fwd = if n > 0.0 { sum / n } else { lm[MCP[1]] };
+        frame_from(
+            side,
+            fwd - lm[0],
+            lm[MCP[self.across.0]] - lm[MCP[self.across.1]],
+        )
+    }
+}
+
+/// Rest data of one present finger bone.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct BoneRest {
+    bone: HumanBone,
+    /// Anatomical slot: 0 base, 1, 2 (index into `Side::finger`).
+    slot: usize,
+    /// Rest direction (unit, internal frame = hand-local at rest).
+    dir: Vec3,
+    /// Rest hinge axis (unit, perpendicular to `dir`).
+    hinge: Vec3,
+    /// Rest flexion direction, `hinge x dir`.
+    flex: Vec3,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct FingerRest {
+    bones: [Option<BoneRest>; 3],
+    count: usize,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct SideRest {
+    palm: PalmDef,
+    /// Rest palm frame, columns `(f, r, n)`.
+    frame: Mat3,
+    fingers: [FingerRest; 5],
+}
+
+/// Previous output of one side, rewritten when a frame is degenerate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Held {
+    rotation: Quat,
+    local: [Quat; 15],
+}
+
+/// Per-avatar hand solver: rest data precomputed in [`HandSolver::new`], per-side state for
+/// holding the last good solve. [`HandSolver::solve`] allocates nothing.
+#[derive(Clone, Debug)]
+pub struct HandSolver {
+    rest: [Option<SideRest>; 2],
+    held: [Option<Held>; 2],
+    report: [HandReport; 2],
+}
+
+impl HandSolver {
+    /// Prepares the solver from the avatar's rest finger layout (directions, hinge axes, palm
+    /// frame per side). A side whose palm cannot be defined is never solved.
+    ///
+    /// # Errors
+    /// None currently; the `Result` leaves room for strategies that need more of the rig.
+    pub fn new(skeleton: &Skeleton, _strategy: HandStrategy) -> Result<Self> {
+        Ok(HandSolver {
+            rest: [
+                side_rest(skeleton, Side::Left),
+                side_rest(skeleton, Side::Right),
+            ],
+            held: [None, None],
+            report: [HandReport::default(); 2],
+        })
+    }
+
+    /// The report of the last solve of `side`.
+    #[must_use]
+    pub fn report(&self, side: Side) -> &HandReport {
+        &self.report[side.index()]
+    }
+
+    /// The rest direction the solver uses for a finger bone (unit, internal frame; a bone
+    /// without a child continues its parent's direction). `None` for non-finger or absent
+    /// bones, or when the side's palm is undefined.
+    #[must_use]
+    pub fn rest_direction(&self, bone: HumanBone) -> Option<Vec3> {
+        self.bone_rest(bone).map(|b| b.dir)
+    }
+
+    /// The rest hinge (flexion) axis of a finger bone: hinge bones turn only about this axis
+    /// (in their parent's frame); a positive angle flexes. Same `None` cases as
+    /// [`HandSolver::rest_direction`].
+    #[must_use]
+    pub fn rest_hinge_axis(&self, bone: HumanBone) -> Option<Vec3> {
+        self.bone_rest(bone).map(|b| b.hinge)
+    }
+
+    /// The avatar's rest palm frame of `side`, columns `(forward, radial, palmar)`.
+    #[must_use]
+    pub fn rest_palm_frame(&self, side: Side) -> Option<Mat3> {
+        self.rest[side.index()].map(|r| r.frame)
+    }
+
+    fn bone_rest(&self, bone: HumanBone) -> Option<BoneRest> {
+        let side = bone.side()?;
+        let rest = self.rest[side.index()].as_ref()?;
+        rest.fingers
+            .iter()
+            .flat_map(|f| f.bones.iter().flatten())
+            .find(|b| b.bone == bone)
+            .copied()
+    }
+
+    /// Solves one hand. `landmarks`: MediaPipe's 21 world landmarks already in the avatar's
+    /// internal frame with the chirality of `side` (meters; only directions matter). Writes
+    /// the local rotations of this side's finger bones the avatar has into `local` and
+    /// returns the hand's world rotation (internal frame).
+    ///
+    /// A degenerate hand (coincident points, collinear palm) writes the previous solve's
+    /// finger rotations again and returns its hand rotation ([`HandStatus::Held`]); with no
+    /// previous solve it writes nothing and returns `None`. Never produces NaN; allocates
+    /// nothing.
+    pub fn solve(
+        &mut self,
+        skeleton: &Skeleton,
+        side: Side,
+        landmarks: &[Vec3; HAND_LANDMARKS],
+        local: &mut [Quat; BONE_COUNT],
+    ) -> Option<Quat> {
+        let s = side.index();
+        let mut scratch = [Quat::IDENTITY; 15];
+        let mut report = HandReport::default();
+        let fresh = self.rest[s]
+            .as_ref()
+            .and_then(|rest| solve_side(rest, side, landmarks, &mut scratch, &mut report));
+        match fresh {
+            Some(rotation) => {
+                write_fingers(skeleton, side, &scratch, local);
+                report.status = HandStatus::Solved;
+                self.report[s] = report;
+                self.held[s] = Some(Held {
+                    rotation,
+                    local: scratch,
+                });
+                Some(rotation)
+            }
+            None => match self.held[s] {
+                Some(h) => {
+                    write_fingers(skeleton, side, &h.local, local);
+                    self.report[s].status = HandStatus::Held;
+                    Some(h.rotation)
+                }
+                None => {
+                    self.report[s] = HandReport {
+                        status: HandStatus::Skipped,
+                        ..HandReport::default()
+                    };
+                    None
+                }
+            },
+        }
+    }
+}
+
+fn write_fingers(
+    skeleton: &Skeleton,
+    side: Side,
+    src: &[Quat; 15],
+    local: &mut [Quat; BONE_COUNT],
+) {
+    for finger in Finger::ALL {
+        for (slot, bone) in side.finger(finger).into_iter().enumerate() {
+            if skeleton.has(bone) {
+                local[bone.index()] = src[finger.index() * 3 + slot];
+            }
+        }
+    }
+}
+
+/// The rest palm frame and how to build the matching observed frame.
+fn rest_palm(skeleton: &Skeleton, side: Side) -> Option<(PalmDef, Mat3)> {
+    let hand = skeleton.rest_world(side.hand())?;
+    let prox: [Option<Vec3>; 4] =
+        core::array::from_fn(|i| skeleton.rest_world(side.finger(Finger::ALL[i + 1])[0]));
+    let forward_mask: u8 = if prox[1].is_some() {
+        0b0010
+    } else {
+        (0..4)
+            .filter(|i| prox[*i].is_some())
+            .fold(0, |m, i| m | (1 << i))
+    };
+    let forward = if forward_mask != 0 {
+        let (sum, n) = (0..4)
+            .filter(|i| forward_mask & (1 << i) != 0)
+            .fold((Vec3::ZERO, 0.0), |(s, n), i| {
+                (s + prox[i].unwrap_or(hand), n + 1.0)
+            });
+        sum / n - hand
+    } else {
+        // No finger proximals: the hand continues the forearm.
+        let elbow = skeleton.rest_world(side.arm()[2]);
+        match elbow {
+            Some(e) if (hand - e).length() > MIN_LENGTH => hand - e,
+            _ => match side {
+                Side::Left => Vec3::X,
+                Side::Right => Vec3::NEG_X,
+            },
+        }
+    };
+    let radial_i = (0..4).find(|i| prox[*i].is_some());
+    let ulnar_i = (0..4).rev().find(|i| prox[*i].is_some());
+    let (across, pair) = match (radial_i, ulnar_i) {
+        (Some(a), Some(b)) if a < b => (prox[a]? - prox[b]?, (a, b)),
+        _ => {
+            // Fewer than two proximals: VRM's T-pose has the palm facing down.
+            let f = forward.try_normalize()?;
+            (radial(side, f, Vec3::NEG_Y), (0, 3))
+        }
+    };
+    let frame = frame_from(side, forward, across)?;
+    Some((
+        PalmDef {
+            forward: forward_mask,
+            across: pair,
+        },
+        frame,
+    ))
+}
+
+/// Palmar normal of the triangle (wrist, a, b), oriented like `n`; `None` when thin.
+fn local_pole(wrist: Vec3, a: Vec3, b: Vec3, n: Vec3) -> Option<Vec3> {
+    let (u, v) = (a - wrist, b - wrist);
+    let c = u.cross(v);
+    if c.length() < MIN_PALM_SINE * 0.5 * u.length() * v.length() || c.length() <= 0.0 {
+        return None;
+    }
+    let c = c.normalize();
+    Some(if c.dot(n) < 0.0 { -c } else { c })
+}
+
+/// The finger's base basis and model kind, given palm axes `(f, r, n)`, the pole and (thumb)
+/// the index metacarpal line.
+fn basis_for(finger: Finger, f: Vec3, r: Vec3, n: Vec3, pole: Vec3) -> (Kind, Basis) {
+    let fallback = Basis { x: f, y: r, z: n };
+    match finger {
+        Finger::Thumb => (
+            Kind::Thumb,
+            Basis::from_hints(pole, r, n).unwrap_or(Basis { x: r, y: n, z: f }),
+        ),
+        _ => (
+            Kind::Finger,
+            Basis::from_hints(pole, f, r).unwrap_or(fallback),
+        ),
+    }
+}
+
+fn side_rest(skeleton: &Skeleton, side: Side) -> Option<SideRest> {
+    let (palm, frame) = rest_palm(skeleton, side)?;
+    let hand = skeleton.rest_world(side.hand())?;
+    let (f, r, n) = (frame.x_axis, frame.y_axis, frame.z_axis);
+    let prox = |finger: Finger| skeleton.rest_world(side.finger(finger)[0]);
+    let mut fingers = [FingerRest {
+        bones: [None; 3],
+        count: 0,
+    }; 5];
+    for finger in Finger::ALL {
+        let bones = side.finger(finger);
+        let mut present = [(HumanBone::Hips, 0usize, Vec3::ZERO); 3];
+        let mut count = 0;
+        for (slot, bone) in bones.into_iter().enumerate() {
+            if let Some(p) = skeleton.rest_world(bone) {
+                present[count] = (bone, slot, p);
+                count += 1;
+            }
+        }
+        if count == 0 {
+            continue;
+        }
+        // Rest directions: joint to next joint; the last continues the previous one.
+        let mut dirs = [f; 3];
+        for i in 0..count {
+            dirs[i] = if i + 1 < count {
+                (present[i + 1].2 - present[i].2).try_normalize()
+            } else if i > 0 {
+                Some(dirs[i - 1])
+            } else {
+                (present[i].2 - hand).try_normalize()
+            }
+            .unwrap_or(if i > 0 { dirs[i - 1] } else { f });
+        }
+        let pole = match finger {
+            Finger::Thumb => prox(Finger::Index)
+                .and_then(|i| (i - hand).try_normalize())
+                .unwrap_or(f),
+            Finger::Ring => match (prox(Finger::Middle), prox(Finger::Ring)) {
+                (Some(a), Some(b)) => local_pole(hand, a, b, n).unwrap_or(n),
+                _ => n,
+            },
+            Finger::Little => match (prox(Finger::Ring), prox(Finger::Little)) {
+                (Some(a), Some(b)) => local_pole(hand, a, b, n).unwrap_or(n),
+                _ => n,
+            },
+            _ => n,
+        };
+        let (kind, basis) = basis_for(finger, f, r, n, pole);
+        let (lon, colat) = basis.spherical(dirs[0]);
+        let base = basis.frame(kind, lon, colat);
+        let base_hinge = base.hinge.try_normalize().unwrap_or(r);
+        let mut rest = FingerRest {
+            bones: [None; 3],
+            count,
+        };
+        for i in 0..count {
+            let d = dirs[i];
+            let hinge = (base_hinge - base_hinge.dot(d) * d)
+                .try_normalize()
+                .unwrap_or(base_hinge);
+            rest.bones[i] = Some(BoneRest {
+                bone: present[i].0,
+                slot: present[i].1,
+                dir: d,
+                hinge,
+                flex: hinge.cross(d),
+            });
+        }
+        fingers[finger.index()] = rest;
+    }
+    Some(SideRest {
+        palm,
+        frame,
+        fingers,
+    })
+}
+
+/// Rotation taking `(a, b)` to `(c, d)`: `a`, `c` exactly, `b`, `d` after making them
+/// perpendicular. Both pairs must be non-degenerate.
+fn frame_rotation(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Option<Quat> {
+    let m = |x: Vec3, y: Vec3| -> Option<Mat3> {
+        let x = x.try_normalize()?;
+        let y = (y - y.dot(x) * x).try_normalize()?;
+        Some(Mat3::from_cols(x, y, x.cross(y)))
+    };
+    let q = Quat::from_mat3(&(m(c, d)? * m(a, b)?.transpose())).normalize();
+    q.is_finite().then_some(q)
+}
+
+/// Solves one side into `out` (15 finger locals, `finger * 3 + slot`) and `report`; returns
+/// the hand world rotation, or `None` if degenerate (then `out` is unusable).
+fn solve_side(
+    rest: &SideRest,
+    side: Side,
+    lm: &[Vec3; HAND_LANDMARKS],
+    out: &mut [Quat; 15],
+    report: &mut HandReport,
+) -> Option<Quat> {
+    let obs = rest.palm.observed(side, lm)?;
+    let rotation = Quat::from_mat3(&(obs * rest.frame.transpose())).normalize();
+    if !rotation.is_finite() {
+        return None;
+    }
+    // Everything below in the avatar's rest axes (the hand's local frame), wrist at origin.
+    let to_rest = rotation.inverse();
+    let p: [Vec3; HAND_LANDMARKS] = core::array::from_fn(|k| to_rest * (lm[k] - lm[0]));
+    let (f, r, n) = (rest.frame.x_axis, rest.frame.y_axis, rest.frame.z_axis);
+
+    for finger in Finger::ALL {
+        solve_finger(rest, finger, &p, (f, r, n), out, report)?;
+    }
+    Some(rotation)
+}
+
+fn solve_finger(
+    rest: &SideRest,
+    finger: Finger,
+    p: &[Vec3; HAND_LANDMARKS],
+    (f, r, n): (Vec3, Vec3, Vec3),
+    out: &mut [Quat; 15],
+    report: &mut HandReport,
+) -> Option<()> {
+    let fi = finger.index();
+    let lims = LIMITS[fi];
+    let lm = finger.landmarks();
+    let base_pos = p[lm[0]];
+    let metacarpal = base_pos.try_normalize().unwrap_or(f);
+
+    // The pole of the base joint; for ring and little the cupped local palmar normal.
+    let mut cupping = 0.0;
+    let pole = match finger {
+        Finger::Thumb => p[MCP[0]].try_normalize().unwrap_or(f),
+        Finger::Ring | Finger::Little => {
+            let (a, b) = if finger == Finger::Ring {
+                (p[MCP[1]], p[MCP[2]])
+            } else {
+                (p[MCP[2]], p[MCP[3]])
+            };
+            match local_pole(Vec3::ZERO, a, b, n) {
+                Some(pole) => {
+                    let tilt = pole.dot(n).clamp(-1.0, 1.0).acos();
+                    let (_, hi) = lims[Dof::Cupping.index()].radians();
+                    cupping = tilt.min(hi);
+                    if tilt > hi + LIMIT_SLACK {
+                        report.limited[fi][Dof::Cupping.index()] = true;
+                        let side_dir = (pole - pole.dot(n) * n)
+                            .try_normalize()
+                            .unwrap_or(Vec3::ZERO);
+                        (n * hi.cos() + side_dir * hi.sin()).normalize()
+                    } else {
+                        pole
+                    }
+                }
+                None => n,
+            }
+        }
+        _ => n,
+    };
+    let (kind, basis) = basis_for(finger, f, r, n, pole);
+
+    // The user's segments.
+    let mut len = [0.0_f32; 3];
+    let mut targets = Targets {
+        dir: [metacarpal; 3],
+        weight: [0.0; 3],
+        lon_prior: basis.spherical(metacarpal).0,
+    };
+    let mut prev = metacarpal;
+    for k in 0..3 {
+        let v = p[lm[k + 1]] - p[lm[k]];
+        len[k] = v.length();
+        if len[k] > MIN_LENGTH {
+            targets.dir[k] = v / len[k];
+            targets.weight[k] = 1.0;
+        } else {
+            targets.dir[k] = prev;
+        }
+        prev = targets.dir[k];
+    }
+    let known: f32 = len.iter().filter(|l| **l > MIN_LENGTH).sum();
+    let count = len.iter().filter(|l| **l > MIN_LENGTH).count();
+    let nominal = if count > 0 { known / count as f32 } else { 1.0 };
+    for l in &mut len {
+        if *l <= MIN_LENGTH {
+            *l = nominal;
+        }
+    }
+
+    // Fit, canonicalize into anatomical angles, clamp.
+    let (lon, colat) = chain::fit(&basis, kind, &targets);
+    let mut colat = wrap(colat);
+    let mut lon = lon;
+    let (a0, a1) = match kind {
+        Kind::Finger => {
+            let mut dl = wrap(lon - targets.lon_prior);
+            if dl.abs() > core::f32::consts::FRAC_PI_2 {
+                dl = wrap(dl + core::f32::consts::PI);
+                colat = -colat;
+            }
+            (core::f32::consts::FRAC_PI_2 - colat, dl)
+        }
+        Kind::Thumb => {
+            if colat < 0.0 {
+                colat = -colat;
+                lon += core::f32::consts::PI;
+            }
+            let center = 60f32.to_radians();
+            (colat, wrap(lon - center) + center)
+        }
+    };
+    let mut clamp = |dof: Dof, v: f32| -> f32 {
+        let (lo, hi) = lims[dof.index()].radians();
+        let c = clamp_angle(v, lo, hi);
+        if (c - v).abs() > LIMIT_SLACK {
+            report.limited[fi][dof.index()] = true;
+        }
+        report.angles[fi][dof.index()] = c;
+        c
+    };
+    let a0 = clamp(Dof::Base0, a0);
+    let a1 = clamp(Dof::Base1, a1);
+    (lon, colat) = match kind {
+        Kind::Finger => (targets.lon_prior + a1, core::f32::consts::FRAC_PI_2 - a0),
+        Kind::Thumb => (a1, a0),
+    };
+    let frame = basis.frame(kind, lon, colat);
+    let (d, flex) = (frame.dir, frame.flex);
+    let hinge = frame.hinge.try_normalize()?;
+    let abs1 = if targets.weight[1] > 0.0 {
+        hinge_angle(d, flex, targets.dir[1])
+    } else {
+        0.0
+    };
+    let h1 = clamp(Dof::Hinge1, wrap(abs1));
+    let abs2 = if targets.weight[2] > 0.0 {
+        hinge_angle(d, flex, targets.dir[2])
+    } else {
+        h1
+    };
+    let h2 = clamp(Dof::Hinge2, wrap(abs2 - h1));
+    report.angles[fi][Dof::Cupping.index()] = cupping;
+
+    // The clamped user finger: joint positions relative to its base joint.
+    let seg = [d, bend(d, flex, h1), bend(d, flex, h1 + h2)];
+    let mut joint = [Vec3::ZERO; 4];
+    for k in 0..3 {
+        joint[k + 1] = joint[k] + len[k] * seg[k];
+    }
+
+    // The avatar's bones along it.
+    let fr = &rest.fingers[fi];
+    let mut chain_rot = Quat::IDENTITY;
+    for i in 0..fr.count {
+        let b = fr.bones[i]?;
+        let end = if i + 1 < fr.count {
+            fr.bones[i + 1]?.slot
+        } else {
+            3
+        };
+        let span = (joint[end] - joint[b.slot])
+            .try_normalize()
+            .unwrap_or(seg[b.slot]);
+        let q = if i == 0 {
+            frame_rotation(b.dir, b.hinge, span, hinge)?
+        } else {
+            let w = chain_rot.inverse() * span;
+            let angle = w.dot(b.flex).atan2(w.dot(b.dir));
+            Quat::from_axis_angle(b.hinge, angle)
+        };
+        chain_rot = (chain_rot * q).normalize();
+        out[fi * 3 + b.slot] = q;
+    }
+    out[fi * 3..fi * 3 + 3]
+        .iter()
+        .all(|q| q.is_finite())
+        .then_some(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn palm_frame_is_right_handed_per_side_and_rejects_degenerate() {
+        // A right hand palm-down with fingers along -X (the debug robot's rest).
+        let w = Vec3::ZERO;
+        let (i, l, m) = (
+            Vec3::new(-0.1, 0.0, 0.02),
+            Vec3::new(-0.1, 0.0, -0.05),
+            Vec3::new(-0.1, 0.0, 0.0),
+        );
+        let fr = palm_frame(Side::Right, w, i, l, m).unwrap();
+        assert!(fr.z_axis.abs_diff_eq(Vec3::NEG_Y, 1e-6), "{}", fr.z_axis);
+        let mirror = |v: Vec3| Vec3::new(-v.x, v.y, v.z);
+        let fl = palm_frame(Side::Left, w, mirror(i), mirror(l), mirror(m)).unwrap();
+        assert!(fl.z_axis.abs_diff_eq(Vec3::NEG_Y, 1e-6), "{}", fl.z_axis);
+        // Mirror images: (f, r, n) is left-handed on a right hand, right-handed on a left.
+        assert!((fr.determinant() + 1.0).abs() < 1e-5);
+        assert!((fl.determinant() - 1.0).abs() < 1e-5);
+        assert!(palm_frame(Side::Right, w, w, w, w).is_none());
+        // Collinear palm.
+        let c = |x: f32| Vec3::new(x, 0.0, 0.0);
+        assert!(palm_frame(Side::Right, w, c(0.1), c(0.3), c(0.2)).is_none());
+    }
+}

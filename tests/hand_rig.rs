@@ -1,0 +1,103 @@
+//! The hand solver inside `Rig::solve`: both sides from MediaPipe input through the camera
+//! mapping, and degenerate hands keeping the previous rotations.
+
+#[path = "support/hand_model.rs"]
+mod hand_model;
+
+use glam::{Quat, Vec3};
+use hand_model::{avatar, deg, place, HandLayout, HandModel, NO_STRETCH};
+use handrig::mediapipe::{HandObservation, WristObservation};
+use handrig::{Finger, FrameInput, Handedness, Rig, RigOptions, Side, SolveOutput};
+
+/// A pinch-like pose (degrees), inside the limits.
+fn pose() -> hand_model::Angles {
+    deg([
+        [35.0, 80.0, 20.0, 15.0],
+        [40.0, -8.0, 50.0, 20.0],
+        [20.0, 0.0, 30.0, 10.0],
+        [15.0, 2.0, 20.0, 10.0],
+        [10.0, 5.0, 15.0, 5.0],
+    ])
+}
+
+/// MediaPipe world landmarks (camera axes) of the model hand of `side`, turned by `q`. The
+/// default mapping is `(x, -y, -z)`, its own inverse.
+fn mediapipe_hand(model: &HandModel, q: Quat) -> [Vec3; 21] {
+    let lm = place(&model.landmarks(&pose(), &NO_STRETCH), q, 1.0, Vec3::ZERO);
+    lm.map(|p| Vec3::new(p.x, -p.y, -p.z))
+}
+
+fn frame_with(hands: &[(Handedness, [Vec3; 21])]) -> FrameInput {
+    let mut f = FrameInput::default();
+    for (i, (h, world)) in hands.iter().enumerate() {
+        f.hands[i] = HandObservation {
+            handedness: *h,
+            score: 0.9,
+            world: *world,
+            image: None,
+        };
+    }
+    f.hand_count = hands.len();
+    f
+}
+
+#[test]
+fn both_hands_through_the_rig_and_held_on_degenerate_frames() {
+    let skel = avatar(&HandLayout::standard(), &[]);
+    let q = Quat::from_rotation_x(0.6) * Quat::from_rotation_y(-0.3);
+    // Un-mirrored input: MediaPipe labels the subject's right hand "Left".
+    let right = mediapipe_hand(&HandModel::from_skeleton(&skel, Side::Right), q);
+    let left = mediapipe_hand(&HandModel::from_skeleton(&skel, Side::Left), q);
+    let mut rig = Rig::new(skel.clone(), RigOptions::default()).unwrap();
+    let mut out = SolveOutput::default();
+
+    let mut frame = frame_with(&[(Handedness::Left, right), (Handedness::Right, left)]);
+    frame.wrists[Side::Right.index()] = Some(WristObservation {
+        position: Vec3::new(-0.5, 1.3, 0.2),
+        rotation: None,
+    });
+    rig.solve(&frame, &mut out).unwrap();
+    for side in Side::BOTH {
+        let hand = side.hand();
+        assert!(out.solved[hand.index()]);
+        // Both hands get the same world rotation (the model placement) through the mapping.
+        let w = out.world.rotation[hand.index()];
+        assert!(
+            (2.0 * w.dot(q).abs().min(1.0).acos()).to_degrees() < 0.5,
+            "{side:?}"
+        );
+        for f in Finger::ALL {
+            for b in side.finger(f) {
+                assert!(out.solved[b.index()], "{b}");
+                assert!(out.local[b.index()].is_finite());
+            }
+        }
+    }
+    assert!(out.alignment[Side::Right.index()].is_some());
+    let kept = out.local;
+
+    // The right hand collapses to a point: the right side keeps its finger rotations and
+    // hand rotation, without fingertip alignment from the collapsed landmarks.
+    let mut frame = frame_with(&[
+        (Handedness::Left, [Vec3::new(0.01, 0.02, 0.03); 21]),
+        (Handedness::Right, left),
+    ]);
+    frame.wrists[Side::Right.index()] = Some(WristObservation {
+        position: Vec3::new(-0.5, 1.3, 0.2),
+        rotation: None,
+    });
+    rig.solve(&frame, &mut out).unwrap();
+    for f in Finger::ALL {
+        for b in Side::Right.finger(f) {
+            assert!(out.solved[b.index()]);
+            assert_eq!(out.local[b.index()], kept[b.index()], "{b}");
+        }
+    }
+    assert!(out.alignment[Side::Right.index()].is_none());
+    let target = out.ik_targets[Side::Right.index()].unwrap();
+    assert_eq!(target.position, Vec3::new(-0.5, 1.3, 0.2));
+    assert!((2.0 * target.rotation.dot(q).abs().min(1.0).acos()).to_degrees() < 0.5);
+    for q in out.local.iter().chain(out.world.rotation.iter()) {
+        assert!(q.is_finite());
+    }
+}
