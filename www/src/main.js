@@ -289,7 +289,8 @@ function solveAndShow(frame) {
     const shown = v.avatar.updateMarkers(result, finger, point);
     for (const side of ["left", "right"]) {
       const al = result?.alignment?.[side];
-      demo.errorMm[key][side] = al ? al.error * 1000 : null;
+      // error is null when nothing was aligned (e.g. the avatar has no such finger).
+      demo.errorMm[key][side] = al && Number.isFinite(al.error) ? al.error * 1000 : null;
       demo.shownErrorMm[key][side] = shown[side] == null ? null : shown[side] * 1000;
     }
   }
