@@ -456,7 +456,8 @@ impl HandRig {
         self.rig.skeleton().version().as_str().to_string()
     }
 
-    /// The body scale in force (avatar arm / user arm; 1 until calibrated).
+    /// The body scale in force for pose input: avatar arm / user arm. Before any calibration
+    /// sample it is avatar arm / 0.52 m (a typical adult arm); a preset `bodyScale` wins.
     #[wasm_bindgen(getter, js_name = bodyScale)]
     pub fn body_scale(&self) -> f32 {
         self.rig.body().scale()

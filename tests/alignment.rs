@@ -2,6 +2,8 @@
 //! solving, the avatar's index distal (forward kinematics of the returned rotations) is on
 //! the target DIP; weight 0 and disabled alignment put the wrist on the pose wrist; tip mode
 //! puts the extended distal bone on the target tip; no one-frame lag.
+// Native only: reads ../shared from disk and uses proptest (not built for wasm32).
+#![cfg(not(target_arch = "wasm32"))]
 
 use glam::{EulerRot, Quat, Vec3};
 use handrig::align::{AlignPoint, TIP_RATIO};

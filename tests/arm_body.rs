@@ -1,6 +1,8 @@
 //! Body mapping and arm-length calibration from pose landmarks: the mapping formula, the
 //! calibrated scale with outliers, visibility handling, presets and reset, and the rig's
 //! behaviour with missing or poorly visible pose input.
+// Native only: reads ../shared from disk and uses proptest (not built for wasm32).
+#![cfg(not(target_arch = "wasm32"))]
 
 use glam::{Quat, Vec3};
 use handrig::body::{robust_mean, BodyMapper, CalibrationOptions, REFERENCE_USER_ARM};

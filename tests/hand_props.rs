@@ -1,5 +1,7 @@
 //! Property tests: random in-limit hand poses on random avatars, placements and proportions
 //! are recovered within 1 degree, with unit, finite outputs.
+// Native only: reads ../shared from disk and uses proptest (not built for wasm32).
+#![cfg(not(target_arch = "wasm32"))]
 
 #[path = "support/hand_model.rs"]
 mod hand_model;

@@ -3,6 +3,8 @@
 //! p95 < 15 degrees between avatar bones and MediaPipe segments in the palm frame, on frames
 //! where no limit of that finger is active). `cargo run --release --example eval_hands`
 //! prints the full table.
+// Native only: reads ../shared from disk and uses proptest (not built for wasm32).
+#![cfg(not(target_arch = "wasm32"))]
 
 #[path = "support/hand_model.rs"]
 mod hand_model;

@@ -1,4 +1,6 @@
 //! Known-answer tests of the hand solver on a synthetic hand posed with known joint angles.
+// Native only: reads ../shared from disk and uses proptest (not built for wasm32).
+#![cfg(not(target_arch = "wasm32"))]
 
 #[path = "support/hand_model.rs"]
 mod hand_model;
