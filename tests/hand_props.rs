@@ -44,7 +44,7 @@ fn angles_strategy() -> impl Strategy<Value = Angles> {
 }
 
 fn layout_strategy() -> impl Strategy<Value = HandLayout> {
-    (0usize..4, -1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0).prop_map(|(kind, a, b, c)| {
+    (0usize..5, -1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0).prop_map(|(kind, a, b, c)| {
         let base = HandLayout::standard();
         match kind {
             0 => base,

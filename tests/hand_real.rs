@@ -145,12 +145,28 @@ fn check_recordings(skel: &Skeleton, what: &str) {
     }
 }
 
+fn load_vrm(relative: &str) -> Skeleton {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(relative);
+    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    handrig::vrm::load_skeleton(&bytes).unwrap()
+}
+
 #[test]
 fn real_recordings_on_the_debug_robot() {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/avatars/debug-robot.vrm");
-    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let robot = handrig::vrm::load_skeleton(&bytes).unwrap();
-    check_recordings(&robot, "debug-robot.vrm");
+    check_recordings(
+        &load_vrm("../shared/avatars/debug-robot.vrm"),
+        "debug-robot.vrm",
+    );
+}
+
+#[test]
+fn real_recordings_on_human_proportioned_fixtures() {
+    // Spread rest fingers and a forward-palmar thumb; the VRM 0.x one faces -Z.
+    check_recordings(
+        &load_vrm("tests/fixtures/human-proportions-vrm1.vrm"),
+        "human-proportions-vrm1",
+    );
+    check_recordings(&load_vrm("tests/fixtures/vrm0-fingers.vrm"), "vrm0-fingers");
 }
 
 #[test]

@@ -252,6 +252,7 @@ fn rest_fingers_that_are_not_axis_aligned() {
             HandLayout::standard().relaxed(0.2, [0.1, 0.0, -0.1, -0.2]),
         ),
         ("drooping thumb", HandLayout::standard().drooping_thumb()),
+        ("bent thumb", HandLayout::standard().bent_thumb(0.25, 0.7)),
         (
             "all three",
             HandLayout::standard()
