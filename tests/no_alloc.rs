@@ -1,5 +1,7 @@
 //! `Rig::solve` must not allocate: it runs every frame inside a browser tab. A counting global
 //! allocator checks it on the real hand recording, with wrists and pose input.
+// Native only: reads ../shared from disk (and uses proptest, not built for wasm32).
+#![cfg(not(target_arch = "wasm32"))]
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -8,7 +10,7 @@ use glam::Vec3;
 use handrig::mediapipe::{
     HandObservation, Handedness, PoseObservation, WristObservation, HAND_LANDMARKS, POSE_LANDMARKS,
 };
-use handrig::{FrameInput, HumanBone, Rig, RigOptions, Skeleton, SolveOutput, VrmVersion};
+use handrig::{FrameInput, HumanBone, Rig, RigOptions, Skeleton, SolveOutput};
 
 struct Counting;
 
@@ -37,41 +39,7 @@ fn skeleton() -> Skeleton {
         "/../shared/avatars/debug-robot.vrm"
     ))
     .expect("shared avatar");
-    match handrig::vrm::load_skeleton(&robot) {
-        Ok(s) => s,
-        // Until the VRM reader is in, an equivalent hand-built skeleton.
-        Err(_) => {
-            let mut bones = vec![
-                (HumanBone::Hips, Vec3::new(0.0, 0.75, 0.0)),
-                (HumanBone::Spine, Vec3::new(0.0, 1.0, 0.0)),
-                (HumanBone::Head, Vec3::new(0.0, 1.56, 0.0)),
-            ];
-            for (s, side) in [(1.0f32, handrig::Side::Left), (-1.0, handrig::Side::Right)] {
-                let [_, ua, la, h] = side.arm();
-                bones.push((ua, Vec3::new(0.125 * s, 1.5, 0.0)));
-                bones.push((la, Vec3::new(0.375 * s, 1.5, 0.0)));
-                bones.push((h, Vec3::new(0.625 * s, 1.5, 0.0)));
-                for (k, f) in handrig::Finger::ALL.iter().enumerate() {
-                    let z = 0.05 - 0.025 * k as f32;
-                    for (j, b) in side.finger(*f).iter().enumerate() {
-                        bones.push((*b, Vec3::new((0.75 + 0.03 * j as f32) * s, 1.5, z)));
-                    }
-                }
-            }
-            let legs = [
-                (HumanBone::LeftUpperLeg, 0.1),
-                (HumanBone::LeftLowerLeg, 0.1),
-                (HumanBone::LeftFoot, 0.1),
-                (HumanBone::RightUpperLeg, -0.1),
-                (HumanBone::RightLowerLeg, -0.1),
-                (HumanBone::RightFoot, -0.1),
-            ];
-            for (i, (b, x)) in legs.iter().enumerate() {
-                bones.push((*b, Vec3::new(*x, 0.7 - 0.3 * (i % 3) as f32, 0.0)));
-            }
-            Skeleton::new(&bones, VrmVersion::V1).unwrap()
-        }
-    }
+    handrig::vrm::load_skeleton(&robot).expect("robot loads")
 }
 
 fn hand_frames() -> Vec<[Vec3; HAND_LANDMARKS]> {

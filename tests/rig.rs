@@ -1,5 +1,7 @@
 //! Pipeline-level tests of `Rig`: camera mapping on the real recording, the VRM 0.x output
 //! convention, input validation and state after errors.
+// Native only: reads ../shared from disk (and uses proptest, not built for wasm32).
+#![cfg(not(target_arch = "wasm32"))]
 
 use glam::{Quat, Vec3};
 use handrig::mediapipe::{HandObservation, Handedness, WristObservation, HAND_LANDMARKS};

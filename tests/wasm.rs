@@ -271,3 +271,46 @@ fn option_descriptions_cover_every_option() {
     );
     assert!(message(e.err().unwrap().into()).contains("options.alignment.fingr"));
 }
+
+const ROBOT: &[u8] = include_bytes!("../../shared/avatars/debug-robot.vrm");
+const ODD_VRM0: &[u8] = include_bytes!("../../shared/avatars/odd-armature-vrm0.vrm");
+const VRM0_FINGERS: &[u8] = include_bytes!("fixtures/vrm0-fingers.vrm");
+
+#[wasm_bindgen_test]
+fn from_vrm_reads_vrm1_and_vrm0_files() {
+    let robot = HandRig::from_vrm(ROBOT, JsValue::UNDEFINED).unwrap();
+    assert_eq!(robot.vrm_version(), "1");
+    assert_eq!(robot.bone_names().length(), 53);
+    let hand = Array::from(&get(&robot.rest_world_positions(), "leftHand"));
+    assert!((hand.get(0).as_f64().unwrap() - 0.625).abs() < 1e-5);
+
+    let odd = HandRig::from_vrm(ODD_VRM0, JsValue::UNDEFINED).unwrap();
+    assert_eq!(odd.vrm_version(), "0");
+    assert_eq!(odd.bone_names().length(), 17);
+
+    // VRM 0.x with fingers: the recording drives its right hand, rotations come back finite.
+    let mut rig = HandRig::from_vrm(VRM0_FINGERS, JsValue::UNDEFINED).unwrap();
+    let r = rig.solve(js(&recording_frame(5))).unwrap();
+    let q = Array::from(&get(&get(&r, "bones"), "rightIndexIntermediate"));
+    assert_eq!(q.length(), 4);
+    assert!(q.iter().all(|c| c.as_f64().unwrap().is_finite()));
+}
+
+#[wasm_bindgen_test]
+fn from_vrm_rejects_broken_files_and_keeps_working() {
+    let m = message(
+        HandRig::from_vrm(&ROBOT[..100], JsValue::UNDEFINED)
+            .err()
+            .unwrap()
+            .into(),
+    );
+    assert!(m.starts_with("vrm:") && m.contains("truncated"), "{m}");
+    let m = message(
+        HandRig::from_vrm(b"not a vrm at all", JsValue::UNDEFINED)
+            .err()
+            .unwrap()
+            .into(),
+    );
+    assert!(m.starts_with("vrm:"), "{m}");
+    assert!(HandRig::from_vrm(ROBOT, JsValue::UNDEFINED).is_ok());
+}

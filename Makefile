@@ -1,0 +1,107 @@
+# handrig: the single entry point.
+#
+#   make demo    build the npm package and serve the demo page on 127.0.0.1 (URL printed)
+#   make test    every test: cargo test, wasm-pack test --node, Node tests of the packed
+#                package, and the demo's browser tests
+#
+# Both run `make setup` first, which installs what a fresh Debian machine lacks and skips what is
+# there already. Smaller targets: make help.
+
+SHELL := bash
+.SHELLFLAGS := -eu -o pipefail -c
+.DEFAULT_GOAL := help
+
+# The wasm-bindgen CLI must match the wasm-bindgen crate exactly (Cargo.toml pins it with `=`);
+# read the version from Cargo.lock so that this file never goes stale.
+WASM_BINDGEN_VERSION := $(shell awk '/^name = "wasm-bindgen"$$/ { getline; gsub(/version = |"/, ""); print; exit }' Cargo.lock)
+WASM_PACK_VERSION := 0.15.1
+SUDO := $(if $(filter 0,$(shell id -u)),,sudo)
+APT_GET := DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get
+
+# Node projects installed by `npm ci`: the package build tools, the packed-package tests, and the
+# demo (when www/ has a lockfile).
+NODE_DIRS := pkg-config tests/node $(if $(wildcard www/package-lock.json),www)
+NODE_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NODE_DIRS))
+
+.PHONY: help setup setup-system setup-rust setup-node pkg pkg-dev \
+        test test-rust test-wasm test-node test-www demo clean
+
+help:
+	@echo "make demo       build the package (pkg/) and serve the demo on 127.0.0.1"
+	@echo "make test       all tests: test-rust test-wasm test-node test-www"
+	@echo "make setup      install missing tools: chromium (apt), wasm32 target, wasm-bindgen-cli $(WASM_BINDGEN_VERSION), wasm-pack, npm deps"
+	@echo "make pkg        build the npm package into pkg/ (release); make pkg-dev: debug build"
+	@echo "make test-rust  cargo test"
+	@echo "make test-wasm  wasm-pack test --node (wasm-bindgen-test)"
+	@echo "make test-node  npm pack pkg/, install it in a temp project, node --test from ESM and CJS"
+	@echo "make test-www   the demo's browser tests (Playwright + Debian chromium), when www/ has them"
+	@echo "make clean      remove pkg/ and the package build's scratch files (not target/)"
+
+setup: setup-system setup-rust setup-node
+
+# Debian packages: chromium for the demo's browser tests. (No binaryen: Debian's wasm-opt 108
+# breaks wasm-bindgen 0.2.130 output; pkg-config/build.mjs runs binaryen from npm instead.)
+setup-system:
+	@missing=""; \
+	command -v chromium >/dev/null || missing="$$missing chromium"; \
+	command -v node >/dev/null || missing="$$missing nodejs"; \
+	command -v npm >/dev/null || missing="$$missing npm"; \
+	command -v cc >/dev/null || missing="$$missing gcc libc6-dev"; \
+	if [ -n "$$missing" ]; then \
+	  echo "setup: apt-get install$$missing"; \
+	  $(APT_GET) update && $(APT_GET) install -y --no-install-recommends $$missing; \
+	fi
+
+# No --locked on the cargo installs: a locked dependency version of wasm-bindgen-cli 0.2.130 is
+# missing from the registry mirror, so `--locked` fails there.
+setup-rust:
+	@command -v cargo >/dev/null || { echo "setup: cargo not found; install Rust with rustup first" >&2; exit 1; }
+	@if command -v rustup >/dev/null; then \
+	  rustup target list --installed | grep -qx wasm32-unknown-unknown || rustup target add wasm32-unknown-unknown; \
+	fi
+	@if [ "$$(wasm-bindgen --version 2>/dev/null)" != "wasm-bindgen $(WASM_BINDGEN_VERSION)" ]; then \
+	  echo "setup: cargo install wasm-bindgen-cli $(WASM_BINDGEN_VERSION)"; \
+	  cargo install wasm-bindgen-cli --version $(WASM_BINDGEN_VERSION) --force; \
+	fi
+	@command -v wasm-pack >/dev/null || { \
+	  echo "setup: cargo install wasm-pack $(WASM_PACK_VERSION)"; \
+	  cargo install wasm-pack --version $(WASM_PACK_VERSION); }
+
+setup-node: $(NODE_STAMPS)
+
+# npm ci again only when a package.json or lockfile changed.
+%/node_modules/.package-lock.json: %/package-lock.json %/package.json
+	npm ci --prefix $* --no-audit --no-fund
+	@touch $@
+
+pkg: setup
+	node pkg-config/build.mjs
+
+pkg-dev: setup
+	node pkg-config/build.mjs --dev
+
+test: setup test-rust test-wasm test-www test-node
+
+test-rust: setup
+	cargo test
+
+test-wasm: setup
+	wasm-pack --log-level warn test --node
+
+test-node: pkg
+	node tests/node/run.mjs
+
+# The demo's own tests, run when www/ defines an npm test script.
+test-www: pkg
+	@if [ -f www/package.json ] && node -e 'process.exit(require("./www/package.json").scripts?.test ? 0 : 1)'; then \
+	  npm --prefix www test; \
+	else \
+	  echo "test-www: www/ has no test script; skipped"; \
+	fi
+
+demo: pkg
+	@[ -f www/serve.mjs ] || { echo "demo: www/serve.mjs not found" >&2; exit 1; }
+	node www/serve.mjs
+
+clean:
+	rm -rf pkg target/handrig-pkg

@@ -1,0 +1,320 @@
+#!/usr/bin/env node
+// Builds the npm package into pkg/ (rapier.js style): wasm-pack compiles the crate once and
+// emits two wasm-bindgen glues for the same .wasm, then the templates in pkg-config/ are merged
+// around them.
+//
+//   node pkg-config/build.mjs [--dev] [--out-dir DIR]
+//
+//   --dev       wasm-pack --dev (debug build, no wasm-opt): faster, larger, slower.
+//
+// wasm-opt: wasm-pack runs with --no-opt and this script runs binaryen's wasm-opt from npm
+// (pkg-config/node_modules, `make setup`) once on the shared .wasm. Debian's binaryen 108 is too
+// old: it rewrites wasm-bindgen 0.2.130's externref table export into the funcref table and the
+// module then fails to instantiate ("WebAssembly.Table.set(): Argument 1 is invalid").
+//   --out-dir   where the package goes (default: pkg/ at the repository root).
+//
+// Layout of the package:
+//   index.js          browsers and bundlers (ES module): `await init()` once, then HandRig.
+//   index.cjs         Node CommonJS: the wasm is compiled synchronously at require time.
+//   index.mjs         Node ES module: re-exports index.cjs, so require and import share one
+//                     WebAssembly instance (no dual-package hazard).
+//   index.d.ts/.d.cts types; three-vrm.{js,cjs,d.ts,d.cts} the three-vrm adapter.
+//   wasm/             wasm-bindgen output: handrig_wasm.js (--target web glue),
+//                     handrig_wasm.cjs (--target nodejs glue), handrig_wasm_bg.wasm (shared).
+
+import { execFileSync } from "node:child_process";
+import { createRequire } from "node:module";
+import fs from "node:fs";
+import path from "node:path";
+import { fileURLToPath } from "node:url";
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const root = path.resolve(here, "..");
+
+function fail(msg) {
+  console.error(`build.mjs: ${msg}`);
+  process.exit(1);
+}
+
+function parseArgs(argv) {
+  const args = { dev: false, outDir: path.join(root, "pkg") };
+  for (let i = 0; i < argv.length; i++) {
+    const a = argv[i];
+    if (a === "--dev") args.dev = true;
+    else if (a === "--out-dir") args.outDir = path.resolve(argv[++i] ?? fail("--out-dir needs a value"));
+    else if (a === "--help" || a === "-h") {
+      console.log("usage: node pkg-config/build.mjs [--dev] [--out-dir DIR]");
+      process.exit(0);
+    } else fail(`unknown argument ${a}`);
+  }
+  return args;
+}
+
+/** The `key = "string"` entries of Cargo.toml's [package] table (all this script needs). */
+function cargoPackage(tomlText) {
+  const out = {};
+  let inPackage = false;
+  for (const line of tomlText.split(/\r?\n/)) {
+    const table = line.match(/^\s*\[([^\]]+)\]\s*$/);
+    if (table) {
+      inPackage = table[1].trim() === "package";
+      continue;
+    }
+    if (!inPackage) continue;
+    const kv = line.match(/^\s*([A-Za-z0-9_-]+)\s*=\s*"((?:[^"\\]|\\.)*)"\s*(#.*)?$/);
+    if (kv) out[kv[1]] = JSON.parse(`"${kv[2]}"`);
+  }
+  return out;
+}
+
+/** The version of `crate` locked in Cargo.lock. */
+function lockedVersion(lockText, crate) {
+  const re = new RegExp(`\\[\\[package\\]\\]\\s*\\nname = "${crate}"\\s*\\nversion = "([^"]+)"`);
+  const m = lockText.match(re);
+  return m ? m[1] : undefined;
+}
+
+function run(cmd, args, opts = {}) {
+  console.log(`$ ${cmd} ${args.join(" ")}`);
+  try {
+    execFileSync(cmd, args, { stdio: "inherit", cwd: root, ...opts });
+  } catch (e) {
+    fail(`${cmd} failed (${e.status === null ? e.signal : `exit ${e.status}`})`);
+  }
+}
+
+function checkWasmBindgen(lockText) {
+  const want = lockedVersion(lockText, "wasm-bindgen");
+  if (!want) fail("Cargo.lock has no wasm-bindgen package");
+  let have;
+  try {
+    have = execFileSync("wasm-bindgen", ["--version"], { encoding: "utf8" }).trim();
+  } catch {
+    fail(`wasm-bindgen is not on PATH; run \`make setup\` (cargo install wasm-bindgen-cli --version ${want})`);
+  }
+  // wasm-pack would otherwise try to download the matching CLI, which fails offline.
+  if (have !== `wasm-bindgen ${want}`) {
+    fail(`${have} on PATH, Cargo.lock wants ${want}; run \`make setup\``);
+  }
+}
+
+// The features rustc enables by default for wasm32-unknown-unknown (Rust >= 1.82), which the
+// module uses; wasm-opt must keep them.
+const WASM_FEATURES = [
+  "--enable-bulk-memory",
+  "--enable-nontrapping-float-to-int",
+  "--enable-reference-types",
+  "--enable-sign-ext",
+  "--enable-mutable-globals",
+  "--enable-multivalue",
+];
+
+function wasmOpt(input, output) {
+  const bin = path.join(here, "node_modules", ".bin", "wasm-opt");
+  if (!fs.existsSync(bin)) fail(`${bin} is missing; run \`make setup\` (npm ci --prefix pkg-config)`);
+  // Names and producers sections only add bytes: with panic=abort there are no symbolized
+  // panics to print.
+  run(bin, ["-O3", ...WASM_FEATURES, "--strip-debug", "--strip-producers", input, "-o", output]);
+}
+
+// Entry points: the shared core (no module syntax) between a prologue and an epilogue.
+function esmBrowserEntry(core, version) {
+  return `${banner(version)}
+import wasmInit, * as raw from "./wasm/handrig_wasm.js";
+
+let ready = false;
+
+${core}
+const api = createHandRigApi(raw, () => ready);
+
+/**
+ * Instantiates the WebAssembly module; call once (await it) before anything else. With no
+ * argument it fetches wasm/handrig_wasm_bg.wasm next to this file (bundlers that understand
+ * \`new URL(..., import.meta.url)\` copy it); or pass its URL, a Response, its bytes or a
+ * WebAssembly.Module. Calling it again is a no-op.
+ */
+export async function init(input) {
+  const arg =
+    input === undefined
+      ? undefined
+      : input !== null && Object.getPrototypeOf(input) === Object.prototype
+        ? input
+        : { module_or_path: input };
+  await wasmInit(arg);
+  ready = true;
+}
+
+/** Synchronous init from the .wasm bytes or a compiled WebAssembly.Module (e.g. in a worker). */
+export function initSync(module) {
+  const arg =
+    module !== null && typeof module === "object" && Object.getPrototypeOf(module) === Object.prototype
+      ? module
+      : { module };
+  raw.initSync(arg);
+  ready = true;
+}
+
+export const HandRig = api.HandRig;
+export const version = ${JSON.stringify(version)};
+export default init;
+`;
+}
+
+function cjsNodeEntry(core, version) {
+  return `${banner(version)}
+"use strict";
+// Node: the glue compiles and instantiates the wasm synchronously when it is required.
+const raw = require("./wasm/handrig_wasm.cjs");
+
+${core}
+const api = createHandRigApi(raw, () => true);
+
+/** A no-op in Node (the module is ready once required); kept for code shared with browsers. */
+function init() {
+  return Promise.resolve();
+}
+/** A no-op in Node. */
+function initSync() {}
+
+exports.HandRig = api.HandRig;
+exports.init = init;
+exports.initSync = initSync;
+exports.version = ${JSON.stringify(version)};
+`;
+}
+
+function esmNodeEntry(version) {
+  return `${banner(version)}
+// Node ES module entry: the CommonJS build, so import and require share one wasm instance.
+import { createRequire } from "node:module";
+
+const cjs = createRequire(import.meta.url)("./index.cjs");
+
+export const HandRig = cjs.HandRig;
+export const init = cjs.init;
+export const initSync = cjs.initSync;
+export const version = cjs.version;
+export default init;
+`;
+}
+
+function adapterEsm(core, version) {
+  return `${banner(version)}
+${core}
+export { restPoseFromVRM, applyToVRM };
+`;
+}
+
+function adapterCjs(core, version) {
+  return `${banner(version)}
+"use strict";
+${core}
+exports.restPoseFromVRM = restPoseFromVRM;
+exports.applyToVRM = applyToVRM;
+`;
+}
+
+function banner(version) {
+  return `// handrig ${version}. Generated by pkg-config/build.mjs from pkg-config/src; edit those.`;
+}
+
+/** The CommonJS flavor of a .d.ts: no default export (CommonJS has none). */
+function toCts(dts) {
+  const out = dts.replace(/^export default [^;]+;\n/m, "");
+  if (out === dts && /^export default/m.test(dts)) fail("could not drop the default export for .d.cts");
+  return out.replace("index.d.ts (ES module entry points) and index.d.cts", "index.d.ts and index.d.cts");
+}
+
+function main() {
+  const args = parseArgs(process.argv.slice(2));
+  const cargo = cargoPackage(fs.readFileSync(path.join(root, "Cargo.toml"), "utf8"));
+  if (cargo.name !== "handrig" || !cargo.version) fail("Cargo.toml [package] must have name = \"handrig\" and a version");
+  const lockText = fs.readFileSync(path.join(root, "Cargo.lock"), "utf8");
+  checkWasmBindgen(lockText);
+
+  const work = path.join(root, "target", "handrig-pkg");
+  fs.rmSync(work, { recursive: true, force: true });
+  const profile = args.dev ? "--dev" : "--release";
+  for (const target of ["web", "nodejs"]) {
+    run("wasm-pack", [
+      "--log-level", "warn",
+      "build", profile, "--no-pack", "--no-opt",
+      "--target", target,
+      "--out-dir", path.join(work, target),
+      "--out-name", "handrig_wasm",
+      root,
+    ]);
+  }
+
+  const out = args.outDir;
+  fs.rmSync(out, { recursive: true, force: true });
+  fs.mkdirSync(path.join(out, "wasm"), { recursive: true });
+  const web = path.join(work, "web");
+  const node = path.join(work, "nodejs");
+  const webWasm = fs.readFileSync(path.join(web, "handrig_wasm_bg.wasm"));
+  const nodeWasm = fs.readFileSync(path.join(node, "handrig_wasm_bg.wasm"));
+  const shippedWasm = path.join(out, "wasm", "handrig_wasm_bg.wasm");
+  if (args.dev) fs.writeFileSync(shippedWasm, webWasm);
+  else wasmOpt(path.join(web, "handrig_wasm_bg.wasm"), shippedWasm);
+  let nodeGlue = fs.readFileSync(path.join(node, "handrig_wasm.js"), "utf8");
+  if (!webWasm.equals(nodeWasm)) {
+    // Both glues are made from one compiled module, so the files normally match; if a future
+    // wasm-bindgen makes them differ, ship the Node one under its own name.
+    const needle = "/handrig_wasm_bg.wasm`";
+    if (!nodeGlue.includes(needle)) fail("nodejs glue: cannot find the .wasm path to rename");
+    nodeGlue = nodeGlue.replace(needle, "/handrig_wasm_node_bg.wasm`");
+    const nodeShipped = path.join(out, "wasm", "handrig_wasm_node_bg.wasm");
+    if (args.dev) fs.writeFileSync(nodeShipped, nodeWasm);
+    else wasmOpt(path.join(node, "handrig_wasm_bg.wasm"), nodeShipped);
+    console.log("build.mjs: web and nodejs .wasm differ; shipping both");
+  }
+  fs.copyFileSync(path.join(web, "handrig_wasm.js"), path.join(out, "wasm", "handrig_wasm.js"));
+  fs.copyFileSync(path.join(web, "handrig_wasm.d.ts"), path.join(out, "wasm", "handrig_wasm.d.ts"));
+  fs.writeFileSync(path.join(out, "wasm", "handrig_wasm.cjs"), nodeGlue);
+  for (const dir of [web, node]) {
+    if (fs.existsSync(path.join(dir, "snippets"))) {
+      fail(`${dir}/snippets exists (inline JS in the bindings): teach build.mjs to ship it and list it in sideEffects`);
+    }
+  }
+
+  const src = path.join(here, "src");
+  const types = path.join(here, "types");
+  const core = fs.readFileSync(path.join(src, "handrig-core.js"), "utf8");
+  const adapter = fs.readFileSync(path.join(src, "three-vrm-core.js"), "utf8");
+  const v = cargo.version;
+  fs.writeFileSync(path.join(out, "index.js"), esmBrowserEntry(core, v));
+  fs.writeFileSync(path.join(out, "index.cjs"), cjsNodeEntry(core, v));
+  fs.writeFileSync(path.join(out, "index.mjs"), esmNodeEntry(v));
+  fs.writeFileSync(path.join(out, "three-vrm.js"), adapterEsm(adapter, v));
+  fs.writeFileSync(path.join(out, "three-vrm.cjs"), adapterCjs(adapter, v));
+  const dts = fs.readFileSync(path.join(types, "handrig.d.ts"), "utf8");
+  fs.writeFileSync(path.join(out, "index.d.ts"), dts);
+  fs.writeFileSync(path.join(out, "index.d.cts"), toCts(dts));
+  const adapterDts = fs.readFileSync(path.join(types, "three-vrm.d.ts"), "utf8");
+  fs.writeFileSync(path.join(out, "three-vrm.d.ts"), adapterDts);
+  fs.writeFileSync(path.join(out, "three-vrm.d.cts"), toCts(adapterDts));
+
+  const manifest = JSON.parse(fs.readFileSync(path.join(here, "package.template.json"), "utf8"));
+  manifest.version = v;
+  manifest.description = cargo.description ?? "";
+  manifest.license = cargo.license ?? "MIT";
+  if (cargo.repository) manifest.repository = { type: "git", url: cargo.repository };
+  fs.writeFileSync(path.join(out, "package.json"), `${JSON.stringify(manifest, null, 2)}\n`);
+  for (const f of ["README.md", "LICENSE"]) {
+    if (!fs.existsSync(path.join(root, f))) fail(`${f} missing at the repository root`);
+    fs.copyFileSync(path.join(root, f), path.join(out, f));
+  }
+
+  // Every file the manifest lists exists, and the Node entry loads and has the API.
+  for (const f of manifest.files) {
+    if (!fs.existsSync(path.join(out, f))) fail(`package.json lists ${f} but the build did not make it`);
+  }
+  const api = createRequire(import.meta.url)(path.join(out, "index.cjs"));
+  if (typeof api.HandRig !== "function" || typeof api.HandRig.fromVrm !== "function") {
+    fail("index.cjs does not export HandRig with fromVrm: do the bindings (src/wasm.rs) export the HandRig class?");
+  }
+  const kib = (fs.statSync(shippedWasm).size / 1024).toFixed(0);
+  console.log(`build.mjs: ${path.relative(root, out) || "."}/ ready: handrig ${v}, wasm ${kib} KiB (${args.dev ? "dev" : "release"})`);
+}
+
+main();

@@ -1,0 +1,288 @@
+// Types of the handrig package. Conventions: meters, radians, milliseconds; right-handed, +Y up;
+// the avatar faces +Z (VRM 1.0; VRM 0.x models face -Z and everything is in the model's own
+// frame); quaternions [x, y, z, w]. build.mjs emits this file as index.d.ts (ES module entry
+// points) and index.d.cts (CommonJS, without the default export).
+
+/** [x, y, z], meters. */
+export type Vec3 = [number, number, number];
+/** Unit quaternion [x, y, z, w]. */
+export type Quat = [number, number, number, number];
+
+/** The 55 VRM 1.0 humanoid bone names, parent-first (three-vrm's order). */
+export type HumanBoneName =
+  | "hips" | "spine" | "chest" | "upperChest" | "neck" | "head" | "leftEye" | "rightEye" | "jaw"
+  | "leftUpperLeg" | "leftLowerLeg" | "leftFoot" | "leftToes"
+  | "rightUpperLeg" | "rightLowerLeg" | "rightFoot" | "rightToes"
+  | "leftShoulder" | "leftUpperArm" | "leftLowerArm" | "leftHand"
+  | "rightShoulder" | "rightUpperArm" | "rightLowerArm" | "rightHand"
+  | "leftThumbMetacarpal" | "leftThumbProximal" | "leftThumbDistal"
+  | "leftIndexProximal" | "leftIndexIntermediate" | "leftIndexDistal"
+  | "leftMiddleProximal" | "leftMiddleIntermediate" | "leftMiddleDistal"
+  | "leftRingProximal" | "leftRingIntermediate" | "leftRingDistal"
+  | "leftLittleProximal" | "leftLittleIntermediate" | "leftLittleDistal"
+  | "rightThumbMetacarpal" | "rightThumbProximal" | "rightThumbDistal"
+  | "rightIndexProximal" | "rightIndexIntermediate" | "rightIndexDistal"
+  | "rightMiddleProximal" | "rightMiddleIntermediate" | "rightMiddleDistal"
+  | "rightRingProximal" | "rightRingIntermediate" | "rightRingDistal"
+  | "rightLittleProximal" | "rightLittleIntermediate" | "rightLittleDistal";
+
+/** Per-bone values; only the bones the avatar has (or that were solved) are present. */
+export type BoneMap<T> = { [bone in HumanBoneName]?: T };
+
+/** Rest pose of an avatar: world positions of three-vrm's normalized bones at rest. */
+export interface RestPose {
+  /** Rest world position of each bone, meters, the model's own frame. Required VRM bones must be present. */
+  bones: BoneMap<Vec3> | Record<string, Vec3>;
+  /** VRM version of the model: "0" models face -Z. Default "1". */
+  vrmVersion?: "0" | "1" | 0 | 1;
+}
+
+/** A point as MediaPipe gives it; pose landmarks carry `visibility`. */
+export interface Landmark {
+  x: number;
+  y: number;
+  z: number;
+  visibility?: number;
+}
+
+/** 21 (hand) or 33 (pose) points: `{x, y, z}` objects, `[x, y, z]` arrays, or a flat list of 63 / 99 numbers. */
+export type LandmarkList =
+  | ReadonlyArray<Landmark | Vec3 | readonly [number, number, number]>
+  | ReadonlyArray<number>
+  | Float32Array
+  | Float64Array;
+
+/** A MediaPipe handedness category (tasks-vision `Category`, legacy `Handedness`). */
+export interface HandednessCategory {
+  categoryName?: string;
+  label?: string;
+  score?: number;
+  index?: number;
+  displayName?: string;
+}
+
+/** MediaPipe's label: it assumes a mirrored (selfie) image; see the README's mirror table. */
+export type HandednessLabel = "Left" | "Right";
+
+/** One hand in handrig's own shape. */
+export interface HandInput {
+  /** MediaPipe's label as given, a category, or tasks-vision's `[category]`. */
+  handedness: HandednessLabel | HandednessCategory | ReadonlyArray<HandednessCategory>;
+  /** Handedness score 0..1 (default: the category's score, else 1). */
+  score?: number;
+  /** 21 world landmarks, meters, MediaPipe camera axes (x image-right, y down, z away from the camera). */
+  worldLandmarks?: LandmarkList;
+  /** 21 normalized image landmarks (used when worldLandmarks is absent). */
+  landmarks?: LandmarkList;
+}
+
+/** tasks-vision `HandLandmarkerResult`. */
+export interface HandLandmarkerResultLike {
+  landmarks?: ReadonlyArray<LandmarkList>;
+  worldLandmarks?: ReadonlyArray<LandmarkList>;
+  handedness?: ReadonlyArray<ReadonlyArray<HandednessCategory>>;
+  handednesses?: ReadonlyArray<ReadonlyArray<HandednessCategory>>;
+}
+
+/** Legacy `@mediapipe/hands` results. */
+export interface LegacyHandsResultLike {
+  multiHandLandmarks?: ReadonlyArray<LandmarkList>;
+  multiHandWorldLandmarks?: ReadonlyArray<LandmarkList>;
+  multiHandedness: ReadonlyArray<HandednessCategory>;
+}
+
+/** Legacy `@mediapipe/holistic` results (image landmarks only for hands). */
+export interface LegacyHolisticResultLike {
+  leftHandLandmarks?: LandmarkList;
+  rightHandLandmarks?: LandmarkList;
+  poseWorldLandmarks?: LandmarkList;
+}
+
+/** Pose: 33 world landmarks (meters, camera axes), handrig's shape or a PoseLandmarker result. */
+export type PoseInput =
+  | { worldLandmarks: LandmarkList | ReadonlyArray<LandmarkList> }
+  | { poseWorldLandmarks: LandmarkList }
+  | LandmarkList;
+
+/** A wrist from another body tracker, in the avatar's frame. */
+export interface WristInput {
+  /** Meters, the model's own frame. */
+  position: Vec3 | Landmark;
+  /** World rotation of the avatar's normalized hand bone [x, y, z, w]. */
+  rotation?: Quat;
+}
+
+/** One frame of tracking. A MediaPipe result object may also be passed as the frame itself. */
+export interface Frame {
+  /** Timestamp, milliseconds. Default 0. */
+  timeMs?: number;
+  /** Hands: handrig's own list, or a HandLandmarker / legacy Hands result. */
+  hands?: ReadonlyArray<HandInput> | HandLandmarkerResultLike | LegacyHandsResultLike;
+  /** Pose landmarks. */
+  pose?: PoseInput;
+  /** Legacy Pose / Holistic: world landmarks at the top level of the frame. */
+  poseWorldLandmarks?: LandmarkList;
+  /** Wrists from another body tracker (used instead of pose wrists). */
+  wrists?: { left?: WristInput; right?: WristInput };
+  /** Image width / height, used to scale image-only hand landmarks. Default 16/9. */
+  imageAspect?: number;
+}
+
+/** What `solve` accepts. */
+export type FrameInput =
+  | Frame
+  | (Frame & HandLandmarkerResultLike)
+  | (Frame & LegacyHandsResultLike)
+  | (Frame & LegacyHolisticResultLike);
+
+/** A wrist IK target, the model's own frame. */
+export interface IkTarget {
+  /** Where the avatar's hand bone (wrist joint) should be, meters. */
+  position: Vec3;
+  /** World rotation the avatar's normalized hand bone should have. */
+  rotation: Quat;
+}
+
+/** What fingertip alignment did for one hand. */
+export interface AlignmentReport {
+  /** Where the user's aligned point (DIP or tip) is, mapped onto the avatar, meters. */
+  targetDip: Vec3;
+  /** The wrist IK target position, meters. */
+  ikWrist: Vec3;
+  /** The pose wrist the target was built from, meters. */
+  poseWrist: Vec3;
+  /** Distance (m) between the avatar's aligned point after IK and targetDip; null when unknown. */
+  error: number | null;
+  /** Whether the arm reached the IK wrist. */
+  reachable: boolean;
+  /** Whether the avatar has the aligned finger (otherwise the IK wrist is the pose wrist). */
+  aligned: boolean;
+}
+
+/** The result of one `solve`, in the model's own frame. */
+export interface SolveResult {
+  /** The frame's timestamp, milliseconds. */
+  timeMs: number;
+  /** Local rotations of the normalized bones solved this frame (write to `getNormalizedBoneNode(name).quaternion`). */
+  bones: BoneMap<Quat>;
+  /** World positions of every bone of the avatar after solving, meters. */
+  worldPositions: BoneMap<Vec3>;
+  /** Wrist IK targets, per avatar side, when a wrist was known. */
+  ikTargets: { left?: IkTarget; right?: IkTarget };
+  /** Fingertip-alignment reports, per avatar side. */
+  alignment: { left?: AlignmentReport; right?: AlignmentReport };
+}
+
+export type FingerName = "thumb" | "index" | "middle" | "ring" | "little";
+
+/** Options, set at construction. `HandRig.optionDescriptions()` lists them with ranges and defaults. */
+export interface HandRigOptions {
+  /** The image given to MediaPipe was flipped horizontally (selfie view). Default false. */
+  inputMirrored?: boolean;
+  /** The avatar mirrors the user: the user's right hand drives the avatar's left. Default false. */
+  mirror?: boolean;
+  /** How hands are solved. Default "analytic". */
+  handStrategy?: "analytic";
+  /** Arm IK solver reaching the wrist target. Default "twoBone". */
+  armSolver?: "twoBone";
+  /** Fingertip alignment. */
+  alignment?: {
+    /** Default true. */
+    enabled?: boolean;
+    /** Default "index". */
+    finger?: FingerName;
+    /** Default "dip". */
+    point?: "dip" | "tip";
+    /** 0..1 blend between the pose wrist (0) and the fully aligned wrist (1). Default 1. */
+    weight?: number;
+  };
+  /** Body-scale calibration from pose landmarks. */
+  calibration?: {
+    /** Preset body scale (avatar arm / user arm); unset = calibrate automatically. */
+    bodyScale?: number;
+  };
+  /** Hands whose handedness score is below this are ignored. Default 0.5. */
+  minHandScore?: number;
+}
+
+/** One option, for building UIs: its dot-separated path, type, range and default. */
+export type OptionDescription =
+  | { path: string; type: "boolean"; default: boolean; description: string }
+  | { path: string; type: "enum"; values: string[]; default: string; description: string }
+  | {
+      path: string;
+      type: "number";
+      min: number;
+      max: number;
+      /** Absent when the option is unset by default. */
+      default?: number | null;
+      step: number;
+      description: string;
+    };
+
+/** The solver for one avatar. Create once, `solve` every frame, `free()` when done. */
+export declare class HandRig {
+  /**
+   * @param restPose rest world positions of the normalized bones (see `restPoseFromVRM` in `handrig/three-vrm`).
+   * @throws Error naming the field on bad input (unknown bone, missing required bone, non-finite number, unknown option).
+   */
+  constructor(restPose: RestPose, options?: HandRigOptions);
+  /**
+   * A rig for a `.vrm` file (VRM 1.0 or 0.x), parsed in wasm.
+   * @throws Error starting with "vrm:" for a truncated or non-VRM file.
+   */
+  static fromVrm(
+    bytes: Uint8Array | ArrayBuffer | ArrayBufferView,
+    options?: HandRigOptions,
+  ): HandRig;
+  /** Every option with its path, type, range, default and description. */
+  static optionDescriptions(): OptionDescription[];
+  /**
+   * Solves one frame. Allocates only the returned object.
+   * @throws Error naming the field (e.g. "frame.hands[0].worldLandmarks: must have 21 points, got 20"); the rig is unchanged and keeps working.
+   */
+  solve(frame: FrameInput): SolveResult;
+  /** Rest world positions of the avatar's bones, meters, the model's own frame. */
+  restWorldPositions(): BoneMap<Vec3>;
+  /** The bones this avatar has, parent-first. */
+  boneNames(): HumanBoneName[];
+  /** "0" or "1": the VRM version the rig was built for. */
+  readonly vrmVersion: "0" | "1";
+  /** Body scale in force (avatar arm / user arm; 1 until calibrated). */
+  readonly bodyScale: number;
+  /** Restarts body-scale calibration. */
+  resetCalibration(): void;
+  /** Releases the wasm memory. Idempotent; the rig throws on use afterwards. */
+  free(): void;
+  /**
+   * True once `free()` was called. (Where `Symbol.dispose` exists the rig also has
+   * `[Symbol.dispose]()`, an alias of `free()`; it is left out of these types so that they
+   * type-check without the esnext.disposable lib.)
+   */
+  readonly freed: boolean;
+}
+
+/**
+ * What `init` accepts: the .wasm file's URL (string or URL), a fetch `Response` (or a promise of
+ * one), its bytes, or a compiled `WebAssembly.Module`. Typed structurally so that no DOM lib is
+ * needed to type-check this file.
+ */
+export type InitInput =
+  | string
+  | { readonly href: string }
+  | { arrayBuffer(): Promise<ArrayBuffer> }
+  | ArrayBuffer
+  | ArrayBufferView
+  | object
+  | Promise<unknown>;
+
+/**
+ * Instantiates the WebAssembly module. Required once in browsers and bundlers before any other
+ * call (`await init()` fetches `handrig_bg.wasm` next to the module); a resolved no-op in Node.
+ */
+export declare function init(input?: InitInput | { module_or_path: InitInput }): Promise<void>;
+/** Synchronous `init` from the .wasm bytes or a compiled module (workers); a no-op in Node. */
+export declare function initSync(module?: ArrayBuffer | ArrayBufferView | object): void;
+/** The package version. */
+export declare const version: string;
+export default init;

@@ -1,0 +1,128 @@
+// Shared helpers of the consumer tests (run from a temp project that installed the packed
+// handrig; see ../run.mjs). Data comes from the shared/ folder (HANDRIG_SHARED).
+
+import assert from "node:assert/strict";
+import fs from "node:fs";
+import path from "node:path";
+
+export const shared = process.env.HANDRIG_SHARED;
+export const repo = process.env.HANDRIG_REPO;
+if (!shared || !repo) throw new Error("run these tests through tests/node/run.mjs");
+
+export const avatars = {
+  robot: path.join(shared, "avatars", "debug-robot.vrm"),
+  odd0: path.join(shared, "avatars", "odd-armature-vrm0.vrm"),
+};
+export const recordingPath = path.join(shared, "data", "hands", "right-hand-video-mediapipe.json");
+
+/** The generated test fixtures (tests/fixtures/*.vrm), sorted; [] when there are none. */
+export function fixtureVrms() {
+  const dir = path.join(repo, "tests", "fixtures");
+  if (!fs.existsSync(dir)) return [];
+  return fs
+    .readdirSync(dir)
+    .filter((f) => f.endsWith(".vrm"))
+    .sort()
+    .map((f) => path.join(dir, f));
+}
+
+export function readBytes(file) {
+  return new Uint8Array(fs.readFileSync(file));
+}
+
+let recording;
+/** The real MediaPipe recording: [{ frame, timeMs, hands: [{ handedness, score, landmarks, worldLandmarks }] }]. */
+export function readRecording() {
+  recording ??= JSON.parse(fs.readFileSync(recordingPath, "utf8"));
+  return recording;
+}
+
+/**
+ * three-vrm in Node: GLTFLoader + VRMLoaderPlugin on the file's bytes. GLTFLoader decodes
+ * textures with DOM image APIs that Node lacks; a plugin hands out empty textures instead
+ * (plugins' loadTexture hooks run before the default image path), which leaves the scene graph,
+ * and so every bone transform, exactly as in a browser.
+ */
+export async function loadVRM(file) {
+  const THREE = await import("three");
+  const { GLTFLoader } = await import("three/examples/jsm/loaders/GLTFLoader.js");
+  const { VRMLoaderPlugin } = await import("@pixiv/three-vrm");
+  const loader = new GLTFLoader();
+  loader.register(() => ({ name: "handrig_test_no_images", loadTexture: async () => new THREE.Texture() }));
+  loader.register((parser) => new VRMLoaderPlugin(parser));
+  const buf = fs.readFileSync(file);
+  const gltf = await loader.parseAsync(buf.buffer.slice(buf.byteOffset, buf.byteOffset + buf.byteLength), "");
+  const vrm = gltf.userData.vrm;
+  assert.ok(vrm, `${path.basename(file)}: VRMLoaderPlugin found no VRM`);
+  return vrm;
+}
+
+/** World positions of three-vrm's normalized bones from three's own matrices (rest pose). */
+export async function threeNormalizedWorldPositions(vrm) {
+  const THREE = await import("three");
+  vrm.scene.updateMatrixWorld(true);
+  const out = {};
+  const v = new THREE.Vector3();
+  for (const name of Object.keys(vrm.humanoid.normalizedRestPose)) {
+    const node = vrm.humanoid.getNormalizedBoneNode(name);
+    if (node) out[name] = node.getWorldPosition(v).toArray();
+  }
+  return out;
+}
+
+export function assertFiniteVec(v, n, what) {
+  assert.ok(Array.isArray(v) && v.length === n, `${what}: expected ${n} numbers, got ${JSON.stringify(v)}`);
+  for (const c of v) assert.ok(Number.isFinite(c), `${what}: not finite: ${JSON.stringify(v)}`);
+}
+
+export function assertUnitQuat(q, what) {
+  assertFiniteVec(q, 4, what);
+  const len = Math.hypot(q[0], q[1], q[2], q[3]);
+  assert.ok(Math.abs(len - 1) < 1e-5, `${what}: |q| = ${len}`);
+}
+
+/** Checks every number of a solve result: finite positions, unit quaternions. */
+export function assertResultWellFormed(result, what) {
+  assert.equal(typeof result, "object", what);
+  for (const [name, q] of Object.entries(result.bones)) assertUnitQuat(q, `${what} bones.${name}`);
+  for (const [name, p] of Object.entries(result.worldPositions)) assertFiniteVec(p, 3, `${what} worldPositions.${name}`);
+  for (const [side, t] of Object.entries(result.ikTargets)) {
+    assertFiniteVec(t.position, 3, `${what} ikTargets.${side}.position`);
+    assertUnitQuat(t.rotation, `${what} ikTargets.${side}.rotation`);
+  }
+  for (const [side, a] of Object.entries(result.alignment)) {
+    for (const k of ["targetDip", "ikWrist", "poseWrist"]) assertFiniteVec(a[k], 3, `${what} alignment.${side}.${k}`);
+    assert.ok(a.error === null || Number.isFinite(a.error), `${what} alignment.${side}.error`);
+  }
+}
+
+/** Rotation angle (radians) of a unit quaternion, q and -q alike. */
+export function quatAngle(q) {
+  return 2 * Math.acos(Math.min(1, Math.abs(q[3])));
+}
+
+/** The hand and finger bones of one avatar side ("left" | "right"). */
+export function handBones(side) {
+  const fingers = ["Thumb", "Index", "Middle", "Ring", "Little"];
+  const joints = { Thumb: ["Metacarpal", "Proximal", "Distal"] };
+  const names = [`${side}Hand`];
+  for (const f of fingers) {
+    for (const j of joints[f] ?? ["Proximal", "Intermediate", "Distal"]) names.push(`${side}${f}${j}`);
+  }
+  return names;
+}
+
+/**
+ * Solves every frame of the recording; returns per-frame results' summaries. Asserts each result
+ * is well-formed.
+ */
+export function solveRecording(rig, { every = 1 } = {}) {
+  const frames = readRecording();
+  const results = [];
+  for (let i = 0; i < frames.length; i += every) {
+    const r = rig.solve(frames[i]);
+    assertResultWellFormed(r, `frame ${i}`);
+    results.push(r);
+  }
+  return results;
+}

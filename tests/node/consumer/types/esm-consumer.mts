@@ -1,0 +1,64 @@
+// Type-checked (not run) by types.test.mjs: the ES module API as an app would write it, with no
+// DOM lib and no @types/node (tsconfig.strict.json).
+import init, { HandRig, initSync, version } from "handrig";
+import type { Frame, HandRigOptions, OptionDescription, Quat, RestPose, SolveResult, Vec3 } from "handrig";
+
+declare const bytes: Uint8Array;
+declare const buffer: ArrayBuffer;
+
+await init();
+initSync(buffer);
+const v: string = version;
+
+const options: HandRigOptions = {
+  inputMirrored: false,
+  mirror: true,
+  alignment: { enabled: true, finger: "index", point: "tip", weight: 0.5 },
+  calibration: { bodyScale: 1.1 },
+  minHandScore: 0.6,
+};
+const rig: HandRig = HandRig.fromVrm(bytes, options);
+const rest: RestPose = { bones: rig.restWorldPositions(), vrmVersion: rig.vrmVersion };
+const rig2 = new HandRig(rest);
+HandRig.fromVrm(buffer);
+
+const landmarks = Array.from({ length: 21 }, (_, i) => ({ x: i, y: 0, z: 0 }));
+const frames: Frame[] = [
+  { timeMs: 0, hands: [{ handedness: "Left", score: 0.9, worldLandmarks: new Float32Array(63) }] },
+  { timeMs: 1, hands: [{ handedness: "Right", worldLandmarks: landmarks, landmarks }] },
+  { timeMs: 2, hands: { worldLandmarks: [landmarks], landmarks: [landmarks], handedness: [[{ categoryName: "Left", score: 1 }]] } },
+  { timeMs: 3, hands: { multiHandWorldLandmarks: [landmarks], multiHandedness: [{ label: "Right", score: 1 }] } },
+  { timeMs: 4, pose: { worldLandmarks: Array.from({ length: 33 }, () => ({ x: 0, y: 0, z: 0, visibility: 1 })) } },
+  { timeMs: 5, wrists: { right: { position: [0.3, 1.2, 0.1], rotation: [0, 0, 0, 1] } } },
+];
+for (const frame of frames) {
+  const r: SolveResult = rig.solve(frame);
+  const q: Quat | undefined = r.bones.rightIndexDistal;
+  const p: Vec3 | undefined = r.worldPositions.rightHand;
+  const target: Vec3 | undefined = r.ikTargets.left?.position;
+  const error: number | null | undefined = r.alignment.right?.error;
+  void [q, p, target, error];
+}
+const names: string[] = rig.boneNames();
+const scale: number = rig.bodyScale;
+rig.resetCalibration();
+const described: OptionDescription[] = HandRig.optionDescriptions();
+for (const d of described) {
+  if (d.type === "enum") void d.values.join();
+  if (d.type === "number") void (d.min + d.max + d.step);
+}
+const freed: boolean = rig.freed;
+rig.free();
+rig2.free();
+void [v, names, scale, freed];
+
+// @ts-expect-error misspelled option
+HandRig.fromVrm(bytes, { mirrror: true });
+// @ts-expect-error not a finger
+HandRig.fromVrm(bytes, { alignment: { finger: "pinky" } });
+// @ts-expect-error a frame is required
+rig.solve();
+// @ts-expect-error handedness is "Left" or "Right"
+rig.solve({ hands: [{ handedness: "Middle", worldLandmarks: landmarks }] });
+// @ts-expect-error vrmVersion is read-only
+rig.vrmVersion = "0";
