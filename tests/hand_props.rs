@@ -1,5 +1,6 @@
 //! Property tests: random in-limit hand poses on random avatars, placements and proportions
 //! are recovered within 1 degree, with unit, finite outputs.
+#![cfg(not(target_arch = "wasm32"))]
 
 #[path = "support/hand_model.rs"]
 mod hand_model;

@@ -3,6 +3,7 @@
 //! p95 < 15 degrees between avatar bones and MediaPipe segments in the palm frame, on frames
 //! where no limit of that finger is active). `cargo run --release --example eval_hands`
 //! prints the full table.
+#![cfg(not(target_arch = "wasm32"))]
 
 #[path = "support/hand_model.rs"]
 mod hand_model;
@@ -181,4 +182,43 @@ fn real_recordings_on_test_avatars() {
         ),
         "relaxed avatar",
     );
+}
+
+/// A left hand is the mirror image of a right hand: the mirrored recording on the avatar's
+/// left hand gives the mirror images of the right hand's rotations (on a symmetric avatar).
+#[test]
+fn mirrored_real_frames_drive_the_left_hand_symmetrically() {
+    let skel = load_vrm("../shared/avatars/debug-robot.vrm");
+    let mirror_p = |p: Vec3| Vec3::new(-p.x, p.y, p.z);
+    let mirror_q = |q: Quat| Quat::from_xyzw(q.x, -q.y, -q.z, q.w);
+    // The robot is symmetric (each left bone mirrors its right bone).
+    for b in skel.bones().filter(|b| b.side() == Some(Side::Right)) {
+        let l = skel.rest_world(b.mirrored()).unwrap();
+        assert!(
+            (mirror_p(skel.rest_world(b).unwrap()) - l).length() < 1e-5,
+            "{b}"
+        );
+    }
+    let mut solver = HandSolver::new(&skel, HandStrategy::Analytic).unwrap();
+    for (_, frames) in recordings() {
+        for (side, lm) in frames {
+            let mut right = [Quat::IDENTITY; BONE_COUNT];
+            let mut left = [Quat::IDENTITY; BONE_COUNT];
+            let hr = solver.solve(&skel, side, &lm, &mut right).unwrap();
+            let hl = solver
+                .solve(&skel, Side::Left, &lm.map(mirror_p), &mut left)
+                .unwrap();
+            assert!(hl.dot(mirror_q(hr)).abs() > 1.0 - 1e-5);
+            for f in Finger::ALL {
+                for b in Side::Right.finger(f) {
+                    let (r, l) = (right[b.index()], left[b.mirrored().index()]);
+                    assert!(l.dot(mirror_q(r)).abs() > 1.0 - 1e-4, "{b}: {r} vs {l}");
+                }
+            }
+            let (rr, rl) = (*solver.report(Side::Right), *solver.report(Side::Left));
+            for (a, b) in rr.angles.iter().flatten().zip(rl.angles.iter().flatten()) {
+                assert!((a - b).abs() < 1e-3);
+            }
+        }
+    }
 }

@@ -1,5 +1,6 @@
 //! The hand solver inside `Rig::solve`: both sides from MediaPipe input through the camera
 //! mapping, and degenerate hands keeping the previous rotations.
+#![cfg(not(target_arch = "wasm32"))]
 
 #[path = "support/hand_model.rs"]
 mod hand_model;

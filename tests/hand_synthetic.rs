@@ -1,4 +1,5 @@
 //! Known-answer tests of the hand solver on a synthetic hand posed with known joint angles.
+#![cfg(not(target_arch = "wasm32"))]
 
 #[path = "support/hand_model.rs"]
 mod hand_model;
