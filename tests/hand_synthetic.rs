@@ -285,7 +285,15 @@ fn rest_fingers_that_are_not_axis_aligned() {
 fn missing_bones_are_skipped_and_the_rest_stays_correct() {
     use HumanBone as B;
     let full = avatar(&HandLayout::standard(), &[]);
-    let cases: [&[HumanBone]; 6] = [
+    let cases: [&[HumanBone]; 8] = [
+        // The palm frame falls back to other proximals.
+        &[B::LeftMiddleProximal, B::RightIndexProximal],
+        &[
+            B::LeftIndexProximal,
+            B::LeftLittleProximal,
+            B::RightMiddleProximal,
+            B::RightRingProximal,
+        ],
         &[B::LeftIndexIntermediate, B::RightIndexIntermediate],
         &[B::LeftRingDistal, B::RightMiddleDistal],
         &[B::LeftLittleProximal, B::RightRingProximal],
