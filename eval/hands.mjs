@@ -1,7 +1,11 @@
 // Hand solver comparison: handrig's analytic solver vs Kalidokit, same avatar, same frames,
 // same metric (issue 3).
 //
-//   node eval/hands.mjs [--rest REST.json [--rest-key NAME]] [--json]
+//   npm ci --prefix eval        # once: installs kalidokit (pinned in eval/package.json)
+//   node eval/hands.mjs [--json] [--avatar FILE.vrm | --rest REST.json [--rest-key NAME]] [--data DIR]
+//
+// Default avatar ../shared/avatars/debug-robot.vrm, data ../shared/data/hands (from the repo
+// root, wherever the script is started from).
 //
 // 1. Runs `cargo run --release --example eval_hands -- --json` (handrig's numbers, its
 //    per-frame finger rotations and the avatar's rest positions).
@@ -25,7 +29,13 @@ const here = dirname(fileURLToPath(import.meta.url));
 const root = resolve(here, "..");
 const require = createRequire(import.meta.url);
 // The ESM build of Kalidokit does not load in Node; its UMD build does.
-const Kalidokit = require("kalidokit/dist/kalidokit.umd.js");
+let Kalidokit;
+try {
+  Kalidokit = require("kalidokit/dist/kalidokit.umd.js");
+} catch (e) {
+  console.error(`kalidokit not installed (${e.code ?? e.message}): run \`npm ci --prefix eval\` first`);
+  process.exit(1);
+}
 
 const args = process.argv.slice(2);
 const jsonOut = args.includes("--json");

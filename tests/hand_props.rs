@@ -1,6 +1,5 @@
 //! Property tests: random in-limit hand poses on random avatars, placements and proportions
 //! are recovered within 1 degree, with unit, finite outputs.
-// Native only: reads ../shared from disk and uses proptest (not built for wasm32).
 #![cfg(not(target_arch = "wasm32"))]
 
 #[path = "support/hand_model.rs"]
@@ -46,7 +45,7 @@ fn angles_strategy() -> impl Strategy<Value = Angles> {
 }
 
 fn layout_strategy() -> impl Strategy<Value = HandLayout> {
-    (0usize..4, -1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0).prop_map(|(kind, a, b, c)| {
+    (0usize..5, -1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0).prop_map(|(kind, a, b, c)| {
         let base = HandLayout::standard();
         match kind {
             0 => base,

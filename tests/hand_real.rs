@@ -3,7 +3,6 @@
 //! p95 < 15 degrees between avatar bones and MediaPipe segments in the palm frame, on frames
 //! where no limit of that finger is active). `cargo run --release --example eval_hands`
 //! prints the full table.
-// Native only: reads ../shared from disk and uses proptest (not built for wasm32).
 #![cfg(not(target_arch = "wasm32"))]
 
 #[path = "support/hand_model.rs"]
@@ -147,12 +146,28 @@ fn check_recordings(skel: &Skeleton, what: &str) {
     }
 }
 
+fn load_vrm(relative: &str) -> Skeleton {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(relative);
+    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    handrig::vrm::load_skeleton(&bytes).unwrap()
+}
+
 #[test]
 fn real_recordings_on_the_debug_robot() {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/avatars/debug-robot.vrm");
-    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let robot = handrig::vrm::load_skeleton(&bytes).unwrap();
-    check_recordings(&robot, "debug-robot.vrm");
+    check_recordings(
+        &load_vrm("../shared/avatars/debug-robot.vrm"),
+        "debug-robot.vrm",
+    );
+}
+
+#[test]
+fn real_recordings_on_human_proportioned_fixtures() {
+    // Spread rest fingers and a forward-palmar thumb; the VRM 0.x one faces -Z.
+    check_recordings(
+        &load_vrm("tests/fixtures/human-proportions-vrm1.vrm"),
+        "human-proportions-vrm1",
+    );
+    check_recordings(&load_vrm("tests/fixtures/vrm0-fingers.vrm"), "vrm0-fingers");
 }
 
 #[test]
@@ -167,4 +182,43 @@ fn real_recordings_on_test_avatars() {
         ),
         "relaxed avatar",
     );
+}
+
+/// A left hand is the mirror image of a right hand: the mirrored recording on the avatar's
+/// left hand gives the mirror images of the right hand's rotations (on a symmetric avatar).
+#[test]
+fn mirrored_real_frames_drive_the_left_hand_symmetrically() {
+    let skel = load_vrm("../shared/avatars/debug-robot.vrm");
+    let mirror_p = |p: Vec3| Vec3::new(-p.x, p.y, p.z);
+    let mirror_q = |q: Quat| Quat::from_xyzw(q.x, -q.y, -q.z, q.w);
+    // The robot is symmetric (each left bone mirrors its right bone).
+    for b in skel.bones().filter(|b| b.side() == Some(Side::Right)) {
+        let l = skel.rest_world(b.mirrored()).unwrap();
+        assert!(
+            (mirror_p(skel.rest_world(b).unwrap()) - l).length() < 1e-5,
+            "{b}"
+        );
+    }
+    let mut solver = HandSolver::new(&skel, HandStrategy::Analytic).unwrap();
+    for (_, frames) in recordings() {
+        for (side, lm) in frames {
+            let mut right = [Quat::IDENTITY; BONE_COUNT];
+            let mut left = [Quat::IDENTITY; BONE_COUNT];
+            let hr = solver.solve(&skel, side, &lm, &mut right).unwrap();
+            let hl = solver
+                .solve(&skel, Side::Left, &lm.map(mirror_p), &mut left)
+                .unwrap();
+            assert!(hl.dot(mirror_q(hr)).abs() > 1.0 - 1e-5);
+            for f in Finger::ALL {
+                for b in Side::Right.finger(f) {
+                    let (r, l) = (right[b.index()], left[b.mirrored().index()]);
+                    assert!(l.dot(mirror_q(r)).abs() > 1.0 - 1e-4, "{b}: {r} vs {l}");
+                }
+            }
+            let (rr, rl) = (*solver.report(Side::Right), *solver.report(Side::Left));
+            for (a, b) in rr.angles.iter().flatten().zip(rl.angles.iter().flatten()) {
+                assert!((a - b).abs() < 1e-3);
+            }
+        }
+    }
 }

@@ -1,6 +1,5 @@
 //! The hand solver inside `Rig::solve`: both sides from MediaPipe input through the camera
 //! mapping, and degenerate hands keeping the previous rotations.
-// Native only: reads ../shared from disk and uses proptest (not built for wasm32).
 #![cfg(not(target_arch = "wasm32"))]
 
 #[path = "support/hand_model.rs"]

@@ -1,5 +1,4 @@
 //! Known-answer tests of the hand solver on a synthetic hand posed with known joint angles.
-// Native only: reads ../shared from disk and uses proptest (not built for wasm32).
 #![cfg(not(target_arch = "wasm32"))]
 
 #[path = "support/hand_model.rs"]
@@ -254,6 +253,7 @@ fn rest_fingers_that_are_not_axis_aligned() {
             HandLayout::standard().relaxed(0.2, [0.1, 0.0, -0.1, -0.2]),
         ),
         ("drooping thumb", HandLayout::standard().drooping_thumb()),
+        ("bent thumb", HandLayout::standard().bent_thumb(0.25, 0.7)),
         (
             "all three",
             HandLayout::standard()
@@ -285,7 +285,15 @@ fn rest_fingers_that_are_not_axis_aligned() {
 fn missing_bones_are_skipped_and_the_rest_stays_correct() {
     use HumanBone as B;
     let full = avatar(&HandLayout::standard(), &[]);
-    let cases: [&[HumanBone]; 6] = [
+    let cases: [&[HumanBone]; 8] = [
+        // The palm frame falls back to other proximals.
+        &[B::LeftMiddleProximal, B::RightIndexProximal],
+        &[
+            B::LeftIndexProximal,
+            B::LeftLittleProximal,
+            B::RightMiddleProximal,
+            B::RightRingProximal,
+        ],
         &[B::LeftIndexIntermediate, B::RightIndexIntermediate],
         &[B::LeftRingDistal, B::RightMiddleDistal],
         &[B::LeftLittleProximal, B::RightRingProximal],

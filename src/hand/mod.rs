@@ -41,8 +41,14 @@
 //! gets the rotation taking its rest direction and rest hinge axis to the target direction
 //! and the tracked hinge axis (no other twist); the others turn about their rest hinge axis
 //! only. Rest directions and hinge axes come from the avatar's own rest pose, so bent,
-//! rotated or unevenly spaced rest fingers work. A distal bone's rest direction continues its
-//! parent's (avatars have no tip bone).
+//! rotated or unevenly spaced rest fingers work: a straight rest finger gets the anatomical
+//! hinge axis of its rest direction, a finger resting bent (rigged thumbs usually are) hinges
+//! in the plane it is bent in. A distal bone's rest direction continues its parent's (avatars
+//! have no tip bone).
+//!
+//! Finger rotations do not depend on the avatar's proportions: the avatar's bones take the
+//! tracked directions in the palm frame; lengths only matter where a missing bone makes one
+//! bone cover several phalanges (the span direction uses the tracked phalanx lengths).
 
 use glam::{Mat3, Quat, Vec3};
 use serde::Deserialize;
@@ -495,8 +501,12 @@ fn side_rest(skeleton: &Skeleton, side: Side) -> Option<SideRest> {
         };
         let (kind, basis) = basis_for(finger, f, r, n, pole);
         let (lon, colat) = basis.spherical(dirs[0]);
-        let base = basis.frame(kind, lon, colat);
-        let base_hinge = base.hinge.try_normalize().unwrap_or(r);
+        let rule = basis
+            .frame(kind, lon, colat)
+            .hinge
+            .try_normalize()
+            .unwrap_or(r);
+        let base_hinge = rest_hinge(&dirs[..count], rule);
         let mut rest = FingerRest {
             bones: [None; 3],
             count,
@@ -521,6 +531,35 @@ fn side_rest(skeleton: &Skeleton, side: Side) -> Option<SideRest> {
         frame,
         fingers,
     })
+}
+
+/// Rest bends below this (radians) leave the anatomical hinge axis alone; above
+/// [`BENT_REST`] the avatar's own bend plane is used.
+const STRAIGHT_REST: f32 = 1.0 * core::f32::consts::PI / 180.0;
+/// See [`STRAIGHT_REST`].
+const BENT_REST: f32 = 3.0 * core::f32::consts::PI / 180.0;
+
+/// The rest hinge axis of a finger whose rest bone directions are `dirs` (base first):
+/// `rule` (the anatomical axis at the base's rest direction) for a straight rest finger; the
+/// normal of the plane the rest finger is bent in when it is bent, so its joints can still
+/// follow a planar finger exactly (a rigged thumb usually rests bent). Oriented like `rule`
+/// (positive angles flex), perpendicular to the base direction; blended in between.
+fn rest_hinge(dirs: &[Vec3], rule: Vec3) -> Vec3 {
+    let mut bend_normal = Vec3::ZERO;
+    let mut bend = 0.0_f32;
+    for pair in dirs.windows(2) {
+        let c = pair[0].cross(pair[1]);
+        bend = bend.max(c.length().clamp(0.0, 1.0).asin());
+        bend_normal += if c.dot(rule) < 0.0 { -c } else { c };
+    }
+    let t = ((bend - STRAIGHT_REST) / (BENT_REST - STRAIGHT_REST)).clamp(0.0, 1.0);
+    let w = t * t * (3.0 - 2.0 * t);
+    let axis = match bend_normal.try_normalize() {
+        Some(p) => rule.lerp(p, w),
+        None => rule,
+    };
+    let d = dirs.first().copied().unwrap_or(Vec3::X);
+    (axis - axis.dot(d) * d).try_normalize().unwrap_or(rule)
 }
 
 /// Rotation taking `(a, b)` to `(c, d)`: `a`, `c` exactly, `b`, `d` after making them

@@ -71,6 +71,17 @@ impl HandLayout {
         self
     }
 
+    /// The thumb resting bent by `angle` at MCP and IP, in a plane turned `tilt` about the
+    /// metacarpal away from the palm-normal plane (riggers often model thumbs bent).
+    pub fn bent_thumb(mut self, angle: f32, tilt: f32) -> Self {
+        let [t0, t1, t2] = self.joints[0];
+        let d = (t1 - t0).normalize();
+        let axis = Quat::from_axis_angle(d, tilt) * d.cross(Vec3::NEG_Y).normalize();
+        let r1 = Quat::from_axis_angle(axis, angle) * (t2 - t1);
+        self.joints[0][2] = t1 + r1;
+        self
+    }
+
     /// A VRM 0.x style thumb pointing forward and down out of the palm plane.
     pub fn drooping_thumb(mut self) -> Self {
         let t = Vec3::new(0.6, -0.55, 0.6).normalize();
