@@ -200,6 +200,10 @@ export interface HandRigOptions {
   calibration?: {
     /** Preset body scale (avatar arm / user arm); unset = calibrate automatically. */
     bodyScale?: number;
+    /** Pose frames with a visible arm that automatic calibration averages (outliers beyond 20% of the median dropped). Default 30, 1..300. */
+    frames?: number;
+    /** Pose landmarks below this visibility are ignored. Default 0.5. */
+    minVisibility?: number;
   };
   /** Hands whose handedness score is below this are ignored. Default 0.5. */
   minHandScore?: number;
@@ -248,7 +252,7 @@ export declare class HandRig {
   boneNames(): HumanBoneName[];
   /** "0" or "1": the VRM version the rig was built for. */
   readonly vrmVersion: "0" | "1";
-  /** Body scale in force (avatar arm / user arm; 1 until calibrated). */
+  /** Body scale in force for pose input (avatar arm / user arm); before any calibration sample, avatar arm / 0.52 m. */
   readonly bodyScale: number;
   /** Restarts body-scale calibration. */
   resetCalibration(): void;
