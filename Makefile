@@ -24,7 +24,7 @@ NODE_DIRS := pkg-config tests/node $(if $(wildcard www/package-lock.json),www)
 NODE_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NODE_DIRS))
 
 .PHONY: help setup setup-system setup-rust setup-node pkg pkg-dev \
-        test test-rust test-wasm test-node test-www demo clean
+        test test-rust test-wasm test-node test-www demo eval bench clean
 
 help:
 	@echo "make demo       build the package (pkg/) and serve the demo on 127.0.0.1"
@@ -35,6 +35,8 @@ help:
 	@echo "make test-wasm  wasm-pack test --node (wasm-bindgen-test)"
 	@echo "make test-node  npm pack pkg/, install it in a temp project, node --test from ESM and CJS"
 	@echo "make test-www   the demo's browser tests (Playwright + Debian chromium), when www/ has them"
+	@echo "make eval       measured figures: hand accuracy vs Kalidokit, alignment table, wasm solve time"
+	@echo "make bench      criterion benchmark of Rig::solve (native)"
 	@echo "make clean      remove pkg/ and the package build's scratch files (not target/)"
 
 setup: setup-system setup-rust setup-node
@@ -98,6 +100,17 @@ test-www: pkg
 	else \
 	  echo "test-www: www/ has no test script; skipped"; \
 	fi
+
+# The measured figures of the README ("Hand solver", "Fingertip alignment and arm IK"):
+# hand accuracy vs Kalidokit, the alignment acceptance table, and wasm solve time vs Kalidokit.
+eval: pkg eval/node_modules/.package-lock.json
+	node eval/hands.mjs
+	cargo run --quiet --release --example eval_alignment
+	node eval/speed.mjs
+
+# Native per-frame cost of Rig::solve (criterion).
+bench: setup
+	cargo bench --bench solve
 
 demo: pkg
 	@[ -f www/serve.mjs ] || { echo "demo: www/serve.mjs not found" >&2; exit 1; }

@@ -706,20 +706,16 @@ fn set(o: &Object, k: &JsValue, v: &JsValue) {
     let _ = Reflect::set(o, k, v);
 }
 
+// One boundary crossing per vector (`Array.of`), not one per element: result building is most
+// of the per-frame cost of the object API.
 fn vec3_js(p: Vec3) -> JsValue {
-    let a = Array::new_with_length(3);
-    for (i, c) in p.to_array().iter().enumerate() {
-        a.set(i as u32, JsValue::from_f64(*c as f64));
-    }
-    a.into()
+    let c = |v: f32| JsValue::from_f64(v as f64);
+    Array::of3(&c(p.x), &c(p.y), &c(p.z)).into()
 }
 
 fn quat_js(q: Quat) -> JsValue {
-    let a = Array::new_with_length(4);
-    for (i, c) in q.to_array().iter().enumerate() {
-        a.set(i as u32, JsValue::from_f64(*c as f64));
-    }
-    a.into()
+    let c = |v: f32| JsValue::from_f64(v as f64);
+    Array::of4(&c(q.x), &c(q.y), &c(q.z), &c(q.w)).into()
 }
 
 /// `[[...points]]` (one list per person/hand) -> the first list; a flat list stays as is.
