@@ -5,67 +5,11 @@
 mod hand_model;
 
 use glam::{Quat, Vec3};
-use hand_model::{avatar, deg, place, Angles, HandLayout, HandModel, NO_STRETCH};
+use hand_model::{avatar, place, poses, Angles, HandLayout, HandModel, NO_STRETCH};
 use handrig::hand::{Dof, HandSolver, HandStatus, HandStrategy};
 use handrig::{Finger, HumanBone, Side, Skeleton, WorldPose, BONE_COUNT};
 
 const TOL_DEG: f32 = 1.0;
-
-/// Hand-picked poses inside the limits (degrees): flat, fist, pinch, spread, hook, opposition.
-fn poses() -> Vec<(&'static str, Angles)> {
-    vec![
-        (
-            "flat",
-            deg([
-                [30.0, 0.0, 0.0, 0.0],
-                [0.0, 0.0, 0.0, 0.0],
-                [0.0, 0.0, 0.0, 0.0],
-                [0.0, 0.0, 0.0, 0.0],
-                [0.0, 0.0, 0.0, 0.0],
-            ]),
-        ),
-        (
-            "fist",
-            deg([
-                [25.0, 110.0, 45.0, 30.0],
-                [80.0, -5.0, 95.0, 60.0],
-                [84.0, 0.0, 100.0, 65.0],
-                [87.0, 3.0, 100.0, 60.0],
-                [95.0, 8.0, 95.0, 55.0],
-            ]),
-        ),
-        (
-            "pinch",
-            deg([
-                [35.0, 80.0, 20.0, 15.0],
-                [40.0, -8.0, 50.0, 20.0],
-                [20.0, 0.0, 30.0, 10.0],
-                [15.0, 2.0, 20.0, 10.0],
-                [10.0, 5.0, 15.0, 5.0],
-            ]),
-        ),
-        (
-            "spread",
-            deg([
-                [60.0, 5.0, -10.0, -20.0],
-                [-20.0, 25.0, -5.0, -15.0],
-                [-15.0, 10.0, 0.0, -10.0],
-                [-10.0, -15.0, 0.0, -5.0],
-                [-30.0, -25.0, 5.0, 0.0],
-            ]),
-        ),
-        (
-            "hook",
-            deg([
-                [15.0, -20.0, -10.0, 60.0],
-                [0.0, 0.0, 100.0, 80.0],
-                [-5.0, 5.0, 105.0, 85.0],
-                [10.0, -5.0, 90.0, 70.0],
-                [20.0, 0.0, 80.0, 60.0],
-            ]),
-        ),
-    ]
-}
 
 fn turn() -> Quat {
     Quat::from_euler(glam::EulerRot::YXZ, 0.9, -0.4, 2.2)
