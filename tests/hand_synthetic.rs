@@ -142,6 +142,32 @@ fn check(
     }
 }
 
+/// [`check`] of every pose of [`poses`] on both hands of `skel`, the landmark hands built on
+/// the rest hands of `model_from` (normally `skel` itself), scaled by `s` and turned by
+/// [`turn`]; `what` prefixes the pose name in failure messages.
+fn check_poses(
+    skel: &Skeleton,
+    model_from: &Skeleton,
+    stretch: &[[f32; 3]; 5],
+    s: f32,
+    what: &str,
+) {
+    for side in Side::BOTH {
+        let model = HandModel::from_skeleton(model_from, side);
+        for (name, angles) in poses() {
+            check(
+                skel,
+                &model,
+                &angles,
+                stretch,
+                turn(),
+                s,
+                &format!("{what}{name}"),
+            );
+        }
+    }
+}
+
 #[test]
 fn known_angles_are_recovered_on_both_hands_and_sizes() {
     let skel = avatar(&HandLayout::standard(), &[]);
@@ -177,12 +203,7 @@ fn finger_proportions_do_not_change_the_angles() {
         [1.2, 0.9, 1.0],
         [0.8, 1.3, 1.2],
     ];
-    for side in Side::BOTH {
-        let model = HandModel::from_skeleton(&skel, side);
-        for (name, angles) in poses() {
-            check(&skel, &model, &angles, &stretch, turn(), 1.1, name);
-        }
-    }
+    check_poses(&skel, &skel, &stretch, 1.1, "");
 }
 
 #[test]
@@ -208,20 +229,7 @@ fn rest_fingers_that_are_not_axis_aligned() {
     ];
     for (lname, layout) in layouts {
         let skel = avatar(&layout, &[]);
-        for side in Side::BOTH {
-            let model = HandModel::from_skeleton(&skel, side);
-            for (name, angles) in poses() {
-                check(
-                    &skel,
-                    &model,
-                    &angles,
-                    &NO_STRETCH,
-                    turn(),
-                    1.0,
-                    &format!("{lname}: {name}"),
-                );
-            }
-        }
+        check_poses(&skel, &skel, &NO_STRETCH, 1.0, &format!("{lname}: "));
     }
 }
 
@@ -255,21 +263,14 @@ fn missing_bones_are_skipped_and_the_rest_stays_correct() {
     ];
     for missing in cases {
         let skel = avatar(&HandLayout::standard(), missing);
-        for side in Side::BOTH {
-            // The landmark hand comes from the complete avatar.
-            let model = HandModel::from_skeleton(&full, side);
-            for (name, angles) in poses() {
-                check(
-                    &skel,
-                    &model,
-                    &angles,
-                    &NO_STRETCH,
-                    turn(),
-                    1.2,
-                    &format!("missing {missing:?}: {name}"),
-                );
-            }
-        }
+        // The landmark hand comes from the complete avatar.
+        check_poses(
+            &skel,
+            &full,
+            &NO_STRETCH,
+            1.2,
+            &format!("missing {missing:?}: "),
+        );
     }
 }
 
