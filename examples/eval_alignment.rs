@@ -44,43 +44,14 @@
 //! Acceptance: (a) median <= 0.5 mm and max <= 2 mm for every avatar and side; the process
 //! exits with status 1 otherwise.
 
-use std::path::{Path, PathBuf};
+#[path = "../tests/support/recordings.rs"]
+mod recordings;
 
 use glam::Vec3;
 use handrig::body::robust_mean;
 use handrig::bones::{Finger, Side};
-use handrig::mediapipe::{
-    CameraMapping, FrameInput, HandObservation, Handedness, WristObservation, HAND_LANDMARKS,
-    MAX_HANDS,
-};
+use handrig::mediapipe::{CameraMapping, FrameInput, HandObservation, WristObservation, MAX_HANDS};
 use handrig::{Rig, RigOptions, Skeleton, SolveOutput};
-use serde::Deserialize;
-
-#[derive(Deserialize)]
-#[serde(rename_all = "camelCase")]
-struct Kinect {
-    joint_names: Vec<String>,
-    frames: Vec<KinectFrame>,
-}
-
-#[derive(Deserialize)]
-struct KinectFrame {
-    joints: Vec<[f32; 4]>,
-}
-
-#[derive(Deserialize)]
-#[serde(rename_all = "camelCase")]
-struct HandFrame {
-    hands: Vec<HandJson>,
-}
-
-#[derive(Deserialize)]
-#[serde(rename_all = "camelCase")]
-struct HandJson {
-    handedness: String,
-    score: f32,
-    world_landmarks: Vec<[f32; 3]>,
-}
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Method {
@@ -134,19 +105,6 @@ fn stats(errors: &mut [f32], total: usize) -> Stats {
     }
 }
 
-fn read_json<T: for<'de> Deserialize<'de>>(path: &Path) -> T {
-    let text = std::fs::read_to_string(path)
-        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    serde_json::from_str(&text).unwrap_or_else(|e| panic!("cannot parse {}: {e}", path.display()))
-}
-
-fn load_avatar(path: &Path) -> Skeleton {
-    let bytes =
-        std::fs::read(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    handrig::vrm::load_skeleton(&bytes)
-        .unwrap_or_else(|e| panic!("cannot load {}: {e}", path.display()))
-}
-
 /// Kinect point (mirrored recording frame) to a right-handed frame facing +Z, left = +X.
 fn kinect_to_avatar(j: [f32; 4]) -> Vec3 {
     Vec3::new(-j[0], j[1], j[2])
@@ -181,13 +139,11 @@ struct Session {
     hands: Vec<FrameInput>,
 }
 
-fn load_session(shared: &Path) -> Session {
-    let kinect: Kinect = read_json(&shared.join("data/pose/kinect-upper-body.json"));
+fn load_session() -> Session {
+    let kinect = recordings::kinect();
     let idx = |n: &str| {
         kinect
-            .joint_names
-            .iter()
-            .position(|x| x == n)
+            .joint(n)
             .unwrap_or_else(|| panic!("joint {n} missing"))
     };
     let names = [
@@ -205,9 +161,9 @@ fn load_session(shared: &Path) -> Session {
         let mut sh = [Vec3::ZERO; 2];
         let mut wr = [Vec3::ZERO; 2];
         for (k, [s, e, w]) in ids.iter().enumerate() {
-            sh[k] = kinect_to_avatar(f.joints[*s]);
-            wr[k] = kinect_to_avatar(f.joints[*w]);
-            let el = kinect_to_avatar(f.joints[*e]);
+            sh[k] = kinect_to_avatar(f[*s]);
+            wr[k] = kinect_to_avatar(f[*w]);
+            let el = kinect_to_avatar(f[*e]);
             lengths.push((el - sh[k]).length() + (wr[k] - el).length());
         }
         shoulder.push(sh);
@@ -216,8 +172,7 @@ fn load_session(shared: &Path) -> Session {
     let mut scratch = vec![0.0; lengths.len()];
     let user_arm = robust_mean(&lengths, &mut scratch).expect("arm samples");
 
-    let video: Vec<HandFrame> =
-        read_json(&shared.join("data/hands/right-hand-video-mediapipe.json"));
+    let video = recordings::hand_video();
     assert!(
         video.len() >= kinect.frames.len(),
         "hand video shorter than the Kinect session"
@@ -225,24 +180,9 @@ fn load_session(shared: &Path) -> Session {
     let hands = video[..kinect.frames.len()]
         .iter()
         .enumerate()
-        .map(|(i, hf)| {
-            let mut f = FrameInput {
-                time_ms: i as f64 * 1000.0 / 30.0,
-                ..FrameInput::default()
-            };
-            for h in hf.hands.iter().take(MAX_HANDS) {
-                let mut world = [Vec3::ZERO; HAND_LANDMARKS];
-                for (dst, src) in world.iter_mut().zip(&h.world_landmarks) {
-                    *dst = Vec3::from(*src);
-                }
-                f.hands[f.hand_count] = HandObservation {
-                    handedness: Handedness::from_label(&h.handedness).expect("handedness"),
-                    score: h.score,
-                    world,
-                    image: None,
-                };
-                f.hand_count += 1;
-            }
+        .map(|(i, hands)| {
+            let mut f = recordings::frame_of(&hands[..hands.len().min(MAX_HANDS)]);
+            f.time_ms = i as f64 * 1000.0 / 30.0;
             f
         })
         .collect();
@@ -343,15 +283,10 @@ fn run(skel: &Skeleton, session: &Session, side: Side, method: Method) -> (Vec<f
 }
 
 fn main() {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let shared = root.join("../shared");
-    let session = load_session(&shared);
+    let session = load_session();
     let avatars = [
-        ("debug-robot.vrm", shared.join("avatars/debug-robot.vrm")),
-        (
-            "human-proportions-vrm1.vrm",
-            root.join("tests/fixtures/human-proportions-vrm1.vrm"),
-        ),
+        ("debug-robot.vrm", recordings::ROBOT),
+        ("human-proportions-vrm1.vrm", recordings::FIXTURE_VRM1),
     ];
     println!(
         "Kinect session: {} frames paired with the hand video; user arm (robust mean) {:.3} m",
@@ -361,7 +296,7 @@ fn main() {
     let mut pass = true;
     let mut rows = Vec::new();
     for (name, path) in &avatars {
-        let skel = load_avatar(path);
+        let skel = recordings::vrm(path);
         println!(
             "{name}: arm {:.3} m, wrist-to-index-distal / arm {:.3}, body scale {:.3}",
             avatar_arm(&skel),

@@ -16,12 +16,15 @@
 //! `--rest` reads rest positions instead of a `.vrm`: `{ "vrmVersion": "1", "bones": { name:
 //! [x, y, z] } }` or an object of such entries (first entry, or `--rest-key`).
 
+#[path = "../tests/support/recordings.rs"]
+mod recordings;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat3, Quat, Vec3};
 use handrig::hand::{palm_frame, Dof, HandSolver, HandStrategy, DOF_COUNT};
-use handrig::mediapipe::{CameraMapping, Handedness, HAND_LANDMARKS};
+use handrig::mediapipe::{CameraMapping, HAND_LANDMARKS};
 use handrig::{Finger, HumanBone, Side, Skeleton, VrmVersion, WorldPose, BONE_COUNT};
 use serde_json::{json, Value};
 
@@ -113,9 +116,7 @@ fn load_skeleton(args: &Args) -> Result<(Skeleton, String), String> {
             Ok((s, format!("{} ({name})", path.display())))
         }
         None => {
-            let bytes = std::fs::read(&args.avatar)
-                .map_err(|e| format!("{}: {e}", args.avatar.display()))?;
-            let skel = handrig::vrm::load_skeleton(&bytes).map_err(|e| e.to_string())?;
+            let skel = recordings::read_vrm(&args.avatar)?;
             Ok((skel, args.avatar.display().to_string()))
         }
     }
@@ -127,47 +128,23 @@ struct Recording {
     frames: Vec<Option<(Side, Landmarks)>>,
 }
 
-fn landmarks(v: &Value, map: impl Fn(Vec3) -> Vec3) -> Option<Landmarks> {
-    let a = v.as_array()?;
-    if a.len() != HAND_LANDMARKS {
-        return None;
-    }
-    let mut out = [Vec3::ZERO; HAND_LANDMARKS];
-    for (o, p) in out.iter_mut().zip(a) {
-        *o = map(vec3(p)?);
-    }
-    Some(out)
-}
-
 fn load_recordings(dir: &Path) -> Result<Vec<Recording>, String> {
     // Video: MediaPipe world landmarks, unmirrored, default options (the rig's mapping).
     let camera = CameraMapping::default();
-    let video = read_json(&dir.join("right-hand-video-mediapipe.json"))?;
-    let frames = video
-        .as_array()
-        .ok_or("video: expected an array")?
+    let frames = recordings::read_hand_video(&dir.join("right-hand-video-mediapipe.json"))?
         .iter()
-        .map(|f| {
+        .map(|hands| {
             // The hand the rig would pick: highest score among the hands (duplicates happen).
-            let hands = f.get("hands")?.as_array()?;
-            let best = hands.iter().max_by(|a, b| {
-                let s = |h: &Value| h.get("score").and_then(Value::as_f64).unwrap_or(0.0);
-                s(a).total_cmp(&s(b))
-            })?;
-            let label = Handedness::from_label(best.get("handedness")?.as_str()?)?;
-            let lm = landmarks(best.get("worldLandmarks")?, |p| camera.to_avatar(p))?;
-            Some((camera.avatar_side(label), lm))
+            let best = recordings::best_hand(hands)?;
+            let lm = best.world.map(|p| camera.to_avatar(p));
+            Some((camera.avatar_side(best.handedness), lm))
         })
         .collect();
     // Canonical: wrist-frame landmarks of the same right hand, a proper rotation of
     // MediaPipe's frame; the palm-frame metric ignores the global orientation.
-    let canon = read_json(&dir.join("right-hand-canonical.json"))?;
-    let cframes = canon
-        .get("frames")
-        .and_then(Value::as_array)
-        .ok_or("canonical: no frames")?
-        .iter()
-        .map(|f| landmarks(f, |p| p).map(|lm| (Side::Right, lm)))
+    let cframes = recordings::read_hand_canonical(&dir.join("right-hand-canonical.json"))?
+        .into_iter()
+        .map(|f| f.map(|lm| (Side::Right, lm)))
         .collect();
     Ok(vec![
         Recording {

@@ -5,13 +5,17 @@
 // Native only: reads ../shared from disk and uses proptest (not built for wasm32).
 #![cfg(not(target_arch = "wasm32"))]
 
+#[path = "support/recordings.rs"]
+mod recordings;
+#[path = "support/rigs.rs"]
+mod rigs;
+
 use glam::{EulerRot, Quat, Vec3};
 use handrig::align::{AlignPoint, TIP_RATIO};
 use handrig::bones::{Finger, HumanBone as B, Side};
-use handrig::mediapipe::{
-    FrameInput, HandObservation, Handedness, WristObservation, HAND_LANDMARKS,
-};
+use handrig::mediapipe::{FrameInput, Handedness, WristObservation, HAND_LANDMARKS};
 use handrig::{Rig, RigOptions, Skeleton, SolveOutput, VrmVersion};
+use recordings::{frame_of, hand};
 
 /// Left-side rest positions (VRM 1.0 frame) of a human-proportioned T-pose avatar: upper arm
 /// 0.28 m, forearm 0.25 m, wrist to index DIP about 0.165 m. The right side mirrors it.
@@ -39,29 +43,20 @@ const LEFT: [(B, [f32; 3]); 19] = [
 
 /// The avatar, given in the model's own frame of `version`.
 fn avatar(version: VrmVersion) -> Skeleton {
-    let mut bones = vec![
-        (B::Hips, Vec3::new(0.0, 0.95, 0.0)),
-        (B::Spine, Vec3::new(0.0, 1.05, 0.0)),
-        (B::Chest, Vec3::new(0.0, 1.2, 0.0)),
-        (B::UpperChest, Vec3::new(0.0, 1.32, 0.0)),
-        (B::Neck, Vec3::new(0.0, 1.45, 0.0)),
-        (B::Head, Vec3::new(0.0, 1.55, 0.0)),
-        (B::LeftUpperLeg, Vec3::new(0.09, 0.9, 0.0)),
-        (B::LeftLowerLeg, Vec3::new(0.09, 0.5, 0.0)),
-        (B::LeftFoot, Vec3::new(0.09, 0.08, 0.0)),
-        (B::RightUpperLeg, Vec3::new(-0.09, 0.9, 0.0)),
-        (B::RightLowerLeg, Vec3::new(-0.09, 0.5, 0.0)),
-        (B::RightFoot, Vec3::new(-0.09, 0.08, 0.0)),
+    let torso = [
+        (B::Hips, 0.95),
+        (B::Spine, 1.05),
+        (B::Chest, 1.2),
+        (B::UpperChest, 1.32),
+        (B::Neck, 1.45),
+        (B::Head, 1.55),
     ];
-    for (b, p) in LEFT {
-        let p = Vec3::from(p);
-        bones.push((b, p));
-        bones.push((b.mirrored(), Vec3::new(-p.x, p.y, p.z)));
-    }
-    for (_, p) in bones.iter_mut() {
-        *p = version.position_to_internal(*p);
-    }
-    Skeleton::new(&bones, version).unwrap()
+    let legs = rigs::Legs {
+        x: 0.09,
+        heights: [0.9, 0.5, 0.08],
+    };
+    let left = LEFT.map(|(b, p)| (b, Vec3::from(p)));
+    rigs::skeleton(&rigs::t_pose(&torso, legs, &left), version)
 }
 
 /// 21 MediaPipe world landmarks (camera axes, un-mirrored image) of a user hand shaped like
@@ -96,14 +91,11 @@ fn label_for(side: Side) -> Handedness {
 }
 
 fn frame(skel: &Skeleton, side: Side, rotation: Quat, wrist_model: Vec3) -> FrameInput {
-    let mut f = FrameInput::default();
-    f.hands[0] = HandObservation {
-        handedness: label_for(side),
-        score: 0.95,
-        world: user_hand(skel, side, 1.25, rotation),
-        image: None,
-    };
-    f.hand_count = 1;
+    let mut f = frame_of(&[hand(
+        label_for(side),
+        0.95,
+        user_hand(skel, side, 1.25, rotation),
+    )]);
     f.wrists[side.index()] = Some(WristObservation {
         position: wrist_model,
         rotation: None,
@@ -135,17 +127,9 @@ fn hand_turns() -> [Quat; 4] {
 /// The synthetic avatar in both versions, and the real files: the shared robot, the
 /// human-proportioned VRM 1.0 fixture and the VRM 0.x fixture with fingers.
 fn avatars() -> Vec<Skeleton> {
-    let load = |path: &str| {
-        let bytes = std::fs::read(format!("{}/{path}", env!("CARGO_MANIFEST_DIR"))).unwrap();
-        handrig::vrm::load_skeleton(&bytes).unwrap()
-    };
-    vec![
-        avatar(VrmVersion::V1),
-        avatar(VrmVersion::V0),
-        load("../shared/avatars/debug-robot.vrm"),
-        load("tests/fixtures/human-proportions-vrm1.vrm"),
-        load("tests/fixtures/vrm0-fingers.vrm"),
-    ]
+    let mut all = vec![avatar(VrmVersion::V1), avatar(VrmVersion::V0)];
+    all.extend(recordings::real_avatars());
+    all
 }
 
 #[test]

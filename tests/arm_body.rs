@@ -4,6 +4,9 @@
 // Native only: reads ../shared from disk and uses proptest (not built for wasm32).
 #![cfg(not(target_arch = "wasm32"))]
 
+#[path = "support/rigs.rs"]
+mod rigs;
+
 use glam::{Quat, Vec3};
 use handrig::body::{robust_mean, BodyMapper, CalibrationOptions, REFERENCE_USER_ARM};
 use handrig::bones::{HumanBone as B, Side, BONE_COUNT};
@@ -14,29 +17,25 @@ use handrig::{Rig, RigOptions, Skeleton, SolveOutput, VrmVersion};
 
 /// A humanoid whose arms are `upper` + `lower` long along ±X from shoulders at ±0.15 m.
 fn skeleton(upper: f32, lower: f32) -> Skeleton {
-    let mut bones = vec![
-        (B::Hips, Vec3::new(0.0, 0.9, 0.0)),
-        (B::Spine, Vec3::new(0.0, 1.0, 0.0)),
-        (B::Chest, Vec3::new(0.0, 1.15, 0.0)),
-        (B::Neck, Vec3::new(0.0, 1.4, 0.0)),
-        (B::Head, Vec3::new(0.0, 1.5, 0.0)),
+    let torso = [
+        (B::Hips, 0.9),
+        (B::Spine, 1.0),
+        (B::Chest, 1.15),
+        (B::Neck, 1.4),
+        (B::Head, 1.5),
     ];
-    for (s, side) in [(1.0f32, Side::Left), (-1.0, Side::Right)] {
-        let [shoulder, up, low, hand] = side.arm();
-        bones.push((shoulder, Vec3::new(0.04 * s, 1.35, 0.0)));
-        bones.push((up, Vec3::new(0.15 * s, 1.35, 0.0)));
-        bones.push((low, Vec3::new((0.15 + upper) * s, 1.35, 0.0)));
-        bones.push((hand, Vec3::new((0.15 + upper + lower) * s, 1.35, 0.0)));
-        let legs = if s > 0.0 {
-            [B::LeftUpperLeg, B::LeftLowerLeg, B::LeftFoot]
-        } else {
-            [B::RightUpperLeg, B::RightLowerLeg, B::RightFoot]
-        };
-        for (b, y) in legs.into_iter().zip([0.85, 0.45, 0.05]) {
-            bones.push((b, Vec3::new(0.1 * s, y, 0.0)));
-        }
-    }
-    Skeleton::new(&bones, VrmVersion::V1).unwrap()
+    let legs = rigs::Legs {
+        x: 0.1,
+        heights: [0.85, 0.45, 0.05],
+    };
+    let [shoulder, up, low, hand] = Side::Left.arm();
+    let left = [
+        (shoulder, Vec3::new(0.04, 1.35, 0.0)),
+        (up, Vec3::new(0.15, 1.35, 0.0)),
+        (low, Vec3::new(0.15 + upper, 1.35, 0.0)),
+        (hand, Vec3::new(0.15 + upper + lower, 1.35, 0.0)),
+    ];
+    rigs::skeleton(&rigs::t_pose(&torso, legs, &left), VrmVersion::V1)
 }
 
 /// A pose (MediaPipe camera axes: x right in the image, y down, z away) of a user facing the

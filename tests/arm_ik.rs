@@ -5,6 +5,11 @@
 // Native only: proptest and the shared files are not available on wasm32.
 #![cfg(not(target_arch = "wasm32"))]
 
+#[path = "support/recordings.rs"]
+mod recordings;
+#[path = "support/rigs.rs"]
+mod rigs;
+
 use core::f32::consts::{FRAC_PI_2, PI};
 use std::sync::OnceLock;
 
@@ -20,54 +25,26 @@ use proptest::prelude::*;
 /// (elbow to wrist), internal frame; the right arm mirrors it. Given in the model's own frame
 /// for `version` (VRM 0.x: turned to face -Z), so internally every version is the same.
 fn skeleton(upper: Vec3, lower: Vec3, version: VrmVersion) -> Skeleton {
-    let mut bones = vec![
-        (B::Hips, Vec3::new(0.0, 1.0, 0.0)),
-        (B::Spine, Vec3::new(0.0, 1.1, 0.0)),
-        (B::Chest, Vec3::new(0.0, 1.25, 0.0)),
-        (B::UpperChest, Vec3::new(0.0, 1.35, 0.0)),
-        (B::Neck, Vec3::new(0.0, 1.45, 0.0)),
-        (B::Head, Vec3::new(0.0, 1.55, 0.0)),
+    let torso = [
+        (B::Hips, 1.0),
+        (B::Spine, 1.1),
+        (B::Chest, 1.25),
+        (B::UpperChest, 1.35),
+        (B::Neck, 1.45),
+        (B::Head, 1.55),
     ];
-    for (s, [shoulder, up, low, hand, ul, ll, foot]) in [
-        (
-            1.0f32,
-            [
-                B::LeftShoulder,
-                B::LeftUpperArm,
-                B::LeftLowerArm,
-                B::LeftHand,
-                B::LeftUpperLeg,
-                B::LeftLowerLeg,
-                B::LeftFoot,
-            ],
-        ),
-        (
-            -1.0,
-            [
-                B::RightShoulder,
-                B::RightUpperArm,
-                B::RightLowerArm,
-                B::RightHand,
-                B::RightUpperLeg,
-                B::RightLowerLeg,
-                B::RightFoot,
-            ],
-        ),
-    ] {
-        let m = Vec3::new(s, 1.0, 1.0);
-        let sh = Vec3::new(0.15 * s, 1.42, 0.0);
-        bones.push((shoulder, Vec3::new(0.03 * s, 1.42, 0.0)));
-        bones.push((up, sh));
-        bones.push((low, sh + upper * m));
-        bones.push((hand, sh + (upper + lower) * m));
-        bones.push((ul, Vec3::new(0.1 * s, 0.95, 0.0)));
-        bones.push((ll, Vec3::new(0.1 * s, 0.5, 0.0)));
-        bones.push((foot, Vec3::new(0.1 * s, 0.08, 0.0)));
-    }
-    for (_, p) in bones.iter_mut() {
-        *p = version.position_to_internal(*p);
-    }
-    Skeleton::new(&bones, version).unwrap()
+    let legs = rigs::Legs {
+        x: 0.1,
+        heights: [0.95, 0.5, 0.08],
+    };
+    let sh = Vec3::new(0.15, 1.42, 0.0);
+    let left = [
+        (B::LeftShoulder, Vec3::new(0.03, 1.42, 0.0)),
+        (B::LeftUpperArm, sh),
+        (B::LeftLowerArm, sh + upper),
+        (B::LeftHand, sh + (upper + lower)),
+    ];
+    rigs::skeleton(&rigs::t_pose(&torso, legs, &left), version)
 }
 
 /// Rest layouts the property tests run on: robot-like T-pose (arms along ±X, equal bones),
@@ -79,19 +56,14 @@ fn layouts() -> &'static [Skeleton] {
     LAYOUTS.get_or_init(|| {
         let a_upper = 0.28 * Vec3::new(40f32.to_radians().cos(), -40f32.to_radians().sin(), 0.0);
         let a_lower = Quat::from_rotation_y(-0.15) * (a_upper.normalize() * 0.24);
-        let load = |path: &str| {
-            let bytes = std::fs::read(format!("{}/{path}", env!("CARGO_MANIFEST_DIR"))).unwrap();
-            handrig::vrm::load_skeleton(&bytes).unwrap()
-        };
-        vec![
+        let mut all = vec![
             skeleton(Vec3::X * 0.25, Vec3::X * 0.25, VrmVersion::V1),
             skeleton(a_upper, a_lower, VrmVersion::V1),
             skeleton(Vec3::X * 0.30, Vec3::new(0.22, 0.0, 0.02), VrmVersion::V1),
             skeleton(a_upper, a_lower, VrmVersion::V0),
-            load("../shared/avatars/debug-robot.vrm"),
-            load("tests/fixtures/human-proportions-vrm1.vrm"),
-            load("tests/fixtures/vrm0-fingers.vrm"),
-        ]
+        ];
+        all.extend(recordings::real_avatars());
+        all
     })
 }
 

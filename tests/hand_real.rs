@@ -7,69 +7,35 @@
 
 #[path = "support/hand_model.rs"]
 mod hand_model;
-
-use std::path::PathBuf;
+#[path = "support/recordings.rs"]
+mod recordings;
 
 use glam::{Quat, Vec3};
 use hand_model::{avatar, HandLayout};
 use handrig::hand::{palm_frame, HandSolver, HandStatus, HandStrategy};
-use handrig::mediapipe::{CameraMapping, Handedness};
+use handrig::mediapipe::CameraMapping;
 use handrig::{Finger, Side, Skeleton, WorldPose, BONE_COUNT};
-use serde_json::Value;
-
-fn data(name: &str) -> Value {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data/hands")
-        .join(name);
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    serde_json::from_str(&text).unwrap()
-}
-
-fn lm(v: &Value, map: impl Fn(Vec3) -> Vec3) -> [Vec3; 21] {
-    let a = v.as_array().unwrap();
-    assert_eq!(a.len(), 21);
-    core::array::from_fn(|i| {
-        let p = a[i].as_array().unwrap();
-        map(Vec3::new(
-            p[0].as_f64().unwrap() as f32,
-            p[1].as_f64().unwrap() as f32,
-            p[2].as_f64().unwrap() as f32,
-        ))
-    })
-}
 
 /// One frame: the avatar side and its landmarks in the avatar frame.
 type Frame = (Side, [Vec3; 21]);
 
 /// Every usable frame of both recordings.
-fn recordings() -> Vec<(&'static str, Vec<Frame>)> {
+fn both_recordings() -> Vec<(&'static str, Vec<Frame>)> {
     let camera = CameraMapping::default();
-    let video: Vec<Frame> = data("right-hand-video-mediapipe.json")
-        .as_array()
-        .unwrap()
+    let video: Vec<Frame> = recordings::hand_video()
         .iter()
-        .map(|f| {
-            let hands = f["hands"].as_array().unwrap();
-            let h = hands
-                .iter()
-                .max_by(|a, b| {
-                    a["score"]
-                        .as_f64()
-                        .unwrap()
-                        .total_cmp(&b["score"].as_f64().unwrap())
-                })
-                .unwrap();
-            let side = camera
-                .avatar_side(Handedness::from_label(h["handedness"].as_str().unwrap()).unwrap());
-            (side, lm(&h["worldLandmarks"], |p| camera.to_avatar(p)))
+        .map(|hands| {
+            let h = recordings::best_hand(hands).unwrap();
+            (
+                camera.avatar_side(h.handedness),
+                h.world.map(|p| camera.to_avatar(p)),
+            )
         })
         .collect();
-    let canonical = data("right-hand-canonical.json")["frames"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|f| !f.is_null())
-        .map(|f| (Side::Right, lm(f, |p| p)))
+    let canonical = recordings::hand_canonical()
+        .into_iter()
+        .flatten()
+        .map(|lm| (Side::Right, lm))
         .collect();
     vec![("video", video), ("canonical", canonical)]
 }
@@ -80,7 +46,7 @@ fn percentile(v: &mut [f32], p: f32) -> f32 {
 }
 
 fn check_recordings(skel: &Skeleton, what: &str) {
-    for (name, frames) in recordings() {
+    for (name, frames) in both_recordings() {
         assert!(frames.len() > 600, "{name}");
         // The recordings are of a right hand; the rig's mapping must say so.
         assert!(frames.iter().all(|(s, _)| *s == Side::Right), "{name}");
@@ -146,28 +112,19 @@ fn check_recordings(skel: &Skeleton, what: &str) {
     }
 }
 
-fn load_vrm(relative: &str) -> Skeleton {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(relative);
-    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    handrig::vrm::load_skeleton(&bytes).unwrap()
-}
-
 #[test]
 fn real_recordings_on_the_debug_robot() {
-    check_recordings(
-        &load_vrm("../shared/avatars/debug-robot.vrm"),
-        "debug-robot.vrm",
-    );
+    check_recordings(&recordings::vrm(recordings::ROBOT), "debug-robot.vrm");
 }
 
 #[test]
 fn real_recordings_on_human_proportioned_fixtures() {
     // Spread rest fingers and a forward-palmar thumb; the VRM 0.x one faces -Z.
     check_recordings(
-        &load_vrm("tests/fixtures/human-proportions-vrm1.vrm"),
+        &recordings::vrm(recordings::FIXTURE_VRM1),
         "human-proportions-vrm1",
     );
-    check_recordings(&load_vrm("tests/fixtures/vrm0-fingers.vrm"), "vrm0-fingers");
+    check_recordings(&recordings::vrm(recordings::FIXTURE_VRM0), "vrm0-fingers");
 }
 
 #[test]
@@ -188,7 +145,7 @@ fn real_recordings_on_test_avatars() {
 /// left hand gives the mirror images of the right hand's rotations (on a symmetric avatar).
 #[test]
 fn mirrored_real_frames_drive_the_left_hand_symmetrically() {
-    let skel = load_vrm("../shared/avatars/debug-robot.vrm");
+    let skel = recordings::vrm(recordings::ROBOT);
     let mirror_p = |p: Vec3| Vec3::new(-p.x, p.y, p.z);
     let mirror_q = |q: Quat| Quat::from_xyzw(q.x, -q.y, -q.z, q.w);
     // The robot is symmetric (each left bone mirrors its right bone).
@@ -200,7 +157,7 @@ fn mirrored_real_frames_drive_the_left_hand_symmetrically() {
         );
     }
     let mut solver = HandSolver::new(&skel, HandStrategy::Analytic).unwrap();
-    for (_, frames) in recordings() {
+    for (_, frames) in both_recordings() {
         for (side, lm) in frames {
             let mut right = [Quat::IDENTITY; BONE_COUNT];
             let mut left = [Quat::IDENTITY; BONE_COUNT];

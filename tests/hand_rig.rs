@@ -4,42 +4,30 @@
 
 #[path = "support/hand_model.rs"]
 mod hand_model;
+#[path = "support/recordings.rs"]
+mod recordings;
 
 use glam::{Quat, Vec3};
-use hand_model::{avatar, deg, place, HandLayout, HandModel, NO_STRETCH};
-use handrig::mediapipe::{HandObservation, WristObservation};
+use hand_model::{avatar, place, pose, HandLayout, HandModel, NO_STRETCH};
+use handrig::mediapipe::WristObservation;
 use handrig::{Finger, FrameInput, Handedness, Rig, RigOptions, Side, SolveOutput};
-
-/// A pinch-like pose (degrees), inside the limits.
-fn pose() -> hand_model::Angles {
-    deg([
-        [35.0, 80.0, 20.0, 15.0],
-        [40.0, -8.0, 50.0, 20.0],
-        [20.0, 0.0, 30.0, 10.0],
-        [15.0, 2.0, 20.0, 10.0],
-        [10.0, 5.0, 15.0, 5.0],
-    ])
-}
+use recordings::{frame_of, hand};
 
 /// MediaPipe world landmarks (camera axes) of the model hand of `side`, turned by `q`. The
 /// default mapping is `(x, -y, -z)`, its own inverse.
 fn mediapipe_hand(model: &HandModel, q: Quat) -> [Vec3; 21] {
-    let lm = place(&model.landmarks(&pose(), &NO_STRETCH), q, 1.0, Vec3::ZERO);
+    let lm = place(
+        &model.landmarks(&pose("pinch"), &NO_STRETCH),
+        q,
+        1.0,
+        Vec3::ZERO,
+    );
     lm.map(|p| Vec3::new(p.x, -p.y, -p.z))
 }
 
 fn frame_with(hands: &[(Handedness, [Vec3; 21])]) -> FrameInput {
-    let mut f = FrameInput::default();
-    for (i, (h, world)) in hands.iter().enumerate() {
-        f.hands[i] = HandObservation {
-            handedness: *h,
-            score: 0.9,
-            world: *world,
-            image: None,
-        };
-    }
-    f.hand_count = hands.len();
-    f
+    let hands: Vec<_> = hands.iter().map(|(h, w)| hand(*h, 0.9, *w)).collect();
+    frame_of(&hands)
 }
 
 #[test]

@@ -5,67 +5,11 @@
 mod hand_model;
 
 use glam::{Quat, Vec3};
-use hand_model::{avatar, deg, place, Angles, HandLayout, HandModel, NO_STRETCH};
+use hand_model::{avatar, place, poses, Angles, HandLayout, HandModel, NO_STRETCH};
 use handrig::hand::{Dof, HandSolver, HandStatus, HandStrategy};
 use handrig::{Finger, HumanBone, Side, Skeleton, WorldPose, BONE_COUNT};
 
 const TOL_DEG: f32 = 1.0;
-
-/// Hand-picked poses inside the limits (degrees): flat, fist, pinch, spread, hook, opposition.
-fn poses() -> Vec<(&'static str, Angles)> {
-    vec![
-        (
-            "flat",
-            deg([
-                [30.0, 0.0, 0.0, 0.0],
-                [0.0, 0.0, 0.0, 0.0],
-                [0.0, 0.0, 0.0, 0.0],
-                [0.0, 0.0, 0.0, 0.0],
-                [0.0, 0.0, 0.0, 0.0],
-            ]),
-        ),
-        (
-            "fist",
-            deg([
-                [25.0, 110.0, 45.0, 30.0],
-                [80.0, -5.0, 95.0, 60.0],
-                [84.0, 0.0, 100.0, 65.0],
-                [87.0, 3.0, 100.0, 60.0],
-                [95.0, 8.0, 95.0, 55.0],
-            ]),
-        ),
-        (
-            "pinch",
-            deg([
-                [35.0, 80.0, 20.0, 15.0],
-                [40.0, -8.0, 50.0, 20.0],
-                [20.0, 0.0, 30.0, 10.0],
-                [15.0, 2.0, 20.0, 10.0],
-                [10.0, 5.0, 15.0, 5.0],
-            ]),
-        ),
-        (
-            "spread",
-            deg([
-                [60.0, 5.0, -10.0, -20.0],
-                [-20.0, 25.0, -5.0, -15.0],
-                [-15.0, 10.0, 0.0, -10.0],
-                [-10.0, -15.0, 0.0, -5.0],
-                [-30.0, -25.0, 5.0, 0.0],
-            ]),
-        ),
-        (
-            "hook",
-            deg([
-                [15.0, -20.0, -10.0, 60.0],
-                [0.0, 0.0, 100.0, 80.0],
-                [-5.0, 5.0, 105.0, 85.0],
-                [10.0, -5.0, 90.0, 70.0],
-                [20.0, 0.0, 80.0, 60.0],
-            ]),
-        ),
-    ]
-}
 
 fn turn() -> Quat {
     Quat::from_euler(glam::EulerRot::YXZ, 0.9, -0.4, 2.2)
@@ -198,6 +142,32 @@ fn check(
     }
 }
 
+/// [`check`] of every pose of [`poses`] on both hands of `skel`, the landmark hands built on
+/// the rest hands of `model_from` (normally `skel` itself), scaled by `s` and turned by
+/// [`turn`]; `what` prefixes the pose name in failure messages.
+fn check_poses(
+    skel: &Skeleton,
+    model_from: &Skeleton,
+    stretch: &[[f32; 3]; 5],
+    s: f32,
+    what: &str,
+) {
+    for side in Side::BOTH {
+        let model = HandModel::from_skeleton(model_from, side);
+        for (name, angles) in poses() {
+            check(
+                skel,
+                &model,
+                &angles,
+                stretch,
+                turn(),
+                s,
+                &format!("{what}{name}"),
+            );
+        }
+    }
+}
+
 #[test]
 fn known_angles_are_recovered_on_both_hands_and_sizes() {
     let skel = avatar(&HandLayout::standard(), &[]);
@@ -233,12 +203,7 @@ fn finger_proportions_do_not_change_the_angles() {
         [1.2, 0.9, 1.0],
         [0.8, 1.3, 1.2],
     ];
-    for side in Side::BOTH {
-        let model = HandModel::from_skeleton(&skel, side);
-        for (name, angles) in poses() {
-            check(&skel, &model, &angles, &stretch, turn(), 1.1, name);
-        }
-    }
+    check_poses(&skel, &skel, &stretch, 1.1, "");
 }
 
 #[test]
@@ -264,20 +229,7 @@ fn rest_fingers_that_are_not_axis_aligned() {
     ];
     for (lname, layout) in layouts {
         let skel = avatar(&layout, &[]);
-        for side in Side::BOTH {
-            let model = HandModel::from_skeleton(&skel, side);
-            for (name, angles) in poses() {
-                check(
-                    &skel,
-                    &model,
-                    &angles,
-                    &NO_STRETCH,
-                    turn(),
-                    1.0,
-                    &format!("{lname}: {name}"),
-                );
-            }
-        }
+        check_poses(&skel, &skel, &NO_STRETCH, 1.0, &format!("{lname}: "));
     }
 }
 
@@ -311,21 +263,14 @@ fn missing_bones_are_skipped_and_the_rest_stays_correct() {
     ];
     for missing in cases {
         let skel = avatar(&HandLayout::standard(), missing);
-        for side in Side::BOTH {
-            // The landmark hand comes from the complete avatar.
-            let model = HandModel::from_skeleton(&full, side);
-            for (name, angles) in poses() {
-                check(
-                    &skel,
-                    &model,
-                    &angles,
-                    &NO_STRETCH,
-                    turn(),
-                    1.2,
-                    &format!("missing {missing:?}: {name}"),
-                );
-            }
-        }
+        // The landmark hand comes from the complete avatar.
+        check_poses(
+            &skel,
+            &full,
+            &NO_STRETCH,
+            1.2,
+            &format!("missing {missing:?}: "),
+        );
     }
 }
 

@@ -3,98 +3,68 @@
 // Native only: reads ../shared from disk (and uses proptest, not built for wasm32).
 #![cfg(not(target_arch = "wasm32"))]
 
+#[path = "support/recordings.rs"]
+mod recordings;
+#[path = "support/rigs.rs"]
+mod rigs;
+
 use glam::{Quat, Vec3};
-use handrig::mediapipe::{HandObservation, Handedness, WristObservation, HAND_LANDMARKS};
+use handrig::mediapipe::{Handedness, WristObservation, HAND_LANDMARKS};
 use handrig::{
     Finger, FrameInput, HumanBone, Rig, RigOptions, Side, Skeleton, SolveOutput, VrmVersion,
 };
+use recordings::{frame_of, hand};
+use rigs::Legs;
 
 /// A T-pose body facing +Z with a full hand per side, in the VRM 1.0 frame; for `V0` the same
 /// body turned 180 degrees about +Y (how a VRM 0.x file stores it).
 fn body(version: VrmVersion) -> Skeleton {
-    let mut bones = vec![
-        (HumanBone::Hips, Vec3::new(0.0, 1.0, 0.0)),
-        (HumanBone::Spine, Vec3::new(0.0, 1.1, 0.0)),
-        (HumanBone::Chest, Vec3::new(0.0, 1.25, 0.0)),
-        (HumanBone::Head, Vec3::new(0.0, 1.55, 0.0)),
+    let side = Side::Left;
+    let [sh, ua, la, h] = side.arm();
+    let mut left = vec![
+        (sh, Vec3::new(0.05, 1.4, 0.0)),
+        (ua, Vec3::new(0.18, 1.4, 0.0)),
+        (la, Vec3::new(0.46, 1.4, 0.0)),
+        (h, Vec3::new(0.72, 1.4, 0.0)),
     ];
-    for (s, side) in [(1.0f32, Side::Left), (-1.0, Side::Right)] {
-        let [sh, ua, la, h] = side.arm();
-        bones.push((sh, Vec3::new(0.05 * s, 1.4, 0.0)));
-        bones.push((ua, Vec3::new(0.18 * s, 1.4, 0.0)));
-        bones.push((la, Vec3::new(0.46 * s, 1.4, 0.0)));
-        bones.push((h, Vec3::new(0.72 * s, 1.4, 0.0)));
-        for (f, z) in [
-            (Finger::Index, 0.025f32),
-            (Finger::Middle, 0.0),
-            (Finger::Ring, -0.02),
-            (Finger::Little, -0.04),
-        ] {
-            let [p, i, d] = side.finger(f);
-            bones.push((p, Vec3::new(0.81 * s, 1.4, z)));
-            bones.push((i, Vec3::new(0.855 * s, 1.4, z)));
-            bones.push((d, Vec3::new(0.88 * s, 1.4, z)));
-        }
-        let [m, p, d] = side.finger(Finger::Thumb);
-        bones.push((m, Vec3::new(0.74 * s, 1.39, 0.03)));
-        bones.push((p, Vec3::new(0.78 * s, 1.39, 0.055)));
-        bones.push((d, Vec3::new(0.81 * s, 1.39, 0.07)));
-        let legs = match side {
-            Side::Left => [
-                HumanBone::LeftUpperLeg,
-                HumanBone::LeftLowerLeg,
-                HumanBone::LeftFoot,
-            ],
-            Side::Right => [
-                HumanBone::RightUpperLeg,
-                HumanBone::RightLowerLeg,
-                HumanBone::RightFoot,
-            ],
-        };
-        for (k, b) in legs.iter().enumerate() {
-            bones.push((*b, Vec3::new(0.1 * s, 0.95 - 0.43 * k as f32, 0.0)));
-        }
+    for (f, z) in [
+        (Finger::Index, 0.025f32),
+        (Finger::Middle, 0.0),
+        (Finger::Ring, -0.02),
+        (Finger::Little, -0.04),
+    ] {
+        let [p, i, d] = side.finger(f);
+        left.push((p, Vec3::new(0.81, 1.4, z)));
+        left.push((i, Vec3::new(0.855, 1.4, z)));
+        left.push((d, Vec3::new(0.88, 1.4, z)));
     }
-    if version == VrmVersion::V0 {
-        for (_, p) in bones.iter_mut() {
-            *p = Vec3::new(-p.x, p.y, -p.z);
-        }
-    }
-    Skeleton::new(&bones, version).unwrap()
+    let [m, p, d] = side.finger(Finger::Thumb);
+    left.push((m, Vec3::new(0.74, 1.39, 0.03)));
+    left.push((p, Vec3::new(0.78, 1.39, 0.055)));
+    left.push((d, Vec3::new(0.81, 1.39, 0.07)));
+    let torso = [
+        (HumanBone::Hips, 1.0),
+        (HumanBone::Spine, 1.1),
+        (HumanBone::Chest, 1.25),
+        (HumanBone::Head, 1.55),
+    ];
+    let legs = Legs {
+        x: 0.1,
+        heights: [0.95, 0.95 - 0.43, 0.95 - 0.43 * 2.0],
+    };
+    rigs::skeleton(&rigs::t_pose(&torso, legs, &left), version)
 }
 
+/// The first hand of every frame of the shared video: label and world landmarks.
 fn recording() -> Vec<(Handedness, [Vec3; HAND_LANDMARKS])> {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../shared/data/hands/right-hand-video-mediapipe.json"
-    ))
-    .unwrap();
-    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|f| {
-            let h = &f["hands"][0];
-            let label = Handedness::from_label(h["handedness"].as_str().unwrap()).unwrap();
-            let world = std::array::from_fn(|i| {
-                let c = |k: usize| h["worldLandmarks"][i][k].as_f64().unwrap() as f32;
-                Vec3::new(c(0), c(1), c(2))
-            });
-            (label, world)
-        })
+    recordings::hand_video_first()
+        .into_iter()
+        .map(|h| (h.handedness, h.world))
         .collect()
 }
 
 fn frame_with(label: Handedness, world: [Vec3; HAND_LANDMARKS]) -> FrameInput {
-    let mut f = FrameInput::default();
-    f.hands[0] = HandObservation {
-        handedness: label,
-        score: 0.95,
-        world,
-        image: None,
-    };
-    f.hand_count = 1;
-    f
+    frame_of(&[hand(label, 0.95, world)])
 }
 
 #[test]
@@ -205,12 +175,7 @@ fn duplicate_hands_pick_the_higher_score_and_low_scores_are_ignored() {
     let (label, a) = rec[10];
     let (_, b) = rec[300];
     let mut f = frame_with(label, a);
-    f.hands[1] = HandObservation {
-        handedness: label,
-        score: 0.99,
-        world: b,
-        image: None,
-    };
+    f.hands[1] = hand(label, 0.99, b);
     f.hand_count = 2;
     rig.solve(&f, &mut out).unwrap();
     let both = out.local;

@@ -5,7 +5,11 @@
 //! independently (cumulative elevations in a vertical plane for fingers, rotations about the
 //! index metacarpal line for the thumb) so the tests check the solver against the
 //! definitions, not against its own code.
+// Each including test uses a subset of these helpers; the rest would warn as dead code there.
 #![allow(dead_code)]
+
+#[path = "rigs.rs"]
+mod rigs;
 
 use glam::{Quat, Vec3};
 use handrig::{Finger, HumanBone, Side, Skeleton, VrmVersion};
@@ -91,43 +95,37 @@ impl HandLayout {
     }
 }
 
-fn mirror(v: Vec3) -> Vec3 {
-    Vec3::new(-v.x, v.y, v.z)
-}
-
 /// A humanoid avatar (VRM 1.0 frame) with `layout` on both hands, minus `missing` bones.
 pub fn avatar(layout: &HandLayout, missing: &[HumanBone]) -> Skeleton {
-    let mut bones = vec![
-        (HumanBone::Hips, Vec3::new(0.0, 0.95, 0.0)),
-        (HumanBone::Spine, Vec3::new(0.0, 1.05, 0.0)),
-        (HumanBone::Chest, Vec3::new(0.0, 1.2, 0.0)),
-        (HumanBone::UpperChest, Vec3::new(0.0, 1.3, 0.0)),
-        (HumanBone::Neck, Vec3::new(0.0, 1.45, 0.0)),
-        (HumanBone::Head, Vec3::new(0.0, 1.55, 0.0)),
-        (HumanBone::LeftUpperLeg, Vec3::new(0.1, 0.9, 0.0)),
-        (HumanBone::LeftLowerLeg, Vec3::new(0.1, 0.5, 0.0)),
-        (HumanBone::LeftFoot, Vec3::new(0.1, 0.08, 0.0)),
-        (HumanBone::RightUpperLeg, Vec3::new(-0.1, 0.9, 0.0)),
-        (HumanBone::RightLowerLeg, Vec3::new(-0.1, 0.5, 0.0)),
-        (HumanBone::RightFoot, Vec3::new(-0.1, 0.08, 0.0)),
+    let torso = [
+        (HumanBone::Hips, 0.95),
+        (HumanBone::Spine, 1.05),
+        (HumanBone::Chest, 1.2),
+        (HumanBone::UpperChest, 1.3),
+        (HumanBone::Neck, 1.45),
+        (HumanBone::Head, 1.55),
     ];
-    for side in Side::BOTH {
-        let s = if side == Side::Left { 1.0 } else { -1.0 };
-        let hand = Vec3::new(0.6 * s, 1.4, 0.0);
-        let arm = side.arm();
-        bones.push((arm[0], Vec3::new(0.05 * s, 1.38, 0.0)));
-        bones.push((arm[1], Vec3::new(0.15 * s, 1.4, 0.0)));
-        bones.push((arm[2], Vec3::new(0.38 * s, 1.4, 0.0)));
-        bones.push((arm[3], hand));
-        for finger in Finger::ALL {
-            for (slot, bone) in side.finger(finger).into_iter().enumerate() {
-                let j = layout.joints[finger.index()][slot];
-                bones.push((bone, hand + if s > 0.0 { j } else { mirror(j) }));
-            }
+    let legs = rigs::Legs {
+        x: 0.1,
+        heights: [0.9, 0.5, 0.08],
+    };
+    let side = Side::Left;
+    let hand = Vec3::new(0.6, 1.4, 0.0);
+    let arm = side.arm();
+    let mut left = vec![
+        (arm[0], Vec3::new(0.05, 1.38, 0.0)),
+        (arm[1], Vec3::new(0.15, 1.4, 0.0)),
+        (arm[2], Vec3::new(0.38, 1.4, 0.0)),
+        (arm[3], hand),
+    ];
+    for finger in Finger::ALL {
+        for (slot, bone) in side.finger(finger).into_iter().enumerate() {
+            left.push((bone, hand + layout.joints[finger.index()][slot]));
         }
     }
+    let mut bones = rigs::t_pose(&torso, legs, &left);
     bones.retain(|(b, _)| !missing.contains(b));
-    Skeleton::new(&bones, VrmVersion::V1).expect("test avatar")
+    rigs::skeleton(&bones, VrmVersion::V1)
 }
 
 /// A landmark hand built on an avatar's rest hand (all finger bones required), posed by
@@ -277,4 +275,69 @@ pub const NO_STRETCH: [[f32; 3]; 5] = [[1.0; 3]; 5];
 /// Degrees to radians for an angle table.
 pub fn deg(a: [[f32; 4]; 5]) -> Angles {
     a.map(|f| f.map(f32::to_radians))
+}
+
+/// Hand-picked poses inside the limits (degrees): flat, fist, pinch, spread, hook.
+pub fn poses() -> Vec<(&'static str, Angles)> {
+    vec![
+        (
+            "flat",
+            deg([
+                [30.0, 0.0, 0.0, 0.0],
+                [0.0; 4],
+                [0.0; 4],
+                [0.0; 4],
+                [0.0; 4],
+            ]),
+        ),
+        (
+            "fist",
+            deg([
+                [25.0, 110.0, 45.0, 30.0],
+                [80.0, -5.0, 95.0, 60.0],
+                [84.0, 0.0, 100.0, 65.0],
+                [87.0, 3.0, 100.0, 60.0],
+                [95.0, 8.0, 95.0, 55.0],
+            ]),
+        ),
+        (
+            "pinch",
+            deg([
+                [35.0, 80.0, 20.0, 15.0],
+                [40.0, -8.0, 50.0, 20.0],
+                [20.0, 0.0, 30.0, 10.0],
+                [15.0, 2.0, 20.0, 10.0],
+                [10.0, 5.0, 15.0, 5.0],
+            ]),
+        ),
+        (
+            "spread",
+            deg([
+                [60.0, 5.0, -10.0, -20.0],
+                [-20.0, 25.0, -5.0, -15.0],
+                [-15.0, 10.0, 0.0, -10.0],
+                [-10.0, -15.0, 0.0, -5.0],
+                [-30.0, -25.0, 5.0, 0.0],
+            ]),
+        ),
+        (
+            "hook",
+            deg([
+                [15.0, -20.0, -10.0, 60.0],
+                [0.0, 0.0, 100.0, 80.0],
+                [-5.0, 5.0, 105.0, 85.0],
+                [10.0, -5.0, 90.0, 70.0],
+                [20.0, 0.0, 80.0, 60.0],
+            ]),
+        ),
+    ]
+}
+
+/// The pose of [`poses`] called `name`.
+pub fn pose(name: &str) -> Angles {
+    poses()
+        .into_iter()
+        .find(|(n, _)| *n == name)
+        .unwrap_or_else(|| panic!("no pose {name}"))
+        .1
 }
