@@ -485,11 +485,7 @@ impl HandRig {
         let o = Object::new();
         for b in self.rig.skeleton().bones() {
             if let Some(p) = self.rig.skeleton().rest_world(b) {
-                set(
-                    &o,
-                    &self.keys.bone_names[b.index()],
-                    &vec3_js(self.rig.export_position(p)),
-                );
+                self.set_position(&o, &self.keys.bone_names[b.index()], p);
             }
         }
         o
@@ -585,6 +581,16 @@ impl HandRig {
         Ok(())
     }
 
+    /// `o[key] = p` as `[x, y, z]` in the model's own frame.
+    fn set_position(&self, o: &Object, key: &JsValue, p: Vec3) {
+        set(o, key, &vec3_js(self.rig.export_position(p)));
+    }
+
+    /// `o[key] = q` as `[x, y, z, w]` in the model's own frame.
+    fn set_rotation(&self, o: &Object, key: &JsValue, q: Quat) {
+        set(o, key, &quat_js(self.rig.export_rotation(q)));
+    }
+
     fn result(&self) -> Object {
         let k = &self.keys;
         let out = &self.out;
@@ -595,17 +601,9 @@ impl HandRig {
         for b in skel.bones() {
             let i = b.index();
             if out.solved[i] {
-                set(
-                    &bones,
-                    &k.bone_names[i],
-                    &quat_js(self.rig.export_rotation(out.local[i])),
-                );
+                self.set_rotation(&bones, &k.bone_names[i], out.local[i]);
             }
-            set(
-                &world,
-                &k.bone_names[i],
-                &vec3_js(self.rig.export_position(out.world.position[i])),
-            );
+            self.set_position(&world, &k.bone_names[i], out.world.position[i]);
         }
         set(&result, &k.time_ms, &JsValue::from_f64(self.frame.time_ms));
         set(&result, &k.bones, &bones);
@@ -620,35 +618,15 @@ impl HandRig {
             };
             if let Some(t) = &out.ik_targets[side.index()] {
                 let o = Object::new();
-                set(
-                    &o,
-                    &k.position,
-                    &vec3_js(self.rig.export_position(t.position)),
-                );
-                set(
-                    &o,
-                    &k.rotation,
-                    &quat_js(self.rig.export_rotation(t.rotation)),
-                );
+                self.set_position(&o, &k.position, t.position);
+                self.set_rotation(&o, &k.rotation, t.rotation);
                 set(&targets, key, &o);
             }
             if let Some(a) = &out.alignment[side.index()] {
                 let o = Object::new();
-                set(
-                    &o,
-                    &k.target_dip,
-                    &vec3_js(self.rig.export_position(a.target_dip)),
-                );
-                set(
-                    &o,
-                    &k.ik_wrist,
-                    &vec3_js(self.rig.export_position(a.ik_wrist)),
-                );
-                set(
-                    &o,
-                    &k.pose_wrist,
-                    &vec3_js(self.rig.export_position(a.pose_wrist)),
-                );
+                self.set_position(&o, &k.target_dip, a.target_dip);
+                self.set_position(&o, &k.ik_wrist, a.ik_wrist);
+                self.set_position(&o, &k.pose_wrist, a.pose_wrist);
                 let err = if a.error.is_finite() {
                     JsValue::from_f64(a.error as f64)
                 } else {
@@ -766,7 +744,16 @@ fn read_hands(frame: &JsValue, keys: &Keys, f: &mut FrameInput, aspect: f32) -> 
                     Some(s) => number(&s, &|| format!("{}.score", field()))?,
                     None => label_score.unwrap_or(1.0),
                 };
-                push_hand(&h, keys, f, label, score, &field, aspect)?;
+                push_hand(
+                    get(&h, &keys.world_landmarks),
+                    get(&h, &keys.landmarks),
+                    &|| format!("{}.worldLandmarks", field()),
+                    &|| format!("{}.landmarks", field()),
+                    keys,
+                    f,
+                    empty_hand(label, score),
+                    aspect,
+                )?;
             }
             return Ok(());
         }
@@ -815,7 +802,8 @@ fn read_result_shape(
             "handednesses",
         )
     } else {
-        // Holistic legacy: image landmarks per side, labelled like MediaPipe's hand labels.
+        // Holistic legacy: image landmarks per side, labelled like MediaPipe's hand labels
+        // (rotations from image landmarks differ from world-landmark ones by up to ~30 degrees).
         for (key, label, lname) in [
             (
                 &keys.left_hand_landmarks,
@@ -829,19 +817,9 @@ fn read_result_shape(
             ),
         ] {
             if let Some(list) = get(r, key) {
-                let i = f.hand_count;
-                let mut hand = empty_hand(label, 1.0);
-                points(
-                    &list,
-                    keys,
-                    &|| format!("{name}.{lname}"),
-                    &mut hand.world,
-                    None,
-                )?;
-                hand.image = Some(hand.world);
-                image_to_pseudo_world(&mut hand.world, aspect);
-                f.hands[i] = hand;
-                f.hand_count += 1;
+                let field = || format!("{name}.{lname}");
+                let hand = empty_hand(label, 1.0);
+                push_hand(None, Some(list), &field, &field, keys, f, hand, aspect)?;
             }
         }
         return Ok(());
@@ -861,7 +839,6 @@ fn read_result_shape(
     for i in 0..n {
         let field = || format!("{name}.{label_name}[{i}]");
         let (label, score) = handedness_label(&labels.get(i as u32), keys, &field)?;
-        let mut hand = empty_hand(label, score.unwrap_or(1.0));
         let world_list = world
             .as_ref()
             .map(|w| w.get(i as u32))
@@ -870,38 +847,16 @@ fn read_result_shape(
             .as_ref()
             .map(|w| w.get(i as u32))
             .filter(|v| !v.is_undefined());
-        if let Some(img) = &image_list {
-            let mut p = [Vec3::ZERO; HAND_LANDMARKS];
-            points(
-                img,
-                keys,
-                &|| format!("{name}.landmarks[{i}]"),
-                &mut p,
-                None,
-            )?;
-            hand.image = Some(p);
-        }
-        match (&world_list, hand.image) {
-            (Some(w), _) => points(
-                w,
-                keys,
-                &|| format!("{name}.worldLandmarks[{i}]"),
-                &mut hand.world,
-                None,
-            )?,
-            (None, Some(img)) => {
-                hand.world = img;
-                image_to_pseudo_world(&mut hand.world, aspect);
-            }
-            (None, None) => {
-                return Err(invalid(
-                    &format!("{name}.worldLandmarks[{i}]"),
-                    "is missing (each hand needs worldLandmarks or landmarks)",
-                ))
-            }
-        }
-        f.hands[f.hand_count] = hand;
-        f.hand_count += 1;
+        push_hand(
+            world_list,
+            image_list,
+            &|| format!("{name}.worldLandmarks[{i}]"),
+            &|| format!("{name}.landmarks[{i}]"),
+            keys,
+            f,
+            empty_hand(label, score.unwrap_or(1.0)),
+            aspect,
+        )?;
     }
     Ok(())
 }
@@ -915,43 +870,35 @@ fn empty_hand(label: Handedness, score: f32) -> HandObservation {
     }
 }
 
+/// Reads one hand's world and image landmarks (either may be absent, not both) into the next
+/// slot of `f.hands`. Without world landmarks the image ones stand in, see
+/// [`image_to_pseudo_world`].
+#[allow(clippy::too_many_arguments)]
 fn push_hand(
-    h: &JsValue,
+    world: Option<JsValue>,
+    image: Option<JsValue>,
+    world_field: &dyn Fn() -> String,
+    image_field: &dyn Fn() -> String,
     keys: &Keys,
     f: &mut FrameInput,
-    label: Handedness,
-    score: f32,
-    field: &dyn Fn() -> String,
+    mut hand: HandObservation,
     aspect: f32,
 ) -> JsResult<()> {
-    let mut hand = empty_hand(label, score);
-    if let Some(img) = get(h, &keys.landmarks) {
+    if let Some(img) = image {
         let mut p = [Vec3::ZERO; HAND_LANDMARKS];
-        points(
-            &img,
-            keys,
-            &|| format!("{}.landmarks", field()),
-            &mut p,
-            None,
-        )?;
+        points(&img, keys, image_field, &mut p, None)?;
         hand.image = Some(p);
     }
-    match (get(h, &keys.world_landmarks), hand.image) {
-        (Some(w), _) => points(
-            &w,
-            keys,
-            &|| format!("{}.worldLandmarks", field()),
-            &mut hand.world,
-            None,
-        )?,
+    match (world, hand.image) {
+        (Some(w), _) => points(&w, keys, world_field, &mut hand.world, None)?,
         (None, Some(img)) => {
             hand.world = img;
             image_to_pseudo_world(&mut hand.world, aspect);
         }
         (None, None) => {
             return Err(invalid(
-                &format!("{}.worldLandmarks", field()),
-                "is missing (21 points [x, y, z] in meters)",
+                &world_field(),
+                "is missing (21 points [x, y, z] in meters, or image landmarks)",
             ))
         }
     }

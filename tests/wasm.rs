@@ -314,3 +314,50 @@ fn from_vrm_rejects_broken_files_and_keeps_working() {
     assert!(m.starts_with("vrm:"), "{m}");
     assert!(HandRig::from_vrm(ROBOT, JsValue::UNDEFINED).is_ok());
 }
+
+fn quat_of(result: &JsValue, bone: &str) -> [f64; 4] {
+    let a = Array::from(&get(&get(result, "bones"), bone));
+    [0, 1, 2, 3].map(|i| a.get(i).as_f64().unwrap())
+}
+
+fn angle_deg(a: [f64; 4], b: [f64; 4]) -> f64 {
+    let d: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
+    2.0 * d.abs().min(1.0).acos().to_degrees()
+}
+
+#[wasm_bindgen_test]
+fn holistic_image_landmarks_stand_in_for_world_landmarks() {
+    // Legacy Holistic results carry only normalized image landmarks per hand, labelled like
+    // MediaPipe's hand labels. The recording's image landmarks (1280x720) must drive the same
+    // avatar hand as its world landmarks, with rotations close to the world-landmark solution.
+    let mut rig = HandRig::new(js(&rest_pose("1")), JsValue::UNDEFINED).unwrap();
+    let mut worst = 0.0f64;
+    for i in [0usize, 150, 300, 450, 600] {
+        let frame = recording_frame(i);
+        let image: Vec<Value> = frame["hands"][0]["landmarks"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| json!({"x": p[0], "y": p[1], "z": p[2]}))
+            .collect();
+        let reference = rig.solve(js(&frame)).unwrap();
+        let holistic = json!({ "leftHandLandmarks": image, "imageAspect": 1280.0 / 720.0 });
+        let r = rig.solve(js(&holistic)).unwrap();
+        assert!(get(&get(&r, "bones"), "leftHand").is_undefined());
+        for bone in [
+            "rightHand",
+            "rightIndexProximal",
+            "rightMiddleProximal",
+            "rightThumbMetacarpal",
+        ] {
+            let a = angle_deg(quat_of(&reference, bone), quat_of(&r, bone));
+            worst = worst.max(a);
+        }
+    }
+    // Measured 29 degrees worst (perspective and MediaPipe's rough image depth scale); a wrong
+    // side, chirality or aspect handling gives differences far beyond 40.
+    assert!(
+        worst < 40.0,
+        "image-vs-world rotation difference {worst} deg"
+    );
+}
