@@ -89,6 +89,19 @@ pub struct SolveOutput {
     pub ik_targets: [Option<IkTarget>; 2],
     /// Fingertip-alignment reports per side.
     pub alignment: [Option<AlignmentReport>; 2],
+    /// The tracked hand that drove each side this frame, if any.
+    pub hands: [Option<TrackedHand>; 2],
+}
+
+/// Which tracked hand drove an avatar side, and whether its rotations are fresh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrackedHand {
+    /// [`HandStatus::Solved`] (from this frame), [`HandStatus::Held`] (this frame's hand was
+    /// degenerate; the previous rotations were kept) or [`HandStatus::Skipped`] (degenerate
+    /// with nothing to keep, or the avatar has no usable palm).
+    pub status: HandStatus,
+    /// Its handedness score.
+    pub score: f32,
 }
 
 impl Default for SolveOutput {
@@ -99,6 +112,7 @@ impl Default for SolveOutput {
             world: WorldPose::default(),
             ik_targets: [None, None],
             alignment: [None, None],
+            hands: [None, None],
         }
     }
 }
@@ -177,6 +191,7 @@ impl Rig {
         out.solved = [false; BONE_COUNT];
         out.ik_targets = [None, None];
         out.alignment = [None, None];
+        out.hands = [None, None];
         // Everything not solved this frame goes back to rest.
         out.local = [Quat::IDENTITY; BONE_COUNT];
 
@@ -214,6 +229,10 @@ impl Rig {
             hand_rotation = self
                 .hands
                 .solve(&self.skeleton, side, &self.landmarks, &mut out.local);
+            out.hands[side.index()] = Some(TrackedHand {
+                status: self.hands.report(side).status,
+                score: h.score,
+            });
             if hand_rotation.is_some() {
                 for b in crate::bones::Finger::ALL
                     .iter()

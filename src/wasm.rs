@@ -18,6 +18,7 @@ use wasm_bindgen::JsCast;
 
 use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::Error;
+use crate::hand::HandStatus;
 use crate::mediapipe::{
     hand_landmark, FrameInput, HandObservation, Handedness, PoseObservation, WristObservation,
     HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS,
@@ -73,6 +74,8 @@ struct Keys {
     error: JsValue,
     reachable: JsValue,
     aligned: JsValue,
+    status: JsValue,
+    status_names: [JsValue; 3],
     bone_names: [JsValue; BONE_COUNT],
 }
 
@@ -116,6 +119,8 @@ impl Keys {
             error: s("error"),
             reachable: s("reachable"),
             aligned: s("aligned"),
+            status: s("status"),
+            status_names: [s("solved"), s("held"), s("skipped")],
             bone_names: HumanBone::ALL.map(|b| s(b.as_str())),
         }
     }
@@ -638,8 +643,32 @@ impl HandRig {
                 set(&alignment, key, &o);
             }
         }
+        let hands = Object::new();
+        for side in Side::BOTH {
+            let Some(h) = &out.hands[side.index()] else {
+                continue;
+            };
+            let o = Object::new();
+            let status = match h.status {
+                HandStatus::Solved => &k.status_names[0],
+                HandStatus::Held => &k.status_names[1],
+                HandStatus::Skipped | HandStatus::NotSolved => &k.status_names[2],
+            };
+            set(&o, &k.status, status);
+            set(&o, &k.score, &JsValue::from_f64(h.score as f64));
+            set(
+                &hands,
+                if side == Side::Left {
+                    &k.left
+                } else {
+                    &k.right
+                },
+                &o,
+            );
+        }
         set(&result, &k.ik_targets, &targets);
         set(&result, &k.alignment, &alignment);
+        set(&result, &k.hands, &hands);
         result
     }
 }

@@ -361,3 +361,41 @@ fn holistic_image_landmarks_stand_in_for_world_landmarks() {
         "image-vs-world rotation difference {worst} deg"
     );
 }
+
+#[wasm_bindgen_test]
+fn degenerate_hands_are_reported_held_or_skipped() {
+    let mut collapsed = recording_frame(0);
+    collapsed["hands"][0]["worldLandmarks"] = json!(vec![[0.01, 0.02, 0.03]; 21]);
+    collapsed["hands"][0]
+        .as_object_mut()
+        .unwrap()
+        .remove("landmarks");
+
+    // Nothing solved yet: skipped, no bones for that hand.
+    let mut rig = HandRig::new(js(&rest_pose("1")), JsValue::UNDEFINED).unwrap();
+    let r = rig.solve(js(&collapsed)).unwrap();
+    let status = get(&get(&get(&r, "hands"), "right"), "status");
+    assert_eq!(status.as_string().as_deref(), Some("skipped"));
+    assert!(get(&get(&r, "bones"), "rightIndexProximal").is_undefined());
+
+    // After a good frame: held, with the good frame's rotations repeated.
+    let good = rig.solve(js(&recording_frame(0))).unwrap();
+    let hands = get(&good, "hands");
+    assert_eq!(
+        get(&get(&hands, "right"), "status").as_string().as_deref(),
+        Some("solved")
+    );
+    assert!((get(&get(&hands, "right"), "score").as_f64().unwrap() - 0.9668).abs() < 1e-4);
+    assert!(get(&hands, "left").is_undefined());
+    let held = rig.solve(js(&collapsed)).unwrap();
+    let status = get(&get(&get(&held, "hands"), "right"), "status");
+    assert_eq!(status.as_string().as_deref(), Some("held"));
+    for bone in ["rightHand", "rightIndexProximal", "rightThumbDistal"] {
+        // Repeated exactly, so compare components (acos near 1 is ill-conditioned).
+        let (a, b) = (quat_of(&good, bone), quat_of(&held, bone));
+        assert!(
+            a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-7),
+            "{bone}: {a:?} vs {b:?}"
+        );
+    }
+}

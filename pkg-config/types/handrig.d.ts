@@ -159,6 +159,15 @@ export interface AlignmentReport {
   aligned: boolean;
 }
 
+/** The tracked hand that drove one avatar side this frame. */
+export interface TrackedHand {
+  /** "solved" from this frame; "held": this frame's hand was degenerate and the previous
+   * rotations are reported again; "skipped": degenerate with nothing to hold. */
+  status: "solved" | "held" | "skipped";
+  /** Its handedness score, 0..1. */
+  score: number;
+}
+
 /** The result of one `solve`, in the model's own frame. */
 export interface SolveResult {
   /** The frame's timestamp, milliseconds. */
@@ -171,6 +180,8 @@ export interface SolveResult {
   ikTargets: { left?: IkTarget; right?: IkTarget };
   /** Fingertip-alignment reports, per avatar side. */
   alignment: { left?: AlignmentReport; right?: AlignmentReport };
+  /** Which tracked hand drove each avatar side, and whether its rotations are fresh. */
+  hands: { left?: TrackedHand; right?: TrackedHand };
 }
 
 export type FingerName = "thumb" | "index" | "middle" | "ring" | "little";
