@@ -328,7 +328,6 @@ impl Rig {
         // World frame of the arm's parent chain (torso at rest: handrig does not move it).
         self.skeleton.forward(&out.local, &mut out.world);
         let reach = self.arms.solve(
-            &self.skeleton,
             side,
             target,
             hand_rotation,

@@ -91,7 +91,7 @@ fn solve_fk(
     local[side.arm()[0].index()] = shoulder_rot;
     let mut world = WorldPose::default();
     skel.forward(&local, &mut world);
-    let reach = state.solve(skel, side, target, hand, pole, &mut local, &world);
+    let reach = state.solve(side, target, hand, pole, &mut local, &world);
     skel.forward(&local, &mut world);
     let [_, up, low, h] = side.arm();
     for q in local.iter() {

@@ -278,7 +278,6 @@ impl ArmSolverState {
     #[allow(clippy::too_many_arguments)]
     pub fn solve(
         &mut self,
-        _skeleton: &Skeleton,
         side: Side,
         target: Vec3,
         hand_rotation: Option<Quat>,

@@ -78,14 +78,14 @@ export async function openDemo(env, query = "?paused") {
 export const shot = (name) => join(SCREENSHOTS, name);
 
 /**
- * Pixel statistics of a PNG screenshot inside `rect` (CSS pixels, page coordinates), decoded in
- * the page (no image library in Node): how many pixels differ from the rect's most common
- * colour (the background), how many are saturated (the skeleton is drawn in saturated colours
- * on a grey background), and a hue histogram of the saturated ones in 12 buckets of 30 degrees.
+ * Installs (once per page) `globalThis.__handrigRectPixels(b64, rect)`: decodes a base64 PNG in
+ * the page (no image library in Node) and returns the RGBA pixels inside `rect` (CSS pixels,
+ * clamped to the image) with the clamped width and height.
  */
-export async function pixelStats(page, png, rect) {
-  return page.evaluate(
-    async ({ b64, rect }) => {
+async function installRectPixels(page) {
+  await page.evaluate(() => {
+    if (globalThis.__handrigRectPixels) return;
+    globalThis.__handrigRectPixels = async (b64, rect) => {
       const img = new Image();
       img.src = `data:image/png;base64,${b64}`;
       await img.decode();
@@ -98,7 +98,22 @@ export async function pixelStats(page, png, rect) {
       const y = Math.max(0, Math.round(rect.y));
       const w = Math.min(img.width - x, Math.round(rect.w));
       const h = Math.min(img.height - y, Math.round(rect.h));
-      const d = g.getImageData(x, y, w, h).data;
+      return { data: g.getImageData(x, y, w, h).data, w, h };
+    };
+  });
+}
+
+/**
+ * Pixel statistics of a PNG screenshot inside `rect` (CSS pixels, page coordinates): how many
+ * pixels differ from the rect's most common colour (the background), how many are saturated
+ * (the skeleton is drawn in saturated colours on a grey background), and a hue histogram of the
+ * saturated ones in 12 buckets of 30 degrees.
+ */
+export async function pixelStats(page, png, rect) {
+  await installRectPixels(page);
+  return page.evaluate(
+    async ({ b64, rect }) => {
+      const { data: d, w, h } = await globalThis.__handrigRectPixels(b64, rect);
       const counts = new Map();
       for (let i = 0; i < d.length; i += 4) {
         const k = (d[i] << 16) | (d[i + 1] << 8) | d[i + 2];
@@ -131,20 +146,14 @@ export async function pixelStats(page, png, rect) {
 
 /** How many pixels inside `rect` differ (sum of |dRGB| > 30) between two PNG screenshots. */
 export async function diffPixels(page, pngA, pngB, rect) {
+  await installRectPixels(page);
   return page.evaluate(
     async ({ a, b, rect }) => {
-      const load = async (b64) => {
-        const img = new Image();
-        img.src = `data:image/png;base64,${b64}`;
-        await img.decode();
-        const c = document.createElement("canvas");
-        c.width = img.width;
-        c.height = img.height;
-        const g = c.getContext("2d", { willReadFrequently: true });
-        g.drawImage(img, 0, 0);
-        return g.getImageData(Math.round(rect.x), Math.round(rect.y), Math.round(rect.w), Math.round(rect.h)).data;
-      };
-      const [da, db] = await Promise.all([load(a), load(b)]);
+      const [pa, pb] = await Promise.all([
+        globalThis.__handrigRectPixels(a, rect),
+        globalThis.__handrigRectPixels(b, rect),
+      ]);
+      const da = pa.data, db = pb.data;
       let n = 0;
       for (let i = 0; i < da.length; i += 4) {
         if (Math.abs(da[i] - db[i]) + Math.abs(da[i + 1] - db[i + 1]) + Math.abs(da[i + 2] - db[i + 2]) > 30) n++;
