@@ -1,16 +1,23 @@
-// Per-frame cost in Node of the built package (wasm, JS object API) against Kalidokit's
-// Hand.solve, in the same run, on the same recorded frames.
+// Per-frame cost in Node of the built package against Kalidokit, in the same run, on the same
+// real frames: the object API (`rig.solve(frame)`: MediaPipe shapes packed in JS, result object
+// built from the output view), the flat path (`rig.input.set(...)`, `rig.solveFlat(t)`: the
+// wasm solve alone), and Kalidokit 1.1.5 (UMD build) doing the same frame: `Pose.solve` plus
+// `Hand.solve` for every tracked hand.
 //
 //   make pkg && npm ci --prefix eval     # once
-//   node eval/speed.mjs [--passes N]
+//   node eval/speed.mjs [--passes N] [--json]
 //
-// Frames: ../shared/data/hands/right-hand-video-mediapipe.json (621 frames), passed as the
-// recording stores them (handrig) and as arrays of {x, y, z} (Kalidokit, its input shape).
-// Avatar: ../shared/avatars/debug-robot.vrm. Timed per call with process.hrtime over N passes
-// (default 5) after one warm-up pass; prints median and p95 microseconds per frame and the
-// ratio to Kalidokit. handrig does more per call than Kalidokit (all 15 finger bones with joint
-// limits, hand rotation, and with `wrists` also fingertip alignment and arm IK), and it pays
-// for building the JS result object; Kalidokit returns Euler angles for one hand only.
+// Frames:
+// - full frame: the four sign-language clips ../shared/data/asl/*.json (250 frames, pose and
+//   0-2 hands of the same person; 95 frames with two hands): handrig solves both hands, the
+//   body mapping, fingertip alignment and both arms (two-bone IK); Kalidokit solves the pose
+//   and each hand.
+// - hands only: ../shared/data/hands/right-hand-video-mediapipe.json (621 frames, one hand),
+//   against one Kalidokit Hand.solve.
+// Avatar: ../shared/avatars/debug-robot.vrm. Each call timed with process.hrtime over N passes
+// (default 5) after one warm-up pass; median and p95 microseconds, and the ratio of Kalidokit's
+// median to handrig's (> 1: handrig is faster). Also: rigs solved per millisecond with 100 rigs
+// (one avatar each) solving the same full frames, as a page driving 100 avatars would.
 
 import { readFileSync } from "node:fs";
 import { createRequire } from "node:module";
@@ -36,18 +43,30 @@ try {
   process.exit(1);
 }
 
-const passesArg = process.argv.indexOf("--passes");
-const passes = passesArg > 0 ? Number(process.argv[passesArg + 1]) : 5;
+const arg = (name, dflt) => {
+  const i = process.argv.indexOf(name);
+  return i > 0 ? process.argv[i + 1] : dflt;
+};
+const passes = Number(arg("--passes", 5));
+const json = process.argv.includes("--json");
 
-const frames = JSON.parse(readFileSync(`${shared}/data/hands/right-hand-video-mediapipe.json`, "utf8"));
 const robot = readFileSync(`${shared}/avatars/debug-robot.vrm`);
-const kalidokitInput = frames.map((f) => f.hands[0].worldLandmarks.map(([x, y, z]) => ({ x, y, z })));
-// A reachable wrist in front of the robot's right shoulder (model frame, meters).
-const wrists = { right: { position: [-0.45, 1.3, 0.2] } };
-const withWrists = frames.map((f) => ({ ...f, wrists }));
+const handFrames = JSON.parse(readFileSync(`${shared}/data/hands/right-hand-video-mediapipe.json`, "utf8"));
+const aslFrames = ["eat", "thanks", "brother", "sister"].flatMap(
+  (n) => JSON.parse(readFileSync(`${shared}/data/asl/${n}.json`, "utf8")).frames,
+);
 
-function time(label, fn) {
-  const n = frames.length;
+const xyz = ([x, y, z, visibility]) => ({ x, y, z, visibility });
+// Kalidokit's inputs: {x, y, z(, visibility)} objects, converted once (not timed).
+const kalidokitFull = aslFrames.map((f) => ({
+  world: f.pose.worldLandmarks.map(xyz),
+  image: f.pose.landmarks.map(xyz),
+  // Kalidokit's side argument is the avatar side; MediaPipe's label is the mirrored one.
+  hands: f.hands.map((h) => ({ points: h.landmarks.map(xyz), side: h.handedness === "Left" ? "Right" : "Left" })),
+}));
+const kalidokitHands = handFrames.map((f) => f.hands[0].landmarks.map(xyz));
+
+function time(label, n, fn) {
   for (let i = 0; i < n; i++) fn(i); // warm-up
   const samples = [];
   for (let p = 0; p < passes; p++) {
@@ -62,29 +81,75 @@ function time(label, fn) {
   return { label, median: q(0.5), p95: q(0.95), count: samples.length };
 }
 
-const rig = HandRig.fromVrm(robot);
-const rigWrists = HandRig.fromVrm(robot);
 let sink = 0;
-const rows = [
-  time("handrig solve: hands", (i) => {
-    sink += rig.solve(frames[i]).timeMs;
-  }),
-  time("handrig solve: hands + wrists", (i) => {
-    sink += rigWrists.solve(withWrists[i]).timeMs;
-  }),
-  time("Kalidokit Hand.solve", (i) => {
-    const r = Kalidokit.Hand.solve(kalidokitInput[i], "Right");
-    sink += r ? 1 : 0;
-  }),
-];
-rig.free();
-rigWrists.free();
 
-const kd = rows[2];
-console.log(`solve time per frame, Node ${process.version}, ${frames.length} frames x ${passes} passes (sink ${sink > 0})`);
-console.log("method                           median us    p95 us   median / Kalidokit");
-for (const r of rows) {
+// Full frames.
+const rig = HandRig.fromVrm(robot);
+const full = time("handrig object API: full frame", aslFrames.length, (i) => {
+  sink += rig.solve(aslFrames[i]).timeMs;
+});
+// The flat path: each frame packed once (by the object API), then copied into the input view
+// and solved; what a caller that fills the Float32Array itself pays.
+const packed = aslFrames.map((f) => {
+  rig.solve(f);
+  return Float32Array.from(rig.input);
+});
+const flatRig = HandRig.fromVrm(robot);
+const input = flatRig.input;
+const output = flatRig.output;
+const flat = time("handrig flat path: full frame", aslFrames.length, (i) => {
+  input.set(packed[i]);
+  flatRig.solveFlat(aslFrames[i].timeMs);
+  sink += output[0];
+});
+const kdFull = time("Kalidokit Pose.solve + Hand.solve per hand", aslFrames.length, (i) => {
+  const k = kalidokitFull[i];
+  const pose = Kalidokit.Pose.solve(k.world, k.image, { runtime: "mediapipe", imageSize: { width: 640, height: 480 } });
+  sink += pose ? 1 : 0;
+  for (const h of k.hands) sink += Kalidokit.Hand.solve(h.points, h.side) ? 1 : 0;
+});
+
+// Hands only.
+const handRig = HandRig.fromVrm(robot);
+const hands = time("handrig object API: one hand", handFrames.length, (i) => {
+  sink += handRig.solve(handFrames[i]).timeMs;
+});
+const kdHand = time("Kalidokit Hand.solve", handFrames.length, (i) => {
+  sink += Kalidokit.Hand.solve(kalidokitHands[i], "Right") ? 1 : 0;
+});
+
+// Many avatars: 100 rigs, each solving every full frame once per pass.
+const many = HandRig.fromVrm(robot);
+const rigs = Array.from({ length: 100 }, () => HandRig.fromVrm(robot));
+for (const r of rigs) for (const f of aslFrames) r.solve(f); // warm-up
+let manyBest = Infinity;
+for (let p = 0; p < passes; p++) {
+  const t0 = process.hrtime.bigint();
+  for (const f of aslFrames) for (const r of rigs) sink += r.solve(f).timeMs;
+  manyBest = Math.min(manyBest, Number(process.hrtime.bigint() - t0) / 1e6);
+}
+const rigsPerMs = (rigs.length * aslFrames.length) / manyBest;
+for (const r of [rig, flatRig, handRig, many, ...rigs]) r.free();
+
+const rows = [
+  { ...full, vs: kdFull },
+  { ...flat, vs: kdFull },
+  { ...kdFull, vs: kdFull },
+  { ...hands, vs: kdHand },
+  { ...kdHand, vs: kdHand },
+];
+if (json) {
+  console.log(JSON.stringify({ node: process.version, passes, rows, rigsPerMs }, null, 2));
+} else {
   console.log(
-    `${r.label.padEnd(32)} ${r.median.toFixed(1).padStart(9)} ${r.p95.toFixed(1).padStart(9)} ${(r.median / kd.median).toFixed(2).padStart(20)}`,
+    `Per-frame cost, Node ${process.version}, ${passes} passes; full frame: ${aslFrames.length} ASL frames ` +
+      `(pose + 0-2 hands), one hand: ${handFrames.length} frames (sink ${sink > 0})`,
   );
+  console.log("method                                        median us    p95 us   Kalidokit / this (median)");
+  for (const r of rows) {
+    console.log(
+      `${r.label.padEnd(45)} ${r.median.toFixed(1).padStart(9)} ${r.p95.toFixed(1).padStart(9)} ${(r.vs.median / r.median).toFixed(2).padStart(12)}`,
+    );
+  }
+  console.log(`100 rigs, full frames: ${rigsPerMs.toFixed(1)} rigs solved per millisecond (object API)`);
 }

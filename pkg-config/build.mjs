@@ -27,6 +27,10 @@ import { createRequire } from "node:module";
 import fs from "node:fs";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
+import zlib from "node:zlib";
+
+// Size budget of the shipped .wasm, gzipped (issue 10); tests/node checks the release build.
+const WASM_GZIP_BUDGET = 150 * 1024;
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const root = path.resolve(here, "..");
@@ -118,12 +122,13 @@ function wasmOpt(input, output) {
 }
 
 // Entry points: the shared core (no module syntax) between a prologue and an epilogue.
-function esmBrowserEntry(core, version) {
+function esmBrowserEntry(core, version, layout) {
   return `${banner(version)}
 import wasmInit, * as raw from "./wasm/handrig_wasm.js";
 
 let ready = false;
 
+${layoutConst(layout)}
 ${core}
 const api = createHandRigApi(raw, () => ready);
 
@@ -155,17 +160,19 @@ export function initSync(module) {
 }
 
 export const HandRig = api.HandRig;
+export { LAYOUT };
 export const version = ${JSON.stringify(version)};
 export default init;
 `;
 }
 
-function cjsNodeEntry(core, version) {
+function cjsNodeEntry(core, version, layout) {
   return `${banner(version)}
 "use strict";
 // Node: the glue compiles and instantiates the wasm synchronously when it is required.
 const raw = require("./wasm/handrig_wasm.cjs");
 
+${layoutConst(layout)}
 ${core}
 const api = createHandRigApi(raw, () => true);
 
@@ -177,6 +184,7 @@ function init() {
 function initSync() {}
 
 exports.HandRig = api.HandRig;
+exports.LAYOUT = LAYOUT;
 exports.init = init;
 exports.initSync = initSync;
 exports.version = ${JSON.stringify(version)};
@@ -191,6 +199,7 @@ import { createRequire } from "node:module";
 const cjs = createRequire(import.meta.url)("./index.cjs");
 
 export const HandRig = cjs.HandRig;
+export const LAYOUT = cjs.LAYOUT;
 export const init = cjs.init;
 export const initSync = cjs.initSync;
 export const version = cjs.version;
@@ -198,20 +207,32 @@ export default init;
 `;
 }
 
-function adapterEsm(core, version) {
+function adapterEsm(core, version, layout) {
   return `${banner(version)}
+${layoutConst(layout)}
 ${core}
 export { restPoseFromVRM, applyToVRM };
 `;
 }
 
-function adapterCjs(core, version) {
+function adapterCjs(core, version, layout) {
   return `${banner(version)}
 "use strict";
+${layoutConst(layout)}
 ${core}
 exports.restPoseFromVRM = restPoseFromVRM;
 exports.applyToVRM = applyToVRM;
 `;
+}
+
+/** The flat frame layout (src/flat.rs), frozen, as a constant of the generated module. */
+function layoutConst(layout) {
+  return `// The flat frame layout of this build (src/flat.rs, read from the wasm by build.mjs).
+const LAYOUT = deepFreeze(${JSON.stringify(layout)});
+function deepFreeze(o) {
+  for (const v of Object.values(o)) if (v !== null && typeof v === "object") deepFreeze(v);
+  return Object.freeze(o);
+}`;
 }
 
 function banner(version) {
@@ -277,16 +298,19 @@ function main() {
     }
   }
 
+  // The layout comes from the module just built, so the JS constants cannot drift from Rust.
+  const layout = createRequire(import.meta.url)(path.join(out, "wasm", "handrig_wasm.cjs")).HandRig.layout();
+
   const src = path.join(here, "src");
   const types = path.join(here, "types");
   const core = fs.readFileSync(path.join(src, "handrig-core.js"), "utf8");
   const adapter = fs.readFileSync(path.join(src, "three-vrm-core.js"), "utf8");
   const v = cargo.version;
-  fs.writeFileSync(path.join(out, "index.js"), esmBrowserEntry(core, v));
-  fs.writeFileSync(path.join(out, "index.cjs"), cjsNodeEntry(core, v));
+  fs.writeFileSync(path.join(out, "index.js"), esmBrowserEntry(core, v, layout));
+  fs.writeFileSync(path.join(out, "index.cjs"), cjsNodeEntry(core, v, layout));
   fs.writeFileSync(path.join(out, "index.mjs"), esmNodeEntry(v));
-  fs.writeFileSync(path.join(out, "three-vrm.js"), adapterEsm(adapter, v));
-  fs.writeFileSync(path.join(out, "three-vrm.cjs"), adapterCjs(adapter, v));
+  fs.writeFileSync(path.join(out, "three-vrm.js"), adapterEsm(adapter, v, layout));
+  fs.writeFileSync(path.join(out, "three-vrm.cjs"), adapterCjs(adapter, v, layout));
   const dts = fs.readFileSync(path.join(types, "handrig.d.ts"), "utf8");
   fs.writeFileSync(path.join(out, "index.d.ts"), dts);
   fs.writeFileSync(path.join(out, "index.d.cts"), toCts(dts));
@@ -311,10 +335,15 @@ function main() {
   }
   const api = createRequire(import.meta.url)(path.join(out, "index.cjs"));
   if (typeof api.HandRig !== "function" || typeof api.HandRig.fromVrm !== "function") {
-    fail("index.cjs does not export HandRig with fromVrm: do the bindings (src/wasm.rs) export the HandRig class?");
+    fail("index.cjs does not export HandRig with fromVrm: do the bindings (src/wasm/mod.rs) export the HandRig class?");
   }
-  const kib = (fs.statSync(shippedWasm).size / 1024).toFixed(0);
-  console.log(`build.mjs: ${path.relative(root, out) || "."}/ ready: handrig ${v}, wasm ${kib} KiB (${args.dev ? "dev" : "release"})`);
+  const wasmBytes = fs.readFileSync(shippedWasm);
+  const kib = (n) => `${(n / 1024).toFixed(1)} KiB`;
+  const gz = zlib.gzipSync(wasmBytes, { level: 9 }).length;
+  console.log(
+    `build.mjs: ${path.relative(root, out) || "."}/ ready: handrig ${v} (${args.dev ? "dev" : "release"}), ` +
+      `wasm ${kib(wasmBytes.length)} raw, ${kib(gz)} gzip (budget ${kib(WASM_GZIP_BUDGET)} gzip)`,
+  );
 }
 
 main();

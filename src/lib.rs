@@ -30,7 +30,8 @@
 //! * [`body`]: body mapping and calibration from pose landmarks.
 //! * [`ik`]: arm IK solvers.
 //! * [`rig`]: the per-frame pipeline tying them together ([`Rig`]).
-//! * `wasm` (wasm32 only): the JavaScript bindings.
+//! * [`flat`]: the flat `f32` frame layout of the typed-array path (input and output).
+//! * `wasm` (wasm32 only): the raw JavaScript bindings over [`flat`].
 
 #![warn(missing_docs)]
 
@@ -38,6 +39,7 @@ pub mod align;
 pub mod body;
 pub mod bones;
 pub mod error;
+pub mod flat;
 pub mod hand;
 pub mod ik;
 pub mod mediapipe;

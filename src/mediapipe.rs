@@ -235,6 +235,24 @@ impl FrameInput {
     }
 }
 
+/// Converts normalized image landmarks (Holistic legacy results carry no hand world
+/// landmarks) into approximate metric hand-centered points: x is scaled by the image aspect
+/// (width / height) so both axes are in the same unit, then everything is scaled so the
+/// wrist-to-middle-MCP distance is 9 cm, an average adult's (rotations do not depend on the
+/// scale; positions from it are approximate).
+pub fn image_to_pseudo_world(points: &mut [Vec3; HAND_LANDMARKS], aspect: f32) {
+    for p in points.iter_mut() {
+        p.x *= aspect;
+        p.z *= aspect;
+    }
+    let wrist = points[hand_landmark::WRIST];
+    let palm = (points[hand_landmark::MIDDLE_MCP] - wrist).length();
+    let k = if palm > 1e-6 { 0.09 / palm } else { 1.0 };
+    for p in points.iter_mut() {
+        *p = (*p - wrist) * k;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -127,6 +127,7 @@ pub struct Rig {
     body: BodyMapper,
     arms: ArmSolverState,
     landmarks: [Vec3; HAND_LANDMARKS],
+    driven: [bool; BONE_COUNT],
 }
 
 impl Rig {
@@ -146,6 +147,16 @@ impl Rig {
         let hands = HandSolver::new(&skeleton, options.hand_strategy)?;
         let body = BodyMapper::new(&skeleton, &options.calibration);
         let arms = ArmSolverState::new(&skeleton, options.arm_solver)?;
+        let mut driven = [false; BONE_COUNT];
+        for side in Side::BOTH {
+            let [_, upper, lower, hand] = side.arm();
+            let fingers = crate::bones::Finger::ALL
+                .iter()
+                .flat_map(|f| side.finger(*f));
+            for b in [upper, lower, hand].into_iter().chain(fingers) {
+                driven[b.index()] = skeleton.has(b);
+            }
+        }
         Ok(Rig {
             skeleton,
             options,
@@ -153,7 +164,25 @@ impl Rig {
             body,
             arms,
             landmarks: [Vec3::ZERO; HAND_LANDMARKS],
+            driven,
         })
+    }
+
+    /// Whether the rig drives `bone`: it writes the bone's rotation every frame (solved, held
+    /// or back at rest), so an app applies it every frame. The hand, finger and arm bones the
+    /// avatar has; other bones are left to the app.
+    #[inline]
+    #[must_use]
+    pub fn drives(&self, bone: HumanBone) -> bool {
+        self.driven[bone.index()]
+    }
+
+    /// Forgets everything carried between frames (held hands, the elbow swivel, body-scale
+    /// calibration): the next frame solves as if it were the first.
+    pub fn reset(&mut self) {
+        self.hands.reset();
+        self.arms.reset();
+        self.body.reset();
     }
 
     /// The avatar's skeleton.

@@ -74,6 +74,10 @@ impl Default for WorldPose {
     }
 }
 
+/// Largest rest coordinate accepted (meters). Bigger rest poses are rejected at load: a
+/// 1e20 m arm overflows `f32` arithmetic in the solvers (squared lengths become infinite).
+pub const MAX_REST_COORDINATE: f32 = 1000.0;
+
 /// An avatar's humanoid skeleton in handrig's internal frame (+Z facing, see the crate docs).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Skeleton {
@@ -89,7 +93,8 @@ impl Skeleton {
     /// 0.x, the -Z-facing frame three-vrm reports), converting to the internal frame.
     ///
     /// # Errors
-    /// Non-finite positions, a bone given twice, or missing VRM 1.0 required bones.
+    /// Non-finite positions, coordinates beyond [`MAX_REST_COORDINATE`], a bone given twice,
+    /// or missing VRM 1.0 required bones.
     pub fn new(bones: &[(HumanBone, Vec3)], version: VrmVersion) -> Result<Self> {
         let mut present = [false; BONE_COUNT];
         let mut rest_world = [Vec3::ZERO; BONE_COUNT];
@@ -98,6 +103,15 @@ impl Skeleton {
                 return Err(Error::invalid(
                     format!("restPose.bones.{bone}"),
                     "position must be three finite numbers",
+                ));
+            }
+            if p.abs().max_element() > MAX_REST_COORDINATE {
+                return Err(Error::invalid(
+                    format!("restPose.bones.{bone}"),
+                    format!(
+                        "position out of range: every coordinate must be within \
+                         {MAX_REST_COORDINATE} m of the origin (an avatar, not a planet)"
+                    ),
                 ));
             }
             if present[bone.index()] {

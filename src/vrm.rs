@@ -91,8 +91,29 @@ pub fn parse(bytes: &[u8]) -> Result<VrmHumanoid> {
 /// of the 15 bones VRM 1.0 requires.
 pub fn load_skeleton(bytes: &[u8]) -> Result<Skeleton> {
     let h = parse(bytes)?;
-    Skeleton::new(&h.bones, h.version)
+    // Name the file, not `restPose`, when the rest pose came from it.
+    Skeleton::new(&h.bones, h.version).map_err(|e| match e {
+        Error::MissingRequiredBones(names) => vrm_err(format!(
+            "humanoid lacks required bone(s) {}",
+            names.join(", ")
+        )),
+        Error::InvalidInput { field, problem } => vrm_err(format!(
+            "humanoid bone {}: {problem}",
+            field.strip_prefix("restPose.bones.").unwrap_or(&field)
+        )),
+        other => other,
+    })
 }
+
+/// Most nodes a `.vrm` may have (real avatars have hundreds to a few thousand). Bounds the
+/// work and memory of loading hostile files.
+pub const MAX_NODES: usize = 65_536;
+
+/// Deepest node hierarchy a `.vrm` may have (real avatars: under 100 levels).
+pub const MAX_DEPTH: usize = 1_024;
+
+/// Largest JSON chunk read (real avatars: a few MB).
+pub const MAX_JSON_BYTES: usize = 64 << 20;
 
 fn vrm_err(msg: impl Into<String>) -> Error {
     Error::Vrm(msg.into())
@@ -210,6 +231,9 @@ impl<'a> Glb<'a> {
                 vrm_err(format!("{what} at bytes {start}..{end} is out of bounds"))
             })?;
             match (index, kind) {
+                (0, CHUNK_JSON) if chunk_len > MAX_JSON_BYTES => return Err(vrm_err(format!(
+                    "JSON chunk of {chunk_len} bytes, more than the {MAX_JSON_BYTES} handrig reads"
+                ))),
                 (0, CHUNK_JSON) => json = Some(data),
                 (0, other) => {
                     return Err(vrm_err(format!(
@@ -259,6 +283,11 @@ impl NodeTree {
             Some(_) => return Err(vrm_err("nodes: must be an array")),
         };
         let n = nodes.len();
+        if n > MAX_NODES {
+            return Err(vrm_err(format!(
+                "nodes: {n} nodes, more than the {MAX_NODES} handrig reads"
+            )));
+        }
         let mut local = Vec::with_capacity(n);
         let mut parent: Vec<Option<usize>> = vec![None; n];
         for (i, node) in nodes.iter().enumerate() {
@@ -297,6 +326,7 @@ impl NodeTree {
         }
         let tree = NodeTree { local, parent };
         tree.check_acyclic()?;
+        tree.check_depth()?;
         Ok(tree)
     }
 
@@ -333,6 +363,39 @@ impl NodeTree {
             }
             for &i in &path {
                 state[i] = ROOTED;
+            }
+        }
+        Ok(())
+    }
+
+    /// Rejects hierarchies deeper than [`MAX_DEPTH`]. Linear: each node's depth is its
+    /// parent's plus one, memoized (the hierarchy is known to be acyclic).
+    fn check_depth(&self) -> Result<()> {
+        let n = self.len();
+        let mut depth = vec![0usize; n];
+        let mut known = vec![false; n];
+        let mut path = Vec::new();
+        for start in 0..n {
+            path.clear();
+            let mut cur = Some(start);
+            let mut base = 0;
+            while let Some(i) = cur {
+                if known[i] {
+                    base = depth[i];
+                    break;
+                }
+                path.push(i);
+                cur = self.parent[i];
+            }
+            for (k, &i) in path.iter().rev().enumerate() {
+                depth[i] = base + k + 1;
+                known[i] = true;
+                if depth[i] > MAX_DEPTH {
+                    return Err(vrm_err(format!(
+                        "nodes: node {i} is {} levels deep, more than the {MAX_DEPTH} handrig reads",
+                        depth[i]
+                    )));
+                }
             }
         }
         Ok(())

@@ -9,6 +9,7 @@ mod recordings;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use handrig::flat;
 use handrig::{FrameInput, HumanBone, Rig, RigOptions, SolveOutput};
 use recordings::ArmInput;
 
@@ -43,13 +44,20 @@ fn solve_allocates_nothing_per_frame() {
     let mut rig = Rig::new(recordings::vrm(recordings::ROBOT), RigOptions::default()).unwrap();
     let mut out = SolveOutput::default();
     let mut frame = FrameInput::default();
+    let mut decoded = FrameInput::default();
     let pose = recordings::plausible_pose();
+    let mut input = vec![0.0f32; flat::input::LEN];
+    let mut output = vec![0.0f32; flat::output::LEN];
 
+    // Through the flat layout, as the npm package does: encode, decode, solve, write out.
     let mut run = |rig: &mut Rig, i: usize, mode: usize| {
         let arm = ArmInput::ALL[mode];
         recordings::fill_frame(&mut frame, hands[i % hands.len()], 0.9, arm, &pose);
         frame.time_ms = i as f64 * 33.3;
-        rig.solve(&frame, &mut out).unwrap();
+        flat::write_input(&frame, &mut input);
+        flat::read_input(&input, frame.time_ms, &mut decoded).unwrap();
+        rig.solve(&decoded, &mut out).unwrap();
+        flat::write_output(rig, &out, &mut output);
     };
     // The counter sees allocations at all.
     let probe_before = ALLOCATIONS.load(Ordering::SeqCst);

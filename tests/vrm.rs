@@ -499,10 +499,66 @@ fn missing_required_bone_is_reported_by_the_skeleton() {
             .remove("head");
     });
     assert_eq!(parse(&b).unwrap().bones.len(), 52);
+    // The message names the file, not `restPose` (issue 15).
     assert_eq!(
-        load_skeleton(&b).unwrap_err(),
-        Error::MissingRequiredBones(vec!["head"])
+        load_skeleton(&b).unwrap_err().to_string(),
+        "vrm: humanoid lacks required bone(s) head"
     );
+}
+
+/// ../shared/repro/huge-scale-robot.vrm: the robot with a node scale of 1e20. It used to load
+/// and then panic in the two-bone solver (bone lengths overflow); now it is refused at load.
+#[test]
+fn absurd_scale_is_refused_at_load() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/repro/huge-scale-robot.vrm"
+    );
+    let e = load_skeleton(&read(path)).unwrap_err().to_string();
+    assert!(
+        e.starts_with("vrm: humanoid bone ") && e.contains("position out of range"),
+        "{e}"
+    );
+    // The same robot scaled to 100 m still loads (a giant, not an overflow).
+    let b = edited(ROBOT, |j| {
+        j["nodes"][0]["scale"] = json!([50.0, 50.0, 50.0]);
+    });
+    load_skeleton(&b).expect("a 50x robot is a valid avatar");
+}
+
+/// A chain of nodes above the humanoid: deep hierarchies and huge node counts are refused
+/// with a clear error instead of seconds of work and hundreds of MB
+/// (../shared/repro/deep-chain.cjs used 400,000 nodes).
+#[test]
+fn deep_and_huge_hierarchies_are_refused() {
+    let chain = |extra: usize| {
+        edited(ROBOT, |j| {
+            let nodes = j["nodes"].as_array_mut().unwrap();
+            let n = nodes.len();
+            // Every root of the scene goes under a chain of `extra` empty nodes.
+            let roots: Vec<usize> = j["scenes"][0]["nodes"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_u64().unwrap() as usize)
+                .collect();
+            let nodes = j["nodes"].as_array_mut().unwrap();
+            for k in 0..extra {
+                let child: Vec<usize> = if k + 1 < extra {
+                    vec![n + k + 1]
+                } else {
+                    roots.clone()
+                };
+                nodes.push(json!({ "children": child }));
+            }
+            j["scenes"][0]["nodes"] = json!([n]);
+        })
+    };
+    load_skeleton(&chain(100)).expect("100 extra levels are fine");
+    let e = vrm_message(parse(&chain(handrig::vrm::MAX_DEPTH + 10)));
+    assert!(e.contains("levels deep"), "{e}");
+    let e = vrm_message(parse(&chain(handrig::vrm::MAX_NODES + 1)));
+    assert!(e.contains("more than the 65536"), "{e}");
 }
 
 #[test]

@@ -1,26 +1,37 @@
 // The idiomatic JS layer over the raw wasm-bindgen `HandRig` (rapier.js style: the wasm class
 // stays thin, users get this one). Shared by every entry point: build.mjs wraps this file as
-// an ES module (browsers, bundlers) or CommonJS (Node), so it has no imports or exports itself.
+// an ES module (browsers, bundlers) or CommonJS (Node), so it has no imports or exports itself;
+// build.mjs defines `LAYOUT` (the flat frame layout, read from the built wasm) before it.
 //
-// What it adds over the raw class, and why:
-// - a clear "call init() first" error instead of wasm-bindgen's `undefined` dereference when a
-//   browser build is used before its WebAssembly is instantiated;
-// - every failure is an `Error` instance (wasm-bindgen throws whatever the Rust side gave);
-// - `fromVrm` takes a Uint8Array, Node Buffer, ArrayBuffer or any typed array / DataView;
-// - `free()` is idempotent, a freed rig says so by name, and `using rig = ...` frees it;
-// - methods the raw class gains later are forwarded unchanged (see `forwardRawMembers`), so a
-//   new wasm method works before this file learns about it (the d.ts test lists gaps).
-// Per-frame cost is one extra JS call and a try/catch around `solve`: nothing is allocated.
+// Per frame nothing crosses the wasm boundary but numbers. The rig owns a flat input and
+// output buffer in wasm memory (`LAYOUT`, src/flat.rs); this file
+// - packs MediaPipe's result shapes into the input through a Float32Array view (reading every
+//   user property once, in JavaScript: a throwing getter or a lying `length` throws here, with
+//   the field named, before wasm is entered, so it can never leave the rig half-borrowed);
+// - calls `solveFlat(timeMs)`;
+// - builds the result object from the output view, reusing one object per rig (or the
+//   caller's) so that a frame allocates nothing once warmed up.
+// It also turns every failure into an `Error` naming the field, checks options against
+// `optionDescriptions()` (nested objects or dotted paths), and reads rest poses.
 
+/* global LAYOUT */
 /* exported createHandRigApi */
 // eslint-disable-next-line no-unused-vars
 function createHandRigApi(raw, isReady) {
   "use strict";
   const RawHandRig = raw.HandRig;
+  const L = LAYOUT;
+  const LI = L.input;
+  const LO = L.output;
+  const BONES = L.bones;
+  const BONE_COUNT = BONES.length;
+  const BONE_INDEX = new Map(BONES.map((name, i) => [name, i]));
+  const HAND_POINTS = 21;
+  const POSE_POINTS = 33;
+  const MAX_HANDS = (LI.pose - LI.hands) / LI.handStride;
+  const SIDES = ["left", "right"];
   // Constructor token for wrapping a raw rig made by a static factory (fromVrm).
   const ADOPT = {};
-  // wrapper -> raw rig; `null` once freed.
-  const rawOf = new WeakMap();
 
   function ensureReady(what) {
     if (!isReady()) {
@@ -38,38 +49,786 @@ function createHandRigApi(raw, isReady) {
     return new Error(typeof e === "string" ? e : `handrig: ${String(e)}`);
   }
 
-  function liveRaw(rig, method) {
-    const r = rawOf.get(rig);
-    if (r === undefined) {
-      throw new TypeError(`HandRig.prototype.${method} called on an object that is not a HandRig`);
-    }
-    if (r === null) {
-      throw new Error(`HandRig.${method}: this rig was freed (free() was called); create a new HandRig`);
-    }
-    return r;
+  // ---------------------------------------------------------------------------------------
+  // Input problems: an Error whose message starts with the field's path.
+  //
+  // Paths are passed as pieces (`fa`, `fi`, `fb`: "frame.hands", 1, ".worldLandmarks") and
+  // joined only when something is wrong, so a good frame builds no strings. `where` remembers
+  // the part of the frame being read, to name it when a user getter throws.
+
+  class FieldError extends Error {}
+
+  function path(fa, fi, fb) {
+    return fi < 0 ? fa + fb : `${fa}[${fi}]${fb}`;
   }
 
-  function tag(bytes) {
-    return Object.prototype.toString.call(bytes);
+  function fail(field, problem) {
+    throw new FieldError(`${field}: ${problem}`);
+  }
+
+  const where = { a: "frame", i: -1, b: "" };
+  function at(a, i, b) {
+    where.a = a;
+    where.i = i;
+    where.b = b;
+  }
+
+  function describe(v) {
+    if (v === null) return "null";
+    if (Array.isArray(v)) return `an array of ${v.length}`;
+    if (ArrayBuffer.isView(v)) return `a ${tag(v)} of ${v.length}`;
+    if (typeof v === "object") return tag(v) === "Object" ? "an object" : `a ${tag(v)}`;
+    if (typeof v === "string") return `string ${JSON.stringify(v.length > 40 ? `${v.slice(0, 40)}...` : v)}`;
+    return `${typeof v} ${String(v)}`;
+  }
+
+  function tag(v) {
+    return Object.prototype.toString.call(v).slice(8, -1);
+  }
+
+  function isObject(v) {
+    return v !== null && typeof v === "object";
+  }
+
+  function isFiniteNumber(v) {
+    return typeof v === "number" && v - v === 0;
+  }
+
+  function notFinite(v, field) {
+    fail(field, typeof v === "number" ? "must be a finite number" : `must be a number, got ${describe(v)}`);
+  }
+
+  // A finite number, for fields read once per frame (the path is a constant string).
+  function finite(v, field) {
+    if (!isFiniteNumber(v)) notFinite(v, field);
+    return v;
+  }
+
+  // Writes `n` points of `stride` floats from `list` at `out[o..]` (x y z, then visibility
+  // when `stride` is 4). Accepts arrays of {x, y, z} or [x, y, z] (pose: [x, y, z, v]) and flat
+  // typed arrays / number arrays of n * 3. Each element is read once.
+  function packPoints(list, out, o, n, stride, fa, fi, fb) {
+    const flatLength = n * 3;
+    if (ArrayBuffer.isView(list) || (Array.isArray(list) && list.length === flatLength && typeof list[0] === "number")) {
+      const len = list.length;
+      if (len !== flatLength) {
+        fail(path(fa, fi, fb), `flat array must have ${flatLength} numbers (${n} points x 3), got ${len}`);
+      }
+      for (let k = 0; k < n; k++) {
+        const d = o + k * stride;
+        for (let c = 0; c < 3; c++) {
+          const v = list[k * 3 + c];
+          if (!isFiniteNumber(v)) notFinite(v, `${path(fa, fi, fb)}[${k * 3 + c}]`);
+          out[d + c] = v;
+        }
+        if (stride === 4) out[d + 3] = 1;
+      }
+      return;
+    }
+    if (!Array.isArray(list)) {
+      fail(path(fa, fi, fb), `must be an array of ${n} points or a Float32Array of ${flatLength}, got ${describe(list)}`);
+    }
+    const len = list.length;
+    if (len !== n) fail(path(fa, fi, fb), `must have ${n} points, got ${len}`);
+    for (let k = 0; k < n; k++) {
+      const p = list[k];
+      const d = o + k * stride;
+      let x;
+      let y;
+      let z;
+      let visibility;
+      let array = false;
+      if (Array.isArray(p) || ArrayBuffer.isView(p)) {
+        array = true;
+        const m = p.length;
+        if (m !== 3 && !(stride === 4 && m === 4)) {
+          fail(`${path(fa, fi, fb)}[${k}]`, `must have 3 numbers [x, y, z]${stride === 4 ? " (or 4 with visibility)" : ""}, got ${m}`);
+        }
+        x = p[0];
+        y = p[1];
+        z = p[2];
+        if (m === 4) visibility = p[3];
+      } else if (isObject(p)) {
+        x = p.x;
+        y = p.y;
+        z = p.z;
+        if (stride === 4) visibility = p.visibility;
+      } else {
+        fail(`${path(fa, fi, fb)}[${k}]`, `must be [x, y, z] or {x, y, z} (three finite numbers), got ${describe(p)}`);
+      }
+      if (!isFiniteNumber(x)) notFinite(x, `${path(fa, fi, fb)}[${k}]${array ? "[0]" : ".x"}`);
+      if (!isFiniteNumber(y)) notFinite(y, `${path(fa, fi, fb)}[${k}]${array ? "[1]" : ".y"}`);
+      if (!isFiniteNumber(z)) notFinite(z, `${path(fa, fi, fb)}[${k}]${array ? "[2]" : ".z"}`);
+      out[d] = x;
+      out[d + 1] = y;
+      out[d + 2] = z;
+      if (stride === 4) {
+        if (visibility === undefined || visibility === null) out[d + 3] = 1;
+        else {
+          const field = () => `${path(fa, fi, fb)}[${k}]${array ? "[3]" : ".visibility"}`;
+          if (!isFiniteNumber(visibility)) notFinite(visibility, field());
+          if (visibility < 0 || visibility > 1) fail(field(), `must be in 0..1, got ${visibility}`);
+          out[d + 3] = visibility;
+        }
+      }
+    }
+  }
+
+  function readVec3(v, field, out, o) {
+    if (Array.isArray(v) || ArrayBuffer.isView(v)) {
+      if (v.length !== 3) fail(field, `must have 3 numbers [x, y, z], got ${v.length}`);
+      for (let c = 0; c < 3; c++) {
+        if (!isFiniteNumber(v[c])) notFinite(v[c], `${field}[${c}]`);
+        out[o + c] = v[c];
+      }
+    } else if (isObject(v)) {
+      const x = v.x;
+      const y = v.y;
+      const z = v.z;
+      if (!isFiniteNumber(x)) notFinite(x, `${field}.x`);
+      if (!isFiniteNumber(y)) notFinite(y, `${field}.y`);
+      if (!isFiniteNumber(z)) notFinite(z, `${field}.z`);
+      out[o] = x;
+      out[o + 1] = y;
+      out[o + 2] = z;
+    } else {
+      fail(field, `must be [x, y, z] or {x, y, z} (three finite numbers), got ${describe(v)}`);
+    }
+  }
+
+  function readQuat(v, field, out, o) {
+    if (Array.isArray(v) || ArrayBuffer.isView(v)) {
+      if (v.length !== 4) fail(field, `must be a quaternion [x, y, z, w], got ${v.length} numbers`);
+      for (let c = 0; c < 4; c++) {
+        if (!isFiniteNumber(v[c])) notFinite(v[c], `${field}[${c}]`);
+        out[o + c] = v[c];
+      }
+    } else if (isObject(v)) {
+      const x = v.x;
+      const y = v.y;
+      const z = v.z;
+      const w = v.w;
+      if (!isFiniteNumber(x)) notFinite(x, `${field}.x`);
+      if (!isFiniteNumber(y)) notFinite(y, `${field}.y`);
+      if (!isFiniteNumber(z)) notFinite(z, `${field}.z`);
+      if (!isFiniteNumber(w)) notFinite(w, `${field}.w`);
+      out[o] = x;
+      out[o + 1] = y;
+      out[o + 2] = z;
+      out[o + 3] = w;
+    } else {
+      fail(field, `must be a quaternion [x, y, z, w], got ${describe(v)}`);
+    }
+    const len = Math.sqrt(out[o] * out[o] + out[o + 1] * out[o + 1] + out[o + 2] * out[o + 2] + out[o + 3] * out[o + 3]);
+    if (Math.abs(len - 1) > 1e-2) fail(field, `must be a unit quaternion [x, y, z, w] (length ${len.toPrecision(3)})`);
+  }
+
+  // "Left" / "Right" (either case), a category { categoryName | label, score }, or
+  // tasks-vision's [category] (the first, best one). Returns 0 for "Left", 1 for "Right"; the
+  // category's score, if any, goes to `scratchScore[0]`.
+  const scratchScore = [undefined];
+  function readHandedness(v, fa, fi, fb) {
+    let item = v;
+    if (Array.isArray(v)) {
+      if (v.length === 0) fail(path(fa, fi, fb), "is an empty array (expected [{ categoryName, score }])");
+      item = v[0];
+    }
+    let label = item;
+    scratchScore[0] = undefined;
+    if (isObject(item)) {
+      const name = item.categoryName;
+      label = name !== undefined && name !== null ? name : item.label;
+      const score = item.score;
+      if (score !== undefined && score !== null) {
+        if (!isFiniteNumber(score)) notFinite(score, `${path(fa, fi, fb)}.score`);
+        scratchScore[0] = score;
+      }
+    }
+    if (label === "Left" || label === "left") return 0;
+    if (label === "Right" || label === "right") return 1;
+    if (typeof label !== "string") {
+      fail(path(fa, fi, fb), `must be "Left" or "Right" (or a category { categoryName, score }), got ${describe(label)}`);
+    }
+    return fail(path(fa, fi, fb), `must be "Left" or "Right", got ${JSON.stringify(label)}`);
+  }
+
+  function checkScore(score, fa, fi, fb) {
+    if (!isFiniteNumber(score)) notFinite(score, path(fa, fi, fb));
+    if (score < 0 || score > 1) fail(path(fa, fi, fb), `must be in 0..1, got ${score}`);
+    return score;
+  }
+
+  // One hand into slot `slot`: world and/or image landmarks (either may be absent, not both).
+  // Field paths: `path(wa, fi, wb)` and `path(ia, fi, ib)`.
+  function packHand(input, slot, label, score, world, image, fi, wa, wb, ia, ib) {
+    const o = LI.hands + slot * LI.handStride;
+    const H = LI.hand;
+    input[o + H.handedness] = label;
+    input[o + H.score] = score;
+    const hasImage = image !== undefined && image !== null;
+    const hasWorld = world !== undefined && world !== null;
+    if (!hasWorld && !hasImage) {
+      fail(path(wa, fi, wb), "is missing (21 points [x, y, z] in meters, or image landmarks)");
+    }
+    if (hasImage) {
+      at(ia, fi, ib);
+      packPoints(image, input, o + H.image, HAND_POINTS, 3, ia, fi, ib);
+    }
+    if (hasWorld) {
+      at(wa, fi, wb);
+      packPoints(world, input, o + H.world, HAND_POINTS, 3, wa, fi, wb);
+    }
+    input[o + H.hasWorld] = hasWorld ? 1 : 0;
+    input[o + H.hasImage] = hasImage ? 1 : 0;
+  }
+
+  // handrig's own shape: [{ handedness, score?, worldLandmarks, landmarks? }].
+  function packHandList(hands, input) {
+    at("frame.hands", -1, "");
+    const n = hands.length;
+    if (!(n <= MAX_HANDS)) fail("frame.hands", `at most ${MAX_HANDS} hands per frame, got ${n}`);
+    for (let i = 0; i < n; i++) {
+      at("frame.hands", i, "");
+      const h = hands[i];
+      if (!isObject(h) || Array.isArray(h)) {
+        fail(path("frame.hands", i, ""), `must be a hand object { handedness, worldLandmarks }, got ${describe(h)}`);
+      }
+      const hv = h.handedness;
+      if (hv === undefined || hv === null) fail(path("frame.hands", i, ".handedness"), 'is missing ("Left" or "Right")');
+      const label = readHandedness(hv, "frame.hands", i, ".handedness");
+      const labelScore = scratchScore[0];
+      const s = h.score;
+      if (s === undefined || s === null) {
+        checkScore(labelScore === undefined ? 1 : labelScore, "frame.hands", i, ".handedness.score");
+      } else checkScore(s, "frame.hands", i, ".score");
+      const score = s === undefined || s === null ? (labelScore === undefined ? 1 : labelScore) : s;
+      packHand(input, i, label, score, h.worldLandmarks, h.landmarks, i, "frame.hands", ".worldLandmarks", "frame.hands", ".landmarks");
+    }
+    return n;
+  }
+
+  // Whether `v` is a list of landmark lists ([[...points], ...]) rather than one list of
+  // points: its first element is itself a list.
+  function isListOfLists(v) {
+    if (!Array.isArray(v) || v.length === 0) return false;
+    const first = v[0];
+    return ArrayBuffer.isView(first) || (Array.isArray(first) && first.length > 0 && typeof first[0] !== "number");
+  }
+
+  // A per-hand list of a result shape (one landmark list per hand): as many as labels.
+  function checkPerHandList(list, listPath, n, labelPath) {
+    if (list === undefined || list === null) return;
+    if (!Array.isArray(list)) fail(listPath, `must be an array (one list per hand), got ${describe(list)}`);
+    if (list.length !== n) fail(listPath, `has ${list.length} hand(s) but ${labelPath} has ${n}: one entry per hand`);
+  }
+
+  // Field paths of MediaPipe result shapes, made once (a good frame builds no strings).
+  const RESULT_FIELDS = ["multiHandedness", "multiHandWorldLandmarks", "multiHandLandmarks", "handedness",
+    "handednesses", "worldLandmarks", "landmarks", "leftHandLandmarks", "rightHandLandmarks"];
+  const RESULT_PATHS = {};
+  for (const name of ["frame", "frame.hands"]) {
+    const p = {};
+    for (const f of RESULT_FIELDS) p[f] = `${name}.${f}`;
+    RESULT_PATHS[name] = p;
+  }
+
+  // tasks-vision HandLandmarkerResult, legacy Hands or legacy Holistic results (`name`:
+  // "frame.hands" or "frame"). Returns the number of hands packed, or -1 when `r` has none of
+  // their fields.
+  function packResultShape(r, input, name) {
+    const P = RESULT_PATHS[name];
+    at(name, -1, "");
+    let labels;
+    let labelPath;
+    let world;
+    let worldPath;
+    let image;
+    let imagePath;
+    const multi = r.multiHandedness;
+    if (multi !== undefined && multi !== null) {
+      labels = multi;
+      labelPath = P.multiHandedness;
+      world = r.multiHandWorldLandmarks;
+      worldPath = P.multiHandWorldLandmarks;
+      image = r.multiHandLandmarks;
+      imagePath = P.multiHandLandmarks;
+    } else {
+      world = r.worldLandmarks;
+      worldPath = P.worldLandmarks;
+      image = r.landmarks;
+      imagePath = P.landmarks;
+      const h = r.handedness;
+      if (h !== undefined && h !== null) {
+        labels = h;
+        labelPath = P.handedness;
+      } else {
+        const hs = r.handednesses;
+        if (hs !== undefined && hs !== null) {
+          labels = hs;
+          labelPath = P.handednesses;
+        }
+      }
+    }
+    const hasWorld = world !== undefined && world !== null;
+    const hasImage = image !== undefined && image !== null;
+    if (labels === undefined) {
+      if (hasWorld || hasImage) {
+        fail(
+          P.handedness,
+          "is missing: a HandLandmarker result needs `handedness` to tell the hands apart" +
+            (name === "frame" ? " (a PoseLandmarker result goes in frame.pose)" : ""),
+        );
+      }
+      // Holistic legacy: image landmarks per side, labelled like MediaPipe's hand labels.
+      let n = 0;
+      const left = r.leftHandLandmarks;
+      const right = r.rightHandLandmarks;
+      if (left !== undefined && left !== null) {
+        const f = P.leftHandLandmarks;
+        packHand(input, n++, 0, 1, null, left, -1, f, "", f, "");
+      }
+      if (right !== undefined && right !== null) {
+        const f = P.rightHandLandmarks;
+        packHand(input, n++, 1, 1, null, right, -1, f, "", f, "");
+      }
+      if (n === 0 && left === undefined && right === undefined) return -1;
+      return n;
+    }
+    if (!Array.isArray(labels)) fail(labelPath, `must be an array, got ${describe(labels)}`);
+    const n = labels.length;
+    if (!(n <= MAX_HANDS)) fail(labelPath, `at most ${MAX_HANDS} hands per frame, got ${n}`);
+    checkPerHandList(world, worldPath, n, labelPath);
+    checkPerHandList(image, imagePath, n, labelPath);
+    for (let i = 0; i < n; i++) {
+      at(labelPath, i, "");
+      const label = readHandedness(labels[i], labelPath, i, "");
+      const score = scratchScore[0] === undefined ? 1 : scratchScore[0];
+      checkScore(score, labelPath, i, ".score");
+      packHand(input, i, label, score, hasWorld ? world[i] : null, hasImage ? image[i] : null, i, worldPath, "", imagePath, "");
+    }
+    return n;
+  }
+
+  const NOT_A_FRAME = ["Date", "Map", "Set", "WeakMap", "WeakSet", "RegExp", "Promise", "ArrayBuffer", "Function", "Error"];
+
+  // Frames that are certainly not one frame: say what they look like.
+  function checkFrameObject(frame) {
+    if (!isObject(frame)) {
+      fail("frame", `must be an object { timeMs, hands?, pose?, wrists? }, got ${describe(frame)}`);
+    }
+    if (Array.isArray(frame)) {
+      const first = frame.length > 0 ? frame[0] : undefined;
+      const recording = isObject(first) && ("hands" in first || "timeMs" in first || "pose" in first);
+      fail(
+        "frame",
+        `must be one frame object { timeMs, hands?, pose?, wrists? }, got an array of ${frame.length}` +
+          (recording ? " (a whole recording? solve its frames one at a time)" : ""),
+      );
+    }
+    const proto = Object.getPrototypeOf(frame);
+    if (proto === Object.prototype || proto === null) return;
+    const t = tag(frame);
+    if (ArrayBuffer.isView(frame) || NOT_A_FRAME.includes(t)) {
+      fail("frame", `must be a frame object { timeMs, hands?, pose?, wrists? }, got a ${t}`);
+    }
+  }
+
+  // Whether `h` (given as frame.hands) is one hand rather than a list or a result: a single
+  // handedness and one list of points.
+  function looksLikeOneHand(h) {
+    const hd = h.handedness;
+    const w = h.worldLandmarks;
+    const pts = w !== undefined ? w : h.landmarks;
+    const oneLabel = typeof hd === "string" || (isObject(hd) && !Array.isArray(hd)) ||
+      (Array.isArray(hd) && hd.length > 0 && isObject(hd[0]) && !Array.isArray(hd[0]));
+    return oneLabel && (ArrayBuffer.isView(pts) || (Array.isArray(pts) && pts.length > 0 && !isListOfLists(pts)));
+  }
+
+  const KNOWN_FRAME_KEYS = [
+    "timeMs", "hands", "pose", "wrists", "imageAspect", "landmarks", "worldLandmarks", "handedness",
+    "handednesses", "multiHandLandmarks", "multiHandWorldLandmarks", "multiHandedness",
+    "leftHandLandmarks", "rightHandLandmarks", "poseWorldLandmarks", "poseLandmarks",
+    "faceLandmarks", "image", "segmentationMask",
+  ];
+
+  function packPose(frame, input) {
+    at("frame.pose", -1, "");
+    const pose = frame.pose;
+    let list;
+    let name;
+    if (pose !== undefined && pose !== null) {
+      if (Array.isArray(pose) || ArrayBuffer.isView(pose)) {
+        list = pose;
+        name = "frame.pose";
+      } else if (isObject(pose)) {
+        list = pose.worldLandmarks;
+        name = "frame.pose.worldLandmarks";
+        if (list === undefined || list === null) {
+          list = pose.poseWorldLandmarks;
+          name = "frame.pose.poseWorldLandmarks";
+        }
+        if (list === undefined || list === null) {
+          fail("frame.pose.worldLandmarks", "is missing (33 world landmarks, meters)");
+        }
+      } else {
+        fail("frame.pose", `must be { worldLandmarks } or a PoseLandmarker result, got ${describe(pose)}`);
+      }
+    } else {
+      list = frame.poseWorldLandmarks;
+      name = "frame.poseWorldLandmarks";
+      if (list === undefined || list === null) return false;
+    }
+    // PoseLandmarker: one list per person; the first person drives the avatar.
+    let person = -1;
+    if (isListOfLists(list)) {
+      list = list[0];
+      person = 0;
+    }
+    if (Array.isArray(list) && list.length === 0) return true; // nobody detected
+    at(name, person, "");
+    packPoints(list, input, LI.pose, POSE_POINTS, LI.poseStride, name, person, "");
+    input[LI.posePresent] = 1;
+    return true;
+  }
+
+  const WRIST_FIELDS = SIDES.map((side) => ({
+    side: `frame.wrists.${side}`,
+    position: `frame.wrists.${side}.position`,
+    rotation: `frame.wrists.${side}.rotation`,
+  }));
+
+  function packWrists(wrists, input) {
+    at("frame.wrists", -1, "");
+    if (!isObject(wrists) || Array.isArray(wrists)) {
+      fail("frame.wrists", `must be { left?: { position, rotation? }, right?: ... }, got ${describe(wrists)}`);
+    }
+    for (let s = 0; s < 2; s++) {
+      const F = WRIST_FIELDS[s];
+      at(F.side, -1, "");
+      const w = wrists[SIDES[s]];
+      if (w === undefined || w === null) continue;
+      const o = LI.wrists + s * LI.wristStride;
+      if (!isObject(w)) fail(F.side, `must be { position: [x, y, z], rotation?: [x, y, z, w] }, got ${describe(w)}`);
+      const position = w.position;
+      if (position === undefined || position === null) fail(F.position, "is missing (expected [x, y, z])");
+      readVec3(position, F.position, input, o + LI.wrist.position);
+      const rotation = w.rotation;
+      const hasRotation = rotation !== undefined && rotation !== null;
+      if (hasRotation) readQuat(rotation, F.rotation, input, o + LI.wrist.rotation);
+      input[o + LI.wrist.hasRotation] = hasRotation ? 1 : 0;
+      input[o + LI.wrist.present] = 1;
+    }
+  }
+
+  // Packs one frame into `input`; returns its timestamp (ms). Throws a FieldError naming the
+  // field on bad input (the input is then partly written; the rig is not called).
+  function packFrame(frame, input) {
+    at("frame", -1, "");
+    checkFrameObject(frame);
+    input[LI.handCount] = 0;
+    input[LI.posePresent] = 0;
+    for (let s = 0; s < 2; s++) input[LI.wrists + s * LI.wristStride + LI.wrist.present] = 0;
+
+    const t = frame.timeMs;
+    const timeMs = t === undefined || t === null ? 0 : finite(t, "frame.timeMs");
+    const aspect = frame.imageAspect;
+    if (aspect === undefined || aspect === null) input[LI.imageAspect] = 0;
+    else {
+      finite(aspect, "frame.imageAspect");
+      if (aspect <= 0) fail("frame.imageAspect", "must be positive (width / height)");
+      input[LI.imageAspect] = aspect;
+    }
+
+    let found = t !== undefined;
+    const hands = frame.hands;
+    let handCount = 0;
+    if (hands !== undefined && hands !== null) {
+      found = true;
+      if (Array.isArray(hands)) handCount = packHandList(hands, input);
+      else if (isObject(hands) && !ArrayBuffer.isView(hands)) {
+        if (looksLikeOneHand(hands)) {
+          fail("frame.hands", "must be an array of hands, got a single hand object: wrap it in [ ]");
+        }
+        handCount = packResultShape(hands, input, "frame.hands");
+        if (handCount < 0) {
+          fail("frame.hands", "must be an array of hands or a HandLandmarker / legacy Hands result, got an object with none of their fields");
+        }
+      } else {
+        fail("frame.hands", `must be an array of hands or a HandLandmarker result, got ${describe(hands)}`);
+      }
+    } else {
+      // A MediaPipe result passed as the frame itself.
+      handCount = packResultShape(frame, input, "frame");
+      if (handCount < 0) handCount = 0;
+      else found = true;
+    }
+    input[LI.handCount] = handCount;
+
+    if (packPose(frame, input)) found = true;
+
+    const wrists = frame.wrists;
+    if (wrists !== undefined && wrists !== null) {
+      found = true;
+      packWrists(wrists, input);
+    }
+
+    if (!found) {
+      const keys = Object.keys(frame);
+      if (keys.length > 0 && !keys.some((k) => KNOWN_FRAME_KEYS.includes(k))) {
+        fail("frame", `has none of timeMs, hands, pose, wrists (nor a MediaPipe result's fields); got keys ${keys.slice(0, 8).join(", ")}`);
+      }
+    }
+    return timeMs;
+  }
+
+  // A user getter or Proxy threw while the frame was read: name the part being read.
+  function readError(e) {
+    if (e instanceof FieldError) return e;
+    const msg = e !== null && typeof e === "object" && typeof e.message === "string" ? e.message : String(e);
+    const err = new Error(`${path(where.a, where.i, where.b)}: reading it threw: ${msg}`);
+    err.cause = e;
+    return err;
+  }
+
+  // ---------------------------------------------------------------------------------------
+  // Results: built from the output view into a reused object.
+
+  function vec(out, at, dst) {
+    dst[0] = out[at];
+    dst[1] = out[at + 1];
+    dst[2] = out[at + 2];
+    return dst;
+  }
+
+  function quat(out, at, dst) {
+    dst[0] = out[at];
+    dst[1] = out[at + 1];
+    dst[2] = out[at + 2];
+    dst[3] = out[at + 3];
+    return dst;
+  }
+
+  const STATUS = [undefined, "solved", "held", "skipped"];
+
+  // Fills `result` (any object; its parts are created on first use and reused after) from the
+  // output view. `driven`/`present` are the rig's bone indices.
+  function fillResult(result, out, timeMs, driven, present) {
+    result.timeMs = timeMs;
+    let bones = result.bones;
+    if (!isObject(bones)) bones = result.bones = {};
+    for (let k = 0; k < driven.length; k++) {
+      const i = driven[k];
+      const name = BONES[i];
+      const q = bones[name];
+      bones[name] = quat(out, LO.boneRotations + 4 * i, Array.isArray(q) ? q : [0, 0, 0, 1]);
+    }
+    let world = result.worldPositions;
+    if (!isObject(world)) world = result.worldPositions = {};
+    for (let k = 0; k < present.length; k++) {
+      const i = present[k];
+      const name = BONES[i];
+      const p = world[name];
+      world[name] = vec(out, LO.bonePositions + 3 * i, Array.isArray(p) ? p : [0, 0, 0]);
+    }
+    let targets = result.ikTargets;
+    if (!isObject(targets)) targets = result.ikTargets = {};
+    let alignment = result.alignment;
+    if (!isObject(alignment)) alignment = result.alignment = {};
+    let hands = result.hands;
+    if (!isObject(hands)) hands = result.hands = {};
+    const S = LO.side;
+    for (let s = 0; s < 2; s++) {
+      const side = SIDES[s];
+      const at = LO.sides + s * LO.sideStride;
+      const cache = sideCache(result, s);
+      if (out[at + S.targetPresent] === 1) {
+        const t = cache.target;
+        vec(out, at + S.targetPosition, t.position);
+        quat(out, at + S.targetRotation, t.rotation);
+        targets[side] = t;
+      } else if (side in targets) delete targets[side];
+      if (out[at + S.alignmentPresent] === 1) {
+        const a = cache.alignment;
+        vec(out, at + S.targetDip, a.targetDip);
+        vec(out, at + S.ikWrist, a.ikWrist);
+        vec(out, at + S.poseWrist, a.poseWrist);
+        const err = out[at + S.alignmentError];
+        a.error = Number.isNaN(err) ? null : err;
+        a.reachable = out[at + S.reachable] === 1;
+        a.aligned = out[at + S.aligned] === 1;
+        alignment[side] = a;
+      } else if (side in alignment) delete alignment[side];
+      const status = STATUS[out[at + S.handStatus]];
+      if (status !== undefined) {
+        const h = cache.hand;
+        h.status = status;
+        h.score = out[at + S.handScore];
+        hands[side] = h;
+      } else if (side in hands) delete hands[side];
+    }
+    return result;
+  }
+
+  // Per-side sub-objects, kept on a hidden property of the result so a reused result reuses
+  // them (and a fresh `{}` gets its own).
+  const SIDE_CACHE = typeof Symbol === "function" ? Symbol("handrig.sides") : "__handrigSides";
+  function sideCache(result, s) {
+    let c = result[SIDE_CACHE];
+    if (c === undefined) {
+      const make = () => ({
+        target: { position: [0, 0, 0], rotation: [0, 0, 0, 1] },
+        alignment: {
+          targetDip: [0, 0, 0],
+          ikWrist: [0, 0, 0],
+          poseWrist: [0, 0, 0],
+          error: null,
+          reachable: false,
+          aligned: false,
+        },
+        hand: { status: "solved", score: 0 },
+      });
+      c = [make(), make()];
+      Object.defineProperty(result, SIDE_CACHE, { value: c, enumerable: false });
+    }
+    return c[s];
+  }
+
+  // ---------------------------------------------------------------------------------------
+  // Options: nested objects or dotted paths (as optionDescriptions() spells them), checked
+  // against the descriptions, normalized into a plain nested object for the Rust side.
+
+  let descriptionsCache;
+  function descriptions() {
+    if (descriptionsCache === undefined) {
+      descriptionsCache = new Map(RawHandRig.optionDescriptions().map((d) => [d.path, d]));
+    }
+    return descriptionsCache;
+  }
+
+  function checkOptionValue(d, value, field) {
+    switch (d.type) {
+      case "boolean":
+        if (typeof value !== "boolean") fail(field, `must be true or false, got ${describe(value)}`);
+        return value;
+      case "enum":
+        if (typeof value !== "string" || !d.values.includes(value)) {
+          fail(field, `must be one of ${d.values.map((v) => JSON.stringify(v)).join(", ")}, got ${describe(value)}`);
+        }
+        return value;
+      case "number":
+        if (value === null && d.default === null) return null;
+        if (typeof value !== "number" || !Number.isFinite(value)) {
+          fail(field, `must be a number in ${d.min}..${d.max}, got ${describe(value)}`);
+        }
+        if (value < d.min || value > d.max) fail(field, `must be in ${d.min}..${d.max}, got ${value}`);
+        return value;
+      default:
+        return value;
+    }
+  }
+
+  function normalizeOptions(options) {
+    if (options === undefined || options === null) return undefined;
+    if (!isObject(options) || Array.isArray(options)) {
+      fail("options", `must be an object, got ${describe(options)}`);
+    }
+    const known = descriptions();
+    const out = {};
+    const seen = new Set();
+    const walk = (obj, prefix) => {
+      for (const key of Object.keys(obj)) {
+        const path = prefix === "" ? key : `${prefix}.${key}`;
+        const field = `options.${path}`;
+        const value = obj[key];
+        if (value === undefined) continue;
+        const d = known.get(path);
+        if (d !== undefined) {
+          if (seen.has(path)) fail(field, "given twice (as a nested object and as a dotted path)");
+          seen.add(path);
+          const parts = path.split(".");
+          let o = out;
+          for (let i = 0; i < parts.length - 1; i++) {
+            if (!isObject(o[parts[i]])) o[parts[i]] = {};
+            o = o[parts[i]];
+          }
+          o[parts[parts.length - 1]] = checkOptionValue(d, value, field);
+          continue;
+        }
+        let group = false;
+        for (const p of known.keys()) {
+          if (p.startsWith(`${path}.`)) {
+            group = true;
+            break;
+          }
+        }
+        if (!group) fail(field, "unknown option");
+        if (!isObject(value) || Array.isArray(value)) {
+          fail(field, `must be an object of ${path}.* options, got ${describe(value)}`);
+        }
+        walk(value, path);
+      }
+    };
+    walk(options, "");
+    return out;
+  }
+
+  // ---------------------------------------------------------------------------------------
+  // Rest poses.
+
+  function restPoseToFlat(restPose) {
+    if (!isObject(restPose) || Array.isArray(restPose)) {
+      fail("restPose", 'must be an object { bones: { [boneName]: [x, y, z] }, vrmVersion?: "0" | "1" }');
+    }
+    const v = restPose.vrmVersion;
+    let version = 1;
+    if (v !== undefined && v !== null) {
+      if (v === "0" || v === 0) version = 0;
+      else if (v !== "1" && v !== 1) fail("restPose.vrmVersion", `must be "0" or "1", got ${describe(v)}`);
+    }
+    const bones = restPose.bones;
+    if (!isObject(bones) || Array.isArray(bones)) {
+      fail("restPose.bones", "must be an object { [boneName]: [x, y, z] }");
+    }
+    const rest = new Float64Array(4 * BONE_COUNT);
+    for (const name of Object.keys(bones)) {
+      const i = BONE_INDEX.get(name);
+      if (i === undefined) {
+        fail("restPose.bones", `unknown bone name ${JSON.stringify(name)} (expected a VRM 1.0 humanoid bone name such as "leftHand")`);
+      }
+      rest[4 * i] = 1;
+      readVec3(bones[name], `restPose.bones.${name}`, rest, 4 * i + 1);
+    }
+    return { rest, version };
   }
 
   // Accepts what file/fetch/fs APIs hand out; checks by tag so other realms' buffers work.
   function vrmBytes(bytes) {
     if (bytes instanceof Uint8Array) return bytes;
     const t = tag(bytes);
-    if (t === "[object ArrayBuffer]" || t === "[object SharedArrayBuffer]") {
-      return new Uint8Array(bytes);
-    }
-    if (ArrayBuffer.isView(bytes)) {
-      return new Uint8Array(bytes.buffer, bytes.byteOffset, bytes.byteLength);
-    }
+    if (t === "ArrayBuffer" || t === "SharedArrayBuffer") return new Uint8Array(bytes);
+    if (ArrayBuffer.isView(bytes)) return new Uint8Array(bytes.buffer, bytes.byteOffset, bytes.byteLength);
     throw new TypeError(
       "bytes: must be the .vrm file's contents as a Uint8Array, ArrayBuffer, Buffer or typed array" +
-        (bytes === undefined ? " (got undefined)" : ` (got ${t.slice(8, -1)})`),
+        (bytes === undefined ? " (got undefined)" : ` (got ${t})`),
     );
   }
 
+  let memory;
+  function wasmMemory() {
+    if (memory === undefined) memory = RawHandRig.memory();
+    return memory;
+  }
+
+  // ---------------------------------------------------------------------------------------
+
   class HandRig {
+    #raw;
+    #input;
+    #output;
+    #result;
+    #driven;
+    #present;
+
     /**
      * `new HandRig(restPose, options?)`: a solver for one avatar. `restPose.bones` maps VRM 1.0
      * humanoid bone names to rest world positions [x, y, z] (meters, the model's own frame,
@@ -77,26 +836,41 @@ function createHandRigApi(raw, isReady) {
      */
     constructor(restPose, options) {
       if (restPose === ADOPT) {
-        rawOf.set(this, options);
+        this.#adopt(options);
         return;
       }
       ensureReady("new HandRig()");
       let r;
       try {
-        r = new RawHandRig(restPose, options);
+        const { rest, version } = restPoseToFlat(restPose);
+        r = new RawHandRig(rest, version, normalizeOptions(options));
       } catch (e) {
         throw asError(e);
       }
-      rawOf.set(this, r);
+      this.#adopt(r);
+    }
+
+    #adopt(r) {
+      this.#raw = r;
+      const states = r.boneStates();
+      const driven = [];
+      const present = [];
+      for (let i = 0; i < BONE_COUNT; i++) {
+        if (states[i] !== 0) present.push(i);
+        if (states[i] === 2) driven.push(i);
+      }
+      this.#driven = driven;
+      this.#present = present;
+      this.#input = new Float32Array(0);
+      this.#output = new Float32Array(0);
     }
 
     /** A rig for a `.vrm` file (VRM 1.0 or 0.x), read directly from its bytes. */
     static fromVrm(bytes, options) {
       ensureReady("HandRig.fromVrm()");
-      const u8 = vrmBytes(bytes);
       let r;
       try {
-        r = RawHandRig.fromVrm(u8, options);
+        r = RawHandRig.fromVrm(vrmBytes(bytes), normalizeOptions(options));
       } catch (e) {
         throw asError(e);
       }
@@ -106,45 +880,164 @@ function createHandRigApi(raw, isReady) {
     /** Every option: `{ path, type, default, values?, min?, max?, step?, description }`. */
     static optionDescriptions() {
       ensureReady("HandRig.optionDescriptions()");
+      return RawHandRig.optionDescriptions();
+    }
+
+    /** The flat frame layout (offsets of the input and output arrays); see the README. */
+    static get layout() {
+      return L;
+    }
+
+    #live(method) {
+      const r = this.#raw;
+      if (r === null) {
+        throw new Error(`HandRig.${method}: this rig was freed (free() was called); create a new HandRig`);
+      }
+      return r;
+    }
+
+    // Views into wasm memory, re-created only when the memory grew (its old buffer is then
+    // detached and the old views have length 0).
+    #views(method) {
+      const r = this.#live(method);
+      if (this.#input.length === 0) {
+        const buffer = wasmMemory().buffer;
+        this.#input = new Float32Array(buffer, r.inputPtr(), LI.length);
+        this.#output = new Float32Array(buffer, r.outputPtr(), LO.length);
+      }
+      return r;
+    }
+
+    /**
+     * The rig's flat input array (a view into wasm memory, `LAYOUT.input`): write a frame here,
+     * then call `solveFlat(timeMs)`. Read the getter again after creating other rigs (a view
+     * goes stale when wasm memory grows); it returns the same view while it is valid.
+     */
+    get input() {
+      this.#views("input");
+      return this.#input;
+    }
+
+    /** The rig's flat output array (a view into wasm memory, `LAYOUT.output`). */
+    get output() {
+      this.#views("output");
+      return this.#output;
+    }
+
+    /** Solves the frame in `rig.input` into `rig.output`. Allocates nothing. */
+    solveFlat(timeMs) {
+      const r = this.#views("solveFlat");
       try {
-        return RawHandRig.optionDescriptions();
+        r.solveFlat(timeMs);
       } catch (e) {
         throw asError(e);
       }
     }
 
-    /** Solves one frame; see the README for the frame and result shapes. */
-    solve(frame) {
-      const r = liveRaw(this, "solve");
+    /**
+     * Copies `input` (a Float32Array of `LAYOUT.input.length`) in, solves, and copies the
+     * output into `output` (a Float32Array of `LAYOUT.output.length`). Allocates nothing.
+     */
+    solveInto(input, output, timeMs) {
+      const r = this.#views("solveInto");
+      if (!(input instanceof Float32Array) || input.length !== LI.length) {
+        throw new TypeError(`input: must be a Float32Array of ${LI.length} (LAYOUT.input.length)`);
+      }
+      if (!(output instanceof Float32Array) || output.length !== LO.length) {
+        throw new TypeError(`output: must be a Float32Array of ${LO.length} (LAYOUT.output.length)`);
+      }
+      this.#input.set(input);
       try {
-        return r.solve(frame);
+        r.solveFlat(timeMs);
       } catch (e) {
         throw asError(e);
       }
+      output.set(this.#output);
+      return output;
+    }
+
+    /**
+     * Solves one frame (see the README for the frame and result shapes). The result is the
+     * rig's own object, updated in place by the next call (nothing is allocated per frame);
+     * pass `target` (e.g. `{}`) to get the result in an object of your own instead.
+     */
+    solve(frame, target) {
+      const r = this.#views("solve");
+      let timeMs;
+      try {
+        timeMs = packFrame(frame, this.#input);
+      } catch (e) {
+        throw readError(e);
+      }
+      try {
+        r.solveFlat(timeMs);
+      } catch (e) {
+        throw asError(e);
+      }
+      let result = target;
+      if (result === undefined) {
+        if (this.#result === undefined) this.#result = {};
+        result = this.#result;
+      } else if (!isObject(result)) {
+        throw new TypeError(`target: must be an object to fill with the result, got ${describe(result)}`);
+      }
+      return fillResult(result, this.#output, timeMs, this.#driven, this.#present);
     }
 
     /** `{ [boneName]: [x, y, z] }`: rest world positions, meters, the model's own frame. */
     restWorldPositions() {
-      return liveRaw(this, "restWorldPositions").restWorldPositions();
+      const p = this.#live("restWorldPositions").restPositions();
+      const o = {};
+      for (const i of this.#present) o[BONES[i]] = [p[3 * i], p[3 * i + 1], p[3 * i + 2]];
+      return o;
     }
 
     /** The bones this avatar has, parent-first, VRM 1.0 names. */
     boneNames() {
-      return liveRaw(this, "boneNames").boneNames();
+      this.#live("boneNames");
+      return this.#present.map((i) => BONES[i]);
+    }
+
+    /** The bones the rig writes every frame (in `result.bones`), parent-first. */
+    drivenBones() {
+      this.#live("drivenBones");
+      return this.#driven.map((i) => BONES[i]);
+    }
+
+    /** `"0"` or `"1"`. */
+    get vrmVersion() {
+      return this.#live("vrmVersion").vrmVersion;
+    }
+
+    /** Body scale in force for pose input (avatar arm / user arm). */
+    get bodyScale() {
+      return this.#live("bodyScale").bodyScale;
+    }
+
+    /** Restarts body-scale calibration. */
+    resetCalibration() {
+      this.#live("resetCalibration").resetCalibration();
+    }
+
+    /** Forgets all history (held hands, elbow swivel, calibration). */
+    reset() {
+      this.#live("reset").reset();
     }
 
     /** Releases the wasm memory. Safe to call twice; the rig is unusable afterwards. */
     free() {
-      const r = rawOf.get(this);
+      const r = this.#raw;
       if (r) {
-        rawOf.set(this, null);
+        this.#raw = null;
+        this.#input = new Float32Array(0);
+        this.#output = new Float32Array(0);
         r.free();
       }
     }
 
     /** True once `free()` was called. */
     get freed() {
-      return rawOf.get(this) === null;
+      return this.#raw === null;
     }
   }
 
@@ -156,70 +1049,5 @@ function createHandRigApi(raw, isReady) {
     });
   }
 
-  // Members of the raw class this file does not wrap explicitly (getters such as vrmVersion,
-  // methods such as resetCalibration, and whatever the bindings gain later) are forwarded.
-  // wasm-bindgen internals (`__wbg_*`, `__destroy_into_raw`, `__wrap`) are not.
-  function forwardRawMembers() {
-    const internal = (name) =>
-      typeof name !== "string" || name === "constructor" || name.startsWith("__");
-    for (const name of Object.getOwnPropertyNames(RawHandRig.prototype)) {
-      if (internal(name) || Object.prototype.hasOwnProperty.call(HandRig.prototype, name)) {
-        continue;
-      }
-      const d = Object.getOwnPropertyDescriptor(RawHandRig.prototype, name);
-      const forwarded = { configurable: true, enumerable: false };
-      if (typeof d.value === "function") {
-        forwarded.writable = true;
-        forwarded.value = {
-          [name](...args) {
-            const r = liveRaw(this, name);
-            try {
-              return r[name](...args);
-            } catch (e) {
-              throw asError(e);
-            }
-          },
-        }[name];
-      } else {
-        if (d.get) {
-          forwarded.get = function () {
-            return liveRaw(this, name)[name];
-          };
-        }
-        if (d.set) {
-          forwarded.set = function (v) {
-            const r = liveRaw(this, name);
-            try {
-              r[name] = v;
-            } catch (e) {
-              throw asError(e);
-            }
-          };
-        }
-      }
-      Object.defineProperty(HandRig.prototype, name, forwarded);
-    }
-    for (const name of Object.getOwnPropertyNames(RawHandRig)) {
-      if (internal(name) || Object.prototype.hasOwnProperty.call(HandRig, name)) continue;
-      const d = Object.getOwnPropertyDescriptor(RawHandRig, name);
-      if (typeof d.value !== "function") continue;
-      Object.defineProperty(HandRig, name, {
-        configurable: true,
-        writable: true,
-        value: {
-          [name](...args) {
-            ensureReady(`HandRig.${name}()`);
-            try {
-              return RawHandRig[name](...args);
-            } catch (e) {
-              throw asError(e);
-            }
-          },
-        }[name],
-      });
-    }
-  }
-  forwardRawMembers();
-
-  return { HandRig };
+  return { HandRig, LAYOUT: L };
 }

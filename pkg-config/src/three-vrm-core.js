@@ -1,7 +1,7 @@
 // handrig <-> three-vrm adapter (`handrig/three-vrm`). The one place that knows three-vrm.
 // It reads and writes three-vrm's *normalized* humanoid (identity rest rotations, positions =
 // offsets from the nearest existing humanoid ancestor), which is the frame handrig solves in.
-// It imports nothing: the VRM object is used through the few members named below, so the
+// It imports nothing (build.mjs defines `LAYOUT`, the flat layout, before this file): the VRM object is used through the few members named below, so the
 // package has no dependency on three or @pixiv/three-vrm. build.mjs wraps this file as an ES
 // module or CommonJS, like handrig-core.js.
 //
@@ -10,6 +10,7 @@
 // frame, so they are written as they are: do NOT negate x and z here or in user code (that
 // negation is for poses authored for VRM 1.0's +Z facing, which handrig already handles).
 
+/* global LAYOUT */
 /* exported restPoseFromVRM, applyToVRM */
 
 function humanoidOf(vrm, fn) {
@@ -77,25 +78,59 @@ function restPoseFromVRM(vrm) {
   return { bones, vrmVersion: metaVersion };
 }
 
+// Per humanoid: bone name -> normalized bone node (null when the avatar lacks it), so a frame
+// does not look every bone up again. Keyed weakly: a disposed VRM takes its entry with it.
+const nodeCache = new WeakMap();
+
+function nodesOf(humanoid) {
+  let nodes = nodeCache.get(humanoid);
+  if (nodes === undefined) {
+    nodes = new Map();
+    for (const name of LAYOUT.bones) nodes.set(name, humanoid.getNormalizedBoneNode(name) || null);
+    nodeCache.set(humanoid, nodes);
+  }
+  return nodes;
+}
+
 /**
- * Writes `result.bones` (from `HandRig.solve`) to the VRM's normalized bones:
- * `getNormalizedBoneNode(name).quaternion.set(x, y, z, w)`. Bones the avatar lacks are skipped.
- * Returns how many bones were written. Call `vrm.update(delta)` afterwards as usual: three-vrm
- * copies normalized rotations to the model's bones there.
+ * Writes a solve's rotations to the VRM's normalized bones
+ * (`getNormalizedBoneNode(name).quaternion`): `result` is a `HandRig.solve()` result (its
+ * `bones`, which hold every bone the rig drives, every frame) or a flat output array
+ * (`rig.output`, or the Float32Array given to `solveInto`: every bone whose flag is not 0).
+ * Bones the avatar lacks are skipped. Returns how many bones were written. Call
+ * `vrm.update(delta)` afterwards as usual: three-vrm copies normalized rotations to the model's
+ * bones there. Allocates nothing per frame (the bone nodes are looked up once per VRM).
  */
 // eslint-disable-next-line no-unused-vars
 function applyToVRM(vrm, result) {
   const fn = "applyToVRM";
   const humanoid = humanoidOf(vrm, fn);
+  const nodes = nodesOf(humanoid);
+  let written = 0;
+  if (result instanceof Float32Array) {
+    const O = LAYOUT.output;
+    if (result.length !== O.length) {
+      throw new TypeError(`${fn}: a flat output must have ${O.length} numbers (LAYOUT.output.length), got ${result.length}`);
+    }
+    const bones = LAYOUT.bones;
+    for (let i = 0; i < bones.length; i++) {
+      if (result[O.boneFlags + i] === 0) continue;
+      const node = nodes.get(bones[i]);
+      if (!node) continue;
+      const at = O.boneRotations + 4 * i;
+      node.quaternion.set(result[at], result[at + 1], result[at + 2], result[at + 3]);
+      written++;
+    }
+    return written;
+  }
   const bones = result !== null && typeof result === "object" ? result.bones : undefined;
   if (bones === null || typeof bones !== "object") {
-    throw new TypeError(`${fn}: result.bones must be the bones object of a HandRig.solve() result`);
+    throw new TypeError(`${fn}: result.bones must be the bones of a HandRig.solve() result (or pass a flat output Float32Array)`);
   }
-  let written = 0;
   // for..in over the result's own plain object: no per-frame allocation.
   for (const name in bones) {
     const q = bones[name];
-    const node = humanoid.getNormalizedBoneNode(name);
+    const node = nodes.get(name);
     if (!node || !q) continue;
     node.quaternion.set(q[0], q[1], q[2], q[3]);
     written++;

@@ -172,7 +172,7 @@ export interface TrackedHand {
 export interface SolveResult {
   /** The frame's timestamp, milliseconds. */
   timeMs: number;
-  /** Local rotations of the normalized bones solved this frame (write to `getNormalizedBoneNode(name).quaternion`). */
+  /** Local rotations of every bone the rig drives (`rig.drivenBones()`: arms, hands, fingers the avatar has), every frame: solved, held, or back at rest (identity) when tracking is lost. Write them all to `getNormalizedBoneNode(name).quaternion` (`applyToVRM` does). */
   bones: BoneMap<Quat>;
   /** World positions of every bone of the avatar after solving, meters. */
   worldPositions: BoneMap<Vec3>;
@@ -218,7 +218,70 @@ export interface HandRigOptions {
   };
   /** Hands whose handedness score is below this are ignored. Default 0.5. */
   minHandScore?: number;
+  /** Dotted paths as `optionDescriptions()` spells them are accepted too: `{ "alignment.weight": 0.5 }`. */
+  [dottedPath: `${string}.${string}`]: boolean | number | string | null | undefined;
 }
+
+/** Offsets of the flat frame layout (`LAYOUT`): indices into the input and output Float32Arrays. See the README. */
+export interface FlatLayout {
+  /** Bumped whenever an offset or meaning changes. */
+  readonly version: number;
+  readonly input: {
+    readonly length: number;
+    readonly handCount: number;
+    readonly imageAspect: number;
+    readonly posePresent: number;
+    readonly hands: number;
+    readonly handStride: number;
+    readonly hand: {
+      readonly handedness: number;
+      readonly score: number;
+      readonly hasWorld: number;
+      readonly hasImage: number;
+      readonly world: number;
+      readonly image: number;
+    };
+    readonly pose: number;
+    readonly poseStride: number;
+    readonly wrists: number;
+    readonly wristStride: number;
+    readonly wrist: {
+      readonly present: number;
+      readonly hasRotation: number;
+      readonly position: number;
+      readonly rotation: number;
+    };
+  };
+  readonly output: {
+    readonly length: number;
+    readonly boneRotations: number;
+    readonly boneFlags: number;
+    readonly bonePositions: number;
+    readonly sides: number;
+    readonly sideStride: number;
+    readonly side: {
+      readonly handStatus: number;
+      readonly handScore: number;
+      readonly targetPresent: number;
+      readonly targetPosition: number;
+      readonly targetRotation: number;
+      readonly alignmentPresent: number;
+      readonly targetDip: number;
+      readonly ikWrist: number;
+      readonly poseWrist: number;
+      readonly alignmentError: number;
+      readonly reachable: number;
+      readonly aligned: number;
+    };
+  };
+  /** The 55 bone names in output order. */
+  readonly bones: readonly HumanBoneName[];
+  /** The bones VRM requires. */
+  readonly requiredBones: readonly HumanBoneName[];
+}
+
+/** The flat frame layout of this build. */
+export declare const LAYOUT: FlatLayout;
 
 /** One option, for building UIs: its dot-separated path, type, range and default. */
 export type OptionDescription =
@@ -252,11 +315,30 @@ export declare class HandRig {
   ): HandRig;
   /** Every option with its path, type, range, default and description. */
   static optionDescriptions(): OptionDescription[];
+  /** The flat frame layout (same as the `LAYOUT` export). */
+  static readonly layout: FlatLayout;
   /**
-   * Solves one frame. Allocates only the returned object.
+   * Solves one frame. Returns the rig's own result object, updated in place by the next call
+   * (a warmed-up frame allocates nothing); pass `target` (e.g. `{}`) to fill an object of your
+   * own instead, for results you keep.
    * @throws Error naming the field (e.g. "frame.hands[0].worldLandmarks: must have 21 points, got 20"); the rig is unchanged and keeps working.
    */
-  solve(frame: FrameInput): SolveResult;
+  solve(frame: FrameInput, target?: object): SolveResult;
+  /** The rig's flat input (a Float32Array view into wasm memory, `LAYOUT.input`). Read the getter again after creating other rigs (views go stale when wasm memory grows). */
+  readonly input: Float32Array;
+  /** The rig's flat output (a Float32Array view into wasm memory, `LAYOUT.output`). */
+  readonly output: Float32Array;
+  /**
+   * Solves the frame in `rig.input` into `rig.output`. Allocates nothing.
+   * @param timeMs the frame's timestamp, milliseconds.
+   */
+  solveFlat(timeMs: number): void;
+  /** Copies `input` in, solves, copies the result into `output` (and returns it). Allocates nothing. */
+  solveInto(input: Float32Array, output: Float32Array, timeMs: number): Float32Array;
+  /** The bones the rig writes every frame (`result.bones`), parent-first. */
+  drivenBones(): HumanBoneName[];
+  /** Forgets all history: held hands, elbow swivel, body-scale calibration. */
+  reset(): void;
   /** Rest world positions of the avatar's bones, meters, the model's own frame. */
   restWorldPositions(): BoneMap<Vec3>;
   /** The bones this avatar has, parent-first. */

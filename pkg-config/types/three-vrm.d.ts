@@ -33,12 +33,15 @@ export interface VRMRestPose {
 export declare function restPoseFromVRM(vrm: VRMLike): VRMRestPose;
 
 /**
- * Writes `result.bones` (from `HandRig.solve`) to `vrm.humanoid.getNormalizedBoneNode(name).quaternion`.
+ * Writes a solve's rotations to `vrm.humanoid.getNormalizedBoneNode(name).quaternion`: `result`
+ * is a `HandRig.solve` result (its `bones`: every bone the rig drives, every frame) or a flat
+ * output array (`rig.output`, or what `solveInto` filled: every bone whose flag is not 0).
  * No VRM 0.x sign flip is applied or needed: handrig already returns rotations in the model's own
- * frame. Call `vrm.update(delta)` afterwards as usual. Returns how many bones were written.
+ * frame. Call `vrm.update(delta)` afterwards as usual. Returns how many bones were written. The
+ * bone nodes are looked up once per VRM and cached.
  * @throws TypeError when `vrm` or `result` has the wrong shape.
  */
 export declare function applyToVRM(
   vrm: VRMLike,
-  result: { bones: { [boneName: string]: ArrayLike<number> | undefined } },
+  result: { bones: { [boneName: string]: ArrayLike<number> | undefined } } | Float32Array,
 ): number;

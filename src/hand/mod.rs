@@ -276,6 +276,12 @@ impl HandSolver {
         &self.report[side.index()]
     }
 
+    /// Forgets the held solves and reports (the next degenerate hand is skipped, not held).
+    pub fn reset(&mut self) {
+        self.held = [None, None];
+        self.report = [HandReport::default(); 2];
+    }
+
     /// The rest direction the solver uses for a finger bone (unit, internal frame; a bone
     /// without a child continues its parent's direction). `None` for non-finger or absent
     /// bones, or when the side's palm is undefined.

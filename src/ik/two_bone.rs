@@ -283,7 +283,8 @@ impl ArmIk for TwoBoneIk {
         let reach_max = a + b;
         let reachable = dist <= reach_max + REACH_TOLERANCE && dist + REACH_TOLERANCE >= reach_min;
         // Unreachable: stretched straight toward the target, or folded as far as it goes.
-        let r = dist.clamp(reach_min, reach_max);
+        // max/min rather than clamp: total even when a bound is NaN or they cross.
+        let r = dist.max(reach_min).min(reach_max);
 
         let (bend, memory) = self.bend_direction(chain, &goal, dir);
         // The elbow's offset along the target line (`along`) and away from it (`height`).

@@ -1,29 +1,26 @@
-//! JavaScript bindings (wasm32 only): the `HandRig` class.
+//! JavaScript bindings (wasm32 only): the raw `HandRig` class under the npm package's JS layer.
 //!
-//! Thin by design (rapier.js style): parse JS input into the fixed-size [`FrameInput`] the
-//! rig owns, call [`Rig::solve`], and build the result object. Every input problem becomes a
-//! JS `Error` whose message names the field (`frame.hands[0].worldLandmarks[7]: ...`); the rig
-//! is untouched by a rejected frame and keeps working.
+//! Thin by design (rapier.js style). Per frame no JS value crosses the boundary: the rig owns
+//! a flat input and a flat output buffer ([`crate::flat`]) in wasm memory, JavaScript writes
+//! and reads them through `Float32Array` views (`inputPtr`, `outputPtr`, `memory`), and
+//! `solveFlat(timeMs)` takes and returns plain numbers. The package's JS layer
+//! (`pkg-config/src/handrig-core.js`) packs MediaPipe's result shapes into the input and builds
+//! result objects from the output.
 //!
-//! Accepted input shapes (see the README): handrig's own `{ handedness, score, worldLandmarks,
-//! landmarks }` hands, MediaPipe tasks-vision `HandLandmarkerResult`, legacy `Hands` results
-//! (`multiHandWorldLandmarks`, ...), legacy `Holistic` results (image landmarks only, see
-//! [`image_to_pseudo_world`]), points as `{x, y, z}` or `[x, y, z]`, landmark lists as arrays
-//! or flat `Float32Array`/`Float64Array` (21*3 or 33*3).
+//! No JS code runs while Rust is on the stack: the constructor takes rest positions as a typed
+//! array (copied in before Rust runs) and options as a plain object the JS layer made with
+//! `JSON.parse`, so a throwing getter or a lying `length` in user input throws in JavaScript,
+//! before wasm is entered, and cannot leave a rig half-borrowed.
 
-use glam::{Quat, Vec3};
-use js_sys::{Array, Float32Array, Float64Array, Object, Reflect};
+use glam::Vec3;
+use js_sys::{Array, Object, Reflect};
 use wasm_bindgen::prelude::*;
-use wasm_bindgen::JsCast;
 
-use crate::bones::{HumanBone, Side, BONE_COUNT};
+use crate::bones::{HumanBone, BONE_COUNT};
 use crate::error::Error;
-use crate::hand::HandStatus;
-use crate::mediapipe::{
-    hand_landmark, FrameInput, HandObservation, Handedness, PoseObservation, WristObservation,
-    HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS,
-};
-use crate::rig::{option_descriptions, Rig, RigOptions, SolveOutput};
+use crate::flat;
+use crate::mediapipe::FrameInput;
+use crate::rig::{option_descriptions, OptionKind, Rig, RigOptions, SolveOutput};
 use crate::skeleton::{Skeleton, VrmVersion};
 
 type JsResult<T> = Result<T, JsError>;
@@ -32,409 +29,181 @@ fn js_err(e: Error) -> JsError {
     JsError::new(&e.to_string())
 }
 
-fn invalid(field: &str, problem: &str) -> JsError {
-    js_err(Error::invalid(field, problem))
+fn set(o: &Object, k: &str, v: &JsValue) {
+    // Setting a property on a plain object we created cannot fail.
+    let _ = Reflect::set(o, &JsValue::from_str(k), v);
 }
 
-/// Property names as JS strings, created once per rig instead of once per lookup.
-struct Keys {
-    time_ms: JsValue,
-    hands: JsValue,
-    pose: JsValue,
-    wrists: JsValue,
-    handedness: JsValue,
-    handednesses: JsValue,
-    score: JsValue,
-    world_landmarks: JsValue,
-    landmarks: JsValue,
-    multi_hand_world_landmarks: JsValue,
-    multi_hand_landmarks: JsValue,
-    multi_handedness: JsValue,
-    left_hand_landmarks: JsValue,
-    right_hand_landmarks: JsValue,
-    pose_world_landmarks: JsValue,
-    visibility: JsValue,
-    position: JsValue,
-    rotation: JsValue,
-    label: JsValue,
-    category_name: JsValue,
-    image_aspect: JsValue,
-    x: JsValue,
-    y: JsValue,
-    z: JsValue,
-    left: JsValue,
-    right: JsValue,
-    bones: JsValue,
-    world_positions: JsValue,
-    ik_targets: JsValue,
-    alignment: JsValue,
-    target_dip: JsValue,
-    ik_wrist: JsValue,
-    pose_wrist: JsValue,
-    error: JsValue,
-    reachable: JsValue,
-    aligned: JsValue,
-    status: JsValue,
-    status_names: [JsValue; 3],
-    bone_names: [JsValue; BONE_COUNT],
-}
-
-impl Keys {
-    fn new() -> Keys {
-        let s = |k: &str| JsValue::from_str(k);
-        Keys {
-            time_ms: s("timeMs"),
-            hands: s("hands"),
-            pose: s("pose"),
-            wrists: s("wrists"),
-            handedness: s("handedness"),
-            handednesses: s("handednesses"),
-            score: s("score"),
-            world_landmarks: s("worldLandmarks"),
-            landmarks: s("landmarks"),
-            multi_hand_world_landmarks: s("multiHandWorldLandmarks"),
-            multi_hand_landmarks: s("multiHandLandmarks"),
-            multi_handedness: s("multiHandedness"),
-            left_hand_landmarks: s("leftHandLandmarks"),
-            right_hand_landmarks: s("rightHandLandmarks"),
-            pose_world_landmarks: s("poseWorldLandmarks"),
-            visibility: s("visibility"),
-            position: s("position"),
-            rotation: s("rotation"),
-            label: s("label"),
-            category_name: s("categoryName"),
-            image_aspect: s("imageAspect"),
-            x: s("x"),
-            y: s("y"),
-            z: s("z"),
-            left: s("left"),
-            right: s("right"),
-            bones: s("bones"),
-            world_positions: s("worldPositions"),
-            ik_targets: s("ikTargets"),
-            alignment: s("alignment"),
-            target_dip: s("targetDip"),
-            ik_wrist: s("ikWrist"),
-            pose_wrist: s("poseWrist"),
-            error: s("error"),
-            reachable: s("reachable"),
-            aligned: s("aligned"),
-            status: s("status"),
-            status_names: [s("solved"), s("held"), s("skipped")],
-            bone_names: HumanBone::ALL.map(|b| s(b.as_str())),
-        }
-    }
-}
-
-/// Reads `obj[key]`; `undefined` and `null` are `None`.
-fn get(obj: &JsValue, key: &JsValue) -> Option<JsValue> {
-    if !obj.is_object() {
-        return None;
-    }
-    Reflect::get(obj, key)
-        .ok()
-        .filter(|v| !v.is_undefined() && !v.is_null())
-}
-
-fn number(v: &JsValue, field: &dyn Fn() -> String) -> JsResult<f32> {
-    match v.as_f64() {
-        Some(n) if n.is_finite() => Ok(n as f32),
-        Some(_) => Err(invalid(&field(), "must be a finite number")),
-        None => Err(invalid(&field(), "must be a number")),
-    }
-}
-
-/// A point as `[x, y, z]`, `{x, y, z}` or a 3-element typed array.
-fn vec3(v: &JsValue, keys: &Keys, field: &dyn Fn() -> String) -> JsResult<Vec3> {
-    let mut c = [0.0f32; 3];
-    if Array::is_array(v) {
-        let a: &Array = v.unchecked_ref();
-        if a.length() != 3 {
-            return Err(invalid(
-                &field(),
-                &format!("must have 3 numbers [x, y, z], got {}", a.length()),
-            ));
-        }
-        for (i, slot) in c.iter_mut().enumerate() {
-            *slot = number(&a.get(i as u32), &|| format!("{}[{i}]", field()))?;
-        }
-    } else if let Some(t) = v.dyn_ref::<Float32Array>() {
-        if t.length() != 3 {
-            return Err(invalid(&field(), "typed array must have 3 numbers"));
-        }
-        for (i, slot) in c.iter_mut().enumerate() {
-            *slot = number(&JsValue::from_f64(t.get_index(i as u32) as f64), &|| {
-                format!("{}[{i}]", field())
-            })?;
-        }
-    } else if v.is_object() {
-        for (slot, (k, name)) in c
-            .iter_mut()
-            .zip([(&keys.x, "x"), (&keys.y, "y"), (&keys.z, "z")])
-        {
-            let item = get(v, k).ok_or_else(|| {
-                invalid(
-                    &format!("{}.{name}", field()),
-                    "is missing (expected a number)",
-                )
-            })?;
-            *slot = number(&item, &|| format!("{}.{name}", field()))?;
-        }
-    } else {
-        return Err(invalid(
-            &field(),
-            "must be [x, y, z] or {x, y, z} (three finite numbers)",
-        ));
-    }
-    Ok(Vec3::from_array(c))
-}
-
-/// A quaternion `[x, y, z, w]`, normalized if within 1% of unit length.
-fn quat(v: &JsValue, field: &dyn Fn() -> String) -> JsResult<Quat> {
-    let a = v
-        .dyn_ref::<Array>()
-        .filter(|a| a.length() == 4)
-        .ok_or_else(|| invalid(&field(), "must be a quaternion [x, y, z, w]"))?;
-    let mut c = [0.0f32; 4];
-    for (i, slot) in c.iter_mut().enumerate() {
-        *slot = number(&a.get(i as u32), &|| format!("{}[{i}]", field()))?;
-    }
-    let q = Quat::from_array(c);
-    if (q.length() - 1.0).abs() > 1e-2 {
-        return Err(invalid(&field(), "must be a unit quaternion [x, y, z, w]"));
-    }
-    Ok(q.normalize())
-}
-
-/// Reads `N` points (and optional visibilities) from an array of points or a flat typed array
-/// of `N * 3` numbers.
-fn points<const N: usize>(
-    v: &JsValue,
-    keys: &Keys,
-    field: &dyn Fn() -> String,
-    out: &mut [Vec3; N],
-    mut visibility: Option<&mut [f32; N]>,
-) -> JsResult<()> {
-    let flat = |len: u32, at: &dyn Fn(u32) -> f64, out: &mut [Vec3; N]| -> JsResult<()> {
-        if len as usize != N * 3 {
-            return Err(invalid(
-                &field(),
-                &format!(
-                    "flat array must have {} numbers ({N} points x 3), got {len}",
-                    N * 3
-                ),
-            ));
-        }
-        for (i, p) in out.iter_mut().enumerate() {
-            let mut c = [0.0f32; 3];
-            for (j, slot) in c.iter_mut().enumerate() {
-                let n = at((i * 3 + j) as u32);
-                if !n.is_finite() {
-                    return Err(invalid(
-                        &format!("{}[{}]", field(), i * 3 + j),
-                        "must be a finite number",
-                    ));
-                }
-                *slot = n as f32;
-            }
-            *p = Vec3::from_array(c);
-        }
-        Ok(())
-    };
-    if let Some(t) = v.dyn_ref::<Float32Array>() {
-        return flat(t.length(), &|i| t.get_index(i) as f64, out);
-    }
-    if let Some(t) = v.dyn_ref::<Float64Array>() {
-        return flat(t.length(), &|i| t.get_index(i), out);
-    }
-    let Some(a) = v.dyn_ref::<Array>() else {
-        return Err(invalid(
-            &field(),
-            &format!(
-                "must be an array of {N} points or a Float32Array of {}",
-                N * 3
-            ),
-        ));
-    };
-    if a.length() as usize == N * 3 && a.get(0).as_f64().is_some() {
-        return flat(a.length(), &|i| a.get(i).as_f64().unwrap_or(f64::NAN), out);
-    }
-    if a.length() as usize != N {
-        return Err(invalid(
-            &field(),
-            &format!("must have {N} points, got {}", a.length()),
-        ));
-    }
-    for (i, p) in out.iter_mut().enumerate() {
-        let item = a.get(i as u32);
-        *p = vec3(&item, keys, &|| format!("{}[{i}]", field()))?;
-        if let Some(vis) = visibility.as_deref_mut() {
-            vis[i] = match get(&item, &keys.visibility) {
-                Some(x) => number(&x, &|| format!("{}[{i}].visibility", field()))?,
-                None => 1.0,
-            };
-        }
-    }
-    Ok(())
-}
-
-fn handedness_label(
-    v: &JsValue,
-    keys: &Keys,
-    field: &dyn Fn() -> String,
-) -> JsResult<(Handedness, Option<f32>)> {
-    // Accept "Left", {label|categoryName, score}, or tasks-vision's [{categoryName, score}].
-    let item = match v.dyn_ref::<Array>() {
-        Some(a) if a.length() > 0 => a.get(0),
-        Some(_) => return Err(invalid(&field(), "is an empty array")),
-        None => v.clone(),
-    };
-    let (label, score) = if let Some(s) = item.as_string() {
-        (s, None)
-    } else {
-        let l = get(&item, &keys.category_name)
-            .or_else(|| get(&item, &keys.label))
-            .and_then(|l| l.as_string())
-            .ok_or_else(|| invalid(&field(), "must be \"Left\" or \"Right\""))?;
-        let s = match get(&item, &keys.score) {
-            Some(s) => Some(number(&s, &|| format!("{}.score", field()))?),
-            None => None,
-        };
-        (l, s)
-    };
-    let h = Handedness::from_label(&label).ok_or_else(|| {
-        invalid(
-            &field(),
-            &format!("must be \"Left\" or \"Right\", got \"{label}\""),
-        )
-    })?;
-    Ok((h, score))
-}
-
-/// Converts normalized image landmarks (Holistic legacy results carry no hand world
-/// landmarks) into approximate metric hand-centered points: x is scaled by the image aspect
-/// (width / height) so both axes are in the same unit, then everything is scaled so the
-/// wrist-to-middle-MCP distance is 9 cm, an average adult's (rotations do not depend on the
-/// scale; positions from it are approximate).
-pub fn image_to_pseudo_world(points: &mut [Vec3; HAND_LANDMARKS], aspect: f32) {
-    for p in points.iter_mut() {
-        p.x *= aspect;
-        p.z *= aspect;
-    }
-    let wrist = points[hand_landmark::WRIST];
-    let palm = (points[hand_landmark::MIDDLE_MCP] - wrist).length();
-    let k = if palm > 1e-6 { 0.09 / palm } else { 1.0 };
-    for p in points.iter_mut() {
-        *p = (*p - wrist) * k;
-    }
-}
-
-/// The solver for one avatar. Create it once, call `solve` every frame, `free()` when done.
+/// The solver for one avatar with its flat input and output buffers. Create it once, write
+/// the input, call `solveFlat` every frame, read the output; `free()` when done.
 #[wasm_bindgen]
 pub struct HandRig {
     rig: Rig,
     frame: FrameInput,
     out: SolveOutput,
-    keys: Keys,
+    input: Box<[f32]>,
+    output: Box<[f32]>,
 }
 
 #[wasm_bindgen]
 impl HandRig {
-    /// `new HandRig(restPose, options?)`: `restPose = { bones: { [boneName]: [x, y, z] },
-    /// vrmVersion?: "0" | "1" }`, rest world positions of three-vrm's normalized bones in the
-    /// model's own frame. Throws an `Error` naming the field on bad input.
+    /// `new HandRig(rest, vrmVersion, options)`: `rest` is a `Float64Array` of
+    /// `4 * 55` numbers, per bone in `LAYOUT.bones` order `[present, x, y, z]` (rest world
+    /// positions of three-vrm's normalized bones, meters, the model's own frame); `vrmVersion`
+    /// 0 or 1; `options` a plain object (the JS layer checks and normalizes it) or undefined.
     #[wasm_bindgen(constructor)]
-    pub fn new(rest_pose: JsValue, options: JsValue) -> JsResult<HandRig> {
-        let keys = Keys::new();
-        if !rest_pose.is_object() {
-            return Err(invalid(
+    pub fn new(rest: &[f64], vrm_version: u8, options: JsValue) -> JsResult<HandRig> {
+        if rest.len() != 4 * BONE_COUNT {
+            return Err(js_err(Error::invalid(
                 "restPose",
-                "must be an object { bones: { [boneName]: [x, y, z] }, vrmVersion?: \"0\" | \"1\" }",
-            ));
+                format!(
+                    "internal: expected {} numbers, got {}",
+                    4 * BONE_COUNT,
+                    rest.len()
+                ),
+            )));
         }
-        let version = match get(&rest_pose, &JsValue::from_str("vrmVersion")) {
-            None => VrmVersion::V1,
-            Some(v) => match v.as_string().as_deref().or(v.as_f64().map(|n| {
-                if n == 0.0 {
-                    "0"
-                } else if n == 1.0 {
-                    "1"
-                } else {
-                    "?"
-                }
-            })) {
-                Some("0") => VrmVersion::V0,
-                Some("1") => VrmVersion::V1,
-                _ => return Err(invalid("restPose.vrmVersion", "must be \"0\" or \"1\"")),
-            },
+        let version = match vrm_version {
+            0 => VrmVersion::V0,
+            1 => VrmVersion::V1,
+            _ => {
+                return Err(js_err(Error::invalid(
+                    "restPose.vrmVersion",
+                    "must be \"0\" or \"1\"",
+                )))
+            }
         };
-        let bones_obj = get(&rest_pose, &keys.bones)
-            .filter(|b| b.is_object())
-            .ok_or_else(|| {
-                invalid(
-                    "restPose.bones",
-                    "must be an object { [boneName]: [x, y, z] }",
-                )
-            })?;
-        let entries = Object::entries(bones_obj.unchecked_ref());
-        let mut bones = Vec::with_capacity(entries.length() as usize);
-        for entry in entries.iter() {
-            let pair: Array = entry.unchecked_into();
-            let name = pair.get(0).as_string().unwrap_or_default();
-            let bone = HumanBone::from_name(&name)
-                .ok_or_else(|| js_err(Error::UnknownBone(name.clone())))?;
-            let p = vec3(&pair.get(1), &keys, &|| format!("restPose.bones.{name}"))?;
-            bones.push((bone, p));
-        }
+        let bones: Vec<(HumanBone, Vec3)> = HumanBone::ALL
+            .iter()
+            .zip(rest.chunks_exact(4))
+            .filter(|(_, r)| r[0] != 0.0)
+            .map(|(b, r)| (*b, Vec3::new(r[1] as f32, r[2] as f32, r[3] as f32)))
+            .collect();
         let skeleton = Skeleton::new(&bones, version).map_err(js_err)?;
-        Self::with_skeleton(skeleton, options, keys)
+        Self::with_skeleton(skeleton, options)
     }
 
-    /// `HandRig.fromVrm(bytes, options?)`: reads a `.vrm` file (VRM 1.0 or 0.x) directly.
+    /// `HandRig.fromVrm(bytes, options)`: reads a `.vrm` file (VRM 1.0 or 0.x) directly.
     #[wasm_bindgen(js_name = fromVrm)]
     pub fn from_vrm(bytes: &[u8], options: JsValue) -> JsResult<HandRig> {
         let skeleton = crate::vrm::load_skeleton(bytes).map_err(js_err)?;
-        Self::with_skeleton(skeleton, options, Keys::new())
+        Self::with_skeleton(skeleton, options)
     }
 
-    fn with_skeleton(skeleton: Skeleton, options: JsValue, keys: Keys) -> JsResult<HandRig> {
+    fn with_skeleton(skeleton: Skeleton, options: JsValue) -> JsResult<HandRig> {
         let options: RigOptions = if options.is_undefined() || options.is_null() {
             RigOptions::default()
         } else {
-            check_option_keys(&options)?;
-            serde_wasm_bindgen::from_value(options)
-                .map_err(|e| invalid("options", &e.to_string()))?
+            // Through a JSON value: serde-wasm-bindgen reads every key into it, so serde_json
+            // then rejects unknown names (`deny_unknown_fields`), which it cannot do directly.
+            let options_err = |msg: String| {
+                // serde-wasm-bindgen's message is a JS error's string: drop its "Error: ".
+                let msg = msg.strip_prefix("Error: ").unwrap_or(&msg).to_string();
+                js_err(Error::invalid("options", msg))
+            };
+            let value: serde_json::Value =
+                serde_wasm_bindgen::from_value(options).map_err(|e| options_err(e.to_string()))?;
+            serde_json::from_value(value).map_err(|e| options_err(e.to_string()))?
         };
         let rig = Rig::new(skeleton, options).map_err(js_err)?;
         Ok(HandRig {
             rig,
             frame: FrameInput::default(),
             out: SolveOutput::default(),
-            keys,
+            input: vec![0.0; flat::input::LEN].into_boxed_slice(),
+            output: vec![0.0; flat::output::LEN].into_boxed_slice(),
         })
+    }
+
+    /// The module's `WebAssembly.Memory`, for typed-array views of the rig's buffers.
+    pub fn memory() -> JsValue {
+        wasm_bindgen::memory()
+    }
+
+    /// Byte offset of the input buffer (`LAYOUT.input.length` floats) in `memory`.
+    #[wasm_bindgen(js_name = inputPtr)]
+    pub fn input_ptr(&self) -> u32 {
+        self.input.as_ptr() as u32
+    }
+
+    /// Byte offset of the output buffer (`LAYOUT.output.length` floats) in `memory`.
+    #[wasm_bindgen(js_name = outputPtr)]
+    pub fn output_ptr(&self) -> u32 {
+        self.output.as_ptr() as u32
+    }
+
+    /// Solves the frame in the input buffer into the output buffer. `timeMs`: the frame's
+    /// timestamp in milliseconds. Throws an `Error` naming the field on bad input; the rig and
+    /// its output are then unchanged. Allocates nothing (so wasm memory never grows here).
+    #[wasm_bindgen(js_name = solveFlat)]
+    pub fn solve_flat(&mut self, time_ms: f64) -> JsResult<()> {
+        flat::read_input(&self.input, time_ms, &mut self.frame).map_err(js_err)?;
+        self.rig.solve(&self.frame, &mut self.out).map_err(js_err)?;
+        flat::write_output(&self.rig, &self.out, &mut self.output);
+        Ok(())
+    }
+
+    /// The flat layout: `{ version, input: {...}, output: {...}, bones: [...] }` (offsets of
+    /// [`crate::flat::FIELDS`], nested by their dotted paths, and the 55 bone names in output
+    /// order).
+    pub fn layout() -> Object {
+        let root = Object::new();
+        set(&root, "version", &JsValue::from(flat::VERSION));
+        for (path, value) in flat::FIELDS {
+            let mut o = root.clone();
+            let mut parts = path.split('.').peekable();
+            while let Some(part) = parts.next() {
+                if parts.peek().is_none() {
+                    set(&o, part, &JsValue::from(*value as u32));
+                } else {
+                    let key = JsValue::from_str(part);
+                    let next = Reflect::get(&o, &key)
+                        .ok()
+                        .filter(|v| v.is_object())
+                        .map(Object::from)
+                        .unwrap_or_else(|| {
+                            let n = Object::new();
+                            let _ = Reflect::set(&o, &key, &n);
+                            n
+                        });
+                    o = next;
+                }
+            }
+        }
+        let bones: Array = HumanBone::ALL
+            .iter()
+            .map(|b| JsValue::from_str(b.as_str()))
+            .collect();
+        set(&root, "bones", &bones);
+        let required: Array = HumanBone::ALL
+            .iter()
+            .filter(|b| b.is_required())
+            .map(|b| JsValue::from_str(b.as_str()))
+            .collect();
+        set(&root, "requiredBones", &required);
+        root
     }
 
     /// Every option with its path, type, range, default and description.
     #[wasm_bindgen(js_name = optionDescriptions)]
     pub fn option_descriptions() -> Array {
-        use crate::rig::OptionKind;
         let s = |v: &str| JsValue::from_str(v);
         option_descriptions()
             .into_iter()
             .map(|d| {
                 let o = Object::new();
-                set(&o, &s("path"), &s(d.path));
-                set(&o, &s("description"), &s(d.description));
+                set(&o, "path", &s(d.path));
+                set(&o, "description", &s(d.description));
                 match d.kind {
                     OptionKind::Boolean { default } => {
-                        set(&o, &s("type"), &s("boolean"));
-                        set(&o, &s("default"), &JsValue::from_bool(default));
+                        set(&o, "type", &s("boolean"));
+                        set(&o, "default", &JsValue::from_bool(default));
                     }
                     OptionKind::Enum { values, default } => {
-                        set(&o, &s("type"), &s("enum"));
+                        set(&o, "type", &s("enum"));
                         let v: Array = values.iter().map(|v| s(v)).collect();
-                        set(&o, &s("values"), &v);
-                        set(&o, &s("default"), &s(default));
+                        set(&o, "values", &v);
+                        set(&o, "default", &s(default));
                     }
                     OptionKind::Number {
                         min,
@@ -442,12 +211,12 @@ impl HandRig {
                         default,
                         step,
                     } => {
-                        set(&o, &s("type"), &s("number"));
-                        set(&o, &s("min"), &JsValue::from_f64(min as f64));
-                        set(&o, &s("max"), &JsValue::from_f64(max as f64));
-                        set(&o, &s("step"), &JsValue::from_f64(step as f64));
+                        set(&o, "type", &s("number"));
+                        set(&o, "min", &JsValue::from_f64(min as f64));
+                        set(&o, "max", &JsValue::from_f64(max as f64));
+                        set(&o, "step", &JsValue::from_f64(step as f64));
                         let dv = default.map_or(JsValue::NULL, |v| JsValue::from_f64(v as f64));
-                        set(&o, &s("default"), &dv);
+                        set(&o, "default", &dv);
                     }
                 }
                 JsValue::from(o)
@@ -474,464 +243,40 @@ impl HandRig {
         self.rig.reset_calibration();
     }
 
-    /// The bones this avatar has, parent-first, VRM 1.0 names.
-    #[wasm_bindgen(js_name = boneNames)]
-    pub fn bone_names(&self) -> Array {
-        self.rig
-            .skeleton()
-            .bones()
-            .map(|b| self.keys.bone_names[b.index()].clone())
+    /// Forgets all history (held hands, elbow swivel, calibration).
+    pub fn reset(&mut self) {
+        self.rig.reset();
+    }
+
+    /// Per bone in `LAYOUT.bones` order: 0 absent, 1 present and not driven, 2 driven by the
+    /// rig (written every frame).
+    #[wasm_bindgen(js_name = boneStates)]
+    pub fn bone_states(&self) -> Vec<u8> {
+        HumanBone::ALL
+            .iter()
+            .map(
+                |&b| match (self.rig.skeleton().has(b), self.rig.drives(b)) {
+                    (false, _) => 0,
+                    (true, false) => 1,
+                    (true, true) => 2,
+                },
+            )
             .collect()
     }
 
-    /// `{ [boneName]: [x, y, z] }`: rest world positions in the model's own frame.
-    #[wasm_bindgen(js_name = restWorldPositions)]
-    pub fn rest_world_positions(&self) -> Object {
-        let o = Object::new();
-        for b in self.rig.skeleton().bones() {
-            if let Some(p) = self.rig.skeleton().rest_world(b) {
-                self.set_position(&o, &self.keys.bone_names[b.index()], p);
-            }
-        }
-        o
+    /// Rest world positions, `3 * 55` numbers in `LAYOUT.bones` order (meters, the model's
+    /// own frame; zeros for absent bones).
+    #[wasm_bindgen(js_name = restPositions)]
+    pub fn rest_positions(&self) -> Vec<f32> {
+        let skeleton = self.rig.skeleton();
+        HumanBone::ALL
+            .iter()
+            .flat_map(|&b| {
+                let p = skeleton
+                    .rest_world(b)
+                    .map_or(Vec3::ZERO, |p| self.rig.export_position(p));
+                p.to_array()
+            })
+            .collect()
     }
-
-    /// Solves one frame: `frame = { timeMs, hands?, pose?, wrists? }`. Returns `{ bones,
-    /// worldPositions, ikTargets, alignment }` in the model's own frame. Throws an `Error`
-    /// naming the field on bad input; the rig is unchanged by a rejected frame.
-    pub fn solve(&mut self, frame: JsValue) -> JsResult<Object> {
-        self.read_frame(&frame)?;
-        self.rig.solve(&self.frame, &mut self.out).map_err(js_err)?;
-        Ok(self.result())
-    }
-
-    fn read_frame(&mut self, frame: &JsValue) -> JsResult<()> {
-        let keys = &self.keys;
-        if !frame.is_object() {
-            return Err(invalid(
-                "frame",
-                "must be an object { timeMs, hands?, pose?, wrists? }",
-            ));
-        }
-        let f = &mut self.frame;
-        f.clear();
-        f.time_ms = match get(frame, &keys.time_ms) {
-            Some(t) => t
-                .as_f64()
-                .filter(|t| t.is_finite())
-                .ok_or_else(|| invalid("frame.timeMs", "must be a finite number"))?,
-            None => 0.0,
-        };
-        let aspect = match get(frame, &keys.image_aspect) {
-            Some(a) => {
-                let a = number(&a, &|| "frame.imageAspect".into())?;
-                if a <= 0.0 {
-                    return Err(invalid(
-                        "frame.imageAspect",
-                        "must be positive (width / height)",
-                    ));
-                }
-                a
-            }
-            None => 16.0 / 9.0,
-        };
-        read_hands(frame, keys, f, aspect)?;
-        // Pose: `frame.pose` (handrig or PoseLandmarker shape) or legacy `poseWorldLandmarks`.
-        let pose_src = get(frame, &keys.pose).map(|p| (p, "frame.pose"));
-        let pose_src =
-            pose_src.or_else(|| get(frame, &keys.pose_world_landmarks).map(|p| (p, "frame")));
-        if let Some((p, name)) = pose_src {
-            let list = if name == "frame" {
-                p
-            } else {
-                get(&p, &keys.world_landmarks)
-                    .or_else(|| get(&p, &keys.pose_world_landmarks))
-                    .unwrap_or(p)
-            };
-            // PoseLandmarker: one list per person; take the first.
-            let list = first_if_nested(&list);
-            if let Some(list) = list {
-                let mut pose = PoseObservation {
-                    world: [Vec3::ZERO; POSE_LANDMARKS],
-                    visibility: [1.0; POSE_LANDMARKS],
-                };
-                points(
-                    &list,
-                    keys,
-                    &|| format!("{name}.worldLandmarks"),
-                    &mut pose.world,
-                    Some(&mut pose.visibility),
-                )?;
-                f.pose = Some(pose);
-            }
-        }
-        if let Some(w) = get(frame, &keys.wrists) {
-            for (side, key) in [(Side::Left, &keys.left), (Side::Right, &keys.right)] {
-                let Some(wv) = get(&w, key) else { continue };
-                let s = side.as_str();
-                let pos = get(&wv, &keys.position).ok_or_else(|| {
-                    invalid(
-                        &format!("frame.wrists.{s}.position"),
-                        "is missing (expected [x, y, z])",
-                    )
-                })?;
-                let position = vec3(&pos, keys, &|| format!("frame.wrists.{s}.position"))?;
-                let rotation = match get(&wv, &keys.rotation) {
-                    Some(r) => Some(quat(&r, &|| format!("frame.wrists.{s}.rotation"))?),
-                    None => None,
-                };
-                f.wrists[side.index()] = Some(WristObservation { position, rotation });
-            }
-        }
-        Ok(())
-    }
-
-    /// `o[key] = p` as `[x, y, z]` in the model's own frame.
-    fn set_position(&self, o: &Object, key: &JsValue, p: Vec3) {
-        set(o, key, &vec3_js(self.rig.export_position(p)));
-    }
-
-    /// `o[key] = q` as `[x, y, z, w]` in the model's own frame.
-    fn set_rotation(&self, o: &Object, key: &JsValue, q: Quat) {
-        set(o, key, &quat_js(self.rig.export_rotation(q)));
-    }
-
-    fn result(&self) -> Object {
-        let k = &self.keys;
-        let out = &self.out;
-        let skel = self.rig.skeleton();
-        let result = Object::new();
-        let bones = Object::new();
-        let world = Object::new();
-        for b in skel.bones() {
-            let i = b.index();
-            if out.solved[i] {
-                self.set_rotation(&bones, &k.bone_names[i], out.local[i]);
-            }
-            self.set_position(&world, &k.bone_names[i], out.world.position[i]);
-        }
-        set(&result, &k.time_ms, &JsValue::from_f64(self.frame.time_ms));
-        set(&result, &k.bones, &bones);
-        set(&result, &k.world_positions, &world);
-        let targets = Object::new();
-        let alignment = Object::new();
-        for side in Side::BOTH {
-            let key = if side == Side::Left {
-                &k.left
-            } else {
-                &k.right
-            };
-            if let Some(t) = &out.ik_targets[side.index()] {
-                let o = Object::new();
-                self.set_position(&o, &k.position, t.position);
-                self.set_rotation(&o, &k.rotation, t.rotation);
-                set(&targets, key, &o);
-            }
-            if let Some(a) = &out.alignment[side.index()] {
-                let o = Object::new();
-                self.set_position(&o, &k.target_dip, a.target_dip);
-                self.set_position(&o, &k.ik_wrist, a.ik_wrist);
-                self.set_position(&o, &k.pose_wrist, a.pose_wrist);
-                let err = if a.error.is_finite() {
-                    JsValue::from_f64(a.error as f64)
-                } else {
-                    JsValue::NULL
-                };
-                set(&o, &k.error, &err);
-                set(&o, &k.reachable, &JsValue::from_bool(a.reachable));
-                set(&o, &k.aligned, &JsValue::from_bool(a.aligned));
-                set(&alignment, key, &o);
-            }
-        }
-        let hands = Object::new();
-        for side in Side::BOTH {
-            let Some(h) = &out.hands[side.index()] else {
-                continue;
-            };
-            let o = Object::new();
-            let status = match h.status {
-                HandStatus::Solved => &k.status_names[0],
-                HandStatus::Held => &k.status_names[1],
-                HandStatus::Skipped | HandStatus::NotSolved => &k.status_names[2],
-            };
-            set(&o, &k.status, status);
-            set(&o, &k.score, &JsValue::from_f64(h.score as f64));
-            set(
-                &hands,
-                if side == Side::Left {
-                    &k.left
-                } else {
-                    &k.right
-                },
-                &o,
-            );
-        }
-        set(&result, &k.ik_targets, &targets);
-        set(&result, &k.alignment, &alignment);
-        set(&result, &k.hands, &hands);
-        result
-    }
-}
-
-/// Rejects option names handrig does not know (serde-wasm-bindgen ignores them), so a typo
-/// is an error rather than a silently ignored setting. Known names come from
-/// [`option_descriptions`].
-fn check_option_keys(options: &JsValue) -> JsResult<()> {
-    if !options.is_object() || Array::is_array(options) {
-        return Err(invalid("options", "must be an object"));
-    }
-    let descriptions = option_descriptions();
-    let known = |prefix: &str, key: &str| {
-        descriptions.iter().any(|d| {
-            let path = d.path;
-            match prefix {
-                "" => path == key || path.strip_prefix(key).is_some_and(|r| r.starts_with('.')),
-                p => path.strip_prefix(p).and_then(|r| r.strip_prefix('.')) == Some(key),
-            }
-        })
-    };
-    for key in Object::keys(options.unchecked_ref::<Object>()).iter() {
-        let key = key.as_string().unwrap_or_default();
-        if !known("", &key) {
-            return Err(invalid(&format!("options.{key}"), "unknown option"));
-        }
-        let value = get(options, &JsValue::from_str(&key));
-        if let Some(nested) = value.filter(|v| v.is_object() && !Array::is_array(v)) {
-            for sub in Object::keys(nested.unchecked_ref::<Object>()).iter() {
-                let sub = sub.as_string().unwrap_or_default();
-                if !known(&key, &sub) {
-                    return Err(invalid(&format!("options.{key}.{sub}"), "unknown option"));
-                }
-            }
-        }
-    }
-    Ok(())
-}
-
-fn set(o: &Object, k: &JsValue, v: &JsValue) {
-    // Setting a property on a plain object we created cannot fail.
-    let _ = Reflect::set(o, k, v);
-}
-
-// One boundary crossing per vector (`Array.of`), not one per element: result building is most
-// of the per-frame cost of the object API.
-fn vec3_js(p: Vec3) -> JsValue {
-    let c = |v: f32| JsValue::from_f64(v as f64);
-    Array::of3(&c(p.x), &c(p.y), &c(p.z)).into()
-}
-
-fn quat_js(q: Quat) -> JsValue {
-    let c = |v: f32| JsValue::from_f64(v as f64);
-    Array::of4(&c(q.x), &c(q.y), &c(q.z), &c(q.w)).into()
-}
-
-/// `[[...points]]` (one list per person/hand) -> the first list; a flat list stays as is.
-/// `None` for an empty outer list (nothing detected).
-fn first_if_nested(v: &JsValue) -> Option<JsValue> {
-    match v.dyn_ref::<Array>() {
-        Some(a) if a.length() == 0 => None,
-        Some(a)
-            if Array::is_array(&a.get(0))
-                && a.get(0)
-                    .dyn_ref::<Array>()
-                    .is_some_and(|i| i.length() > 0 && i.get(0).as_f64().is_none()) =>
-        {
-            Some(a.get(0))
-        }
-        _ => Some(v.clone()),
-    }
-}
-
-fn read_hands(frame: &JsValue, keys: &Keys, f: &mut FrameInput, aspect: f32) -> JsResult<()> {
-    // 1. handrig's own shape: frame.hands = [{ handedness, score?, worldLandmarks, landmarks? }]
-    //    or frame.hands = a tasks-vision HandLandmarkerResult.
-    if let Some(hands) = get(frame, &keys.hands) {
-        if let Some(a) = hands.dyn_ref::<Array>() {
-            if a.length() as usize > MAX_HANDS {
-                return Err(invalid(
-                    "frame.hands",
-                    &format!("at most {MAX_HANDS} hands per frame, got {}", a.length()),
-                ));
-            }
-            for (i, h) in a.iter().enumerate() {
-                let field = || format!("frame.hands[{i}]");
-                if !h.is_object() {
-                    return Err(invalid(
-                        &field(),
-                        "must be an object { handedness, worldLandmarks }",
-                    ));
-                }
-                let hv = get(&h, &keys.handedness).ok_or_else(|| {
-                    invalid(
-                        &format!("{}.handedness", field()),
-                        "is missing (\"Left\" or \"Right\")",
-                    )
-                })?;
-                let (label, label_score) =
-                    handedness_label(&hv, keys, &|| format!("{}.handedness", field()))?;
-                let score = match get(&h, &keys.score) {
-                    Some(s) => number(&s, &|| format!("{}.score", field()))?,
-                    None => label_score.unwrap_or(1.0),
-                };
-                push_hand(
-                    get(&h, &keys.world_landmarks),
-                    get(&h, &keys.landmarks),
-                    &|| format!("{}.worldLandmarks", field()),
-                    &|| format!("{}.landmarks", field()),
-                    keys,
-                    f,
-                    empty_hand(label, score),
-                    aspect,
-                )?;
-            }
-            return Ok(());
-        }
-        if hands.is_object() {
-            return read_result_shape(&hands, keys, f, "frame.hands", aspect);
-        }
-        return Err(invalid(
-            "frame.hands",
-            "must be an array of hands or a HandLandmarker result",
-        ));
-    }
-    // 2. A MediaPipe result passed as the frame itself.
-    read_result_shape(frame, keys, f, "frame", aspect)
-}
-
-/// tasks-vision `HandLandmarkerResult` ({ landmarks, worldLandmarks, handedness |
-/// handednesses }), legacy Hands ({ multiHandLandmarks, multiHandWorldLandmarks,
-/// multiHandedness }) or legacy Holistic ({ leftHandLandmarks, rightHandLandmarks }).
-fn read_result_shape(
-    r: &JsValue,
-    keys: &Keys,
-    f: &mut FrameInput,
-    name: &str,
-    aspect: f32,
-) -> JsResult<()> {
-    let (world_key, image_key, label_key, label_name) = if get(r, &keys.multi_handedness).is_some()
-    {
-        (
-            &keys.multi_hand_world_landmarks,
-            &keys.multi_hand_landmarks,
-            &keys.multi_handedness,
-            "multiHandedness",
-        )
-    } else if let Some(_h) = get(r, &keys.handedness) {
-        (
-            &keys.world_landmarks,
-            &keys.landmarks,
-            &keys.handedness,
-            "handedness",
-        )
-    } else if get(r, &keys.handednesses).is_some() {
-        (
-            &keys.world_landmarks,
-            &keys.landmarks,
-            &keys.handednesses,
-            "handednesses",
-        )
-    } else {
-        // Holistic legacy: image landmarks per side, labelled like MediaPipe's hand labels
-        // (rotations from image landmarks differ from world-landmark ones by up to ~30 degrees).
-        for (key, label, lname) in [
-            (
-                &keys.left_hand_landmarks,
-                Handedness::Left,
-                "leftHandLandmarks",
-            ),
-            (
-                &keys.right_hand_landmarks,
-                Handedness::Right,
-                "rightHandLandmarks",
-            ),
-        ] {
-            if let Some(list) = get(r, key) {
-                let field = || format!("{name}.{lname}");
-                let hand = empty_hand(label, 1.0);
-                push_hand(None, Some(list), &field, &field, keys, f, hand, aspect)?;
-            }
-        }
-        return Ok(());
-    };
-    let labels = get(r, label_key)
-        .and_then(|l| l.dyn_into::<Array>().ok())
-        .ok_or_else(|| invalid(&format!("{name}.{label_name}"), "must be an array"))?;
-    let world = get(r, world_key).and_then(|l| l.dyn_into::<Array>().ok());
-    let image = get(r, image_key).and_then(|l| l.dyn_into::<Array>().ok());
-    let n = labels.length() as usize;
-    if n > MAX_HANDS {
-        return Err(invalid(
-            &format!("{name}.{label_name}"),
-            &format!("at most {MAX_HANDS} hands per frame, got {n}"),
-        ));
-    }
-    for i in 0..n {
-        let field = || format!("{name}.{label_name}[{i}]");
-        let (label, score) = handedness_label(&labels.get(i as u32), keys, &field)?;
-        let world_list = world
-            .as_ref()
-            .map(|w| w.get(i as u32))
-            .filter(|v| !v.is_undefined());
-        let image_list = image
-            .as_ref()
-            .map(|w| w.get(i as u32))
-            .filter(|v| !v.is_undefined());
-        push_hand(
-            world_list,
-            image_list,
-            &|| format!("{name}.worldLandmarks[{i}]"),
-            &|| format!("{name}.landmarks[{i}]"),
-            keys,
-            f,
-            empty_hand(label, score.unwrap_or(1.0)),
-            aspect,
-        )?;
-    }
-    Ok(())
-}
-
-fn empty_hand(label: Handedness, score: f32) -> HandObservation {
-    HandObservation {
-        handedness: label,
-        score,
-        world: [Vec3::ZERO; HAND_LANDMARKS],
-        image: None,
-    }
-}
-
-/// Reads one hand's world and image landmarks (either may be absent, not both) into the next
-/// slot of `f.hands`. Without world landmarks the image ones stand in, see
-/// [`image_to_pseudo_world`].
-#[allow(clippy::too_many_arguments)]
-fn push_hand(
-    world: Option<JsValue>,
-    image: Option<JsValue>,
-    world_field: &dyn Fn() -> String,
-    image_field: &dyn Fn() -> String,
-    keys: &Keys,
-    f: &mut FrameInput,
-    mut hand: HandObservation,
-    aspect: f32,
-) -> JsResult<()> {
-    if let Some(img) = image {
-        let mut p = [Vec3::ZERO; HAND_LANDMARKS];
-        points(&img, keys, image_field, &mut p, None)?;
-        hand.image = Some(p);
-    }
-    match (world, hand.image) {
-        (Some(w), _) => points(&w, keys, world_field, &mut hand.world, None)?,
-        (None, Some(img)) => {
-            hand.world = img;
-            image_to_pseudo_world(&mut hand.world, aspect);
-        }
-        (None, None) => {
-            return Err(invalid(
-                &world_field(),
-                "is missing (21 points [x, y, z] in meters, or image landmarks)",
-            ))
-        }
-    }
-    f.hands[f.hand_count] = hand;
-    f.hand_count += 1;
-    Ok(())
 }

@@ -239,12 +239,11 @@ export class Avatar {
   }
 
   /**
-   * Applies a handrig result: every normalized bone goes to rest (a result lists only the bones
-   * solved this frame), the package's `applyToVRM` writes the solved local rotations, and
-   * three-vrm copies them onto the model's bones in `vrm.update`.
+   * Applies a handrig result: the package's `applyToVRM` writes every bone the rig drives
+   * (solved, held or back at rest: a result carries them all every frame, so nothing freezes
+   * when tracking is lost), and three-vrm copies them onto the model's bones in `vrm.update`.
    */
   apply(result) {
-    this.vrm.humanoid.resetNormalizedPose();
     if (result) applyToVRM(this.vrm, result);
     this.vrm.update(0);
     this.vrm.scene.updateMatrixWorld(true);

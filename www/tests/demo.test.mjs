@@ -172,9 +172,9 @@ test("every control re-creates the rigs with its option, and the controls change
 
   // What each known option must do to this frame (the subject's right hand, aligned index DIP).
   const effects = {
-    inputMirrored: (s) => assert.ok(s.results.with.bones.leftIndexProximal && !s.results.with.bones.rightIndexProximal, "hand moves to the avatar's left"),
+    inputMirrored: (s) => assert.ok(s.results.with.hands.left && !s.results.with.hands.right, "hand moves to the avatar's left"),
     mirror: (s) => {
-      assert.ok(s.results.with.bones.leftIndexProximal && !s.results.with.bones.rightIndexProximal, "hand moves to the avatar's left");
+      assert.ok(s.results.with.hands.left && !s.results.with.hands.right, "hand moves to the avatar's left");
       // The page mirrors the Kinect wrists with it: the avatar's left wrist is the subject's
       // right wrist reflected (the robot is symmetric about x = 0).
       const p = base.results.without.ikTargets.right.position;
@@ -189,7 +189,7 @@ test("every control re-creates the rigs with its option, and the controls change
       assert.ok(dist(p, base.results.with.ikTargets.right.position) > 0.002, "IK target moves");
       assert.ok(dist(p, s.results.without.ikTargets.right.position) > 0.002, "and is not the plain pose wrist");
     },
-    minHandScore: (s) => assert.ok(!s.results.with.bones.rightIndexProximal && !s.results.with.alignment.right, "the hand (score < 1) is ignored"),
+    minHandScore: (s) => assert.ok(!s.results.with.hands.right && !s.results.with.alignment.right, "the hand (score < 1) is ignored"),
   };
   const nonDefault = (d) => {
     if (d.type === "boolean") return [!d.default];

@@ -94,7 +94,10 @@ test("dropping a VRM 0.x file without fingers and off the T-pose (odd-armature-v
   }
   assert.equal(s.errorMm.with.right, null, "no error readout without a finger to align");
   assert.match(await page.textContent("#ro-right-with"), /^–$/);
-  assert.ok(s.results.with.bones.rightLowerArm && s.results.with.bones.leftLowerArm, "the arms are solved");
+  // Both arms reach their Kinect wrists (no hand rotation on this avatar: no IK target is
+  // reported, but the arms turn away from rest).
+  const moved = (q) => Math.abs(Math.abs(q[3]) - 1) > 1e-4;
+  assert.ok(moved(s.results.with.bones.rightUpperArm) && moved(s.results.with.bones.leftUpperArm), "the arms are solved");
   await assertSkeletonDrawn(s, "drop-vrm0-odd-armature.png");
   assert.deepEqual(errors, []);
 });
@@ -111,8 +114,10 @@ test("dropping a VRM 0.x file with fingers (tests/fixtures/vrm0-fingers.vrm)", a
   assert.ok(s.avatar.boneCount > 17 + 20, `finger bones present (${s.avatar.boneCount})`);
   assertParserAgrees(s.avatar);
   for (const v of ["without", "with"]) assertFiniteResult(s.results[v], v);
-  assert.ok(s.results.with.bones.rightIndexProximal, "the right index finger is solved");
-  assert.ok(s.results.with.bones.rightThumbMetacarpal, "the thumb (0.x thumbProximal) is solved");
+  const moved = (q) => Math.abs(Math.abs(q[3]) - 1) > 1e-4;
+  assert.equal(s.results.with.hands.right?.status, "solved");
+  assert.ok(moved(s.results.with.bones.rightIndexProximal), "the right index finger is solved");
+  assert.ok(moved(s.results.with.bones.rightThumbMetacarpal), "the thumb (0.x thumbProximal) is solved");
   // handrig's FK and three-vrm's normalized bones agree in the 0.x model frame.
   const mm = s.errorMm.with.right;
   assert.ok(Number.isFinite(mm));

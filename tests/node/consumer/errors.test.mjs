@@ -24,7 +24,7 @@ const robotBytes = readBytes(avatars.robot);
 
 describe("solve() rejects bad frames by field, and the rig keeps working", () => {
   const rig = HandRig.fromVrm(robotBytes);
-  const expected = rig.solve(good);
+  const expected = rig.solve(good, {});
   const withHand = (patch) => ({ timeMs: 1, hands: [{ ...hand, ...patch }] });
   const nanLandmarks = hand.worldLandmarks.map((p, i) => (i === 7 ? [p[0], Number.NaN, p[2]] : p));
   const cases = {
@@ -47,7 +47,7 @@ describe("solve() rejects bad frames by field, and the rig keeps working", () =>
   for (const [name, [frame, pattern]] of Object.entries(cases)) {
     it(name, () => {
       throwsNaming(() => rig.solve(frame), pattern);
-      assert.deepEqual(rig.solve(good), expected, "the rig gives the same answer after the error");
+      assert.deepEqual(rig.solve(good, {}), expected, "the rig gives the same answer after the error");
     });
   }
 });

@@ -112,15 +112,20 @@ export function handBones(side) {
   return names;
 }
 
+/** Whether unit quaternion `q` is the identity (a bone at rest), q and -q alike. */
+export function isIdentity(q, tol = 1e-6) {
+  return Math.abs(Math.abs(q[3]) - 1) < tol;
+}
+
 /**
- * Solves every frame of the recording; returns per-frame results' summaries. Asserts each result
- * is well-formed.
+ * Solves every frame of the recording, each into an object of its own (`solve(frame, {})`:
+ * the rig's own result object is reused by the next call); asserts each is well-formed.
  */
 export function solveRecording(rig, { every = 1 } = {}) {
   const frames = readRecording();
   const results = [];
   for (let i = 0; i < frames.length; i += every) {
-    const r = rig.solve(frames[i]);
+    const r = rig.solve(frames[i], {});
     assertResultWellFormed(r, `frame ${i}`);
     results.push(r);
   }

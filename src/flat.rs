@@ -1,0 +1,610 @@
+//! The flat frame layout: one frame's input and output as fixed arrays of `f32`, so a caller
+//! can exchange them with [`crate::Rig`] without building any object per frame.
+//!
+//! This is what the npm package's typed-array path is made of (rapier.js style): the rig owns
+//! one input and one output buffer in wasm memory, JavaScript writes the input and reads the
+//! output through `Float32Array` views, and nothing is allocated or serialized per frame. The
+//! object API (`rig.solve(frame)`) is a thin JavaScript layer that packs MediaPipe shapes into
+//! the same input and builds its result from the same output, so the two paths cannot drift.
+//!
+//! Offsets are the constants of [`input`] and [`output`] (exported to JavaScript as
+//! `LAYOUT`); [`VERSION`] changes whenever an offset changes. Conventions as everywhere: the
+//! output is in **the model's own frame** (VRM 0.x outputs are turned back), quaternions
+//! `x y z w`, meters. Hand landmarks are MediaPipe's, in MediaPipe's axes, as given.
+//!
+//! Flags are numbers: `0` for no or absent, `1` for yes or present (anything else in an input
+//! flag is an error). Unused slots (hands past `HAND_COUNT`, absent sections) are ignored.
+
+use glam::{Quat, Vec3};
+
+use crate::bones::{HumanBone, Side, BONE_COUNT};
+use crate::error::{Error, Result};
+use crate::hand::HandStatus;
+use crate::mediapipe::{
+    FrameInput, HandObservation, Handedness, PoseObservation, WristObservation, HAND_LANDMARKS,
+    MAX_HANDS, POSE_LANDMARKS,
+};
+use crate::rig::{Rig, SolveOutput};
+
+/// Layout version: bumped whenever an offset or meaning below changes.
+pub const VERSION: u32 = 1;
+
+/// Input offsets (indices into the input `f32` array).
+pub mod input {
+    use super::{HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS};
+
+    /// How many hand slots are used, `0..=MAX_HANDS` (MediaPipe's order; duplicates allowed).
+    pub const HAND_COUNT: usize = 0;
+    /// Image width / height, used only for hands given by image landmarks alone (legacy
+    /// Holistic); `0` means the default 16/9.
+    pub const IMAGE_ASPECT: usize = 1;
+    /// `1` when the pose section holds this frame's pose.
+    pub const POSE_PRESENT: usize = 2;
+    /// First hand slot; slot `i` starts at `HANDS + i * HAND_STRIDE`.
+    pub const HANDS: usize = 4;
+    /// Size of one hand slot.
+    pub const HAND_STRIDE: usize = 132;
+    /// Offsets inside a hand slot.
+    pub mod hand {
+        /// MediaPipe's label: `0` = "Left", `1` = "Right" (as given; see `inputMirrored`).
+        pub const HANDEDNESS: usize = 0;
+        /// Handedness score, `0..=1`.
+        pub const SCORE: usize = 1;
+        /// `1` when `WORLD` holds world landmarks.
+        pub const HAS_WORLD: usize = 2;
+        /// `1` when `IMAGE` holds image landmarks.
+        pub const HAS_IMAGE: usize = 3;
+        /// 21 world landmarks `x y z` (meters, MediaPipe's camera axes).
+        pub const WORLD: usize = 4;
+        /// 21 normalized image landmarks `x y z`.
+        pub const IMAGE: usize = WORLD + 3 * super::HAND_LANDMARKS;
+    }
+    /// Pose world landmarks: 33 × `x y z visibility` (meters, MediaPipe's axes; visibility
+    /// `0..=1`).
+    pub const POSE: usize = HANDS + MAX_HANDS * HAND_STRIDE;
+    /// Floats per pose landmark.
+    pub const POSE_STRIDE: usize = 4;
+    /// Wrists from another body tracker, `[left, right]` (the avatar's sides); slot of side
+    /// `s` starts at `WRISTS + s * WRIST_STRIDE`.
+    pub const WRISTS: usize = POSE + POSE_LANDMARKS * POSE_STRIDE;
+    /// Size of one wrist slot.
+    pub const WRIST_STRIDE: usize = 9;
+    /// Offsets inside a wrist slot.
+    pub mod wrist {
+        /// `1` when this wrist is given.
+        pub const PRESENT: usize = 0;
+        /// `1` when `ROTATION` is given.
+        pub const HAS_ROTATION: usize = 1;
+        /// Position `x y z`, meters, the model's own frame.
+        pub const POSITION: usize = 2;
+        /// World rotation of the normalized hand bone, `x y z w`, the model's own frame.
+        pub const ROTATION: usize = 5;
+    }
+    /// Length of the input array.
+    pub const LEN: usize = WRISTS + 2 * WRIST_STRIDE;
+}
+
+/// Output offsets (indices into the output `f32` array).
+pub mod output {
+    use super::BONE_COUNT;
+
+    /// Local rotation of every humanoid bone, `x y z w`, in [`crate::HumanBone::ALL`] order
+    /// (`LAYOUT.bones` in JavaScript), the model's own frame; identity for bones not driven.
+    pub const BONE_ROTATIONS: usize = 0;
+    /// Per bone: `0` not driven by handrig (or absent from the avatar), `1` driven and solved
+    /// from this frame, `2` driven but not solved this frame (at rest, or held).
+    pub const BONE_FLAGS: usize = BONE_ROTATIONS + 4 * BONE_COUNT;
+    /// World position of every bone's joint after solving, `x y z`, meters, the model's own
+    /// frame (unspecified for absent bones).
+    pub const BONE_POSITIONS: usize = BONE_FLAGS + BONE_COUNT;
+    /// Per-side reports, `[left, right]`; side `s` starts at `SIDES + s * SIDE_STRIDE`.
+    pub const SIDES: usize = BONE_POSITIONS + 3 * BONE_COUNT;
+    /// Size of one side's report.
+    pub const SIDE_STRIDE: usize = 24;
+    /// Offsets inside a side's report.
+    pub mod side {
+        /// The tracked hand driving this side: `0` none, `1` solved, `2` held (degenerate
+        /// this frame, previous rotations kept), `3` skipped (degenerate, nothing to hold).
+        pub const HAND_STATUS: usize = 0;
+        /// Its handedness score (0 without a hand).
+        pub const HAND_SCORE: usize = 1;
+        /// `1` when the wrist IK target below is valid.
+        pub const TARGET_PRESENT: usize = 2;
+        /// Wrist IK target position `x y z`.
+        pub const TARGET_POSITION: usize = 3;
+        /// Wrist IK target rotation (world rotation of the hand bone) `x y z w`.
+        pub const TARGET_ROTATION: usize = 6;
+        /// `1` when the alignment report below is valid.
+        pub const ALIGNMENT_PRESENT: usize = 10;
+        /// Where the user's aligned finger point lands on the avatar, `x y z`.
+        pub const TARGET_DIP: usize = 11;
+        /// The aligned wrist IK target, `x y z`.
+        pub const IK_WRIST: usize = 14;
+        /// The pose wrist the target was built from, `x y z`.
+        pub const POSE_WRIST: usize = 17;
+        /// Distance (m) from the avatar's aligned point after IK to `TARGET_DIP`; NaN when
+        /// unknown.
+        pub const ALIGNMENT_ERROR: usize = 20;
+        /// `1` when the arm reached the IK wrist.
+        pub const REACHABLE: usize = 21;
+        /// `1` when the avatar has the aligned finger.
+        pub const ALIGNED: usize = 22;
+    }
+    /// Length of the output array.
+    pub const LEN: usize = SIDES + 2 * SIDE_STRIDE;
+}
+
+// Sub-layouts fit their strides (checked when the crate compiles).
+const _: () = {
+    assert!(input::hand::IMAGE + 3 * HAND_LANDMARKS <= input::HAND_STRIDE);
+    assert!(input::wrist::ROTATION + 4 <= input::WRIST_STRIDE);
+    assert!(output::side::ALIGNED < output::SIDE_STRIDE);
+};
+
+/// Every named offset of the layout as `(path, value)`, for exporting it (JavaScript's
+/// `LAYOUT`) and documenting it; a test checks it against the constants.
+pub const FIELDS: &[(&str, usize)] = &[
+    ("input.length", input::LEN),
+    ("input.handCount", input::HAND_COUNT),
+    ("input.imageAspect", input::IMAGE_ASPECT),
+    ("input.posePresent", input::POSE_PRESENT),
+    ("input.hands", input::HANDS),
+    ("input.handStride", input::HAND_STRIDE),
+    ("input.hand.handedness", input::hand::HANDEDNESS),
+    ("input.hand.score", input::hand::SCORE),
+    ("input.hand.hasWorld", input::hand::HAS_WORLD),
+    ("input.hand.hasImage", input::hand::HAS_IMAGE),
+    ("input.hand.world", input::hand::WORLD),
+    ("input.hand.image", input::hand::IMAGE),
+    ("input.pose", input::POSE),
+    ("input.poseStride", input::POSE_STRIDE),
+    ("input.wrists", input::WRISTS),
+    ("input.wristStride", input::WRIST_STRIDE),
+    ("input.wrist.present", input::wrist::PRESENT),
+    ("input.wrist.hasRotation", input::wrist::HAS_ROTATION),
+    ("input.wrist.position", input::wrist::POSITION),
+    ("input.wrist.rotation", input::wrist::ROTATION),
+    ("output.length", output::LEN),
+    ("output.boneRotations", output::BONE_ROTATIONS),
+    ("output.boneFlags", output::BONE_FLAGS),
+    ("output.bonePositions", output::BONE_POSITIONS),
+    ("output.sides", output::SIDES),
+    ("output.sideStride", output::SIDE_STRIDE),
+    ("output.side.handStatus", output::side::HAND_STATUS),
+    ("output.side.handScore", output::side::HAND_SCORE),
+    ("output.side.targetPresent", output::side::TARGET_PRESENT),
+    ("output.side.targetPosition", output::side::TARGET_POSITION),
+    ("output.side.targetRotation", output::side::TARGET_ROTATION),
+    (
+        "output.side.alignmentPresent",
+        output::side::ALIGNMENT_PRESENT,
+    ),
+    ("output.side.targetDip", output::side::TARGET_DIP),
+    ("output.side.ikWrist", output::side::IK_WRIST),
+    ("output.side.poseWrist", output::side::POSE_WRIST),
+    ("output.side.alignmentError", output::side::ALIGNMENT_ERROR),
+    ("output.side.reachable", output::side::REACHABLE),
+    ("output.side.aligned", output::side::ALIGNED),
+];
+
+/// A flag slot: exactly `0` or `1`.
+fn flag(buf: &[f32], at: usize, field: impl FnOnce() -> String) -> Result<bool> {
+    match buf[at] {
+        0.0 => Ok(false),
+        1.0 => Ok(true),
+        _ => Err(Error::invalid(field(), "must be 0 or 1")),
+    }
+}
+
+fn vec3_at(buf: &[f32], at: usize) -> Vec3 {
+    Vec3::new(buf[at], buf[at + 1], buf[at + 2])
+}
+
+/// Reads `N` points of `stride` floats at `at` (the first three are `x y z`).
+fn points<const N: usize>(
+    buf: &[f32],
+    at: usize,
+    stride: usize,
+    out: &mut [Vec3; N],
+    field: impl Fn(usize) -> String,
+) -> Result<()> {
+    for (k, p) in out.iter_mut().enumerate() {
+        *p = vec3_at(buf, at + k * stride);
+        if !p.is_finite() {
+            return Err(Error::invalid(field(k), "must be three finite numbers"));
+        }
+    }
+    Ok(())
+}
+
+/// Decodes a flat input array into `frame` (reused: nothing is allocated unless the input is
+/// rejected). Every number is checked; errors name the field as the object API spells it
+/// (`frame.hands[1].worldLandmarks[7]`), and `frame` is left cleared on error.
+///
+/// # Errors
+/// Wrong length, a flag other than 0 or 1, a hand count out of range, non-finite numbers,
+/// scores or visibilities outside `0..=1`, non-unit wrist rotations.
+pub fn read_input(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result<()> {
+    frame.clear();
+    let r = read_input_inner(buf, time_ms, frame);
+    if r.is_err() {
+        frame.clear();
+    }
+    r
+}
+
+fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result<()> {
+    if buf.len() != input::LEN {
+        return Err(Error::invalid(
+            "input",
+            format!(
+                "must have {} numbers (layout version {VERSION}), got {}",
+                input::LEN,
+                buf.len()
+            ),
+        ));
+    }
+    if !time_ms.is_finite() {
+        return Err(Error::invalid("frame.timeMs", "must be a finite number"));
+    }
+    frame.time_ms = time_ms;
+    let count = buf[input::HAND_COUNT];
+    if !(count >= 0.0 && count <= MAX_HANDS as f32 && count.fract() == 0.0) {
+        return Err(Error::invalid(
+            "frame.hands",
+            format!("hand count must be a whole number in 0..={MAX_HANDS}, got {count}"),
+        ));
+    }
+    let aspect = match buf[input::IMAGE_ASPECT] {
+        0.0 => 16.0 / 9.0,
+        a if a.is_finite() && a > 0.0 => a,
+        _ => {
+            return Err(Error::invalid(
+                "frame.imageAspect",
+                "must be a positive number (width / height)",
+            ))
+        }
+    };
+    for i in 0..count as usize {
+        let at = input::HANDS + i * input::HAND_STRIDE;
+        let name = |f: &str| format!("frame.hands[{i}]{f}");
+        let handedness = match buf[at + input::hand::HANDEDNESS] {
+            0.0 => Handedness::Left,
+            1.0 => Handedness::Right,
+            _ => {
+                return Err(Error::invalid(
+                    name(".handedness"),
+                    "must be 0 (\"Left\") or 1 (\"Right\")",
+                ))
+            }
+        };
+        let score = buf[at + input::hand::SCORE];
+        if !(0.0..=1.0).contains(&score) {
+            return Err(Error::invalid(name(".score"), "must be a number in 0..1"));
+        }
+        let has_world = flag(buf, at + input::hand::HAS_WORLD, || name(".hasWorld"))?;
+        let has_image = flag(buf, at + input::hand::HAS_IMAGE, || name(".hasImage"))?;
+        let mut hand = HandObservation {
+            handedness,
+            score,
+            world: [Vec3::ZERO; HAND_LANDMARKS],
+            image: None,
+        };
+        if has_image {
+            let mut image = [Vec3::ZERO; HAND_LANDMARKS];
+            points(buf, at + input::hand::IMAGE, 3, &mut image, |k| {
+                name(&format!(".landmarks[{k}]"))
+            })?;
+            hand.image = Some(image);
+        }
+        match (has_world, hand.image) {
+            (true, _) => points(buf, at + input::hand::WORLD, 3, &mut hand.world, |k| {
+                name(&format!(".worldLandmarks[{k}]"))
+            })?,
+            (false, Some(image)) => {
+                hand.world = image;
+                crate::mediapipe::image_to_pseudo_world(&mut hand.world, aspect);
+                if hand.world.iter().any(|p| !p.is_finite()) {
+                    return Err(Error::invalid(
+                        name(".landmarks"),
+                        "image landmarks too large to use",
+                    ));
+                }
+            }
+            (false, None) => {
+                return Err(Error::invalid(
+                    name(".worldLandmarks"),
+                    "is missing (21 points [x, y, z] in meters, or image landmarks)",
+                ))
+            }
+        }
+        frame.hands[i] = hand;
+        frame.hand_count = i + 1;
+    }
+    if flag(buf, input::POSE_PRESENT, || "frame.pose".into())? {
+        let mut pose = PoseObservation {
+            world: [Vec3::ZERO; POSE_LANDMARKS],
+            visibility: [1.0; POSE_LANDMARKS],
+        };
+        points(buf, input::POSE, input::POSE_STRIDE, &mut pose.world, |k| {
+            format!("frame.pose.worldLandmarks[{k}]")
+        })?;
+        for (k, v) in pose.visibility.iter_mut().enumerate() {
+            *v = buf[input::POSE + k * input::POSE_STRIDE + 3];
+            if !(0.0..=1.0).contains(v) {
+                return Err(Error::invalid(
+                    format!("frame.pose.worldLandmarks[{k}].visibility"),
+                    "must be a number in 0..1",
+                ));
+            }
+        }
+        frame.pose = Some(pose);
+    }
+    for side in Side::BOTH {
+        let at = input::WRISTS + side.index() * input::WRIST_STRIDE;
+        let name = |f: &str| format!("frame.wrists.{}{f}", side.as_str());
+        if !flag(buf, at + input::wrist::PRESENT, || name(""))? {
+            continue;
+        }
+        let position = vec3_at(buf, at + input::wrist::POSITION);
+        if !position.is_finite() {
+            return Err(Error::invalid(
+                name(".position"),
+                "must be three finite numbers",
+            ));
+        }
+        let rotation = if flag(buf, at + input::wrist::HAS_ROTATION, || name(".rotation"))? {
+            let r = at + input::wrist::ROTATION;
+            let q = Quat::from_xyzw(buf[r], buf[r + 1], buf[r + 2], buf[r + 3]);
+            if !q.is_finite() || (q.length() - 1.0).abs() > 1e-2 {
+                return Err(Error::invalid(
+                    name(".rotation"),
+                    "must be a unit quaternion [x, y, z, w]",
+                ));
+            }
+            Some(q.normalize())
+        } else {
+            None
+        };
+        frame.wrists[side.index()] = Some(WristObservation { position, rotation });
+    }
+    Ok(())
+}
+
+fn put_vec3(buf: &mut [f32], at: usize, v: Vec3) {
+    buf[at..at + 3].copy_from_slice(&v.to_array());
+}
+
+fn put_quat(buf: &mut [f32], at: usize, q: Quat) {
+    buf[at..at + 4].copy_from_slice(&q.to_array());
+}
+
+fn put_flag(buf: &mut [f32], at: usize, on: bool) {
+    buf[at] = if on { 1.0 } else { 0.0 };
+}
+
+/// Writes `out` (from [`Rig::solve`] on `rig`) into a flat output array, converting to the
+/// model's own frame. Allocates nothing.
+///
+/// # Panics
+/// When `buf` is shorter than [`output::LEN`] (a caller bug, not an input problem).
+pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
+    let skeleton = rig.skeleton();
+    for bone in HumanBone::ALL {
+        let i = bone.index();
+        let driven = skeleton.has(bone) && rig.drives(bone);
+        let q = if driven {
+            rig.export_rotation(out.local[i])
+        } else {
+            Quat::IDENTITY
+        };
+        put_quat(buf, output::BONE_ROTATIONS + 4 * i, q);
+        buf[output::BONE_FLAGS + i] = match (driven, out.solved[i]) {
+            (false, _) => 0.0,
+            (true, true) => 1.0,
+            (true, false) => 2.0,
+        };
+        put_vec3(
+            buf,
+            output::BONE_POSITIONS + 3 * i,
+            rig.export_position(out.world.position[i]),
+        );
+    }
+    for side in Side::BOTH {
+        let at = output::SIDES + side.index() * output::SIDE_STRIDE;
+        let s = side.index();
+        let (status, score) = match &out.hands[s] {
+            None => (0.0, 0.0),
+            Some(h) => (
+                match h.status {
+                    HandStatus::Solved => 1.0,
+                    HandStatus::Held => 2.0,
+                    HandStatus::Skipped | HandStatus::NotSolved => 3.0,
+                },
+                h.score,
+            ),
+        };
+        buf[at + output::side::HAND_STATUS] = status;
+        buf[at + output::side::HAND_SCORE] = score;
+        let target = out.ik_targets[s];
+        put_flag(buf, at + output::side::TARGET_PRESENT, target.is_some());
+        let t = target.unwrap_or(crate::rig::IkTarget {
+            position: Vec3::ZERO,
+            rotation: Quat::IDENTITY,
+        });
+        put_vec3(
+            buf,
+            at + output::side::TARGET_POSITION,
+            rig.export_position(t.position),
+        );
+        put_quat(
+            buf,
+            at + output::side::TARGET_ROTATION,
+            rig.export_rotation(t.rotation),
+        );
+        let a = out.alignment[s];
+        put_flag(buf, at + output::side::ALIGNMENT_PRESENT, a.is_some());
+        let (dip, ik, pose, error, reachable, aligned) = a.map_or(
+            (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, f32::NAN, false, false),
+            |a| {
+                (
+                    a.target_dip,
+                    a.ik_wrist,
+                    a.pose_wrist,
+                    a.error,
+                    a.reachable,
+                    a.aligned,
+                )
+            },
+        );
+        put_vec3(buf, at + output::side::TARGET_DIP, rig.export_position(dip));
+        put_vec3(buf, at + output::side::IK_WRIST, rig.export_position(ik));
+        put_vec3(
+            buf,
+            at + output::side::POSE_WRIST,
+            rig.export_position(pose),
+        );
+        buf[at + output::side::ALIGNMENT_ERROR] = if error.is_finite() { error } else { f32::NAN };
+        put_flag(buf, at + output::side::REACHABLE, reachable);
+        put_flag(buf, at + output::side::ALIGNED, aligned);
+    }
+}
+
+/// Packs `frame` into a flat input array (the inverse of [`read_input`], for native callers
+/// and tests; the npm package packs in JavaScript). Allocates nothing.
+///
+/// # Panics
+/// When `buf` is shorter than [`input::LEN`].
+pub fn write_input(frame: &FrameInput, buf: &mut [f32]) {
+    buf[..input::LEN].fill(0.0);
+    buf[input::HAND_COUNT] = frame.hands().len() as f32;
+    for (i, h) in frame.hands().iter().enumerate() {
+        let at = input::HANDS + i * input::HAND_STRIDE;
+        buf[at + input::hand::HANDEDNESS] = match h.handedness {
+            Handedness::Left => 0.0,
+            Handedness::Right => 1.0,
+        };
+        buf[at + input::hand::SCORE] = h.score;
+        buf[at + input::hand::HAS_WORLD] = 1.0;
+        for (k, p) in h.world.iter().enumerate() {
+            put_vec3(buf, at + input::hand::WORLD + 3 * k, *p);
+        }
+        if let Some(image) = &h.image {
+            buf[at + input::hand::HAS_IMAGE] = 1.0;
+            for (k, p) in image.iter().enumerate() {
+                put_vec3(buf, at + input::hand::IMAGE + 3 * k, *p);
+            }
+        }
+    }
+    if let Some(pose) = &frame.pose {
+        buf[input::POSE_PRESENT] = 1.0;
+        for k in 0..POSE_LANDMARKS {
+            let at = input::POSE + k * input::POSE_STRIDE;
+            put_vec3(buf, at, pose.world[k]);
+            buf[at + 3] = pose.visibility[k];
+        }
+    }
+    for side in Side::BOTH {
+        let Some(w) = &frame.wrists[side.index()] else {
+            continue;
+        };
+        let at = input::WRISTS + side.index() * input::WRIST_STRIDE;
+        buf[at + input::wrist::PRESENT] = 1.0;
+        put_vec3(buf, at + input::wrist::POSITION, w.position);
+        if let Some(q) = w.rotation {
+            buf[at + input::wrist::HAS_ROTATION] = 1.0;
+            put_quat(buf, at + input::wrist::ROTATION, q);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every named offset lies inside its buffer, and no name is used twice.
+    #[test]
+    fn fields_fit_their_buffers_and_strides() {
+        for (name, v) in FIELDS {
+            let len = if name.starts_with("input") {
+                input::LEN
+            } else {
+                output::LEN
+            };
+            assert!(*v <= len, "{name} = {v} beyond {len}");
+        }
+        let mut names: Vec<&str> = FIELDS.iter().map(|(n, _)| *n).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), FIELDS.len(), "duplicate field name");
+    }
+
+    #[test]
+    fn rejects_a_wrong_length_and_bad_flags() {
+        let mut frame = FrameInput::default();
+        let e = read_input(&[0.0; 3], 0.0, &mut frame).unwrap_err();
+        assert!(e.to_string().starts_with("input: must have"), "{e}");
+        let mut buf = vec![0.0; input::LEN];
+        buf[input::POSE_PRESENT] = 0.5;
+        let e = read_input(&buf, 0.0, &mut frame).unwrap_err();
+        assert_eq!(e.to_string(), "frame.pose: must be 0 or 1");
+        buf[input::POSE_PRESENT] = 0.0;
+        buf[input::HAND_COUNT] = 5.0;
+        let e = read_input(&buf, 0.0, &mut frame).unwrap_err();
+        assert!(e.to_string().starts_with("frame.hands: hand count"), "{e}");
+        buf[input::HAND_COUNT] = f32::NAN;
+        assert!(read_input(&buf, 0.0, &mut frame).is_err());
+        buf[input::HAND_COUNT] = 0.0;
+        assert!(read_input(&buf, f64::INFINITY, &mut frame).is_err());
+        read_input(&buf, 5.0, &mut frame).unwrap();
+        assert_eq!(frame.time_ms, 5.0);
+    }
+
+    #[test]
+    fn a_frame_round_trips_and_a_bad_number_is_named() {
+        let mut frame = FrameInput {
+            time_ms: 12.5,
+            hand_count: 2,
+            ..FrameInput::default()
+        };
+        for (i, h) in frame.hands.iter_mut().take(2).enumerate() {
+            h.handedness = if i == 0 {
+                Handedness::Right
+            } else {
+                Handedness::Left
+            };
+            h.score = 0.75;
+            for (k, p) in h.world.iter_mut().enumerate() {
+                *p = Vec3::new(k as f32 * 0.01, i as f32, -0.02 * k as f32);
+            }
+        }
+        frame.hands[1].image = Some([Vec3::splat(0.5); HAND_LANDMARKS]);
+        let mut pose = PoseObservation {
+            world: [Vec3::ONE; POSE_LANDMARKS],
+            visibility: [0.25; POSE_LANDMARKS],
+        };
+        pose.world[3] = Vec3::new(1.0, 2.0, 3.0);
+        frame.pose = Some(pose);
+        frame.wrists[1] = Some(WristObservation {
+            position: Vec3::new(0.1, 0.2, 0.3),
+            rotation: Some(Quat::from_rotation_y(0.5)),
+        });
+        let mut buf = vec![0.0; input::LEN];
+        write_input(&frame, &mut buf);
+        let mut back = FrameInput::default();
+        read_input(&buf, 12.5, &mut back).unwrap();
+        assert_eq!(back, frame);
+
+        let k = input::HANDS + input::HAND_STRIDE + input::hand::WORLD + 7 * 3 + 1;
+        buf[k] = f32::NAN;
+        let e = read_input(&buf, 0.0, &mut back).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "frame.hands[1].worldLandmarks[7]: must be three finite numbers"
+        );
+        assert_eq!(
+            back.hand_count, 0,
+            "a rejected frame leaves the input cleared"
+        );
+    }
+}
