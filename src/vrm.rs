@@ -54,11 +54,8 @@ pub struct VrmHumanoid {
 pub fn parse(bytes: &[u8]) -> Result<VrmHumanoid> {
     let glb = Glb::parse(bytes)?;
     let json = glb.json.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(glb.json);
-    let root: Value = serde_json::from_slice(json)
-        .map_err(|e| vrm_err(format!("JSON chunk is not valid JSON: {e}")))?;
-    let root = root
-        .as_object()
-        .ok_or_else(|| vrm_err("JSON chunk: the top level must be an object"))?;
+    let root = read_top_level(json)?;
+    let root = &root;
     let nodes = NodeTree::parse(root)?;
     let (version, map) = humanoid_map(root, nodes.len())?;
 
@@ -114,6 +111,142 @@ pub const MAX_DEPTH: usize = 1_024;
 
 /// Largest JSON chunk read (real avatars: a few MB).
 pub const MAX_JSON_BYTES: usize = 64 << 20;
+
+/// The two top-level members handrig reads (`nodes`, `extensions`), streamed out of the JSON
+/// chunk: every other member (meshes, accessors, materials, animations, extras...) is skipped
+/// without being built, and `nodes` stops at [`MAX_NODES`] + 1 entries, so a hostile file with
+/// millions of nodes or of other objects costs a scan of its text, not a document tree.
+fn read_top_level(json: &[u8]) -> Result<Map<String, Value>> {
+    use serde::de::{self, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
+
+    struct Top;
+    impl<'de> Visitor<'de> for Top {
+        type Value = Map<String, Value>;
+        fn expecting(&self, f: &mut core::fmt::Formatter) -> core::fmt::Result {
+            f.write_str("a glTF JSON object")
+        }
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+            let mut out = Map::new();
+            while let Some(key) = map.next_key::<String>()? {
+                match key.as_str() {
+                    "nodes" => {
+                        let v = map.next_value_seed(BoundedNodes)?;
+                        out.insert(key, v);
+                    }
+                    "extensions" => {
+                        let v = map.next_value::<Value>()?;
+                        out.insert(key, v);
+                    }
+                    _ => {
+                        map.next_value::<IgnoredAny>()?;
+                    }
+                }
+            }
+            Ok(out)
+        }
+    }
+
+    /// `nodes` as a JSON array of at most [`MAX_NODES`] values (anything else is kept as is
+    /// for [`NodeTree::parse`] to name).
+    struct BoundedNodes;
+    impl<'de> de::DeserializeSeed<'de> for BoundedNodes {
+        type Value = Value;
+        fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Value, D::Error> {
+            d.deserialize_any(self)
+        }
+    }
+    impl<'de> Visitor<'de> for BoundedNodes {
+        type Value = Value;
+        fn expecting(&self, f: &mut core::fmt::Formatter) -> core::fmt::Result {
+            f.write_str("the nodes array")
+        }
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+            let mut nodes = Vec::new();
+            while let Some(node) = seq.next_element::<Value>()? {
+                if nodes.len() == MAX_NODES {
+                    return Err(de::Error::custom(TOO_MANY_NODES));
+                }
+                nodes.push(node);
+            }
+            Ok(Value::Array(nodes))
+        }
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
+            while map.next_entry::<IgnoredAny, IgnoredAny>()?.is_some() {}
+            Ok(Value::Object(Map::new()))
+        }
+        fn visit_bool<E>(self, _: bool) -> Result<Value, E> {
+            Ok(Value::Null)
+        }
+        fn visit_i64<E>(self, _: i64) -> Result<Value, E> {
+            Ok(Value::Null)
+        }
+        fn visit_u64<E>(self, _: u64) -> Result<Value, E> {
+            Ok(Value::Null)
+        }
+        fn visit_f64<E>(self, _: f64) -> Result<Value, E> {
+            Ok(Value::Null)
+        }
+        fn visit_str<E>(self, _: &str) -> Result<Value, E> {
+            Ok(Value::Null)
+        }
+        fn visit_unit<E>(self) -> Result<Value, E> {
+            Ok(Value::Null)
+        }
+    }
+
+    const TOO_MANY_NODES: &str = "too many nodes";
+    // Skipped members are not decoded, so check the encoding of the whole chunk up front.
+    let json = std::str::from_utf8(json)
+        .map_err(|e| vrm_err(format!("JSON chunk is not valid JSON: not UTF-8 ({e})")))?;
+    let mut de = serde_json::Deserializer::from_str(json);
+    let top = (&mut de).deserialize_any(TopOrOther).and_then(|t| {
+        de.end()?;
+        Ok(t)
+    });
+
+    /// The top level: an object, or anything else (named below).
+    struct TopOrOther;
+    impl<'de> Visitor<'de> for TopOrOther {
+        type Value = Option<Map<String, Value>>;
+        fn expecting(&self, f: &mut core::fmt::Formatter) -> core::fmt::Result {
+            f.write_str("a glTF JSON object")
+        }
+        fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+            Top.visit_map(map).map(Some)
+        }
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+            while seq.next_element::<IgnoredAny>()?.is_some() {}
+            Ok(None)
+        }
+        fn visit_bool<E>(self, _: bool) -> Result<Self::Value, E> {
+            Ok(None)
+        }
+        fn visit_i64<E>(self, _: i64) -> Result<Self::Value, E> {
+            Ok(None)
+        }
+        fn visit_u64<E>(self, _: u64) -> Result<Self::Value, E> {
+            Ok(None)
+        }
+        fn visit_f64<E>(self, _: f64) -> Result<Self::Value, E> {
+            Ok(None)
+        }
+        fn visit_str<E>(self, _: &str) -> Result<Self::Value, E> {
+            Ok(None)
+        }
+        fn visit_unit<E>(self) -> Result<Self::Value, E> {
+            Ok(None)
+        }
+    }
+
+    match top {
+        Ok(Some(root)) => Ok(root),
+        Ok(None) => Err(vrm_err("JSON chunk: the top level must be an object")),
+        Err(e) if e.is_data() && e.to_string().starts_with(TOO_MANY_NODES) => Err(vrm_err(
+            format!("nodes: more than the {MAX_NODES} nodes handrig reads"),
+        )),
+        Err(e) => Err(vrm_err(format!("JSON chunk is not valid JSON: {e}"))),
+    }
+}
 
 fn vrm_err(msg: impl Into<String>) -> Error {
     Error::Vrm(msg.into())
@@ -231,9 +364,11 @@ impl<'a> Glb<'a> {
                 vrm_err(format!("{what} at bytes {start}..{end} is out of bounds"))
             })?;
             match (index, kind) {
-                (0, CHUNK_JSON) if chunk_len > MAX_JSON_BYTES => return Err(vrm_err(format!(
+                (0, CHUNK_JSON) if chunk_len > MAX_JSON_BYTES => {
+                    return Err(vrm_err(format!(
                     "JSON chunk of {chunk_len} bytes, more than the {MAX_JSON_BYTES} handrig reads"
-                ))),
+                )))
+                }
                 (0, CHUNK_JSON) => json = Some(data),
                 (0, other) => {
                     return Err(vrm_err(format!(
