@@ -214,7 +214,7 @@ fn layout_matches_the_rust_constants() {
 fn solves_a_real_frame_through_the_memory_views() {
     let mut rig = HandRig::new(&rest_pose(1), 1, JsValue::UNDEFINED).unwrap();
     write_frame(&rig, &recording_frame(0));
-    rig.solve_flat(0.0).unwrap();
+    assert_eq!(rig.solve_flat(0.0), 0);
     let out = read_output(&rig);
     // The subject's right hand ("Left" on an unmirrored video) drives the avatar's right hand.
     assert_eq!(flag(&out, HumanBone::RightHand), 1.0);
@@ -238,13 +238,14 @@ fn solves_a_real_frame_through_the_memory_views() {
 fn bad_input_names_the_field_and_leaves_the_rig_working() {
     let mut rig = HandRig::new(&rest_pose(1), 1, JsValue::UNDEFINED).unwrap();
     write_frame(&rig, &recording_frame(3));
-    rig.solve_flat(1.0).unwrap();
+    assert_eq!(rig.solve_flat(1.0), 0);
     let before = read_output(&rig);
 
     let input_view = view(rig.input_ptr(), input::LEN);
     let k = input::HANDS + input::hand::WORLD + 7 * 3 + 1;
     input_view.set_index(k as u32, f32::NAN);
-    let m = failure(rig.solve_flat(2.0));
+    assert_eq!(rig.solve_flat(2.0), 1);
+    let m = rig.take_error().unwrap();
     assert_eq!(
         m,
         "frame.hands[0].worldLandmarks[7]: must be three finite numbers"
@@ -255,13 +256,15 @@ fn bad_input_names_the_field_and_leaves_the_rig_working() {
         "a rejected frame leaves the output"
     );
     input_view.set_index(input::HAND_COUNT as u32, 7.0);
-    let m = failure(rig.solve_flat(2.0));
+    assert_eq!(rig.solve_flat(2.0), 1);
+    let m = rig.take_error().unwrap();
     assert!(m.starts_with("frame.hands: hand count"), "{m}");
-    let m = failure(rig.solve_flat(f64::NAN));
+    assert_eq!(rig.solve_flat(f64::NAN), 1);
+    let m = rig.take_error().unwrap();
     assert!(m.starts_with("frame"), "{m}");
 
     write_frame(&rig, &recording_frame(3));
-    rig.solve_flat(1.0).unwrap();
+    assert_eq!(rig.solve_flat(1.0), 0);
     assert_eq!(
         bits(&read_output(&rig)),
         bits(&before),
@@ -327,7 +330,7 @@ fn from_vrm_reads_vrm1_and_vrm0_and_rejects_broken_files() {
     // VRM 0.x with fingers: the recording drives its right hand, finite unit rotations.
     let mut rig = HandRig::from_vrm(VRM0_FINGERS, JsValue::UNDEFINED).unwrap();
     write_frame(&rig, &recording_frame(5));
-    rig.solve_flat(5.0).unwrap();
+    assert_eq!(rig.solve_flat(5.0), 0);
     let q = rotation(&read_output(&rig), HumanBone::RightIndexIntermediate);
     assert!(q.is_finite() && (q.length() - 1.0).abs() < 1e-5);
 
@@ -348,7 +351,7 @@ fn degenerate_hands_are_reported_held_or_skipped() {
     let mut rig = HandRig::new(&rest_pose(1), 1, JsValue::UNDEFINED).unwrap();
     // Nothing solved yet: skipped (3), the finger at rest, not solved (2).
     write_frame(&rig, &collapsed);
-    rig.solve_flat(0.0).unwrap();
+    assert_eq!(rig.solve_flat(0.0), 0);
     let out = read_output(&rig);
     assert_eq!(
         side_field(&out, Side::Right, output::side::HAND_STATUS),
@@ -357,10 +360,10 @@ fn degenerate_hands_are_reported_held_or_skipped() {
     assert_eq!(flag(&out, HumanBone::RightIndexProximal), 2.0);
     // After a good frame: held (2), with the good frame's rotations repeated.
     write_frame(&rig, &recording_frame(0));
-    rig.solve_flat(33.0).unwrap();
+    assert_eq!(rig.solve_flat(33.0), 0);
     let good = read_output(&rig);
     write_frame(&rig, &collapsed);
-    rig.solve_flat(66.0).unwrap();
+    assert_eq!(rig.solve_flat(66.0), 0);
     let held = read_output(&rig);
     assert_eq!(
         side_field(&held, Side::Right, output::side::HAND_STATUS),
@@ -375,7 +378,7 @@ fn degenerate_hands_are_reported_held_or_skipped() {
     }
     // reset() forgets the held solve: the next degenerate hand is skipped again.
     rig.reset();
-    rig.solve_flat(99.0).unwrap();
+    assert_eq!(rig.solve_flat(99.0), 0);
     assert_eq!(
         side_field(&read_output(&rig), Side::Right, output::side::HAND_STATUS),
         3.0
@@ -404,7 +407,7 @@ fn the_flat_path_allocates_nothing_per_frame() {
     let input_view = view(rig.input_ptr(), input::LEN);
     for b in &bufs[..2] {
         input_view.copy_from(b);
-        rig.solve_flat(0.0).unwrap();
+        assert_eq!(rig.solve_flat(0.0), 0);
     }
     let bytes = memory
         .buffer()
@@ -413,7 +416,7 @@ fn the_flat_path_allocates_nothing_per_frame() {
     let before = ALLOCATIONS.load(Ordering::SeqCst);
     for (i, b) in bufs.iter().cycle().take(600).enumerate() {
         input_view.copy_from(b);
-        rig.solve_flat(i as f64 * 33.3).unwrap();
+        assert_eq!(rig.solve_flat(i as f64 * 33.3), 0);
     }
     let after = ALLOCATIONS.load(Ordering::SeqCst);
     assert_eq!(

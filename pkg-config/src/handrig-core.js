@@ -224,28 +224,30 @@ function createHandRigApi(raw, isReady) {
   }
 
   // "Left" / "Right" (either case), a category { categoryName | label, score }, or
-  // tasks-vision's [category] (the first, best one). Returns 0 for "Left", 1 for "Right"; the
-  // category's score, if any, goes to `scratchScore[0]`.
-  const scratchScore = [undefined];
-  function readHandedness(v, fa, fi, fb) {
+  // tasks-vision's [category] (the first, best one). Returns 0 for "Left", 1 for "Right", plus 2
+  // when the category carried a score, which is then written to `input[scoreAt]` (scores go
+  // straight into the Float32Array: a double kept in a JS array or returned would be boxed, a
+  // per-frame allocation).
+  function readHandedness(v, fa, fi, fb, input, scoreAt) {
     let item = v;
     if (Array.isArray(v)) {
       if (v.length === 0) fail(path(fa, fi, fb), "is an empty array (expected [{ categoryName, score }])");
       item = v[0];
     }
     let label = item;
-    scratchScore[0] = undefined;
+    let scored = 0;
     if (isObject(item)) {
       const name = item.categoryName;
       label = name !== undefined && name !== null ? name : item.label;
       const score = item.score;
       if (score !== undefined && score !== null) {
         if (!isFiniteNumber(score)) notFinite(score, `${path(fa, fi, fb)}.score`);
-        scratchScore[0] = score;
+        input[scoreAt] = score;
+        scored = 2;
       }
     }
-    if (label === "Left" || label === "left") return 0;
-    if (label === "Right" || label === "right") return 1;
+    if (label === "Left" || label === "left") return scored;
+    if (label === "Right" || label === "right") return scored + 1;
     if (typeof label !== "string") {
       fail(path(fa, fi, fb), `must be "Left" or "Right" (or a category { categoryName, score }), got ${describe(label)}`);
     }
@@ -255,16 +257,14 @@ function createHandRigApi(raw, isReady) {
   function checkScore(score, fa, fi, fb) {
     if (!isFiniteNumber(score)) notFinite(score, path(fa, fi, fb));
     if (score < 0 || score > 1) fail(path(fa, fi, fb), `must be in 0..1, got ${score}`);
-    return score;
   }
 
   // One hand into slot `slot`: world and/or image landmarks (either may be absent, not both).
   // Field paths: `path(wa, fi, wb)` and `path(ia, fi, ib)`.
-  function packHand(input, slot, label, score, world, image, fi, wa, wb, ia, ib) {
+  function packHand(input, slot, label, world, image, fi, wa, wb, ia, ib) {
     const o = LI.hands + slot * LI.handStride;
     const H = LI.hand;
     input[o + H.handedness] = label;
-    input[o + H.score] = score;
     const hasImage = image !== undefined && image !== null;
     const hasWorld = world !== undefined && world !== null;
     if (!hasWorld && !hasImage) {
@@ -295,14 +295,15 @@ function createHandRigApi(raw, isReady) {
       }
       const hv = h.handedness;
       if (hv === undefined || hv === null) fail(path("frame.hands", i, ".handedness"), 'is missing ("Left" or "Right")');
-      const label = readHandedness(hv, "frame.hands", i, ".handedness");
-      const labelScore = scratchScore[0];
+      const scoreAt = LI.hands + i * LI.handStride + LI.hand.score;
+      const label = readHandedness(hv, "frame.hands", i, ".handedness", input, scoreAt);
       const s = h.score;
-      if (s === undefined || s === null) {
-        checkScore(labelScore === undefined ? 1 : labelScore, "frame.hands", i, ".handedness.score");
-      } else checkScore(s, "frame.hands", i, ".score");
-      const score = s === undefined || s === null ? (labelScore === undefined ? 1 : labelScore) : s;
-      packHand(input, i, label, score, h.worldLandmarks, h.landmarks, i, "frame.hands", ".worldLandmarks", "frame.hands", ".landmarks");
+      if (s !== undefined && s !== null) {
+        checkScore(s, "frame.hands", i, ".score");
+        input[scoreAt] = s;
+      } else if (label & 2) checkScore(input[scoreAt], "frame.hands", i, ".handedness.score");
+      else input[scoreAt] = 1;
+      packHand(input, i, label & 1, h.worldLandmarks, h.landmarks, i, "frame.hands", ".worldLandmarks", "frame.hands", ".landmarks");
     }
     return n;
   }
@@ -385,11 +386,13 @@ function createHandRigApi(raw, isReady) {
       const right = r.rightHandLandmarks;
       if (left !== undefined && left !== null) {
         const f = P.leftHandLandmarks;
-        packHand(input, n++, 0, 1, null, left, -1, f, "", f, "");
+        input[LI.hands + n * LI.handStride + LI.hand.score] = 1;
+        packHand(input, n++, 0, null, left, -1, f, "", f, "");
       }
       if (right !== undefined && right !== null) {
         const f = P.rightHandLandmarks;
-        packHand(input, n++, 1, 1, null, right, -1, f, "", f, "");
+        input[LI.hands + n * LI.handStride + LI.hand.score] = 1;
+        packHand(input, n++, 1, null, right, -1, f, "", f, "");
       }
       if (n === 0 && left === undefined && right === undefined) return -1;
       return n;
@@ -401,10 +404,11 @@ function createHandRigApi(raw, isReady) {
     checkPerHandList(image, imagePath, n, labelPath);
     for (let i = 0; i < n; i++) {
       at(labelPath, i, "");
-      const label = readHandedness(labels[i], labelPath, i, "");
-      const score = scratchScore[0] === undefined ? 1 : scratchScore[0];
-      checkScore(score, labelPath, i, ".score");
-      packHand(input, i, label, score, hasWorld ? world[i] : null, hasImage ? image[i] : null, i, worldPath, "", imagePath, "");
+      const scoreAt = LI.hands + i * LI.handStride + LI.hand.score;
+      const label = readHandedness(labels[i], labelPath, i, "", input, scoreAt);
+      if (label & 2) checkScore(input[scoreAt], labelPath, i, ".score");
+      else input[scoreAt] = 1;
+      packHand(input, i, label & 1, hasWorld ? world[i] : null, hasImage ? image[i] : null, i, worldPath, "", imagePath, "");
     }
     return n;
   }
@@ -520,8 +524,12 @@ function createHandRigApi(raw, isReady) {
     }
   }
 
-  // Packs one frame into `input`; returns its timestamp (ms). Throws a FieldError naming the
-  // field on bad input (the input is then partly written; the rig is not called).
+  // The frame's timestamp, kept in a typed array rather than returned (a returned double is
+  // boxed: an allocation per frame).
+  const TIME = new Float64Array(1);
+
+  // Packs one frame into `input` and its timestamp (ms) into TIME[0]. Throws a FieldError
+  // naming the field on bad input (the input is then partly written; the rig is not called).
   function packFrame(frame, input) {
     at("frame", -1, "");
     checkFrameObject(frame);
@@ -530,7 +538,11 @@ function createHandRigApi(raw, isReady) {
     for (let s = 0; s < 2; s++) input[LI.wrists + s * LI.wristStride + LI.wrist.present] = 0;
 
     const t = frame.timeMs;
-    const timeMs = t === undefined || t === null ? 0 : finite(t, "frame.timeMs");
+    if (t === undefined || t === null) TIME[0] = 0;
+    else {
+      if (!isFiniteNumber(t)) notFinite(t, "frame.timeMs");
+      TIME[0] = t;
+    }
     const aspect = frame.imageAspect;
     if (aspect === undefined || aspect === null) input[LI.imageAspect] = 0;
     else {
@@ -578,7 +590,6 @@ function createHandRigApi(raw, isReady) {
         fail("frame", `has none of timeMs, hands, pose, wrists (nor a MediaPipe result's fields); got keys ${keys.slice(0, 8).join(", ")}`);
       }
     }
-    return timeMs;
   }
 
   // A user getter or Proxy threw while the frame was read: name the part being read.
@@ -612,8 +623,8 @@ function createHandRigApi(raw, isReady) {
 
   // Fills `result` (any object; its parts are created on first use and reused after) from the
   // output view. `driven`/`present` are the rig's bone indices.
-  function fillResult(result, out, timeMs, driven, present) {
-    result.timeMs = timeMs;
+  function fillResult(result, out, driven, present) {
+    result.timeMs = TIME[0];
     let bones = result.bones;
     if (!isObject(bones)) bones = result.bones = {};
     for (let k = 0; k < driven.length; k++) {
@@ -927,11 +938,8 @@ function createHandRigApi(raw, isReady) {
     /** Solves the frame in `rig.input` into `rig.output`. Allocates nothing. */
     solveFlat(timeMs) {
       const r = this.#views("solveFlat");
-      try {
-        r.solveFlat(timeMs);
-      } catch (e) {
-        throw asError(e);
-      }
+      if (typeof timeMs !== "number") throw new TypeError(`timeMs: must be a number, got ${describe(timeMs)}`);
+      if (r.solveFlat(timeMs) !== 0) throw new Error(r.takeError());
     }
 
     /**
@@ -946,12 +954,9 @@ function createHandRigApi(raw, isReady) {
       if (!(output instanceof Float32Array) || output.length !== LO.length) {
         throw new TypeError(`output: must be a Float32Array of ${LO.length} (LAYOUT.output.length)`);
       }
+      if (typeof timeMs !== "number") throw new TypeError(`timeMs: must be a number, got ${describe(timeMs)}`);
       this.#input.set(input);
-      try {
-        r.solveFlat(timeMs);
-      } catch (e) {
-        throw asError(e);
-      }
+      if (r.solveFlat(timeMs) !== 0) throw new Error(r.takeError());
       output.set(this.#output);
       return output;
     }
@@ -963,17 +968,12 @@ function createHandRigApi(raw, isReady) {
      */
     solve(frame, target) {
       const r = this.#views("solve");
-      let timeMs;
       try {
-        timeMs = packFrame(frame, this.#input);
+        packFrame(frame, this.#input);
       } catch (e) {
         throw readError(e);
       }
-      try {
-        r.solveFlat(timeMs);
-      } catch (e) {
-        throw asError(e);
-      }
+      if (r.solveFlat(TIME[0]) !== 0) throw new Error(r.takeError());
       let result = target;
       if (result === undefined) {
         if (this.#result === undefined) this.#result = {};
@@ -981,7 +981,7 @@ function createHandRigApi(raw, isReady) {
       } else if (!isObject(result)) {
         throw new TypeError(`target: must be an object to fill with the result, got ${describe(result)}`);
       }
-      return fillResult(result, this.#output, timeMs, this.#driven, this.#present);
+      return fillResult(result, this.#output, this.#driven, this.#present);
     }
 
     /** `{ [boneName]: [x, y, z] }`: rest world positions, meters, the model's own frame. */

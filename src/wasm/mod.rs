@@ -43,6 +43,7 @@ pub struct HandRig {
     out: SolveOutput,
     input: Box<[f32]>,
     output: Box<[f32]>,
+    error: Option<String>,
 }
 
 #[wasm_bindgen]
@@ -112,6 +113,7 @@ impl HandRig {
             out: SolveOutput::default(),
             input: vec![0.0; flat::input::LEN].into_boxed_slice(),
             output: vec![0.0; flat::output::LEN].into_boxed_slice(),
+            error: None,
         })
     }
 
@@ -133,14 +135,30 @@ impl HandRig {
     }
 
     /// Solves the frame in the input buffer into the output buffer. `timeMs`: the frame's
-    /// timestamp in milliseconds. Throws an `Error` naming the field on bad input; the rig and
-    /// its output are then unchanged. Allocates nothing (so wasm memory never grows here).
+    /// timestamp in milliseconds. Returns 0, or 1 when the input was rejected: `takeError()`
+    /// then gives the message naming the field, and the rig and its output are unchanged.
+    /// Allocates nothing on success, in wasm (so its memory never grows here) or in JS (a
+    /// number crosses the boundary, not a result array or an exception object).
     #[wasm_bindgen(js_name = solveFlat)]
-    pub fn solve_flat(&mut self, time_ms: f64) -> JsResult<()> {
-        flat::read_input(&self.input, time_ms, &mut self.frame).map_err(js_err)?;
-        self.rig.solve(&self.frame, &mut self.out).map_err(js_err)?;
-        flat::write_output(&self.rig, &self.out, &mut self.output);
-        Ok(())
+    pub fn solve_flat(&mut self, time_ms: f64) -> u32 {
+        let solved = flat::read_input(&self.input, time_ms, &mut self.frame)
+            .and_then(|()| self.rig.solve(&self.frame, &mut self.out));
+        match solved {
+            Ok(()) => {
+                flat::write_output(&self.rig, &self.out, &mut self.output);
+                0
+            }
+            Err(e) => {
+                self.error = Some(e.to_string());
+                1
+            }
+        }
+    }
+
+    /// The message of the last rejected `solveFlat` (once; `undefined` afterwards).
+    #[wasm_bindgen(js_name = takeError)]
+    pub fn take_error(&mut self) -> Option<String> {
+        self.error.take()
     }
 
     /// The flat layout: `{ version, input: {...}, output: {...}, bones: [...] }` (offsets of

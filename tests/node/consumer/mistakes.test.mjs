@@ -1,0 +1,156 @@
+// Issue 15: a new user's mistakes, each with the message they should get (or the documented
+// behaviour). Every case here was accepted silently, or answered misleadingly, before.
+
+import assert from "node:assert/strict";
+import { describe, it } from "node:test";
+
+import { HandRig } from "handrig";
+import { applyToVRM } from "handrig/three-vrm";
+import { avatars, isIdentity, loadVRM, readBytes, readRecording } from "./support.mjs";
+
+const robotBytes = readBytes(avatars.robot);
+const frames = readRecording();
+const hand = frames[10].hands[0];
+
+function throwsWith(fn, message) {
+  assert.throws(fn, (e) => {
+    assert.ok(e instanceof Error, `threw a non-Error: ${String(e)}`);
+    if (message instanceof RegExp) assert.match(e.message, message);
+    else assert.equal(e.message, message);
+    return true;
+  });
+}
+
+describe("options: dotted paths, and every error names the field", () => {
+  it("the paths optionDescriptions() returns are accepted, and take effect", () => {
+    const nested = HandRig.fromVrm(robotBytes, { alignment: { weight: 0.25 }, mirror: true });
+    const dotted = HandRig.fromVrm(robotBytes, { "alignment.weight": 0.25, mirror: true });
+    const frame = { ...frames[100], wrists: { left: { position: [0.4, 1.3, 0.2] } } };
+    const a = nested.solve(frame, {});
+    const b = dotted.solve(frame, {});
+    assert.deepEqual(b.ikTargets, a.ikTargets);
+    const plain = HandRig.fromVrm(robotBytes, { mirror: true }).solve(frame, {});
+    assert.notDeepEqual(b.ikTargets.left.position, plain.ikTargets.left.position, "the weight took effect");
+    for (const d of HandRig.optionDescriptions()) {
+      if (d.default === null) continue;
+      HandRig.fromVrm(robotBytes, { [d.path]: d.default }).free();
+    }
+  });
+
+  it("a string for a boolean names the field once, with no 'Error:' inside", () => {
+    throwsWith(() => HandRig.fromVrm(robotBytes, { mirror: "true" }), 'options.mirror: must be true or false, got string "true"');
+  });
+
+  it("an unknown dotted path, a value for a group, and the same option twice", () => {
+    throwsWith(() => HandRig.fromVrm(robotBytes, { "alignment.wieght": 1 }), "options.alignment.wieght: unknown option");
+    throwsWith(() => HandRig.fromVrm(robotBytes, { alignment: true }), "options.alignment: must be an object of alignment.* options, got boolean true");
+    throwsWith(
+      () => HandRig.fromVrm(robotBytes, { alignment: { weight: 1 }, "alignment.weight": 0.5 }),
+      "options.alignment.weight: given twice (as a nested object and as a dotted path)",
+    );
+    throwsWith(() => HandRig.fromVrm(robotBytes, { armSolver: "magic" }), /^options\.armSolver: must be one of "twoBone"/);
+    throwsWith(() => HandRig.fromVrm(robotBytes, [1]), "options: must be an object, got an array of 1");
+  });
+});
+
+describe("frame shapes that used to be accepted with nothing solved", () => {
+  const rig = HandRig.fromVrm(robotBytes);
+
+  it("the whole recording passed as the frame", () => {
+    throwsWith(
+      () => rig.solve(frames),
+      `frame: must be one frame object { timeMs, hands?, pose?, wrists? }, got an array of ${frames.length} (a whole recording? solve its frames one at a time)`,
+    );
+  });
+
+  it("an array, a Date or a Map as the frame", () => {
+    throwsWith(() => rig.solve([]), /^frame: must be one frame object/);
+    throwsWith(() => rig.solve(new Date()), "frame: must be a frame object { timeMs, hands?, pose?, wrists? }, got a Date");
+    throwsWith(() => rig.solve(new Map([["hands", [hand]]])), "frame: must be a frame object { timeMs, hands?, pose?, wrists? }, got a Map");
+  });
+
+  it("a tasks-vision result without handedness", () => {
+    throwsWith(
+      () => rig.solve({ timeMs: 1, hands: { landmarks: [hand.landmarks], worldLandmarks: [hand.worldLandmarks] } }),
+      "frame.hands.handedness: is missing: a HandLandmarker result needs `handedness` to tell the hands apart",
+    );
+    throwsWith(
+      () => rig.solve({ landmarks: [hand.landmarks], worldLandmarks: [hand.worldLandmarks] }),
+      /^frame\.handedness: is missing.*PoseLandmarker result goes in frame\.pose/,
+    );
+  });
+
+  it("two landmark sets with one handedness entry", () => {
+    throwsWith(
+      () =>
+        rig.solve({
+          timeMs: 1,
+          hands: {
+            landmarks: [hand.landmarks, hand.landmarks],
+            worldLandmarks: [hand.worldLandmarks, hand.worldLandmarks],
+            handedness: [[{ categoryName: "Left", score: 0.9 }]],
+          },
+        }),
+      "frame.hands.worldLandmarks: has 2 hand(s) but frame.hands.handedness has 1: one entry per hand",
+    );
+  });
+
+  it("a single hand object in place of an array", () => {
+    throwsWith(() => rig.solve({ timeMs: 1, hands: hand }), "frame.hands: must be an array of hands, got a single hand object: wrap it in [ ]");
+  });
+
+  it("an object with none of the frame's fields", () => {
+    throwsWith(() => rig.solve({ time: 5, hand: [hand] }), /^frame: has none of timeMs, hands, pose, wrists .*got keys time, hand$/);
+  });
+
+  it("the rig still works after all of these", () => {
+    assert.equal(rig.solve(frames[10]).hands.right.status, "solved");
+  });
+});
+
+describe("a .vrm missing a required bone names the file", () => {
+  it("vrm: humanoid lacks required bone(s) ...", () => {
+    const glb = Buffer.from(robotBytes);
+    const jsonLen = glb.readUInt32LE(12);
+    const json = JSON.parse(glb.subarray(20, 20 + jsonLen).toString());
+    delete json.extensions.VRMC_vrm.humanoid.humanBones.head;
+    let text = Buffer.from(JSON.stringify(json));
+    text = Buffer.concat([text, Buffer.alloc((4 - (text.length % 4)) % 4, 0x20)]);
+    const bin = glb.subarray(20 + jsonLen);
+    const head = Buffer.alloc(20);
+    head.write("glTF", 0);
+    head.writeUInt32LE(2, 4);
+    head.writeUInt32LE(20 + text.length + bin.length, 8);
+    head.writeUInt32LE(text.length, 12);
+    head.write("JSON", 16);
+    throwsWith(() => HandRig.fromVrm(Buffer.concat([head, text, bin])), "vrm: humanoid lacks required bone(s) head");
+  });
+});
+
+describe("lost tracking: every driven bone in every result, applied by the adapter", () => {
+  it("when the hand disappears its fingers go back to rest on the avatar (no freeze)", async () => {
+    const vrm = await loadVRM(avatars.robot);
+    const rig = HandRig.fromVrm(robotBytes);
+    const driven = rig.drivenBones();
+    assert.ok(driven.includes("rightIndexProximal") && driven.includes("leftUpperArm") && !driven.includes("head"));
+    const r1 = rig.solve(frames[10]);
+    assert.deepEqual(Object.keys(r1.bones).sort(), [...driven].sort(), "every driven bone, every frame");
+    applyToVRM(vrm, r1);
+    const node = vrm.humanoid.getNormalizedBoneNode("rightIndexProximal");
+    assert.ok(!isIdentity(node.quaternion.toArray()), "the finger moved");
+    const r2 = rig.solve({ timeMs: 1000 });
+    assert.deepEqual(Object.keys(r2.bones).sort(), [...driven].sort());
+    assert.equal(applyToVRM(vrm, r2), driven.length);
+    assert.ok(isIdentity(node.quaternion.toArray()), "the finger is back at rest");
+    rig.free();
+  });
+
+  it("when wrists stop, the arm goes back to rest as the README says", () => {
+    const rig = HandRig.fromVrm(robotBytes);
+    const r1 = rig.solve({ timeMs: 0, wrists: { right: { position: [-0.4, 1.2, 0.25] } } }, {});
+    assert.ok(!isIdentity(r1.bones.rightUpperArm), "the arm reached the wrist");
+    const r2 = rig.solve({ timeMs: 33 }, {});
+    assert.ok(isIdentity(r2.bones.rightUpperArm) && isIdentity(r2.bones.rightLowerArm), "the arm rests");
+    rig.free();
+  });
+});
