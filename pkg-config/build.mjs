@@ -20,7 +20,8 @@
 //                     WebAssembly instance (no dual-package hazard).
 //   index.d.ts/.d.cts types; three-vrm.{js,cjs,d.ts,d.cts} the three-vrm adapter.
 //   wasm/             wasm-bindgen output: handrig_wasm.js (--target web glue),
-//                     handrig_wasm.cjs (--target nodejs glue), handrig_wasm_bg.wasm (shared).
+//                     handrig_wasm.cjs (--target nodejs glue), handrig_bg.wasm (shared; the
+//                     package exports it as "handrig/handrig_bg.wasm").
 
 import { execFileSync } from "node:child_process";
 import { createRequire } from "node:module";
@@ -28,6 +29,9 @@ import fs from "node:fs";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
 import zlib from "node:zlib";
+
+// The shipped WebAssembly file's one name (in wasm/, exported as "handrig/handrig_bg.wasm").
+const WASM_NAME = "handrig_bg.wasm";
 
 // Size budget of the shipped .wasm, gzipped (issue 10); tests/node checks the release build.
 const WASM_GZIP_BUDGET = 150 * 1024;
@@ -134,7 +138,7 @@ const api = createHandRigApi(raw, () => ready);
 
 /**
  * Instantiates the WebAssembly module; call once (await it) before anything else. With no
- * argument it fetches wasm/handrig_wasm_bg.wasm next to this file (bundlers that understand
+ * argument it fetches wasm/handrig_bg.wasm next to this file (bundlers that understand
  * \`new URL(..., import.meta.url)\` copy it); or pass its URL, a Response, its bytes or a
  * WebAssembly.Module. Calling it again is a no-op.
  */
@@ -274,22 +278,37 @@ function main() {
   const node = path.join(work, "nodejs");
   const webWasm = fs.readFileSync(path.join(web, "handrig_wasm_bg.wasm"));
   const nodeWasm = fs.readFileSync(path.join(node, "handrig_wasm_bg.wasm"));
-  const shippedWasm = path.join(out, "wasm", "handrig_wasm_bg.wasm");
+  // One name for the WebAssembly file everywhere: wasm/handrig_bg.wasm (export
+  // "handrig/handrig_bg.wasm"); both glues are pointed at it.
+  const shippedWasm = path.join(out, "wasm", WASM_NAME);
   if (args.dev) fs.writeFileSync(shippedWasm, webWasm);
   else wasmOpt(path.join(web, "handrig_wasm_bg.wasm"), shippedWasm);
-  let nodeGlue = fs.readFileSync(path.join(node, "handrig_wasm.js"), "utf8");
+  const renameWasm = (glue, what, from, to) => {
+    if (!glue.includes(from)) fail(`${what} glue: cannot find ${from} to rename`);
+    return glue.replace(from, to);
+  };
+  let nodeGlue = renameWasm(
+    fs.readFileSync(path.join(node, "handrig_wasm.js"), "utf8"),
+    "nodejs",
+    "/handrig_wasm_bg.wasm`",
+    `/${WASM_NAME}\``,
+  );
+  const webGlue = renameWasm(
+    fs.readFileSync(path.join(web, "handrig_wasm.js"), "utf8"),
+    "web",
+    "new URL('handrig_wasm_bg.wasm', import.meta.url)",
+    `new URL('${WASM_NAME}', import.meta.url)`,
+  );
   if (!webWasm.equals(nodeWasm)) {
     // Both glues are made from one compiled module, so the files normally match; if a future
     // wasm-bindgen makes them differ, ship the Node one under its own name.
-    const needle = "/handrig_wasm_bg.wasm`";
-    if (!nodeGlue.includes(needle)) fail("nodejs glue: cannot find the .wasm path to rename");
-    nodeGlue = nodeGlue.replace(needle, "/handrig_wasm_node_bg.wasm`");
-    const nodeShipped = path.join(out, "wasm", "handrig_wasm_node_bg.wasm");
+    nodeGlue = renameWasm(nodeGlue, "nodejs", `/${WASM_NAME}\``, "/handrig_node_bg.wasm`");
+    const nodeShipped = path.join(out, "wasm", "handrig_node_bg.wasm");
     if (args.dev) fs.writeFileSync(nodeShipped, nodeWasm);
     else wasmOpt(path.join(node, "handrig_wasm_bg.wasm"), nodeShipped);
     console.log("build.mjs: web and nodejs .wasm differ; shipping both");
   }
-  fs.copyFileSync(path.join(web, "handrig_wasm.js"), path.join(out, "wasm", "handrig_wasm.js"));
+  fs.writeFileSync(path.join(out, "wasm", "handrig_wasm.js"), webGlue);
   fs.copyFileSync(path.join(web, "handrig_wasm.d.ts"), path.join(out, "wasm", "handrig_wasm.d.ts"));
   fs.writeFileSync(path.join(out, "wasm", "handrig_wasm.cjs"), nodeGlue);
   for (const dir of [web, node]) {

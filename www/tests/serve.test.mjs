@@ -30,7 +30,7 @@ test("serves the page, assets, node_modules and the package; refuses escapes", a
     assert.match(three.headers.get("content-type"), /javascript/);
 
     if (packageDir) {
-      const wasm = await fetch(url + "handrig/wasm/handrig_wasm_bg.wasm");
+      const wasm = await fetch(url + "handrig/wasm/handrig_bg.wasm");
       assert.equal(wasm.status, 200);
       assert.equal(wasm.headers.get("content-type"), "application/wasm");
     }

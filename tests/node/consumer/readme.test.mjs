@@ -8,7 +8,7 @@ import path from "node:path";
 import { createRequire } from "node:module";
 import { describe, it } from "node:test";
 
-import { HandRig } from "handrig";
+import { HandRig, LAYOUT } from "handrig";
 
 const require = createRequire(import.meta.url);
 // README.md is not an export; find it next to the package.json, which is.
@@ -54,4 +54,35 @@ describe("README options table", () => {
       }
     });
   }
+});
+
+describe("README flat layout table", () => {
+  const section = readme.split(/^### Flat frame layout/m)[1]?.split(/^##+ /m)[0];
+  const rows = {};
+  for (const line of (section ?? "").split("\n")) {
+    const m = line.match(/^\| `((?:input|output)\.[A-Za-z.]+)` \| \+?(\d+) \|/);
+    if (m) rows[m[1]] = Number(m[2]);
+  }
+
+  it("has a row with the right offset for every field of LAYOUT", () => {
+    const leaves = [];
+    const walk = (o, prefix) => {
+      for (const [k, v] of Object.entries(o)) {
+        const p = `${prefix}.${k}`;
+        if (typeof v === "number") leaves.push([p, v]);
+        else walk(v, p);
+      }
+    };
+    walk(LAYOUT.input, "input");
+    walk(LAYOUT.output, "output");
+    // Strides are given in the size column of their section's row.
+    const strides = leaves.filter(([p]) => /Stride$/.test(p));
+    for (const [p, v] of leaves) {
+      if (/Stride$/.test(p)) continue;
+      assert.equal(rows[p], v, `README row \`${p}\``);
+    }
+    for (const [p, v] of strides) assert.match(section, new RegExp(`\`${p.replace(".", "\\.")}\` = ${v}\\b`), p);
+    assert.equal(Object.keys(rows).length, leaves.length - strides.length, "no rows for fields LAYOUT lacks");
+    assert.match(section, new RegExp(`Layout version ${LAYOUT.version} `));
+  });
 });

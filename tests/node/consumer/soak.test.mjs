@@ -54,7 +54,8 @@ describe("no garbage per frame", () => {
       sink += output[0];
     });
     assert.ok(Number.isFinite(sink));
-    assert.ok(grown < 64 * 1024, `heap grew ${grown} bytes over 100,000 frames`);
+    // One allocation per frame would be at least 16 bytes a frame, 1.6 MB.
+    assert.ok(grown < 512 * 1024, `heap grew ${grown} bytes over 100,000 frames`);
     assert.equal(collections, 0, `${collections} garbage collections during the run`);
     rig.free();
   });
