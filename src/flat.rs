@@ -24,10 +24,10 @@ use crate::mediapipe::{
     FrameInput, HandObservation, Handedness, PoseObservation, WristObservation, HAND_LANDMARKS,
     MAX_HANDS, POSE_LANDMARKS,
 };
-use crate::rig::{Rig, SolveOutput};
+use crate::rig::{HandUse, Rig, SolveOutput};
 
 /// Layout version: bumped whenever an offset or meaning below changes.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 
 /// Input offsets (indices into the input `f32` array).
 pub mod input {
@@ -80,8 +80,12 @@ pub mod input {
         /// World rotation of the normalized hand bone, `x y z w`, the model's own frame.
         pub const ROTATION: usize = 5;
     }
+    /// `1` when `POSE_IMAGE` holds the pose's image landmarks (read only with the pose).
+    pub const POSE_HAS_IMAGE: usize = 3;
+    /// The pose's 33 normalized image landmarks `x y z` (MediaPipe's `landmarks`).
+    pub const POSE_IMAGE: usize = WRISTS + 2 * WRIST_STRIDE;
     /// Length of the input array.
-    pub const LEN: usize = WRISTS + 2 * WRIST_STRIDE;
+    pub const LEN: usize = POSE_IMAGE + 3 * POSE_LANDMARKS;
 }
 
 /// Output offsets (indices into the output `f32` array).
@@ -100,7 +104,7 @@ pub mod output {
     /// Per-side reports, `[left, right]`; side `s` starts at `SIDES + s * SIDE_STRIDE`.
     pub const SIDES: usize = BONE_POSITIONS + 3 * BONE_COUNT;
     /// Size of one side's report.
-    pub const SIDE_STRIDE: usize = 24;
+    pub const SIDE_STRIDE: usize = 32;
     /// Offsets inside a side's report.
     pub mod side {
         /// The tracked hand driving this side: `0` none, `1` solved, `2` held (degenerate
@@ -129,16 +133,26 @@ pub mod output {
         pub const REACHABLE: usize = 21;
         /// `1` when the avatar has the aligned finger.
         pub const ALIGNED: usize = 22;
+        /// Which input hand slot drove this side (`-1` none).
+        pub const HAND_INDEX: usize = 23;
+        /// `1` when that hand's label contradicted the pose and it was reassigned here.
+        pub const HAND_REASSIGNED: usize = 24;
     }
+    /// What became of each input hand slot (4): `0` unused, `1` drove the left side, `2` the
+    /// right side (see `side.handReassigned`), `3` ignored: score below `minHandScore`, `4`
+    /// ignored: another hand drove its side, `5` ignored: its label contradicts the pose
+    /// (`handedness: "drop"`).
+    pub const HAND_USE: usize = SIDES + 2 * SIDE_STRIDE;
     /// Length of the output array.
-    pub const LEN: usize = SIDES + 2 * SIDE_STRIDE;
+    pub const LEN: usize = HAND_USE + super::MAX_HANDS;
 }
 
 // Sub-layouts fit their strides (checked when the crate compiles).
 const _: () = {
     assert!(input::hand::IMAGE + 3 * HAND_LANDMARKS <= input::HAND_STRIDE);
     assert!(input::wrist::ROTATION + 4 <= input::WRIST_STRIDE);
-    assert!(output::side::ALIGNED < output::SIDE_STRIDE);
+    assert!(output::side::HAND_REASSIGNED < output::SIDE_STRIDE);
+    assert!(input::POSE_HAS_IMAGE < input::HANDS);
 };
 
 /// Every named offset of the layout as `(path, value)`, for exporting it (JavaScript's
@@ -148,6 +162,8 @@ pub const FIELDS: &[(&str, usize)] = &[
     ("input.handCount", input::HAND_COUNT),
     ("input.imageAspect", input::IMAGE_ASPECT),
     ("input.posePresent", input::POSE_PRESENT),
+    ("input.poseHasImage", input::POSE_HAS_IMAGE),
+    ("input.poseImage", input::POSE_IMAGE),
     ("input.hands", input::HANDS),
     ("input.handStride", input::HAND_STRIDE),
     ("input.hand.handedness", input::hand::HANDEDNESS),
@@ -185,6 +201,9 @@ pub const FIELDS: &[(&str, usize)] = &[
     ("output.side.alignmentError", output::side::ALIGNMENT_ERROR),
     ("output.side.reachable", output::side::REACHABLE),
     ("output.side.aligned", output::side::ALIGNED),
+    ("output.side.handIndex", output::side::HAND_INDEX),
+    ("output.side.handReassigned", output::side::HAND_REASSIGNED),
+    ("output.handUse", output::HAND_USE),
 ];
 
 /// A flag slot: exactly `0` or `1`.
@@ -339,6 +358,13 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
             }
         }
         frame.pose = Some(pose);
+        if flag(buf, input::POSE_HAS_IMAGE, || "frame.pose.landmarks".into())? {
+            let mut image = [Vec3::ZERO; POSE_LANDMARKS];
+            points(buf, input::POSE_IMAGE, 3, &mut image, |k| {
+                format!("frame.pose.landmarks[{k}]")
+            })?;
+            frame.pose_image = Some(image);
+        }
     }
     for side in Side::BOTH {
         let at = input::WRISTS + side.index() * input::WRIST_STRIDE;
@@ -467,6 +493,20 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
         buf[at + output::side::ALIGNMENT_ERROR] = if error.is_finite() { error } else { f32::NAN };
         put_flag(buf, at + output::side::REACHABLE, reachable);
         put_flag(buf, at + output::side::ALIGNED, aligned);
+        let (index, reassigned) =
+            out.hands[s].map_or((-1.0, false), |h| (h.index as f32, h.reassigned));
+        buf[at + output::side::HAND_INDEX] = index;
+        put_flag(buf, at + output::side::HAND_REASSIGNED, reassigned);
+    }
+    for (slot, using) in out.hand_use.iter().enumerate() {
+        buf[output::HAND_USE + slot] = match using {
+            HandUse::Unused => 0.0,
+            HandUse::Drove(Side::Left) => 1.0,
+            HandUse::Drove(Side::Right) => 2.0,
+            HandUse::LowScore => 3.0,
+            HandUse::Duplicate => 4.0,
+            HandUse::Contradicted => 5.0,
+        };
     }
 }
 
@@ -502,6 +542,12 @@ pub fn write_input(frame: &FrameInput, buf: &mut [f32]) {
             let at = input::POSE + k * input::POSE_STRIDE;
             put_vec3(buf, at, pose.world[k]);
             buf[at + 3] = pose.visibility[k];
+        }
+        if let Some(image) = &frame.pose_image {
+            buf[input::POSE_HAS_IMAGE] = 1.0;
+            for (k, p) in image.iter().enumerate() {
+                put_vec3(buf, input::POSE_IMAGE + 3 * k, *p);
+            }
         }
     }
     for side in Side::BOTH {

@@ -29,6 +29,7 @@
 //! * [`align`]: fingertip alignment (the wrist IK target).
 //! * [`body`]: body mapping and calibration from pose landmarks.
 //! * [`ik`]: arm IK solvers.
+//! * [`filter`]: One Euro smoothing and easing over tracking loss.
 //! * [`rig`]: the per-frame pipeline tying them together ([`Rig`]).
 //! * [`flat`]: the flat `f32` frame layout of the typed-array path (input and output).
 //! * `wasm` (wasm32 only): the raw JavaScript bindings over [`flat`].
@@ -39,6 +40,7 @@ pub mod align;
 pub mod body;
 pub mod bones;
 pub mod error;
+pub mod filter;
 pub mod flat;
 pub mod hand;
 pub mod ik;

@@ -197,6 +197,10 @@ pub struct FrameInput {
     pub hand_count: usize,
     /// Pose world landmarks, if any.
     pub pose: Option<PoseObservation>,
+    /// The pose's normalized image landmarks (`x, y` in 0..1 of the image, MediaPipe's), when
+    /// given: with the hands' image landmarks they tell which tracked hand is at which pose
+    /// wrist (handedness sanity). Only read when `pose` is present.
+    pub pose_image: Option<[Vec3; POSE_LANDMARKS]>,
     /// Wrists from another body tracker in the avatar frame, indexed by [`Side::index`].
     pub wrists: [Option<WristObservation>; 2],
 }
@@ -214,6 +218,7 @@ impl Default for FrameInput {
             hands: [empty_hand; MAX_HANDS],
             hand_count: 0,
             pose: None,
+            pose_image: None,
             wrists: [None, None],
         }
     }
@@ -231,6 +236,7 @@ impl FrameInput {
         self.time_ms = 0.0;
         self.hand_count = 0;
         self.pose = None;
+        self.pose_image = None;
         self.wrists = [None, None];
     }
 }

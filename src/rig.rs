@@ -1,11 +1,25 @@
 //! The per-frame pipeline: MediaPipe frame in, normalized-bone rotations, IK targets and
 //! alignment reports out.
 //!
-//! Per avatar side, in order: pick the hand that drives it, solve hand orientation and finger
-//! rotations ([`crate::hand`]), find the pose wrist (from `wrists` or pose landmarks via
-//! [`crate::body`]), place the wrist IK target by fingertip alignment ([`crate::align`]) using
-//! forward kinematics of *this* frame's hand and finger rotations, and reach it with the arm
-//! solver ([`crate::ik`]). Finally forward kinematics of the whole avatar.
+//! [`Rig::solve`] runs named stages, each feature in one of them:
+//!
+//! 1. **select hands** ([`Rig::select_hands`]): which tracked hand drives each avatar side;
+//!    low scores ignored, labels that contradict the pose wrists reassigned
+//!    (`options.handedness`), two hands on one side resolved.
+//! 2. **pose** ([`Rig::observe_pose`]): the pose landmarks, One Euro filtered
+//!    ([`crate::filter`]), feed body-scale calibration ([`crate::body`]).
+//! 3. per side, **hand** ([`Rig::solve_hand`]): the hand's landmarks mapped to the avatar frame
+//!    and filtered, then hand orientation and finger rotations ([`crate::hand`]);
+//! 4. per side, **wrist source** ([`Rig::wrist_source`]): the wrist from `wrists` (filtered) or
+//!    from the pose ([`crate::body`]), with the elbow as pole;
+//! 5. per side, **target and IK** ([`Rig::reach_target`]): the wrist IK target by fingertip
+//!    alignment ([`crate::align`]) from forward kinematics of *this* frame's hand, reached by
+//!    the arm solver ([`crate::ik`]);
+//! 6. **ease** ([`Rig::ease`]): groups whose tracking was lost hold, then ease to rest;
+//!    returning ones blend in ([`crate::filter::dropout`]); rotations keep their hemisphere;
+//! 7. **report**: forward kinematics of the whole avatar.
+//!
+//! [`Rig::reset`] clears the history of every stage.
 
 use glam::{Quat, Vec3};
 use serde::Deserialize;
@@ -14,9 +28,13 @@ use crate::align::{self, AlignmentOptions, AlignmentReport};
 use crate::body::{BodyMapper, CalibrationOptions};
 use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::Result;
+use crate::filter::{Clock, DropoutOptions, FilterOptions, OneEuroQuat, PointFilters, Presence};
 use crate::hand::{HandSolver, HandStatus, HandStrategy};
 use crate::ik::{ArmSolver, ArmSolverState};
-use crate::mediapipe::{hand_landmark, CameraMapping, FrameInput, HAND_LANDMARKS};
+use crate::mediapipe::{
+    hand_landmark, pose_landmark, CameraMapping, FrameInput, PoseObservation, HAND_LANDMARKS,
+    MAX_HANDS, POSE_LANDMARKS,
+};
 use crate::skeleton::{Skeleton, WorldPose};
 
 /// Options of a [`Rig`], set at construction (JS: the `options` argument of `new HandRig`).
@@ -39,6 +57,40 @@ pub struct RigOptions {
     pub calibration: CalibrationOptions,
     /// Hands whose handedness score is below this are ignored. Default `0.5`.
     pub min_hand_score: f32,
+    /// What to do with a hand whose label contradicts the pose. Default `"reassign"`.
+    pub handedness: HandednessPolicy,
+    /// One Euro filtering of the landmarks.
+    pub filter: FilterOptions,
+    /// Holding and easing over tracking loss.
+    pub dropout: DropoutOptions,
+}
+
+/// How a hand whose MediaPipe label contradicts the pose is treated (JS:
+/// `options.handedness`). A label contradicts the pose when the hand's wrist, in the image,
+/// is nearer the other side's pose wrist than half its distance to its own side's (both pose
+/// wrists visible; needs the hands' and the pose's image landmarks of the same image).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub enum HandednessPolicy {
+    /// `"reassign"`: the hand drives the side the pose says (read as that hand).
+    #[default]
+    Reassign,
+    /// `"drop"`: the hand is ignored this frame.
+    Drop,
+    /// `"trust"`: MediaPipe's label decides, as without pose.
+    Trust,
+}
+
+impl HandednessPolicy {
+    /// The JS value.
+    #[must_use]
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            HandednessPolicy::Reassign => "reassign",
+            HandednessPolicy::Drop => "drop",
+            HandednessPolicy::Trust => "trust",
+        }
+    }
 }
 
 impl Default for RigOptions {
@@ -51,11 +103,31 @@ impl Default for RigOptions {
             arm_solver: ArmSolver::default(),
             calibration: CalibrationOptions::default(),
             min_hand_score: 0.5,
+            handedness: HandednessPolicy::default(),
+            filter: FilterOptions::default(),
+            dropout: DropoutOptions::default(),
         }
     }
 }
 
 impl RigOptions {
+    /// The defaults with no filtering and no dropout easing: every frame is solved on its own,
+    /// exactly from its input (offline processing, evaluations, tests with exact answers).
+    #[must_use]
+    pub fn per_frame() -> Self {
+        RigOptions {
+            filter: FilterOptions {
+                enabled: false,
+                ..FilterOptions::default()
+            },
+            dropout: DropoutOptions {
+                enabled: false,
+                ..DropoutOptions::default()
+            },
+            ..RigOptions::default()
+        }
+    }
+
     /// How MediaPipe input maps onto the avatar.
     #[must_use]
     pub fn camera(&self) -> CameraMapping {
@@ -65,6 +137,10 @@ impl RigOptions {
         }
     }
 }
+
+/// A hand's label contradicts the pose when its wrist is nearer the other side's pose wrist
+/// than this fraction of its distance to its own side's (in the image).
+pub const CONTRADICTION_RATIO: f32 = 0.5;
 
 /// A wrist IK target in the internal frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -91,6 +167,24 @@ pub struct SolveOutput {
     pub alignment: [Option<AlignmentReport>; 2],
     /// The tracked hand that drove each side this frame, if any.
     pub hands: [Option<TrackedHand>; 2],
+    /// What became of each input hand (in the frame's order; `Unused` past its count).
+    pub hand_use: [HandUse; MAX_HANDS],
+}
+
+/// What the rig did with one tracked hand of the frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum HandUse {
+    /// No such hand in the frame.
+    #[default]
+    Unused,
+    /// It drove this avatar side (see [`TrackedHand::reassigned`]).
+    Drove(Side),
+    /// Ignored: its score is below `minHandScore`.
+    LowScore,
+    /// Ignored: another hand drove its side (higher score, or nearer that side's pose wrist).
+    Duplicate,
+    /// Ignored: its label contradicts the pose (`handedness: "drop"`).
+    Contradicted,
 }
 
 /// Which tracked hand drove an avatar side, and whether its rotations are fresh.
@@ -102,6 +196,10 @@ pub struct TrackedHand {
     pub status: HandStatus,
     /// Its handedness score.
     pub score: f32,
+    /// Its index in the frame's hands.
+    pub index: usize,
+    /// Whether its label contradicted the pose and it was reassigned to this side.
+    pub reassigned: bool,
 }
 
 impl Default for SolveOutput {
@@ -113,6 +211,7 @@ impl Default for SolveOutput {
             ik_targets: [None, None],
             alignment: [None, None],
             hands: [None, None],
+            hand_use: [HandUse::Unused; MAX_HANDS],
         }
     }
 }
@@ -128,6 +227,57 @@ pub struct Rig {
     arms: ArmSolverState,
     landmarks: [Vec3; HAND_LANDMARKS],
     driven: [bool; BONE_COUNT],
+    clock: Clock,
+    /// Landmark filters per avatar side, the pose's, and the tracker wrists'.
+    hand_filters: [PointFilters<HAND_LANDMARKS>; 2],
+    pose_filters: PointFilters<POSE_LANDMARKS>,
+    wrist_filters: [WristFilter; 2],
+    /// This frame's pose, filtered.
+    pose: Option<PoseObservation>,
+    /// Presence of each side's hand and arm ([`Group`]), for the dropout easing.
+    presence: [[Presence; 2]; 2],
+    /// The rotations shown last frame, and the anchors of running blends.
+    shown: [Quat; BONE_COUNT],
+    anchor: [Quat; BONE_COUNT],
+}
+
+/// The bone groups that come and go with tracking, per side.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Group {
+    /// The hand bone and the fingers: tracked with a hand.
+    Hand = 0,
+    /// The shoulder, upper and lower arm: tracked with a wrist (tracker or pose).
+    Arm = 1,
+}
+
+/// Filters of one side's tracker wrist (position and rotation).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+struct WristFilter {
+    position: PointFilters<1>,
+    rotation: OneEuroQuat,
+}
+
+/// The hand picked for a side by [`Rig::select_hands`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Pick {
+    index: usize,
+    reassigned: bool,
+    /// Image distance from the hand's wrist to this side's pose wrist, when known.
+    distance: Option<f32>,
+    score: f32,
+}
+
+/// Where an arm reaches this frame, from [`Rig::wrist_source`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct WristSource {
+    /// The wrist (internal frame).
+    position: Vec3,
+    /// The hand's world rotation from the tracker, if given.
+    rotation: Option<Quat>,
+    /// Scale from the user's hand to the avatar's (body scale for pose input, 1 for trackers).
+    scale: f32,
+    /// Where the elbow should point (pose elbow), if known.
+    pole: Option<Vec3>,
 }
 
 impl Rig {
@@ -144,6 +294,8 @@ impl Rig {
                 "must be a number in 0..1",
             ));
         }
+        options.filter.validate()?;
+        options.dropout.validate()?;
         let hands = HandSolver::new(&skeleton, options.hand_strategy)?;
         let body = BodyMapper::new(&skeleton, &options.calibration);
         let arms = ArmSolverState::new(&skeleton, options.arm_solver)?;
@@ -165,6 +317,14 @@ impl Rig {
             arms,
             landmarks: [Vec3::ZERO; HAND_LANDMARKS],
             driven,
+            clock: Clock::default(),
+            hand_filters: [PointFilters::default(); 2],
+            pose_filters: PointFilters::default(),
+            wrist_filters: [WristFilter::default(); 2],
+            pose: None,
+            presence: [[Presence::default(); 2]; 2],
+            shown: [Quat::IDENTITY; BONE_COUNT],
+            anchor: [Quat::IDENTITY; BONE_COUNT],
         })
     }
 
@@ -177,12 +337,24 @@ impl Rig {
         self.driven[bone.index()]
     }
 
-    /// Forgets everything carried between frames (held hands, the elbow swivel, body-scale
-    /// calibration): the next frame solves as if it were the first.
+    /// Forgets everything carried between frames (filters, dropout holds and blends, held
+    /// hands, the elbow swivel, body-scale calibration): the next frame solves as if it were
+    /// the first.
     pub fn reset(&mut self) {
         self.hands.reset();
         self.arms.reset();
         self.body.reset();
+        self.restart_history();
+    }
+
+    /// The per-frame history of the filters and the easing (not calibration).
+    fn restart_history(&mut self) {
+        self.clock.reset();
+        self.hand_filters = [PointFilters::default(); 2];
+        self.pose_filters.reset();
+        self.wrist_filters = [WristFilter::default(); 2];
+        self.presence = [[Presence::default(); 2]; 2];
+        self.shown = [Quat::IDENTITY; BONE_COUNT];
     }
 
     /// The avatar's skeleton.
@@ -217,92 +389,230 @@ impl Rig {
     pub fn solve(&mut self, frame: &FrameInput, out: &mut SolveOutput) -> Result<()> {
         validate_frame(frame)?;
         let camera = self.options.camera();
+        let dt = self.clock.advance(frame.time_ms);
+        if dt.is_none() {
+            // A new session (first frame, time going back, a long gap): no blending across.
+            self.presence = [[Presence::default(); 2]; 2];
+        }
         out.solved = [false; BONE_COUNT];
         out.ik_targets = [None, None];
         out.alignment = [None, None];
         out.hands = [None, None];
-        // Everything not solved this frame goes back to rest.
+        out.hand_use = [HandUse::Unused; MAX_HANDS];
+        // Everything not solved this frame goes back to rest (then the easing stage decides).
         out.local = [Quat::IDENTITY; BONE_COUNT];
 
-        if let Some(pose) = &frame.pose {
-            self.body.observe(&self.skeleton, pose, camera);
-        }
-
+        let picks = self.select_hands(frame, camera, out);
+        self.observe_pose(frame, camera, dt);
         for side in Side::BOTH {
-            self.solve_side(side, frame, camera, out);
+            let hand_rotation = self.solve_hand(side, frame, picks[side.index()], dt, out);
+            let source = self.wrist_source(side, frame, dt);
+            self.reach_target(side, hand_rotation, source, out);
         }
+        self.ease(frame.time_ms, out);
         self.skeleton.forward(&out.local, &mut out.world);
         Ok(())
     }
 
-    fn solve_side(
-        &mut self,
-        side: Side,
+    /// Stage 1: which tracked hand drives each side (`[left, right]`), recording what became
+    /// of every hand in `out.hand_use`.
+    fn select_hands(
+        &self,
         frame: &FrameInput,
         camera: CameraMapping,
         out: &mut SolveOutput,
-    ) {
-        // The hand that drives this side: highest score among those mapping here.
-        let hand = frame
-            .hands()
-            .iter()
-            .filter(|h| h.score >= self.options.min_hand_score)
-            .filter(|h| camera.avatar_side(h.handedness) == side)
-            .max_by(|a, b| a.score.total_cmp(&b.score));
-
-        let mut hand_rotation = None;
-        if let Some(h) = hand {
-            for (dst, src) in self.landmarks.iter_mut().zip(h.world.iter()) {
-                *dst = camera.to_avatar(*src);
+    ) -> [Option<Pick>; 2] {
+        // The pose wrists in the image, per avatar side, when both are visible.
+        let pose_wrists = match (&frame.pose, &frame.pose_image) {
+            (Some(pose), Some(image)) if self.options.handedness != HandednessPolicy::Trust => {
+                let at = |side: Side| {
+                    let k = match camera.pose_side_for(side) {
+                        Side::Left => pose_landmark::LEFT_WRIST,
+                        Side::Right => pose_landmark::RIGHT_WRIST,
+                    };
+                    (pose.visibility[k] >= self.options.calibration.min_visibility)
+                        .then(|| image[k].truncate())
+                };
+                at(Side::Left).zip(at(Side::Right)).map(|(l, r)| [l, r])
             }
-            hand_rotation = self
-                .hands
-                .solve(&self.skeleton, side, &self.landmarks, &mut out.local);
-            out.hands[side.index()] = Some(TrackedHand {
-                status: self.hands.report(side).status,
-                score: h.score,
-            });
-            if hand_rotation.is_some() {
-                for b in crate::bones::Finger::ALL
-                    .iter()
-                    .flat_map(|f| side.finger(*f))
-                    .chain([side.hand()])
-                {
-                    out.solved[b.index()] = self.skeleton.has(b);
+            _ => None,
+        };
+        let mut picks: [Option<Pick>; 2] = [None, None];
+        for (index, h) in frame.hands().iter().enumerate() {
+            if h.score < self.options.min_hand_score {
+                out.hand_use[index] = HandUse::LowScore;
+                continue;
+            }
+            let mut side = camera.avatar_side(h.handedness);
+            let mut reassigned = false;
+            let wrist = h.image.map(|img| img[hand_landmark::WRIST].truncate());
+            let distance_to = |side: Side| {
+                pose_wrists
+                    .zip(wrist)
+                    .map(|(pw, w)| (w - pw[side.index()]).length())
+            };
+            if let (Some(own), Some(other)) = (distance_to(side), distance_to(side.opposite())) {
+                if other < CONTRADICTION_RATIO * own {
+                    match self.options.handedness {
+                        HandednessPolicy::Reassign => {
+                            side = side.opposite();
+                            reassigned = true;
+                        }
+                        HandednessPolicy::Drop => {
+                            out.hand_use[index] = HandUse::Contradicted;
+                            continue;
+                        }
+                        HandednessPolicy::Trust => {}
+                    }
                 }
             }
-        }
-
-        // The pose wrist and the body scale that applies to it.
-        let wrist_input = frame.wrists[side.index()];
-        let (pose_wrist, scale, pole) = match (wrist_input, &frame.pose) {
-            (Some(w), _) => (
-                Some(self.skeleton.version().position_to_internal(w.position)),
-                1.0,
-                None,
-            ),
-            (None, Some(pose)) => {
-                let mapped = self.body.map_arm(&self.skeleton, side, pose, camera);
-                (
-                    mapped.map(|m| m.wrist),
-                    self.body.scale(),
-                    mapped.and_then(|m| m.elbow),
-                )
+            let pick = Pick {
+                index,
+                reassigned,
+                distance: distance_to(side),
+                score: h.score,
+            };
+            let slot = &mut picks[side.index()];
+            let loser = match *slot {
+                None => {
+                    *slot = Some(pick);
+                    None
+                }
+                Some(current) => {
+                    // Nearer the side's pose wrist wins when known, else the higher score.
+                    let better = match (pick.distance, current.distance) {
+                        (Some(a), Some(b)) => a < b,
+                        _ => pick.score > current.score,
+                    };
+                    if better {
+                        *slot = Some(pick);
+                        Some(current.index)
+                    } else {
+                        Some(index)
+                    }
+                }
+            };
+            if let Some(l) = loser {
+                out.hand_use[l] = HandUse::Duplicate;
             }
-            (None, None) => (None, 1.0, None),
-        };
-        let rotation_override = wrist_input
-            .and_then(|w| w.rotation)
-            .map(|q| self.skeleton.version().rotation_to_internal(q));
-        let Some(hand_rot) = hand_rotation.or(rotation_override) else {
-            // No hand and no wrist rotation: with a pose wrist the arm can still reach it.
-            if let Some(target) = pose_wrist {
-                self.reach(side, target, None, pole, out);
+        }
+        for side in Side::BOTH {
+            if let Some(p) = picks[side.index()] {
+                out.hand_use[p.index] = HandUse::Drove(side);
+            }
+        }
+        picks
+    }
+
+    /// Stage 2: this frame's pose, filtered, observed for body-scale calibration.
+    fn observe_pose(&mut self, frame: &FrameInput, camera: CameraMapping, dt: Option<f32>) {
+        self.pose = frame.pose;
+        if let Some(pose) = self.pose.as_mut() {
+            if self.options.filter.enabled {
+                let o = self.options.filter.one_euro();
+                self.pose_filters
+                    .apply(&mut pose.world, frame.time_ms, dt, &o);
+            }
+            self.body.observe(&self.skeleton, pose, camera);
+        }
+    }
+
+    /// Stage 3: the side's hand (landmarks to the avatar frame, filtered, solved). Returns the
+    /// hand's world rotation when solved or held.
+    fn solve_hand(
+        &mut self,
+        side: Side,
+        frame: &FrameInput,
+        pick: Option<Pick>,
+        dt: Option<f32>,
+        out: &mut SolveOutput,
+    ) -> Option<Quat> {
+        let pick = pick?;
+        let h = &frame.hands()[pick.index];
+        let camera = self.options.camera();
+        for (dst, src) in self.landmarks.iter_mut().zip(h.world.iter()) {
+            *dst = camera.to_avatar(*src);
+        }
+        if self.options.filter.enabled {
+            let o = self.options.filter.one_euro();
+            self.hand_filters[side.index()].apply(&mut self.landmarks, frame.time_ms, dt, &o);
+        }
+        let hand_rotation = self
+            .hands
+            .solve(&self.skeleton, side, &self.landmarks, &mut out.local);
+        out.hands[side.index()] = Some(TrackedHand {
+            status: self.hands.report(side).status,
+            score: h.score,
+            index: pick.index,
+            reassigned: pick.reassigned,
+        });
+        if hand_rotation.is_some() {
+            for b in crate::bones::Finger::ALL
+                .iter()
+                .flat_map(|f| side.finger(*f))
+                .chain([side.hand()])
+            {
+                out.solved[b.index()] = self.skeleton.has(b);
+            }
+        }
+        hand_rotation
+    }
+
+    /// Stage 4: where the side's wrist is this frame: a tracker wrist (filtered) or the pose
+    /// wrist mapped onto the avatar, with the pose elbow as pole.
+    fn wrist_source(
+        &mut self,
+        side: Side,
+        frame: &FrameInput,
+        dt: Option<f32>,
+    ) -> Option<WristSource> {
+        let version = self.skeleton.version();
+        if let Some(w) = frame.wrists[side.index()] {
+            let mut position = [version.position_to_internal(w.position)];
+            let mut rotation = w.rotation.map(|q| version.rotation_to_internal(q));
+            if self.options.filter.enabled {
+                let o = self.options.filter.one_euro();
+                let f = &mut self.wrist_filters[side.index()];
+                f.position.apply(&mut position, frame.time_ms, dt, &o);
+                rotation = rotation.map(|q| f.rotation.filter(q, dt.unwrap_or(0.0), &o));
+            }
+            return Some(WristSource {
+                position: position[0],
+                rotation,
+                scale: 1.0,
+                pole: None,
+            });
+        }
+        let pose = self.pose.as_ref()?;
+        let mapped = self
+            .body
+            .map_arm(&self.skeleton, side, pose, self.options.camera())?;
+        Some(WristSource {
+            position: mapped.wrist,
+            rotation: None,
+            scale: self.body.scale(),
+            pole: mapped.elbow,
+        })
+    }
+
+    /// Stage 5: the wrist IK target (fingertip alignment from this frame's hand) and the arm
+    /// reaching it.
+    fn reach_target(
+        &mut self,
+        side: Side,
+        hand_rotation: Option<Quat>,
+        source: Option<WristSource>,
+        out: &mut SolveOutput,
+    ) {
+        let Some(hand_rot) = hand_rotation.or(source.and_then(|s| s.rotation)) else {
+            // No hand and no wrist rotation: with a wrist the arm can still reach it.
+            if let Some(s) = source {
+                self.reach(side, s.position, None, s.pole, out);
             }
             return;
         };
 
-        let Some(pose_wrist) = pose_wrist else {
+        let Some(source) = source else {
             // Hands only: the arm stays at rest and the hand takes the solved world rotation.
             set_hand_world_rotation(&self.skeleton, side, hand_rot, out);
             return;
@@ -310,29 +620,28 @@ impl Rig {
 
         // A held hand (degenerate landmarks this frame) keeps its rotations but its
         // landmarks cannot place the fingertip: align only freshly solved hands.
-        let fresh = self.hands.report(side).status == HandStatus::Solved;
-        let target = match hand {
-            Some(_) if fresh => {
-                let a = align::wrist_target(
-                    &self.skeleton,
-                    side,
-                    &self.options.alignment,
-                    pose_wrist,
-                    &self.landmarks,
-                    scale,
-                    hand_rot,
-                    &out.local,
-                );
-                out.alignment[side.index()] = Some(a);
-                a.ik_wrist
-            }
-            _ => pose_wrist,
+        let fresh = out.hands[side.index()].is_some_and(|h| h.status == HandStatus::Solved);
+        let target = if fresh {
+            let a = align::wrist_target(
+                &self.skeleton,
+                side,
+                &self.options.alignment,
+                source.position,
+                &self.landmarks,
+                source.scale,
+                hand_rot,
+                &out.local,
+            );
+            out.alignment[side.index()] = Some(a);
+            a.ik_wrist
+        } else {
+            source.position
         };
         out.ik_targets[side.index()] = Some(IkTarget {
             position: target,
             rotation: hand_rot,
         });
-        let reach = self.reach(side, target, Some(hand_rot), pole, out);
+        let reach = self.reach(side, target, Some(hand_rot), source.pole, out);
         if let Some(report) = out.alignment[side.index()].as_mut() {
             report.reachable = reach.reachable;
             report.error = align::alignment_error(
@@ -343,6 +652,56 @@ impl Rig {
                 &out.local,
                 &mut out.world,
             );
+        }
+    }
+
+    /// Stage 6: hold and ease the groups whose tracking was lost, blend in the returning ones
+    /// (see [`crate::filter::dropout`]), and keep every driven rotation in the hemisphere of
+    /// last frame's (so that apps interpolating output never go the long way round).
+    fn ease(&mut self, now_ms: f64, out: &mut SolveOutput) {
+        let timing = self.options.dropout.effective();
+        for side in Side::BOTH {
+            let [shoulder, upper, lower, hand] = side.arm();
+            let live_hand = out.hands[side.index()]
+                .is_some_and(|h| matches!(h.status, HandStatus::Solved | HandStatus::Held));
+            let live_arm = out.solved[upper.index()];
+            for (group, live) in [(Group::Hand, live_hand), (Group::Arm, live_arm)] {
+                let blend =
+                    self.presence[side.index()][group as usize].update(now_ms, live, &timing);
+                let mut apply = |b: HumanBone| {
+                    let i = b.index();
+                    if !self.driven[i] {
+                        return;
+                    }
+                    if blend.capture {
+                        self.anchor[i] = self.shown[i];
+                    }
+                    let target = if blend.to_solved {
+                        out.local[i]
+                    } else {
+                        Quat::IDENTITY
+                    };
+                    let q = if blend.is_exact() {
+                        target
+                    } else if blend.weight <= 0.0 {
+                        self.anchor[i]
+                    } else {
+                        self.anchor[i].slerp(target, blend.weight).normalize()
+                    };
+                    let q = if q.dot(self.shown[i]) < 0.0 { -q } else { q };
+                    out.local[i] = q;
+                    self.shown[i] = q;
+                };
+                match group {
+                    Group::Hand => {
+                        apply(hand);
+                        for f in crate::bones::Finger::ALL {
+                            side.finger(f).into_iter().for_each(&mut apply);
+                        }
+                    }
+                    Group::Arm => [shoulder, upper, lower].into_iter().for_each(apply),
+                }
+            }
         }
     }
 
@@ -608,6 +967,84 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 step: 0.05,
             },
             description: "Hands whose handedness score is below this are ignored.",
+        },
+        OptionDescription {
+            path: "handedness",
+            kind: Enum {
+                values: vec!["reassign", "drop", "trust"],
+                default: d.handedness.as_str(),
+            },
+            description: "A hand whose label contradicts the pose wrists (needs hand and pose image landmarks): reassign = drives the side the pose says; drop = ignored; trust = MediaPipe's label decides.",
+        },
+        OptionDescription {
+            path: "filter.enabled",
+            kind: Boolean { default: d.filter.enabled },
+            description: "One Euro filtering of the landmarks (hands, pose, tracker wrists) before solving; alignment and IK stay exact on the filtered data.",
+        },
+        OptionDescription {
+            path: "filter.minCutoff",
+            kind: Number {
+                min: 0.001,
+                max: 1000.0,
+                default: Some(d.filter.min_cutoff),
+                step: 0.05,
+            },
+            description: "One Euro cutoff at rest (Hz): lower is smoother, with more lag.",
+        },
+        OptionDescription {
+            path: "filter.beta",
+            kind: Number {
+                min: 0.0,
+                max: 10000.0,
+                default: Some(d.filter.beta),
+                step: 0.1,
+            },
+            description: "One Euro speed coefficient (Hz per m/s): higher follows fast motion with less lag.",
+        },
+        OptionDescription {
+            path: "filter.dCutoff",
+            kind: Number {
+                min: 0.001,
+                max: 1000.0,
+                default: Some(d.filter.d_cutoff),
+                step: 0.05,
+            },
+            description: "One Euro cutoff of the speed estimate (Hz).",
+        },
+        OptionDescription {
+            path: "dropout.enabled",
+            kind: Boolean { default: d.dropout.enabled },
+            description: "A lost hand or arm holds its pose, then eases to rest; a returning one blends in (otherwise both snap).",
+        },
+        OptionDescription {
+            path: "dropout.holdMs",
+            kind: Number {
+                min: 0.0,
+                max: 10000.0,
+                default: Some(d.dropout.hold_ms),
+                step: 10.0,
+            },
+            description: "How long a lost hand or arm keeps its last pose (ms).",
+        },
+        OptionDescription {
+            path: "dropout.fadeOutMs",
+            kind: Number {
+                min: 0.0,
+                max: 10000.0,
+                default: Some(d.dropout.fade_out_ms),
+                step: 10.0,
+            },
+            description: "How long it then takes to ease to rest (ms).",
+        },
+        OptionDescription {
+            path: "dropout.fadeInMs",
+            kind: Number {
+                min: 0.0,
+                max: 10000.0,
+                default: Some(d.dropout.fade_in_ms),
+                step: 10.0,
+            },
+            description: "How long a returning hand or arm blends from the shown pose to the solved one (ms).",
         },
     ]
 }

@@ -137,7 +137,7 @@ fn index_distal_lands_on_the_target_dip() {
     for skel in avatars() {
         let version = skel.version();
         for side in Side::BOTH {
-            let mut rig = Rig::new(skel.clone(), RigOptions::default()).unwrap();
+            let mut rig = Rig::new(skel.clone(), RigOptions::per_frame()).unwrap();
             let mut out = SolveOutput::default();
             for r in hand_turns() {
                 let wrist = reachable_wrist(&skel, side);

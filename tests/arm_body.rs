@@ -270,7 +270,7 @@ fn finite(out: &SolveOutput) -> bool {
 #[test]
 fn rig_with_pose_only_missing_pose_and_hidden_wrists() {
     let skel = skeleton(0.25, 0.25);
-    let mut rig = Rig::new(skel.clone(), RigOptions::default()).unwrap();
+    let mut rig = Rig::new(skel.clone(), RigOptions::per_frame()).unwrap();
     let mut out = SolveOutput::default();
     let mut frame = FrameInput::default();
     // Pose only (no hands): both arms reach their mapped wrists; pole from the elbows.

@@ -37,7 +37,7 @@ fn both_hands_through_the_rig_and_held_on_degenerate_frames() {
     // Un-mirrored input: MediaPipe labels the subject's right hand "Left".
     let right = mediapipe_hand(&HandModel::from_skeleton(&skel, Side::Right), q);
     let left = mediapipe_hand(&HandModel::from_skeleton(&skel, Side::Left), q);
-    let mut rig = Rig::new(skel.clone(), RigOptions::default()).unwrap();
+    let mut rig = Rig::new(skel.clone(), RigOptions::per_frame()).unwrap();
     let mut out = SolveOutput::default();
 
     let mut frame = frame_with(&[(Handedness::Left, right), (Handedness::Right, left)]);

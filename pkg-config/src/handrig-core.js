@@ -460,6 +460,8 @@ function createHandRigApi(raw, isReady) {
     const pose = frame.pose;
     let list;
     let name;
+    let image;
+    let imageName;
     if (pose !== undefined && pose !== null) {
       if (Array.isArray(pose) || ArrayBuffer.isView(pose)) {
         list = pose;
@@ -474,6 +476,8 @@ function createHandRigApi(raw, isReady) {
         if (list === undefined || list === null) {
           fail("frame.pose.worldLandmarks", "is missing (33 world landmarks, meters)");
         }
+        image = pose.landmarks;
+        imageName = "frame.pose.landmarks";
       } else {
         fail("frame.pose", `must be { worldLandmarks } or a PoseLandmarker result, got ${describe(pose)}`);
       }
@@ -481,6 +485,21 @@ function createHandRigApi(raw, isReady) {
       list = frame.poseWorldLandmarks;
       name = "frame.poseWorldLandmarks";
       if (list === undefined || list === null) return false;
+      image = frame.poseLandmarks;
+      imageName = "frame.poseLandmarks";
+    }
+    // The pose's image landmarks (optional): with the hands' they check handedness.
+    if (image !== undefined && image !== null) {
+      let person = -1;
+      if (isListOfLists(image)) {
+        image = image[0];
+        person = 0;
+      }
+      if (!(Array.isArray(image) && image.length === 0)) {
+        at(imageName, person, "");
+        packPoints(image, input, LI.poseImage, POSE_POINTS, 3, imageName, person, "");
+        input[LI.poseHasImage] = 1;
+      }
     }
     // PoseLandmarker: one list per person; the first person drives the avatar.
     let person = -1;
@@ -535,6 +554,7 @@ function createHandRigApi(raw, isReady) {
     checkFrameObject(frame);
     input[LI.handCount] = 0;
     input[LI.posePresent] = 0;
+    input[LI.poseHasImage] = 0;
     for (let s = 0; s < 2; s++) input[LI.wrists + s * LI.wristStride + LI.wrist.present] = 0;
 
     const t = frame.timeMs;
@@ -623,7 +643,7 @@ function createHandRigApi(raw, isReady) {
 
   // Fills `result` (any object; its parts are created on first use and reused after) from the
   // output view. `driven`/`present` are the rig's bone indices.
-  function fillResult(result, out, driven, present) {
+  function fillResult(result, out, input, driven, present) {
     result.timeMs = TIME[0];
     let bones = result.bones;
     if (!isObject(bones)) bones = result.bones = {};
@@ -674,11 +694,20 @@ function createHandRigApi(raw, isReady) {
         const h = cache.hand;
         h.status = status;
         h.score = out[at + S.handScore];
+        h.index = out[at + S.handIndex];
+        h.reassigned = out[at + S.handReassigned] === 1;
         hands[side] = h;
       } else if (side in hands) delete hands[side];
     }
+    let use = result.handUse;
+    if (!Array.isArray(use)) use = result.handUse = [];
+    const count = input[LI.handCount];
+    use.length = count;
+    for (let k = 0; k < count; k++) use[k] = HAND_USE[out[LO.handUse + k]];
     return result;
   }
+
+  const HAND_USE = [null, "left", "right", "lowScore", "duplicate", "contradicted"];
 
   // Per-side sub-objects, kept on a hidden property of the result so a reused result reuses
   // them (and a fresh `{}` gets its own).
@@ -696,7 +725,7 @@ function createHandRigApi(raw, isReady) {
           reachable: false,
           aligned: false,
         },
-        hand: { status: "solved", score: 0 },
+        hand: { status: "solved", score: 0, index: 0, reassigned: false },
       });
       c = [make(), make()];
       Object.defineProperty(result, SIDE_CACHE, { value: c, enumerable: false });
@@ -773,6 +802,11 @@ function createHandRigApi(raw, isReady) {
           }
         }
         if (!group) fail(field, "unknown option");
+        // `filter: false` is `filter: { enabled: false }` (any group with an `enabled` switch).
+        if (typeof value === "boolean" && known.has(`${path}.enabled`)) {
+          walk({ enabled: value }, path);
+          continue;
+        }
         if (!isObject(value) || Array.isArray(value)) {
           fail(field, `must be an object of ${path}.* options, got ${describe(value)}`);
         }
@@ -981,7 +1015,7 @@ function createHandRigApi(raw, isReady) {
       } else if (!isObject(result)) {
         throw new TypeError(`target: must be an object to fill with the result, got ${describe(result)}`);
       }
-      return fillResult(result, this.#output, this.#driven, this.#present);
+      return fillResult(result, this.#output, this.#input, this.#driven, this.#present);
     }
 
     /** `{ [boneName]: [x, y, z] }`: rest world positions, meters, the model's own frame. */

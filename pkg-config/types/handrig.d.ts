@@ -100,7 +100,7 @@ export interface LegacyHolisticResultLike {
 
 /** Pose: 33 world landmarks (meters, camera axes), handrig's shape or a PoseLandmarker result. */
 export type PoseInput =
-  | { worldLandmarks: LandmarkList | ReadonlyArray<LandmarkList> }
+  | { worldLandmarks: LandmarkList | ReadonlyArray<LandmarkList>; landmarks?: LandmarkList | ReadonlyArray<LandmarkList> }
   | { poseWorldLandmarks: LandmarkList }
   | LandmarkList;
 
@@ -122,6 +122,8 @@ export interface Frame {
   pose?: PoseInput;
   /** Legacy Pose / Holistic: world landmarks at the top level of the frame. */
   poseWorldLandmarks?: LandmarkList;
+  /** Legacy Pose / Holistic: the pose's image landmarks (with the hands' image landmarks they check handedness). */
+  poseLandmarks?: LandmarkList;
   /** Wrists from another body tracker (used instead of pose wrists). */
   wrists?: { left?: WristInput; right?: WristInput };
   /** Image width / height, used to scale image-only hand landmarks. Default 16/9. */
@@ -166,7 +168,14 @@ export interface TrackedHand {
   status: "solved" | "held" | "skipped";
   /** Its handedness score, 0..1. */
   score: number;
+  /** Its index among the frame's hands. */
+  index: number;
+  /** Its label contradicted the pose wrists and it was reassigned to this side (`handedness: "reassign"`). */
+  reassigned: boolean;
 }
+
+/** What became of one hand of the frame. */
+export type HandUse = "left" | "right" | "lowScore" | "duplicate" | "contradicted";
 
 /** The result of one `solve`, in the model's own frame. */
 export interface SolveResult {
@@ -182,6 +191,8 @@ export interface SolveResult {
   alignment: { left?: AlignmentReport; right?: AlignmentReport };
   /** Which tracked hand drove each avatar side, and whether its rotations are fresh. */
   hands: { left?: TrackedHand; right?: TrackedHand };
+  /** Per hand of the frame (its order): the avatar side it drove, or why it was ignored. */
+  handUse: HandUse[];
 }
 
 export type FingerName = "thumb" | "index" | "middle" | "ring" | "little";
@@ -218,6 +229,34 @@ export interface HandRigOptions {
   };
   /** Hands whose handedness score is below this are ignored. Default 0.5. */
   minHandScore?: number;
+  /** A hand whose label contradicts the pose wrists: "reassign" (default) drives the side the pose says, "drop" ignores it, "trust" keeps MediaPipe's label. */
+  handedness?: "reassign" | "drop" | "trust";
+  /** One Euro filtering of the landmarks before solving; `false` turns it off. */
+  filter?:
+    | boolean
+    | {
+        /** Default true. */
+        enabled?: boolean;
+        /** Cutoff at rest, Hz (0.001..1000). Default 1.5. */
+        minCutoff?: number;
+        /** Speed coefficient, Hz per m/s (0..10000). Default 2. */
+        beta?: number;
+        /** Cutoff of the speed estimate, Hz (0.001..1000). Default 1. */
+        dCutoff?: number;
+      };
+  /** Holding and easing over tracking loss; `false`: lost hands and arms snap to rest. */
+  dropout?:
+    | boolean
+    | {
+        /** Default true. */
+        enabled?: boolean;
+        /** How long a lost hand or arm keeps its pose, ms. Default 250. */
+        holdMs?: number;
+        /** How long it then eases to rest, ms. Default 500. */
+        fadeOutMs?: number;
+        /** How long a returning one blends in, ms. Default 250. */
+        fadeInMs?: number;
+      };
   /** Dotted paths as `optionDescriptions()` spells them are accepted too: `{ "alignment.weight": 0.5 }`. */
   [dottedPath: `${string}.${string}`]: boolean | number | string | null | undefined;
 }
@@ -231,6 +270,8 @@ export interface FlatLayout {
     readonly handCount: number;
     readonly imageAspect: number;
     readonly posePresent: number;
+    readonly poseHasImage: number;
+    readonly poseImage: number;
     readonly hands: number;
     readonly handStride: number;
     readonly hand: {
@@ -272,7 +313,10 @@ export interface FlatLayout {
       readonly alignmentError: number;
       readonly reachable: number;
       readonly aligned: number;
+      readonly handIndex: number;
+      readonly handReassigned: number;
     };
+    readonly handUse: number;
   };
   /** The 55 bone names in output order. */
   readonly bones: readonly HumanBoneName[];

@@ -278,3 +278,67 @@ pub fn fill_frame(
         ArmInput::Pose => frame.pose = Some(*pose),
     }
 }
+
+/// The four sign-language clips of `../shared/data/asl/` (pose and hands of the same person,
+/// image and world landmarks of both).
+pub const ASL_CLIPS: [&str; 4] = ["eat", "thanks", "brother", "sister"];
+
+fn points<const N: usize>(v: &Value, what: &str) -> Result<([Vec3; N], [f32; N]), String> {
+    let a = v
+        .as_array()
+        .filter(|a| a.len() == N)
+        .ok_or(format!("{what}: expected {N} points"))?;
+    let mut out = [Vec3::ZERO; N];
+    let mut vis = [1.0; N];
+    for (i, p) in a.iter().enumerate() {
+        let c = |k: usize| {
+            p.get(k)
+                .and_then(Value::as_f64)
+                .map(|x| x as f32)
+                .ok_or(format!("{what}[{i}]: expected [x, y, z]"))
+        };
+        out[i] = Vec3::new(c(0)?, c(1)?, c(2)?);
+        if let Some(v) = p.get(3).and_then(Value::as_f64) {
+            vis[i] = v as f32;
+        }
+    }
+    Ok((out, vis))
+}
+
+/// The ASL clip `name` (one of [`ASL_CLIPS`]) as frames: hands with world and image
+/// landmarks, the pose's world landmarks with visibility and its image landmarks, `timeMs`.
+pub fn asl(name: &str) -> Vec<FrameInput> {
+    let p = path(&format!("../shared/data/asl/{name}.json"));
+    let v = read_json(&p).unwrap_or_else(|e| panic!("{e}"));
+    let frames = v["frames"].as_array().expect("frames");
+    frames
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let mut frame = FrameInput {
+                time_ms: f["timeMs"].as_f64().expect("timeMs"),
+                ..FrameInput::default()
+            };
+            for (k, h) in f["hands"].as_array().expect("hands").iter().enumerate() {
+                let what = format!("{name} frame {i} hands[{k}]");
+                let (world, _) = points(&h["worldLandmarks"], &what).unwrap();
+                let (image, _) = points(&h["landmarks"], &what).unwrap();
+                frame.hands[k] = HandObservation {
+                    handedness: Handedness::from_label(h["handedness"].as_str().unwrap()).unwrap(),
+                    score: h["score"].as_f64().unwrap() as f32,
+                    world,
+                    image: Some(image),
+                };
+                frame.hand_count = k + 1;
+            }
+            if !f["pose"].is_null() {
+                let what = format!("{name} frame {i} pose");
+                let (world, visibility) = points(&f["pose"]["worldLandmarks"], &what).unwrap();
+                let (image, _) = points(&f["pose"]["landmarks"], &what).unwrap();
+                frame.pose = Some(PoseObservation { world, visibility });
+                frame.pose_image = Some(image);
+            }
+            frame
+        })
+        .collect()
+}
