@@ -235,7 +235,7 @@ pub struct Rig {
     /// This frame's pose, filtered.
     pose: Option<PoseObservation>,
     /// Presence of each side's hand and arm ([`Group`]), for the dropout easing.
-    presence: [[Presence; 2]; 2],
+    presence: [[Presence; 3]; 2],
     /// The rotations shown last frame, and the anchors of running blends.
     shown: [Quat; BONE_COUNT],
     anchor: [Quat; BONE_COUNT],
@@ -244,10 +244,12 @@ pub struct Rig {
 /// The bone groups that come and go with tracking, per side.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Group {
-    /// The hand bone and the fingers: tracked with a hand.
-    Hand = 0,
+    /// The fingers: tracked with a hand.
+    Fingers = 0,
+    /// The hand bone: tracked with a hand, or a tracker wrist's rotation.
+    Hand = 1,
     /// The shoulder, upper and lower arm: tracked with a wrist (tracker or pose).
-    Arm = 1,
+    Arm = 2,
 }
 
 /// Filters of one side's tracker wrist (position and rotation).
@@ -322,7 +324,7 @@ impl Rig {
             pose_filters: PointFilters::default(),
             wrist_filters: [WristFilter::default(); 2],
             pose: None,
-            presence: [[Presence::default(); 2]; 2],
+            presence: [[Presence::default(); 3]; 2],
             shown: [Quat::IDENTITY; BONE_COUNT],
             anchor: [Quat::IDENTITY; BONE_COUNT],
         })
@@ -353,7 +355,7 @@ impl Rig {
         self.hand_filters = [PointFilters::default(); 2];
         self.pose_filters.reset();
         self.wrist_filters = [WristFilter::default(); 2];
-        self.presence = [[Presence::default(); 2]; 2];
+        self.presence = [[Presence::default(); 3]; 2];
         self.shown = [Quat::IDENTITY; BONE_COUNT];
     }
 
@@ -392,7 +394,7 @@ impl Rig {
         let dt = self.clock.advance(frame.time_ms);
         if dt.is_none() {
             // A new session (first frame, time going back, a long gap): no blending across.
-            self.presence = [[Presence::default(); 2]; 2];
+            self.presence = [[Presence::default(); 3]; 2];
         }
         out.solved = [false; BONE_COUNT];
         out.ik_targets = [None, None];
@@ -662,10 +664,15 @@ impl Rig {
         let timing = self.options.dropout.effective();
         for side in Side::BOTH {
             let [shoulder, upper, lower, hand] = side.arm();
-            let live_hand = out.hands[side.index()]
+            let live_fingers = out.hands[side.index()]
                 .is_some_and(|h| matches!(h.status, HandStatus::Solved | HandStatus::Held));
-            let live_arm = out.solved[upper.index()];
-            for (group, live) in [(Group::Hand, live_hand), (Group::Arm, live_arm)] {
+            // The hand bone is also driven by a tracker wrist's rotation without a hand.
+            let groups = [
+                (Group::Fingers, live_fingers),
+                (Group::Hand, out.solved[hand.index()]),
+                (Group::Arm, out.solved[upper.index()]),
+            ];
+            for (group, live) in groups {
                 let blend =
                     self.presence[side.index()][group as usize].update(now_ms, live, &timing);
                 let mut apply = |b: HumanBone| {
@@ -693,12 +700,12 @@ impl Rig {
                     self.shown[i] = q;
                 };
                 match group {
-                    Group::Hand => {
-                        apply(hand);
+                    Group::Fingers => {
                         for f in crate::bones::Finger::ALL {
                             side.finger(f).into_iter().for_each(&mut apply);
                         }
                     }
+                    Group::Hand => apply(hand),
                     Group::Arm => [shoulder, upper, lower].into_iter().for_each(apply),
                 }
             }

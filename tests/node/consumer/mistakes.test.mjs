@@ -37,13 +37,24 @@ describe("options: dotted paths, and every error names the field", () => {
     }
   });
 
+  it("a group with an `enabled` switch takes a boolean: filter: false", () => {
+    const frame = frames[200];
+    const off = HandRig.fromVrm(robotBytes, { filter: false, dropout: false });
+    const nested = HandRig.fromVrm(robotBytes, { filter: { enabled: false }, "dropout.enabled": false });
+    const on = HandRig.fromVrm(robotBytes);
+    for (const f of frames.slice(190, 200)) [off, nested, on].forEach((r) => r.solve(f));
+    const a = off.solve(frame, {});
+    assert.deepEqual(nested.solve(frame, {}).bones, a.bones);
+    assert.notDeepEqual(on.solve(frame, {}).bones, a.bones, "filtering is on by default");
+  });
+
   it("a string for a boolean names the field once, with no 'Error:' inside", () => {
     throwsWith(() => HandRig.fromVrm(robotBytes, { mirror: "true" }), 'options.mirror: must be true or false, got string "true"');
   });
 
   it("an unknown dotted path, a value for a group, and the same option twice", () => {
     throwsWith(() => HandRig.fromVrm(robotBytes, { "alignment.wieght": 1 }), "options.alignment.wieght: unknown option");
-    throwsWith(() => HandRig.fromVrm(robotBytes, { alignment: true }), "options.alignment: must be an object of alignment.* options, got boolean true");
+    throwsWith(() => HandRig.fromVrm(robotBytes, { calibration: true }), "options.calibration: must be an object of calibration.* options, got boolean true");
     throwsWith(
       () => HandRig.fromVrm(robotBytes, { alignment: { weight: 1 }, "alignment.weight": 0.5 }),
       "options.alignment.weight: given twice (as a nested object and as a dotted path)",
@@ -128,29 +139,38 @@ describe("a .vrm missing a required bone names the file", () => {
 });
 
 describe("lost tracking: every driven bone in every result, applied by the adapter", () => {
-  it("when the hand disappears its fingers go back to rest on the avatar (no freeze)", async () => {
+  it("when the hand disappears its fingers hold briefly, then ease back to rest on the avatar (no freeze)", async () => {
     const vrm = await loadVRM(avatars.robot);
     const rig = HandRig.fromVrm(robotBytes);
     const driven = rig.drivenBones();
     assert.ok(driven.includes("rightIndexProximal") && driven.includes("leftUpperArm") && !driven.includes("head"));
+    const t0 = frames[10].timeMs;
     const r1 = rig.solve(frames[10]);
     assert.deepEqual(Object.keys(r1.bones).sort(), [...driven].sort(), "every driven bone, every frame");
     applyToVRM(vrm, r1);
     const node = vrm.humanoid.getNormalizedBoneNode("rightIndexProximal");
-    assert.ok(!isIdentity(node.quaternion.toArray()), "the finger moved");
-    const r2 = rig.solve({ timeMs: 1000 });
-    assert.deepEqual(Object.keys(r2.bones).sort(), [...driven].sort());
-    assert.equal(applyToVRM(vrm, r2), driven.length);
-    assert.ok(isIdentity(node.quaternion.toArray()), "the finger is back at rest");
+    const solved = node.quaternion.toArray();
+    assert.ok(!isIdentity(solved), "the finger moved");
+    // Lost: held for dropout.holdMs (250 ms), then eased to rest over fadeOutMs (500 ms).
+    const held = rig.solve({ timeMs: t0 + 100 });
+    assert.deepEqual(Object.keys(held.bones).sort(), [...driven].sort());
+    assert.equal(applyToVRM(vrm, held), driven.length);
+    assert.deepEqual(node.quaternion.toArray(), solved, "held at 100 ms");
+    applyToVRM(vrm, rig.solve({ timeMs: t0 + 500 }));
+    const easing = node.quaternion.toArray();
+    assert.ok(!isIdentity(easing) && easing.some((c, i) => Math.abs(c - solved[i]) > 1e-3), "easing at 500 ms");
+    applyToVRM(vrm, rig.solve({ timeMs: t0 + 1000 }));
+    assert.ok(isIdentity(node.quaternion.toArray()), "back at rest 750 ms after the loss");
     rig.free();
   });
 
-  it("when wrists stop, the arm goes back to rest as the README says", () => {
-    const rig = HandRig.fromVrm(robotBytes);
-    const r1 = rig.solve({ timeMs: 0, wrists: { right: { position: [-0.4, 1.2, 0.25] } } }, {});
-    assert.ok(!isIdentity(r1.bones.rightUpperArm), "the arm reached the wrist");
-    const r2 = rig.solve({ timeMs: 33 }, {});
+  it("with dropout off, a lost hand and stopped wrists go back to rest at once", () => {
+    const rig = HandRig.fromVrm(robotBytes, { dropout: false });
+    const r1 = rig.solve({ ...frames[10], wrists: { right: { position: [-0.4, 1.2, 0.25] } } }, {});
+    assert.ok(!isIdentity(r1.bones.rightUpperArm) && !isIdentity(r1.bones.rightIndexProximal));
+    const r2 = rig.solve({ timeMs: frames[10].timeMs + 33 }, {});
     assert.ok(isIdentity(r2.bones.rightUpperArm) && isIdentity(r2.bones.rightLowerArm), "the arm rests");
+    assert.ok(isIdentity(r2.bones.rightIndexProximal), "the finger rests");
     rig.free();
   });
 });
