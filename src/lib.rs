@@ -28,7 +28,8 @@
 //! * [`hand`]: wrist and finger rotations from 21 hand landmarks.
 //! * [`align`]: fingertip alignment (the wrist IK target).
 //! * [`body`]: body mapping and calibration from pose landmarks.
-//! * [`ik`]: arm IK solvers.
+//! * [`kinematics`]: serial chains with fixed bone lengths and joint limits (hinge, cone).
+//! * [`ik`]: arm IK solvers (two-bone, FABRIK, CCD) and the standalone [`ik::ChainSolver`].
 //! * [`rig`]: the per-frame pipeline tying them together ([`Rig`]).
 //! * `wasm` (wasm32 only): the JavaScript bindings.
 
@@ -40,6 +41,7 @@ pub mod bones;
 pub mod error;
 pub mod hand;
 pub mod ik;
+pub mod kinematics;
 pub mod mediapipe;
 pub mod rig;
 pub mod skeleton;

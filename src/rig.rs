@@ -15,7 +15,7 @@ use crate::body::{BodyMapper, CalibrationOptions};
 use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::Result;
 use crate::hand::{HandSolver, HandStatus, HandStrategy};
-use crate::ik::{ArmSolver, ArmSolverState};
+use crate::ik::{ArmOptions, ArmSolver, ArmSolverState};
 use crate::mediapipe::{hand_landmark, CameraMapping, FrameInput, HAND_LANDMARKS};
 use crate::skeleton::{Skeleton, WorldPose};
 
@@ -35,6 +35,9 @@ pub struct RigOptions {
     pub alignment: AlignmentOptions,
     /// Which arm IK solver reaches the wrist target. Default `"twoBone"`.
     pub arm_solver: ArmSolver,
+    /// Options every arm solver shares: the shoulder's help on far reaches, the forearm's
+    /// share of the hand's twist.
+    pub arm: ArmOptions,
     /// Body-scale calibration from pose landmarks.
     pub calibration: CalibrationOptions,
     /// Hands whose handedness score is below this are ignored. Default `0.5`.
@@ -49,6 +52,7 @@ impl Default for RigOptions {
             hand_strategy: HandStrategy::default(),
             alignment: AlignmentOptions::default(),
             arm_solver: ArmSolver::default(),
+            arm: ArmOptions::default(),
             calibration: CalibrationOptions::default(),
             min_hand_score: 0.5,
         }
@@ -145,7 +149,7 @@ impl Rig {
         }
         let hands = HandSolver::new(&skeleton, options.hand_strategy)?;
         let body = BodyMapper::new(&skeleton, &options.calibration);
-        let arms = ArmSolverState::new(&skeleton, options.arm_solver)?;
+        let arms = ArmSolverState::with_options(&skeleton, options.arm_solver, &options.arm)?;
         Ok(Rig {
             skeleton,
             options,
@@ -268,7 +272,7 @@ impl Rig {
         let Some(hand_rot) = hand_rotation.or(rotation_override) else {
             // No hand and no wrist rotation: with a pose wrist the arm can still reach it.
             if let Some(target) = pose_wrist {
-                self.reach(side, target, None, pole, out);
+                self.reach(side, target, None, pole, None, out);
             }
             return;
         };
@@ -303,7 +307,11 @@ impl Rig {
             position: target,
             rotation: hand_rot,
         });
-        let reach = self.reach(side, target, Some(hand_rot), pole, out);
+        // The aligned finger point (CCD's first-priority effector).
+        let finger = out.alignment[side.index()]
+            .filter(|a| a.aligned)
+            .map(|a| a.avatar_offset);
+        let reach = self.reach(side, target, Some(hand_rot), pole, finger, out);
         if let Some(report) = out.alignment[side.index()].as_mut() {
             report.reachable = reach.reachable;
             report.error = align::alignment_error(
@@ -317,12 +325,14 @@ impl Rig {
         }
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn reach(
         &mut self,
         side: Side,
         target: Vec3,
         hand_rotation: Option<Quat>,
         pole: Option<Vec3>,
+        finger: Option<Vec3>,
         out: &mut SolveOutput,
     ) -> crate::ik::ArmReach {
         // World frame of the arm's parent chain (torso at rest: handrig does not move it).
@@ -332,11 +342,12 @@ impl Rig {
             target,
             hand_rotation,
             pole,
+            finger,
             &mut out.local,
             &out.world,
         );
         for b in side.arm() {
-            if b != side.arm()[0] {
+            if b != side.arm()[0] || self.arms.moves_shoulder(side) {
                 out.solved[b.index()] |= self.skeleton.has(b);
             }
         }
@@ -504,10 +515,40 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
         OptionDescription {
             path: "armSolver",
             kind: Enum {
-                values: vec!["twoBone"],
-                default: "twoBone",
+                values: ArmSolver::ALL.iter().map(|s| s.as_str()).collect(),
+                default: d.arm_solver.as_str(),
             },
-            description: "Arm IK solver reaching the wrist target: twoBone = analytic two-bone IK with a pole.",
+            description: "Arm IK solver reaching the wrist target: twoBone = analytic two-bone IK with a pole; fabrik = FABRIK (seed 002); ccd = CCD with priority effectors (seed 004).",
+        },
+        OptionDescription {
+            path: "arm.shoulderAngle",
+            kind: Number {
+                min: 0.0,
+                max: core::f32::consts::FRAC_PI_2,
+                default: Some(d.arm.shoulder_angle),
+                step: 0.01,
+            },
+            description: "Largest angle (radians) the shoulder turns to help a far reach; 0 keeps shoulders at rest.",
+        },
+        OptionDescription {
+            path: "arm.shoulderReach",
+            kind: Number {
+                min: 0.5,
+                max: 1.0,
+                default: Some(d.arm.shoulder_reach),
+                step: 0.01,
+            },
+            description: "Fraction of the arm's length beyond which the shoulder starts to turn toward the target.",
+        },
+        OptionDescription {
+            path: "arm.forearmTwist",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.arm.forearm_twist),
+                step: 0.05,
+            },
+            description: "Share of the hand's twist about the forearm that the forearm takes (the rest stays at the wrist).",
         },
         OptionDescription {
             path: "alignment.enabled",

@@ -16,7 +16,8 @@ use std::sync::OnceLock;
 use glam::{Quat, Vec3};
 use handrig::bones::{HumanBone as B, Side, BONE_COUNT};
 use handrig::ik::{
-    swing, ArmChain, ArmGoal, ArmIk, ArmPose, ArmSolver, ArmSolverState, TwoBoneIk, TwoBoneOptions,
+    swing, ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmSolver, ArmSolverState, TwoBoneIk,
+    TwoBoneOptions,
 };
 use handrig::skeleton::{Skeleton, VrmVersion, WorldPose};
 use proptest::prelude::*;
@@ -67,6 +68,16 @@ fn layouts() -> &'static [Skeleton] {
     })
 }
 
+/// The analytic solver with the shoulder option off: these tests check the two-bone geometry
+/// from a fixed upper arm joint (the shoulder option is tested in `tests/chain_arm.rs`).
+fn two_bone(skel: &Skeleton) -> ArmSolverState {
+    let arm = ArmOptions {
+        shoulder_angle: 0.0,
+        ..ArmOptions::default()
+    };
+    ArmSolverState::with_options(skel, ArmSolver::TwoBone, &arm).unwrap()
+}
+
 struct Solved {
     shoulder: Vec3,
     elbow: Vec3,
@@ -91,7 +102,7 @@ fn solve_fk(
     local[side.arm()[0].index()] = shoulder_rot;
     let mut world = WorldPose::default();
     skel.forward(&local, &mut world);
-    let reach = state.solve(side, target, hand, pole, &mut local, &world);
+    let reach = state.solve(side, target, hand, pole, None, &mut local, &world);
     skel.forward(&local, &mut world);
     let [_, up, low, h] = side.arm();
     for q in local.iter() {
@@ -130,7 +141,7 @@ fn quat_close(a: Quat, b: Quat, tol: f32) -> bool {
 fn known_answer_right_angle_elbow() {
     // Left arm along +X, 0.25 + 0.25, pole on the +X side of a target straight ahead.
     let skel = skeleton(Vec3::X * 0.25, Vec3::X * 0.25, VrmVersion::V1);
-    let mut state = ArmSolverState::new(&skel, ArmSolver::TwoBone).unwrap();
+    let mut state = two_bone(&skel);
     let sh = skel.rest_world(B::LeftUpperArm).unwrap();
     // Target at distance 0.25*sqrt(2) along +Z: isoceles right triangle, elbow angle 90deg,
     // the elbow 45 degrees off the line toward the pole (+X).
@@ -166,7 +177,7 @@ fn known_answer_right_angle_elbow() {
 #[test]
 fn hand_world_rotation_is_the_target_rotation() {
     let skel = &layouts()[1];
-    let mut state = ArmSolverState::new(skel, ArmSolver::TwoBone).unwrap();
+    let mut state = two_bone(skel);
     let sh = skel.rest_world(B::RightUpperArm).unwrap();
     let q = Quat::from_euler(glam::EulerRot::YXZ, 0.7, -0.4, 1.9);
     let s = solve_fk(
@@ -196,7 +207,7 @@ fn hand_world_rotation_is_the_target_rotation() {
 fn default_pole_hangs_the_elbow_down_and_back() {
     let skel = &layouts()[0];
     for side in Side::BOTH {
-        let mut state = ArmSolverState::new(skel, ArmSolver::TwoBone).unwrap();
+        let mut state = two_bone(skel);
         let sh = skel.rest_world(side.arm()[1]).unwrap();
         // Reaching forward with a bent arm: the elbow hangs below the shoulder-wrist line.
         let t = sh + Vec3::new(0.0, 0.0, 0.35);
@@ -215,7 +226,7 @@ fn default_pole_hangs_the_elbow_down_and_back() {
 fn unreachable_target_stretches_the_arm_toward_it() {
     for skel in layouts() {
         for side in Side::BOTH {
-            let mut state = ArmSolverState::new(skel, ArmSolver::TwoBone).unwrap();
+            let mut state = two_bone(skel);
             let (a, b) = lengths(skel, side);
             let sh = skel.rest_world(side.arm()[1]).unwrap();
             let d = Vec3::new(0.3, -0.5, 0.8).normalize();
@@ -238,7 +249,7 @@ fn unreachable_target_stretches_the_arm_toward_it() {
 #[test]
 fn too_close_target_folds_and_reports() {
     let skel = &layouts()[2]; // 0.30 + 0.22: targets nearer than 0.08 m are out of reach
-    let mut state = ArmSolverState::new(skel, ArmSolver::TwoBone).unwrap();
+    let mut state = two_bone(skel);
     let sh = skel.rest_world(B::LeftUpperArm).unwrap();
     let (a, b) = lengths(skel, Side::Left);
     let target = sh + Vec3::new(0.0, 0.0, 0.03);
@@ -263,7 +274,7 @@ fn too_close_target_folds_and_reports() {
 #[test]
 fn degenerate_goals_give_finite_poses() {
     for skel in layouts() {
-        let mut state = ArmSolverState::new(skel, ArmSolver::TwoBone).unwrap();
+        let mut state = two_bone(skel);
         let sh = skel.rest_world(B::LeftUpperArm).unwrap();
         // Target exactly at the shoulder, pole at the shoulder, pole at the target.
         for (t, p) in [
@@ -283,7 +294,7 @@ fn degenerate_goals_give_finite_poses() {
         (Vec3::ZERO, Vec3::ZERO),
     ] {
         let skel = skeleton(u, l, VrmVersion::V1);
-        let mut state = ArmSolverState::new(&skel, ArmSolver::TwoBone).unwrap();
+        let mut state = two_bone(&skel);
         let sh = skel.rest_world(B::LeftUpperArm).unwrap();
         let q = Quat::from_rotation_x(0.5);
         for t in [sh, sh + Vec3::new(0.0, -0.25, 0.0), sh + Vec3::Z] {
@@ -374,7 +385,7 @@ proptest! {
     ) {
         let skel = &layouts()[layout];
         let side = if left { Side::Left } else { Side::Right };
-        let mut state = ArmSolverState::new(skel, ArmSolver::TwoBone).unwrap();
+        let mut state = two_bone(skel);
         let shoulder_rot = Quat::from_euler(glam::EulerRot::XYZ, sh_rot[0], sh_rot[1], sh_rot[2]);
         let (a, b) = lengths(skel, side);
         let mut local = [Quat::IDENTITY; BONE_COUNT];
@@ -431,6 +442,8 @@ fn sweep(
             target,
             hand_rotation: None,
             pole: pole(target),
+            shoulder_root: None,
+            finger: None,
         };
         let reach = ik.solve(chain, &goal, &mut out);
         assert!(reach.reachable && reach.residual < 1e-4);
@@ -506,6 +519,8 @@ fn pole_sweep(
             target,
             hand_rotation: None,
             pole: Some(pole_at(i as f32 / n as f32)),
+            shoulder_root: None,
+            finger: None,
         };
         ik.solve(chain, &goal, &mut out);
         if let Some(p) = prev {
