@@ -44,7 +44,7 @@ use crate::kinematics::chain::{angle_about, bow_if_straight, turn_toward_pole};
 use crate::kinematics::{angle_between, Chain, Pull, RootFrame};
 
 use super::arm::ChainArm;
-use super::fabrik::{anchor, bow_fallback, sub_min_reach, validate_iterations};
+use super::fabrik::{anchor, bow_fallback, face_pole, sub_min_reach, validate_iterations};
 use super::{ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, ChainReport};
 
 /// Options of [`Ccd`].
@@ -145,8 +145,9 @@ impl Ccd {
     /// `pole` (a world point and the first joint it turns, as [`super::ChainGoal::pole_first`])
     /// turns the chain's bend toward it before each sweep, about the line from the pivot to
     /// the first effector's target. `end_direction` (world, unit) pins the last bone's
-    /// direction (the first effector should then sit on the last bone's root). `frames` is
-    /// scratch with one entry per bone. Allocates nothing; never writes NaN for finite
+    /// direction (the first effector should then sit on the last bone's root). `frames` (one
+    /// per bone) receives each bone's world rotation from its rest direction, in which the
+    /// limits hold (see [`Chain::place`]). Allocates nothing; never writes NaN for finite
     /// inputs (a non-finite target leaves the pose unchanged and reports an infinite error).
     #[allow(clippy::too_many_arguments)]
     pub fn solve(
@@ -174,6 +175,9 @@ impl Ccd {
         let lengths = chain.lengths();
         let tolerance = self.options.tolerance;
         let angle_tolerance = tolerance / chain.total_length();
+        // Stop a little inside the tolerance: the last pole step re-lays the bones, which
+        // moves the end by rounding.
+        let converged = 0.9 * tolerance;
         let goal = primary.target - primary.offset;
         let first = primary.first_joint.min(primary.joint - 1);
         let span = &lengths[first..primary.joint];
@@ -192,7 +196,7 @@ impl Ccd {
             )
         };
         if first == 0 && primary.joint == n - 1 && distance >= span_length {
-            chain.place(root, joints, Pull::Toward(goal), end_direction);
+            chain.place(root, joints, Pull::Toward(goal), end_direction, frames);
             return measure(joints, 0);
         }
 
@@ -201,34 +205,35 @@ impl Ccd {
             Some((p, _)) => p,
             None => bow_fallback(chain, root, joints, goal),
         };
-        let bow_first = pole.map_or(1, |(_, k)| k).clamp(1, n - 1);
+        let bow_first = pole.map_or(1, |(_, k)| k).clamp(1, primary.joint.max(1));
         let last_turning = match end_direction {
             Some(_) => n.saturating_sub(3),
             None => n - 2,
         };
         let mut iterations = 0;
         while iterations < self.options.iterations {
-            let mut largest = pole.map_or(0.0, |(p, k)| {
-                turn_toward_pole(joints, k.clamp(1, n - 1), goal, p)
+            let reach = &mut joints[..=primary.joint];
+            let mut largest = pole.map_or(0.0, |(p, _)| {
+                turn_toward_pole(reach, bow_first, goal, p, true)
             });
-            bow_if_straight(
-                joints,
-                bow_first,
-                lengths,
-                goal,
-                side - joints[bow_first - 1],
-            );
+            let bow_side = side - reach[bow_first - 1];
+            bow_if_straight(reach, bow_first, lengths, goal, bow_side);
             chain.rotations(root.rotation, joints, frames);
             for k in (0..=last_turning).rev() {
                 largest = largest.max(self.turn_joint(chain, root, k, effectors, joints, frames));
             }
-            chain.place(root, joints, Pull::Directions, end_direction);
+            chain.place(root, joints, Pull::Directions, end_direction, frames);
             iterations += 1;
             let error = (joints[primary.joint] + primary.offset - primary.target).length();
-            if error <= tolerance && largest <= angle_tolerance {
+            if error <= converged && largest <= angle_tolerance {
                 break;
             }
         }
+        if let Some((p, _)) = pole {
+            face_pole(chain, joints, bow_first, primary.joint, Some(p));
+        }
+        // Exact lengths after the pole's turns, and `frames` the rotations the limits hold in.
+        chain.place(root, joints, Pull::Directions, end_direction, frames);
         measure(joints, iterations)
     }
 

@@ -203,7 +203,6 @@ pub struct ChainSolver {
     method: Method,
     joints: Vec<Vec3>,
     rotations: Vec<Quat>,
-    frames: Vec<Quat>,
     status: ChainReport,
 }
 
@@ -250,7 +249,6 @@ impl ChainSolver {
         let mut solver = ChainSolver {
             joints: chain.rest_joints().to_vec(),
             rotations: vec![Quat::IDENTITY; n - 1],
-            frames: vec![Quat::IDENTITY; n - 1],
             status: ChainReport::failed(),
             chain,
             method,
@@ -329,7 +327,13 @@ impl ChainSolver {
         let root = self.chain.rest_root();
         let end_direction = goal.end_direction(&self.chain);
         self.status = match &self.method {
-            Method::Fabrik(f) => f.solve(&self.chain, &root, goal, &mut self.joints),
+            Method::Fabrik(f) => f.solve(
+                &self.chain,
+                &root,
+                goal,
+                &mut self.joints,
+                &mut self.rotations,
+            ),
             Method::Ccd(c) => {
                 let n = self.chain.joint_count();
                 // A pinned last bone: the effector is its root, the target moved back along it.
@@ -349,15 +353,13 @@ impl ChainSolver {
                     goal.pole.map(|p| (p, goal.pole_first)),
                     end_direction,
                     &mut self.joints,
-                    &mut self.frames,
+                    &mut self.rotations,
                 );
                 status.error = (self.joints[n - 1] - goal.target).length();
                 status.reached = status.error <= c.options().tolerance;
                 status
             }
         };
-        self.chain
-            .rotations(root.rotation, &self.joints, &mut self.rotations);
         if let (Some(q), Some(last)) = (goal.end_rotation, self.rotations.last_mut()) {
             // The pinned bone takes the goal's rotation (with its twist), turned minimally
             // onto the direction it got.

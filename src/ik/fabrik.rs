@@ -25,11 +25,11 @@
 //!
 //! [`FabrikArm`] is the arm solver built on it ([`super::ArmSolver::Fabrik`]).
 
-use glam::Vec3;
+use glam::{Quat, Vec3};
 
 use crate::error::{Error, Result};
-use crate::kinematics::chain::{bow_if_straight, turn_toward_pole};
-use crate::kinematics::{Chain, Pull, RootFrame};
+use crate::kinematics::chain::{bow_if_straight, settle_on_pole_side, turn_toward_pole};
+use crate::kinematics::{Chain, JointLimit, Pull, RootFrame};
 
 use super::arm::ChainArm;
 use super::{ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, ChainGoal, ChainReport};
@@ -99,14 +99,17 @@ impl Fabrik {
 
     /// Moves `joints` (one per chain joint: the current pose, the warm start) to reach
     /// `goal` with the root at `root`. The pose is first translated so that joint 0 is at
-    /// the root. Allocates nothing; never writes NaN for finite inputs (a non-finite target
-    /// leaves the pose as it is and reports an infinite error).
+    /// the root. `frames` (one per bone) receives each bone's world rotation from its rest
+    /// direction, in which the limits hold (see [`Chain::place`]). Allocates nothing; never
+    /// writes NaN for finite inputs (a non-finite target leaves the pose as it is and reports
+    /// an infinite error).
     pub fn solve(
         &self,
         chain: &Chain,
         root: &RootFrame,
         goal: &ChainGoal,
         joints: &mut [Vec3],
+        frames: &mut [Quat],
     ) -> ChainReport {
         let n = chain.joint_count();
         debug_assert_eq!(joints.len(), n);
@@ -132,52 +135,128 @@ impl Fabrik {
             && distance >= sub_min_reach(&lengths[..reach_joint]) * (1.0 - 1e-6);
         let tolerance = self.options.tolerance;
         let angle_tolerance = tolerance / chain.total_length();
+        // Stop a little inside the tolerance: the last pole step re-lays the bones, which
+        // moves the end by rounding.
+        let converged = 0.9 * tolerance;
         let pole = goal.pole.filter(|p| p.is_finite());
-        let first = goal.pole_first.clamp(1, last);
+        let first = goal.pole_first.clamp(1, reach_joint.max(1));
+        // Limits between bones also act on the backward pass (see `limit_backward`); hinges
+        // need the bone frames for their axes.
+        let backward_limits = (1..chain.bone_count()).any(|i| chain.limit(i).is_some());
+        let hinged =
+            (1..chain.bone_count()).any(|i| chain.limit(i).and_then(|l| l.hinge_axis()).is_some());
 
         if distance >= reach_length {
-            chain.place(root, joints, Pull::Toward(reach_target), end_direction);
+            chain.place(
+                root,
+                joints,
+                Pull::Toward(reach_target),
+                end_direction,
+                frames,
+            );
             return ChainReport::measure(joints[last], goal.target, reachable, 0, tolerance);
         }
 
         let side = pole.unwrap_or_else(|| bow_fallback(chain, root, joints, reach_target));
         let mut iterations = 0;
         while iterations < self.options.iterations {
-            let turned = pole.map_or(0.0, |p| turn_toward_pole(joints, first, goal.target, p));
-            if (joints[last] - goal.target).length() <= tolerance && turned <= angle_tolerance {
+            let turned = pole.map_or(0.0, |p| {
+                turn_toward_pole(&mut joints[..=reach_joint], first, reach_target, p, true)
+            });
+            if (joints[last] - goal.target).length() <= converged && turned <= angle_tolerance {
                 break;
             }
+            let bow_side = side - joints[first - 1];
             bow_if_straight(
-                joints,
+                &mut joints[..=reach_joint],
                 first,
                 lengths,
                 reach_target,
-                side - joints[first - 1],
+                bow_side,
             );
+            if hinged {
+                chain.rotations(root.rotation, joints, frames);
+            }
             // Backward reach.
             joints[last] = goal.target;
             if let Some(d) = end_direction {
                 joints[last - 1] = goal.target - d * lengths[last - 1];
             }
             for i in (0..reach_joint).rev() {
-                let away = (joints[i] - joints[i + 1])
+                let mut away = (joints[i] - joints[i + 1])
                     .try_normalize()
                     .filter(|d| d.is_finite())
                     .unwrap_or(-(root.rotation * chain.rest_directions()[i]));
+                if backward_limits && i + 1 < chain.bone_count() {
+                    if let Some(limit) = chain.limit(i + 1) {
+                        let child = (joints[i + 2] - joints[i + 1]).normalize();
+                        away = -limit_backward(&limit, -away, child, frames[i]);
+                    }
+                }
                 joints[i] = joints[i + 1] + away * lengths[i];
             }
             // Forward reach, limits applied bone by bone.
-            chain.place(root, joints, Pull::Points, end_direction);
+            chain.place(root, joints, Pull::Points, end_direction, frames);
             iterations += 1;
         }
-        // Without limits a last turn about the root-to-end line is exact (an isometry that
-        // keeps the end where it is): the bend faces the pole to rounding.
-        if let Some(p) = pole {
-            if rigid_turn_allowed(chain, first) {
-                turn_toward_pole(joints, first, joints[last], p);
-            }
-        }
+        face_pole(chain, joints, first, reach_joint, pole);
+        // Lay the bones out once more from the root along their directions: exact lengths
+        // after the pole's turns (which round each joint separately; the end moves by
+        // rounding only), and `frames` the rotations the limits hold in, also when the loop
+        // had nothing to do.
+        chain.place(root, joints, Pull::Directions, end_direction, frames);
         ChainReport::measure(joints[last], goal.target, reachable, iterations, tolerance)
+    }
+}
+
+/// The backward pass's limit: the parent bone's direction (world, unit) nearest `wanted` such
+/// that the child bone's direction `child` satisfies the child's `limit` relative to it. A
+/// cone is symmetric (the angle between the two bones); a hinge needs the parent in the plane
+/// perpendicular to its world axis (`frame`, the parent's rotation in the pose before this
+/// pass, carries the axis) with the child's angle about it in range. The forward pass then
+/// applies the limits exactly; this keeps the backward pass from proposing shapes the forward
+/// pass can only clamp (FABRIK stalls on one-sided hinges without it).
+fn limit_backward(limit: &JointLimit, wanted: Vec3, child: Vec3, frame: Quat) -> Vec3 {
+    match *limit {
+        JointLimit::Cone { .. } => limit.constrain(wanted, child, wanted),
+        JointLimit::Hinge { axis, min, max } => {
+            let w = (frame * axis).normalize();
+            let c = (child - w * w.dot(child)).try_normalize();
+            let p = (wanted - w * w.dot(wanted)).try_normalize();
+            let Some(c) = c else {
+                return wanted;
+            };
+            // The child's signed angle about the axis from the parent.
+            let angle = p.map_or(0.0, |p| w.dot(p.cross(c)).atan2(p.dot(c)));
+            let clamped = angle.clamp(min, max);
+            Quat::from_axis_angle(w, -clamped) * c
+        }
+    }
+}
+
+/// The last pole step on the sub-chain `..=reach_joint`, where the chain's limits allow it:
+/// a turn about the pivot-to-end line (an isometry keeping the end where it is) so the bend
+/// faces the pole to rounding, and without any limit past the pivot each middle joint turned
+/// to the pole's side of its neighbours' line ([`settle_on_pole_side`]).
+pub(crate) fn face_pole(
+    chain: &Chain,
+    joints: &mut [Vec3],
+    first: usize,
+    reach_joint: usize,
+    pole: Option<Vec3>,
+) {
+    let Some(p) = pole else {
+        return;
+    };
+    let sub = &mut joints[..=reach_joint];
+    let end = sub[reach_joint];
+    let pinned_free = reach_joint == chain.bone_count() || chain.limit(reach_joint).is_none();
+    if rigid_turn_allowed(chain, first) && pinned_free {
+        turn_toward_pole(sub, first, end, p, false);
+    }
+    if (first - 1..chain.bone_count()).all(|i| chain.limit(i).is_none()) {
+        settle_on_pole_side(sub, first, p);
+        turn_toward_pole(sub, first, end, p, false);
     }
 }
 
@@ -244,6 +323,7 @@ pub(crate) fn bow_fallback(chain: &Chain, root: &RootFrame, joints: &[Vec3], tar
 pub struct FabrikArm {
     fabrik: Fabrik,
     arm: ChainArm,
+    frames: [Quat; 3],
 }
 
 impl FabrikArm {
@@ -255,6 +335,7 @@ impl FabrikArm {
         Ok(FabrikArm {
             fabrik: Fabrik::new(options)?,
             arm: ChainArm::new(chain, arm)?,
+            frames: [Quat::IDENTITY; 3],
         })
     }
 
@@ -268,9 +349,10 @@ impl FabrikArm {
 impl ArmIk for FabrikArm {
     fn solve(&mut self, chain: &ArmChain, goal: &ArmGoal, out: &mut ArmPose) -> ArmReach {
         let fabrik = self.fabrik;
+        let frames = &mut self.frames;
         self.arm
             .solve(chain, goal, out, |c, root, goal, _effectors, joints| {
-                fabrik.solve(c, root, goal, joints)
+                fabrik.solve(c, root, goal, joints, &mut frames[..c.bone_count()])
             })
     }
 

@@ -248,21 +248,25 @@ impl Chain {
         }
     }
 
-    /// The largest limit violation (radians) of the pose `joints` (0 for a chain without
-    /// limits).
+    /// The largest limit violation (radians) of the pose `joints` with bone rotations
+    /// `rotations` (as a solve reports them: each limit is measured in its parent's reported
+    /// frame). 0 for a chain without limits.
     #[must_use]
-    pub fn max_violation(&self, root_rotation: Quat, joints: &[Vec3]) -> f32 {
-        let mut frame = root_rotation;
+    pub fn max_violation(&self, root_rotation: Quat, joints: &[Vec3], rotations: &[Quat]) -> f32 {
         let mut worst = 0.0f32;
         for i in 0..self.bone_count() {
+            let frame = if i == 0 {
+                root_rotation
+            } else {
+                rotations[i - 1]
+            };
+            let Some(limit) = self.limits[i] else {
+                continue;
+            };
             let dir = (joints[i + 1] - joints[i])
                 .try_normalize()
                 .unwrap_or(frame * self.directions[i]);
-            let local = frame.conjugate() * dir;
-            if let Some(l) = self.limits[i] {
-                worst = worst.max(l.violation(local, self.reference(i)));
-            }
-            frame = self.bone_rotation(i, frame, local);
+            worst = worst.max(limit.violation(frame.conjugate() * dir, self.reference(i)));
         }
         worst
     }
@@ -270,14 +274,18 @@ impl Chain {
     /// Places the chain from the root outward, each bone pointing as `pull` says and then
     /// limited: the constrained forward pass. `end_direction` (world, unit) overrides the
     /// last bone's wanted direction. Bone lengths come out exact; the result satisfies every
-    /// limit. Where a wanted direction is undefined (coincident points) the bone keeps its
-    /// previous direction.
+    /// limit, measured in the bone rotations written to `frames` (one per bone, the frames
+    /// the limits were applied in: near a half-turn from rest, where a swing's twist is
+    /// ill-conditioned, they are more accurate than [`Chain::rotations`] of the rounded
+    /// positions). Where a wanted direction is undefined (coincident points) the bone keeps
+    /// its previous direction.
     pub fn place(
         &self,
         root: &RootFrame,
         joints: &mut [Vec3],
         pull: Pull,
         end_direction: Option<Vec3>,
+        frames: &mut [Quat],
     ) {
         let last = self.bone_count() - 1;
         let mut frame = root.rotation;
@@ -306,6 +314,7 @@ impl Chain {
             }
             joints[i + 1] = joints[i] + (frame * local) * self.lengths[i];
             frame = self.bone_rotation(i, frame, local);
+            frames[i] = frame;
             old = old_next;
         }
     }
@@ -338,13 +347,20 @@ pub fn swing(from: Vec3, to: Vec3, fallback_axis: Vec3) -> Quat {
     }
 }
 
-/// Turns joints `first..` rigidly about the line from joint `first - 1` (the pivot) to
-/// `target` so that the bend of the middle joints `first..N-1` (the sum of their offsets
-/// across that line) faces `pole`: the pole step of seed 002, generalized from the elbow to
-/// any number of middle joints. Lengths and the angles between bones are kept. Returns the
+/// Turns joints `first..N-1` (and the end joint `N-1` too with `include_end`) rigidly about
+/// the line from joint `first - 1` (the pivot) to `target` so that the bend of the middle
+/// joints `first..N-1` (the sum of their offsets across that line) faces `pole`: the pole
+/// step of seed 002, generalized from the elbow to any number of middle joints. With the end
+/// on the line (or turned along) lengths and the angles between bones are kept. Returns the
 /// angle turned (radians, 0 when the pole or the bend is undefined: pole or all middle
 /// joints on the line).
-pub fn turn_toward_pole(joints: &mut [Vec3], first: usize, target: Vec3, pole: Vec3) -> f32 {
+pub fn turn_toward_pole(
+    joints: &mut [Vec3],
+    first: usize,
+    target: Vec3,
+    pole: Vec3,
+    include_end: bool,
+) -> f32 {
     let n = joints.len();
     if first == 0 || first + 1 >= n {
         return 0.0;
@@ -368,10 +384,60 @@ pub fn turn_toward_pole(joints: &mut [Vec3], first: usize, target: Vec3, pole: V
         return 0.0;
     }
     let q = Quat::from_axis_angle(axis, angle);
-    for p in &mut joints[first..] {
+    let end = if include_end { n } else { n - 1 };
+    for p in &mut joints[first..end] {
         *p = pivot + q * (*p - pivot);
     }
     angle.abs()
+}
+
+/// Turns each middle joint `first..N-1` about the line through its two neighbours (which
+/// keeps both its bones' lengths and every other joint) to the point of that circle furthest
+/// toward the pole, across the line from joint `first - 1` to the end; sweeps until no joint
+/// moves (at most N sweeps). With two bones this is the plain pole rule; with more it takes
+/// middle joints that the reaching passes left on the far side (a zigzag) over to the
+/// pole's side where their circle reaches it. Changes the angles between bones: only for
+/// bones without limits.
+pub fn settle_on_pole_side(joints: &mut [Vec3], first: usize, pole: Vec3) {
+    let n = joints.len();
+    if first == 0 || first + 1 >= n {
+        return;
+    }
+    let pivot = joints[first - 1];
+    let Some(axis) = (joints[n - 1] - pivot)
+        .try_normalize()
+        .filter(|a| a.is_finite())
+    else {
+        return;
+    };
+    let Some(toward) = (pole - pivot - axis * axis.dot(pole - pivot))
+        .try_normalize()
+        .filter(|d| d.is_finite())
+    else {
+        return;
+    };
+    for _ in 0..n {
+        let mut moved = false;
+        for j in first..n - 1 {
+            let (a, b) = (joints[j - 1], joints[j + 1]);
+            let Some(u) = (b - a).try_normalize() else {
+                continue;
+            };
+            let foot = a + u * u.dot(joints[j] - a);
+            let radius = (joints[j] - foot).length();
+            let Some(out) = (toward - u * u.dot(toward)).try_normalize() else {
+                continue;
+            };
+            let moved_to = foot + out * radius;
+            if (moved_to - joints[j]).dot(toward) > 1e-7 * radius {
+                joints[j] = moved_to;
+                moved = true;
+            }
+        }
+        if !moved {
+            break;
+        }
+    }
 }
 
 /// When the middle joints `first..N-1` lie on the line from joint `first - 1` to the end
