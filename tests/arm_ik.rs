@@ -5,14 +5,12 @@
 // Native only: proptest and the shared files are not available on wasm32.
 #![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/recordings.rs"]
-mod recordings;
-#[path = "support/rigs.rs"]
-mod rigs;
+#[path = "support/arms.rs"]
+mod arms;
 
 use core::f32::consts::{FRAC_PI_2, PI};
-use std::sync::OnceLock;
 
+use arms::{layouts, skeleton};
 use glam::{Quat, Vec3};
 use handrig::bones::{HumanBone as B, Side, BONE_COUNT};
 use handrig::ik::{
@@ -21,52 +19,6 @@ use handrig::ik::{
 };
 use handrig::skeleton::{Skeleton, VrmVersion, WorldPose};
 use proptest::prelude::*;
-
-/// A humanoid with the left arm's rest offsets `upper` (shoulder joint to elbow) and `lower`
-/// (elbow to wrist), internal frame; the right arm mirrors it. Given in the model's own frame
-/// for `version` (VRM 0.x: turned to face -Z), so internally every version is the same.
-fn skeleton(upper: Vec3, lower: Vec3, version: VrmVersion) -> Skeleton {
-    let torso = [
-        (B::Hips, 1.0),
-        (B::Spine, 1.1),
-        (B::Chest, 1.25),
-        (B::UpperChest, 1.35),
-        (B::Neck, 1.45),
-        (B::Head, 1.55),
-    ];
-    let legs = rigs::Legs {
-        x: 0.1,
-        heights: [0.95, 0.5, 0.08],
-    };
-    let sh = Vec3::new(0.15, 1.42, 0.0);
-    let left = [
-        (B::LeftShoulder, Vec3::new(0.03, 1.42, 0.0)),
-        (B::LeftUpperArm, sh),
-        (B::LeftLowerArm, sh + upper),
-        (B::LeftHand, sh + (upper + lower)),
-    ];
-    rigs::skeleton(&rigs::t_pose(&torso, legs, &left), version)
-}
-
-/// Rest layouts the property tests run on: robot-like T-pose (arms along ±X, equal bones),
-/// an A-pose with a slightly bent rest elbow and unequal bones, unequal bones with a kinked
-/// rest forearm, the A-pose as VRM 0.x, and the real files: the shared robot, the
-/// human-proportioned VRM 1.0 fixture and the VRM 0.x fixture (Blender-style rolls, -Z facing).
-fn layouts() -> &'static [Skeleton] {
-    static LAYOUTS: OnceLock<Vec<Skeleton>> = OnceLock::new();
-    LAYOUTS.get_or_init(|| {
-        let a_upper = 0.28 * Vec3::new(40f32.to_radians().cos(), -40f32.to_radians().sin(), 0.0);
-        let a_lower = Quat::from_rotation_y(-0.15) * (a_upper.normalize() * 0.24);
-        let mut all = vec![
-            skeleton(Vec3::X * 0.25, Vec3::X * 0.25, VrmVersion::V1),
-            skeleton(a_upper, a_lower, VrmVersion::V1),
-            skeleton(Vec3::X * 0.30, Vec3::new(0.22, 0.0, 0.02), VrmVersion::V1),
-            skeleton(a_upper, a_lower, VrmVersion::V0),
-        ];
-        all.extend(recordings::real_avatars());
-        all
-    })
-}
 
 /// The analytic solver with the shoulder option off: these tests check the two-bone geometry
 /// from a fixed upper arm joint (the shoulder option is tested in `tests/chain_arm.rs`).

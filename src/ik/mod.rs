@@ -318,27 +318,19 @@ impl ArmSolverState {
     /// Options out of range (field named), missing arm bones.
     pub fn with_options(skeleton: &Skeleton, solver: ArmSolver, arm: &ArmOptions) -> Result<Self> {
         arm.validate()?;
-        let chains = Self::chains(skeleton)?;
-        let method = match solver {
+        match solver {
             ArmSolver::TwoBone => {
                 let s = TwoBoneIk::with_arm_options(TwoBoneOptions::default(), arm)?;
-                Method::TwoBone([s.clone(), s])
+                Ok(ArmSolverState {
+                    chains: Self::chains(skeleton)?,
+                    method: Method::TwoBone([s.clone(), s]),
+                    options: *arm,
+                    pose: ArmPose::default(),
+                })
             }
-            ArmSolver::Fabrik => Method::Fabrik([
-                FabrikArm::new(&chains[0], FabrikOptions::default(), arm)?,
-                FabrikArm::new(&chains[1], FabrikOptions::default(), arm)?,
-            ]),
-            ArmSolver::Ccd => Method::Ccd([
-                CcdArm::new(&chains[0], CcdOptions::default(), arm)?,
-                CcdArm::new(&chains[1], CcdOptions::default(), arm)?,
-            ]),
-        };
-        Ok(ArmSolverState {
-            chains,
-            method,
-            options: *arm,
-            pose: ArmPose::default(),
-        })
+            ArmSolver::Fabrik => Self::with_fabrik(skeleton, FabrikOptions::default(), arm),
+            ArmSolver::Ccd => Self::with_ccd(skeleton, CcdOptions::default(), arm),
+        }
     }
 
     /// Prepares the two-bone solver with explicit options (default [`ArmOptions`]).
@@ -352,6 +344,46 @@ impl ArmSolverState {
             chains: Self::chains(skeleton)?,
             method: Method::TwoBone([solver.clone(), solver]),
             options: arm,
+            pose: ArmPose::default(),
+        })
+    }
+
+    /// Prepares the FABRIK arm solver with explicit options.
+    ///
+    /// # Errors
+    /// Options out of range, missing arm bones.
+    pub fn with_fabrik(
+        skeleton: &Skeleton,
+        options: FabrikOptions,
+        arm: &ArmOptions,
+    ) -> Result<Self> {
+        arm.validate()?;
+        let chains = Self::chains(skeleton)?;
+        Ok(ArmSolverState {
+            method: Method::Fabrik([
+                FabrikArm::new(&chains[0], options, arm)?,
+                FabrikArm::new(&chains[1], options, arm)?,
+            ]),
+            chains,
+            options: *arm,
+            pose: ArmPose::default(),
+        })
+    }
+
+    /// Prepares the CCD arm solver with explicit options.
+    ///
+    /// # Errors
+    /// Options out of range, missing arm bones.
+    pub fn with_ccd(skeleton: &Skeleton, options: CcdOptions, arm: &ArmOptions) -> Result<Self> {
+        arm.validate()?;
+        let chains = Self::chains(skeleton)?;
+        Ok(ArmSolverState {
+            method: Method::Ccd([
+                CcdArm::new(&chains[0], options, arm)?,
+                CcdArm::new(&chains[1], options, arm)?,
+            ]),
+            chains,
+            options: *arm,
             pose: ArmPose::default(),
         })
     }
