@@ -178,6 +178,12 @@ impl Rig {
         &self.body
     }
 
+    /// The arm solvers (which method, last iteration counts).
+    #[must_use]
+    pub fn arms(&self) -> &ArmSolverState {
+        &self.arms
+    }
+
     /// Restarts body-scale calibration.
     pub fn reset_calibration(&mut self) {
         self.body.reset();

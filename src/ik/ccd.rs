@@ -50,9 +50,9 @@ use super::{ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, ChainReport
 /// Options of [`Ccd`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CcdOptions {
-    /// Most sweeps (end to root) per solve. Default 40: CCD converges more slowly than
-    /// FABRIK; arm solves warm-started from the previous frame need a few to a few tens (see
-    /// `examples/eval_alignment.rs`).
+    /// Most sweeps (end to root) per solve. Default 200, a cap: CCD converges more slowly
+    /// than FABRIK, slowest near full stretch; warm-started arm solves on the recordings take
+    /// 9 to 22 on average and at most 53 for 95% of frames (see `examples/eval_alignment.rs`).
     pub iterations: u32,
     /// Distance (m) between the first effector and its target that counts as reached.
     /// Default 1e-5 (0.01 mm).
@@ -66,7 +66,7 @@ pub struct CcdOptions {
 impl Default for CcdOptions {
     fn default() -> Self {
         CcdOptions {
-            iterations: 40,
+            iterations: 200,
             tolerance: 1e-5,
             max_step_angle: 0.5,
         }

@@ -151,7 +151,7 @@ pub struct ChainSolverOptions {
     /// One limit per bone (`None`/`null` for a free bone), or empty for none. Default none.
     #[serde(default)]
     pub constraints: Vec<Option<JointLimit>>,
-    /// Most iterations per solve; `None` for the method's default (FABRIK 20, CCD 40).
+    /// Most iterations per solve; `None` for the method's default (FABRIK 100, CCD 200).
     #[serde(default)]
     pub iterations: Option<u32>,
     /// End-to-target distance (m) that counts as reached; `None` for 1e-5 of the chain's
