@@ -7,10 +7,13 @@
 
 #[path = "support/arms.rs"]
 mod arms;
+#[path = "support/geometry.rs"]
+mod geometry;
 
 use core::f32::consts::{FRAC_PI_2, PI};
 
-use arms::{layouts, skeleton};
+use arms::{arm_lengths as lengths, layouts, skeleton};
+use geometry::{across, dir};
 use glam::{Quat, Vec3};
 use handrig::bones::{HumanBone as B, Side, BONE_COUNT};
 use handrig::ik::{
@@ -68,21 +71,6 @@ fn solve_fk(
         reach,
         local,
     }
-}
-
-fn lengths(skel: &Skeleton, side: Side) -> (f32, f32) {
-    let [_, _, low, h] = side.arm();
-    (skel.rest_local(low).length(), skel.rest_local(h).length())
-}
-
-/// Unit vector from two angles.
-fn dir(theta: f32, phi: f32) -> Vec3 {
-    Vec3::new(phi.sin() * theta.cos(), phi.cos(), phi.sin() * theta.sin())
-}
-
-/// Component of `v` perpendicular to unit `d`.
-fn across(v: Vec3, d: Vec3) -> Vec3 {
-    v - d * d.dot(v)
 }
 
 fn quat_close(a: Quat, b: Quat, tol: f32) -> bool {

@@ -9,10 +9,13 @@
 
 #[path = "support/arms.rs"]
 mod arms;
+#[path = "support/geometry.rs"]
+mod geometry;
 
 use core::f32::consts::PI;
 
-use arms::{layouts, skeleton};
+use arms::{arm_lengths, layouts, skeleton};
+use geometry::{across, angle, dir};
 use glam::{EulerRot, Quat, Vec3};
 use handrig::bones::{Side, BONE_COUNT};
 use handrig::ik::{ArmOptions, ArmSolver, ArmSolverState, CcdOptions, FabrikOptions};
@@ -103,26 +106,6 @@ fn solve(
     }
 }
 
-/// Angle (radians) of the rotation between `a` and `b`, accurate near 0 (q and -q equal).
-fn angle(a: Quat, b: Quat) -> f32 {
-    let d = a * b.conjugate();
-    2.0 * d.xyz().length().atan2(d.w.abs())
-}
-
-/// Unit vector from two angles.
-fn dir(theta: f32, phi: f32) -> Vec3 {
-    Vec3::new(phi.sin() * theta.cos(), phi.cos(), phi.sin() * theta.sin())
-}
-
-fn across(v: Vec3, axis: Vec3) -> Vec3 {
-    v - axis * axis.dot(v)
-}
-
-fn arm_length(skel: &Skeleton, side: Side) -> (f32, f32) {
-    let [_, _, low, h] = side.arm();
-    (skel.rest_local(low).length(), skel.rest_local(h).length())
-}
-
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(400))]
 
@@ -143,7 +126,7 @@ proptest! {
         let skel = &layouts()[layout];
         let side = if left { Side::Left } else { Side::Right };
         let shoulder_rot = Quat::from_euler(EulerRot::XYZ, sh_rot[0], sh_rot[1], sh_rot[2]);
-        let (a, b) = arm_length(skel, side);
+        let (a, b) = arm_lengths(skel, side);
         let mut analytic = ArmSolverState::with_options(skel, ArmSolver::TwoBone, &arm_options(false)).unwrap();
         let base = solve(&mut analytic, skel, side, shoulder_rot, Vec3::ZERO, None, None).upper_joint;
         let d = dir(t_theta, t_phi);
@@ -196,7 +179,7 @@ fn largest_swivel_change(frames: &[(Vec3, Vec3, Vec3)]) -> f32 {
 fn across_the_chest(skel: &Skeleton, side: Side, n: usize) -> Vec<Vec3> {
     let s = skel.rest_world(side.arm()[1]).unwrap();
     let other = skel.rest_world(side.opposite().arm()[1]).unwrap();
-    let (a, b) = arm_length(skel, side);
+    let (a, b) = arm_lengths(skel, side);
     let l = a + b;
     let out = if side == Side::Left { 1.0 } else { -1.0 };
     let start = s + l * Vec3::new(0.1 * out, -0.55, 0.35);
@@ -218,7 +201,7 @@ fn no_elbow_flip_across_the_chest_with_any_solver() {
     for (k, skel) in layouts().iter().enumerate() {
         for side in Side::BOTH {
             let s = skel.rest_world(side.arm()[1]).unwrap();
-            let (a, b) = arm_length(skel, side);
+            let (a, b) = arm_lengths(skel, side);
             let out = if side == Side::Left { 1.0 } else { -1.0 };
             let elbow_pole = s + (a + b) * Vec3::new(0.6 * out, -0.6, -0.1);
             for solver in ArmSolver::ALL {
@@ -274,7 +257,7 @@ fn far_reach_raises_the_shoulder_and_near_reach_does_not() {
     for skel in layouts() {
         for side in Side::BOTH {
             let s = skel.rest_world(side.arm()[1]).unwrap();
-            let (a, b) = arm_length(skel, side);
+            let (a, b) = arm_lengths(skel, side);
             let l = a + b;
             let out = if side == Side::Left { 1.0 } else { -1.0 };
             for solver in ArmSolver::ALL {

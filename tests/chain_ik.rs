@@ -5,19 +5,18 @@
 // Native only: proptest is not built for wasm32.
 #![cfg(not(target_arch = "wasm32"))]
 
+#[path = "support/geometry.rs"]
+mod geometry;
+
 use core::f32::consts::PI;
 
+use geometry::{across, dir};
 use glam::{Quat, Vec3};
 use handrig::ik::{ChainGoal, ChainMethod, ChainSolver, ChainSolverOptions};
 use handrig::kinematics::{angle_between, JointLimit};
 use proptest::prelude::*;
 
 const METHODS: [ChainMethod; 2] = [ChainMethod::Fabrik, ChainMethod::Ccd];
-
-/// Unit vector from two angles.
-fn dir(theta: f32, phi: f32) -> Vec3 {
-    Vec3::new(phi.sin() * theta.cos(), phi.cos(), phi.sin() * theta.sin())
-}
 
 /// Rest joints from a root and per-bone (direction angles, length).
 fn joints_from(root: Vec3, bones: &[(f32, f32, f32)]) -> Vec<Vec3> {
@@ -47,11 +46,6 @@ fn solver(
 
 fn lengths(joints: &[Vec3]) -> Vec<f32> {
     joints.windows(2).map(|w| (w[1] - w[0]).length()).collect()
-}
-
-/// Component of `v` across the unit `axis`.
-fn across(v: Vec3, axis: Vec3) -> Vec3 {
-    v - axis * axis.dot(v)
 }
 
 fn bones_strategy() -> impl Strategy<Value = Vec<(f32, f32, f32)>> {

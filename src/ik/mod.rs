@@ -317,17 +317,11 @@ impl ArmSolverState {
     /// # Errors
     /// Options out of range (field named), missing arm bones.
     pub fn with_options(skeleton: &Skeleton, solver: ArmSolver, arm: &ArmOptions) -> Result<Self> {
-        arm.validate()?;
         match solver {
-            ArmSolver::TwoBone => {
+            ArmSolver::TwoBone => Self::build(skeleton, arm, |_| {
                 let s = TwoBoneIk::with_arm_options(TwoBoneOptions::default(), arm)?;
-                Ok(ArmSolverState {
-                    chains: Self::chains(skeleton)?,
-                    method: Method::TwoBone([s.clone(), s]),
-                    options: *arm,
-                    pose: ArmPose::default(),
-                })
-            }
+                Ok(Method::TwoBone([s.clone(), s]))
+            }),
             ArmSolver::Fabrik => Self::with_fabrik(skeleton, FabrikOptions::default(), arm),
             ArmSolver::Ccd => Self::with_ccd(skeleton, CcdOptions::default(), arm),
         }
@@ -339,12 +333,9 @@ impl ArmSolverState {
     /// Options out of range, missing arm bones.
     pub fn with_two_bone(skeleton: &Skeleton, options: TwoBoneOptions) -> Result<Self> {
         let arm = ArmOptions::default();
-        let solver = TwoBoneIk::with_arm_options(options, &arm)?;
-        Ok(ArmSolverState {
-            chains: Self::chains(skeleton)?,
-            method: Method::TwoBone([solver.clone(), solver]),
-            options: arm,
-            pose: ArmPose::default(),
+        Self::build(skeleton, &arm, |_| {
+            let s = TwoBoneIk::with_arm_options(options, &arm)?;
+            Ok(Method::TwoBone([s.clone(), s]))
         })
     }
 
@@ -357,16 +348,11 @@ impl ArmSolverState {
         options: FabrikOptions,
         arm: &ArmOptions,
     ) -> Result<Self> {
-        arm.validate()?;
-        let chains = Self::chains(skeleton)?;
-        Ok(ArmSolverState {
-            method: Method::Fabrik([
-                FabrikArm::new(&chains[0], options, arm)?,
-                FabrikArm::new(&chains[1], options, arm)?,
-            ]),
-            chains,
-            options: *arm,
-            pose: ArmPose::default(),
+        Self::build(skeleton, arm, |[l, r]| {
+            Ok(Method::Fabrik([
+                FabrikArm::new(l, options, arm)?,
+                FabrikArm::new(r, options, arm)?,
+            ]))
         })
     }
 
@@ -375,13 +361,24 @@ impl ArmSolverState {
     /// # Errors
     /// Options out of range, missing arm bones.
     pub fn with_ccd(skeleton: &Skeleton, options: CcdOptions, arm: &ArmOptions) -> Result<Self> {
+        Self::build(skeleton, arm, |[l, r]| {
+            Ok(Method::Ccd([
+                CcdArm::new(l, options, arm)?,
+                CcdArm::new(r, options, arm)?,
+            ]))
+        })
+    }
+
+    /// Checks `arm`, reads both arms' chains and builds the method for them.
+    fn build(
+        skeleton: &Skeleton,
+        arm: &ArmOptions,
+        method: impl FnOnce(&[ArmChain; 2]) -> Result<Method>,
+    ) -> Result<Self> {
         arm.validate()?;
         let chains = Self::chains(skeleton)?;
         Ok(ArmSolverState {
-            method: Method::Ccd([
-                CcdArm::new(&chains[0], options, arm)?,
-                CcdArm::new(&chains[1], options, arm)?,
-            ]),
+            method: method(&chains)?,
             chains,
             options: *arm,
             pose: ArmPose::default(),

@@ -62,3 +62,9 @@ pub fn layouts() -> &'static [Skeleton] {
         all
     })
 }
+
+/// Upper and lower arm lengths (m) of `side`.
+pub fn arm_lengths(skel: &Skeleton, side: handrig::bones::Side) -> (f32, f32) {
+    let [_, _, low, h] = side.arm();
+    (skel.rest_local(low).length(), skel.rest_local(h).length())
+}
