@@ -12,8 +12,10 @@ use core::f32::consts::PI;
 
 use geometry::{across, dir};
 use glam::{Quat, Vec3};
-use handrig::ik::{ChainGoal, ChainMethod, ChainSolver, ChainSolverOptions};
-use handrig::kinematics::{angle_between, JointLimit};
+use handrig::ik::{
+    Ccd, CcdOptions, ChainGoal, ChainMethod, ChainSolver, ChainSolverOptions, Effector,
+};
+use handrig::kinematics::{angle_between, Chain, JointLimit};
 use proptest::prelude::*;
 
 const METHODS: [ChainMethod; 2] = [ChainMethod::Fabrik, ChainMethod::Ccd];
@@ -598,4 +600,68 @@ fn warm_start_follows_a_moving_target_continuously() {
         println!("{method:?}: largest joint step {worst:.4} m for a 5.2 mm target step");
         assert!(worst < 0.03, "{method:?}: a joint jumped {worst} m");
     }
+}
+
+#[test]
+fn ccd_priority_effectors_keep_the_first_and_use_what_is_left() {
+    // Three bones along +X. Two effectors that cannot both be met: the end toward `t`, and
+    // joint 1 toward `p` (straight down from the root, one bone length away).
+    let chain = Chain::new(
+        &[Vec3::ZERO, Vec3::X * 0.3, Vec3::X * 0.6, Vec3::X * 0.8],
+        &[],
+    )
+    .unwrap();
+    let root = chain.rest_root();
+    let ccd = Ccd::new(CcdOptions {
+        iterations: 500,
+        ..CcdOptions::default()
+    })
+    .unwrap();
+    let t = Vec3::new(0.4, 0.3, 0.1);
+    let p = Vec3::new(0.0, -0.3, 0.0);
+    let end = Effector::end(&chain, t);
+    let elbow = Effector {
+        joint: 1,
+        offset: Vec3::ZERO,
+        target: p,
+        first_joint: 0,
+    };
+    let mut frames = [Quat::IDENTITY; 3];
+    let solve = |effectors: &[Effector], frames: &mut [Quat]| {
+        let mut joints = chain.rest_joints().to_vec();
+        let report = ccd.solve(&chain, &root, effectors, None, None, &mut joints, frames);
+        (joints, report)
+    };
+    // The end alone, then the end first and joint 1 second: the end is reached either way,
+    // and the second effector pulls joint 1 toward p with the freedom the first leaves it at
+    // the root, the turn about the root-to-end line: joint 1 ends at the point of its circle
+    // about that line nearest p.
+    let (alone, _) = solve(&[end], &mut frames);
+    let (both, report) = solve(&[end, elbow], &mut frames);
+    assert!(
+        report.reached && (both[3] - t).length() < 1e-4,
+        "{report:?}"
+    );
+    let axis = t.normalize();
+    let (height, radius) = (axis.dot(both[1]), across(both[1], axis).length());
+    let nearest =
+        ((height - axis.dot(p)).powi(2) + (radius - across(p, axis).length()).powi(2)).sqrt();
+    let (d_alone, d_both) = ((alone[1] - p).length(), (both[1] - p).length());
+    assert!(
+        (d_both - nearest).abs() < 1e-4,
+        "joint 1 {d_both} m from p, nearest {nearest}"
+    );
+    assert!(
+        d_both < d_alone - 0.01,
+        "joint 1 {d_both} m from p, {d_alone} without it"
+    );
+    // Joint 1 first: it lands on p (exactly one bone length away); the end, second, gets as
+    // close as the remaining 0.5 m allow from there: |t - p| = 0.73 m.
+    let (swapped, report) = solve(&[elbow, end], &mut frames);
+    assert!((swapped[1] - p).length() < 1e-4 && report.reached);
+    let gap = (swapped[3] - t).length();
+    assert!(
+        (gap - ((t - p).length() - 0.5)).abs() < 1e-3,
+        "end {gap} m from t"
+    );
 }
