@@ -1,6 +1,6 @@
 //! What every arm solver shares besides the reach itself: the shoulder option, joint
 //! positions to normalized-bone local rotations, the forearm twist, and the chain plumbing of
-//! the FABRIK and CCD arms ([`ChainArm`]).
+//! the FABRIK and CCD arms (`ChainArm`, crate-private).
 //!
 //! ## Shoulder ([`ArmOptions::shoulder_angle`], [`ArmOptions::shoulder_reach`])
 //! A far reach raises (or pulls forward) the shoulder instead of locking the elbow straight,
