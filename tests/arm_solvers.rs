@@ -364,3 +364,66 @@ fn forearm_takes_its_share_of_the_twist_without_flipping() {
         );
     }
 }
+
+#[test]
+fn odd_avatars_give_finite_poses_or_clear_errors() {
+    // `../shared/repro/huge-scale-robot.vrm` (the robot scaled by 1e20: rest positions finite
+    // in f32, squared lengths not) and `../shared/avatars/odd-armature-vrm0.vrm` (17 bones, off
+    // the T-pose). Every solver either refuses the avatar with an error naming a field or
+    // solves wrist-target frames without a panic and without NaN; the odd armature is solved.
+    let wrists = [
+        Vec3::new(1.16e19, 1.51e20, 1.75e19),
+        Vec3::new(-4.36e18, 1.17e20, 3.0e18),
+    ];
+    let odd = arms::recordings::vrm("../shared/avatars/odd-armature-vrm0.vrm");
+    let odd_wrists = Side::BOTH.map(|s| {
+        let sh = odd.rest_world(s.arm()[1]).unwrap();
+        odd.version()
+            .position_to_internal(sh + Vec3::new(0.0, -0.2, 0.25))
+    });
+    let cases = [
+        (
+            arms::recordings::vrm("../shared/repro/huge-scale-robot.vrm"),
+            wrists,
+            false,
+        ),
+        (odd, odd_wrists, true),
+    ];
+    for (skel, wrists, must_solve) in cases {
+        for solver in ArmSolver::ALL {
+            for (side, wrist) in Side::BOTH.into_iter().zip(wrists) {
+                let options = handrig::RigOptions {
+                    arm_solver: solver,
+                    ..handrig::RigOptions::default()
+                };
+                let mut rig = match handrig::Rig::new(skel.clone(), options) {
+                    Ok(rig) => rig,
+                    Err(e) => {
+                        assert!(!must_solve && e.to_string().contains("restPose"), "{e}");
+                        continue;
+                    }
+                };
+                let mut frame = handrig::FrameInput::default();
+                frame.wrists[side.index()] = Some(handrig::mediapipe::WristObservation {
+                    position: wrist,
+                    rotation: None,
+                });
+                let mut out = handrig::SolveOutput::default();
+                let solved = rig.solve(&frame, &mut out);
+                assert!(
+                    solved.is_ok() || !must_solve,
+                    "{solver:?} {side:?}: {solved:?}"
+                );
+                assert!(
+                    out.local.iter().all(|q| q.is_finite()),
+                    "{solver:?} {side:?}: non-finite rotation"
+                );
+                if must_solve {
+                    let hand = out.world.position[side.hand().index()];
+                    let target = skel.version().position_to_internal(wrist);
+                    assert!((hand - target).length() < 1e-3, "{solver:?} {side:?}");
+                }
+            }
+        }
+    }
+}

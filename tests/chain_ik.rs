@@ -419,6 +419,13 @@ fn degenerate_setups_are_errors_naming_the_field() {
     nan[1].y = f32::NAN;
     let e = make(nan, vec![]);
     assert!(e.starts_with("joints[1]:"), "{e}");
+    let mut huge = ok.clone();
+    huge[2] = Vec3::splat(3e19);
+    let e = make(huge, vec![]);
+    assert!(
+        e.starts_with("joints[2]:") && e.contains("overflows"),
+        "{e}"
+    );
     let e = make(ok.clone(), vec![None]);
     assert!(e.starts_with("constraints:"), "{e}");
     let e = make(

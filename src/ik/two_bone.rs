@@ -328,8 +328,9 @@ impl ArmIk for TwoBoneIk {
         };
         let to_target = goal.target - shoulder;
         let dist = to_target.length();
-        if !(dist.is_finite() && shoulder.is_finite()) {
-            // Only reachable through misuse (the Rig validates input): rest pose, no NaN.
+        if !(dist.is_finite() && shoulder.is_finite() && (a + b).is_finite()) {
+            // Only reachable through misuse (the Rig validates input) or an avatar so large
+            // that its squared bone lengths overflow f32: rest pose, no NaN, no panic.
             *out = ArmPose {
                 elbow: shoulder,
                 wrist: shoulder,

@@ -65,7 +65,7 @@ impl Chain {
     ///
     /// # Errors
     /// [`Error::InvalidInput`] naming the field: fewer than 2 joints (`joints`), a non-finite
-    /// joint or a zero-length bone (`joints[k]`), a limit count other than 0 or N - 1
+    /// joint, a zero-length bone or one whose length overflows f32 (`joints[k]`), a limit count other than 0 or N - 1
     /// (`constraints`), an invalid limit (`constraints[i].maxAngle`, ...).
     pub fn new(joints: &[Vec3], limits: &[Option<JointLimit>]) -> Result<Chain> {
         if joints.len() < 2 {
@@ -95,8 +95,18 @@ impl Chain {
                     format!("coincides with joints[{}]: bones need a length", k - 1),
                 ));
             }
+            if !len.is_finite() {
+                return Err(Error::invalid(
+                    format!("joints[{k}]"),
+                    "too far from the previous joint: the bone's length overflows f32",
+                ));
+            }
             lengths.push(len);
             directions.push(d / len);
+        }
+        let total: f32 = lengths.iter().sum();
+        if !total.is_finite() {
+            return Err(Error::invalid("joints", "the chain's length overflows f32"));
         }
         let mut checked = vec![None; bones];
         for (i, l) in limits.iter().enumerate() {
@@ -106,7 +116,7 @@ impl Chain {
         }
         Ok(Chain {
             rest: joints.to_vec(),
-            total: lengths.iter().sum(),
+            total,
             lengths,
             directions,
             limits: checked,
