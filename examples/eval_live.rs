@@ -74,10 +74,7 @@ fn hand_video() -> Vec<FrameInput> {
 fn main() {
     let sweep = std::env::args().any(|a| a == "--sweep");
     let video = hand_video();
-    let asl: Vec<Vec<FrameInput>> = recordings::ASL_CLIPS
-        .iter()
-        .map(|c| recordings::asl(c))
-        .collect();
+    let asl: Vec<Vec<FrameInput>> = recordings::ASL.iter().map(|c| recordings::asl(c)).collect();
     let fingers = finger_bones(Side::Right);
     let arms = arm_bones();
 

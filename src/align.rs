@@ -118,6 +118,10 @@ pub struct AlignmentReport {
     pub reachable: bool,
     /// Whether the avatar has the aligned finger (otherwise the IK wrist is the pose wrist).
     pub aligned: bool,
+    /// The avatar's wrist-to-aligned-point vector (world axes) for this frame's hand and
+    /// finger rotations ([`avatar_offset`]); zero when not aligned. With the wrist on
+    /// `ik_wrist` the avatar's point is at `ik_wrist + avatar_offset`.
+    pub avatar_offset: Vec3,
 }
 
 /// The avatar's aligned point relative to its wrist joint, in world axes, for a hand with
@@ -202,6 +206,7 @@ pub fn wrist_target(
         error: f32::NAN,
         reachable: true,
         aligned: avatar.is_some(),
+        avatar_offset: avatar.unwrap_or(Vec3::ZERO),
     }
 }
 

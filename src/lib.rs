@@ -28,7 +28,8 @@
 //! * [`hand`]: wrist and finger rotations from 21 hand landmarks.
 //! * [`align`]: fingertip alignment (the wrist IK target).
 //! * [`body`]: body mapping and calibration from pose landmarks.
-//! * [`ik`]: arm IK solvers.
+//! * [`kinematics`]: serial chains with fixed bone lengths and joint limits (hinge, cone).
+//! * [`ik`]: arm IK solvers (two-bone, FABRIK, CCD) and the standalone [`ik::ChainSolver`].
 //! * [`filter`]: One Euro smoothing and easing over tracking loss.
 //! * [`rig`]: the per-frame pipeline tying them together ([`Rig`]).
 //! * [`flat`]: the flat `f32` frame layout of the typed-array path (input and output).
@@ -44,6 +45,7 @@ pub mod filter;
 pub mod flat;
 pub mod hand;
 pub mod ik;
+pub mod kinematics;
 pub mod mediapipe;
 pub mod rig;
 pub mod skeleton;

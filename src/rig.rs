@@ -30,7 +30,7 @@ use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::Result;
 use crate::filter::{Clock, DropoutOptions, FilterOptions, OneEuroQuat, PointFilters, Presence};
 use crate::hand::{HandSolver, HandStatus, HandStrategy};
-use crate::ik::{ArmSolver, ArmSolverState};
+use crate::ik::{ArmOptions, ArmSolver, ArmSolverState};
 use crate::mediapipe::{
     hand_landmark, pose_landmark, CameraMapping, FrameInput, PoseObservation, HAND_LANDMARKS,
     MAX_HANDS, POSE_LANDMARKS,
@@ -53,6 +53,9 @@ pub struct RigOptions {
     pub alignment: AlignmentOptions,
     /// Which arm IK solver reaches the wrist target. Default `"twoBone"`.
     pub arm_solver: ArmSolver,
+    /// Options every arm solver shares: the shoulder's help on far reaches, the forearm's
+    /// share of the hand's twist.
+    pub arm: ArmOptions,
     /// Body-scale calibration from pose landmarks.
     pub calibration: CalibrationOptions,
     /// Hands whose handedness score is below this are ignored. Default `0.5`.
@@ -101,6 +104,7 @@ impl Default for RigOptions {
             hand_strategy: HandStrategy::default(),
             alignment: AlignmentOptions::default(),
             arm_solver: ArmSolver::default(),
+            arm: ArmOptions::default(),
             calibration: CalibrationOptions::default(),
             min_hand_score: 0.5,
             handedness: HandednessPolicy::default(),
@@ -300,16 +304,18 @@ impl Rig {
         options.dropout.validate()?;
         let hands = HandSolver::new(&skeleton, options.hand_strategy)?;
         let body = BodyMapper::new(&skeleton, &options.calibration);
-        let arms = ArmSolverState::new(&skeleton, options.arm_solver)?;
+        let arms = ArmSolverState::with_options(&skeleton, options.arm_solver, &options.arm)?;
         let mut driven = [false; BONE_COUNT];
         for side in Side::BOTH {
-            let [_, upper, lower, hand] = side.arm();
+            let [shoulder, upper, lower, hand] = side.arm();
             let fingers = crate::bones::Finger::ALL
                 .iter()
                 .flat_map(|f| side.finger(*f));
             for b in [upper, lower, hand].into_iter().chain(fingers) {
                 driven[b.index()] = skeleton.has(b);
             }
+            // The shoulder when the arm option may turn it on far reaches.
+            driven[shoulder.index()] = skeleton.has(shoulder) && arms.moves_shoulder(side);
         }
         Ok(Rig {
             skeleton,
@@ -375,6 +381,12 @@ impl Rig {
     #[must_use]
     pub fn body(&self) -> &BodyMapper {
         &self.body
+    }
+
+    /// The arm solvers (which method, last iteration counts).
+    #[must_use]
+    pub fn arms(&self) -> &ArmSolverState {
+        &self.arms
     }
 
     /// Restarts body-scale calibration.
@@ -609,7 +621,7 @@ impl Rig {
         let Some(hand_rot) = hand_rotation.or(source.and_then(|s| s.rotation)) else {
             // No hand and no wrist rotation: with a wrist the arm can still reach it.
             if let Some(s) = source {
-                self.reach(side, s.position, None, s.pole, out);
+                self.reach(side, s.position, None, s.pole, None, out);
             }
             return;
         };
@@ -643,7 +655,11 @@ impl Rig {
             position: target,
             rotation: hand_rot,
         });
-        let reach = self.reach(side, target, Some(hand_rot), source.pole, out);
+        // The aligned finger point (CCD's first-priority effector).
+        let finger = out.alignment[side.index()]
+            .filter(|a| a.aligned)
+            .map(|a| a.avatar_offset);
+        let reach = self.reach(side, target, Some(hand_rot), source.pole, finger, out);
         if let Some(report) = out.alignment[side.index()].as_mut() {
             report.reachable = reach.reachable;
             report.error = align::alignment_error(
@@ -712,12 +728,14 @@ impl Rig {
         }
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn reach(
         &mut self,
         side: Side,
         target: Vec3,
         hand_rotation: Option<Quat>,
         pole: Option<Vec3>,
+        finger: Option<Vec3>,
         out: &mut SolveOutput,
     ) -> crate::ik::ArmReach {
         // World frame of the arm's parent chain (torso at rest: handrig does not move it).
@@ -727,11 +745,12 @@ impl Rig {
             target,
             hand_rotation,
             pole,
+            finger,
             &mut out.local,
             &out.world,
         );
         for b in side.arm() {
-            if b != side.arm()[0] {
+            if b != side.arm()[0] || self.arms.moves_shoulder(side) {
                 out.solved[b.index()] |= self.skeleton.has(b);
             }
         }
@@ -899,10 +918,40 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
         OptionDescription {
             path: "armSolver",
             kind: Enum {
-                values: vec!["twoBone"],
-                default: "twoBone",
+                values: ArmSolver::ALL.iter().map(|s| s.as_str()).collect(),
+                default: d.arm_solver.as_str(),
             },
-            description: "Arm IK solver reaching the wrist target: twoBone = analytic two-bone IK with a pole.",
+            description: "Arm IK solver reaching the wrist target: twoBone = analytic two-bone IK with a pole; fabrik = FABRIK (seed 002); ccd = CCD with priority effectors (seed 004).",
+        },
+        OptionDescription {
+            path: "arm.shoulderAngle",
+            kind: Number {
+                min: 0.0,
+                max: core::f32::consts::FRAC_PI_2,
+                default: Some(d.arm.shoulder_angle),
+                step: 0.01,
+            },
+            description: "Largest angle (radians) the shoulder turns to help a far reach; 0 keeps shoulders at rest.",
+        },
+        OptionDescription {
+            path: "arm.shoulderReach",
+            kind: Number {
+                min: 0.5,
+                max: 1.0,
+                default: Some(d.arm.shoulder_reach),
+                step: 0.01,
+            },
+            description: "Fraction of the arm's length beyond which the shoulder starts to turn toward the target.",
+        },
+        OptionDescription {
+            path: "arm.forearmTwist",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.arm.forearm_twist),
+                step: 0.05,
+            },
+            description: "Share of the hand's twist about the forearm that the forearm takes (the rest stays at the wrist).",
         },
         OptionDescription {
             path: "alignment.enabled",

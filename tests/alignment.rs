@@ -1,6 +1,6 @@
 //! Fingertip alignment through the whole pipeline on synthetic data with known answers: after
 //! solving, the avatar's index distal (forward kinematics of the returned rotations) is on
-//! the target DIP; weight 0 and disabled alignment put the wrist on the pose wrist; tip mode
+//! the target DIP with every arm solver; weight 0 and disabled alignment put the wrist on the pose wrist; tip mode
 //! puts the extended distal bone on the target tip; no one-frame lag.
 // Native only: reads ../shared from disk and uses proptest (not built for wasm32).
 #![cfg(not(target_arch = "wasm32"))]
@@ -13,6 +13,7 @@ mod rigs;
 use glam::{EulerRot, Quat, Vec3};
 use handrig::align::{AlignPoint, TIP_RATIO};
 use handrig::bones::{Finger, HumanBone as B, Side};
+use handrig::ik::ArmSolver;
 use handrig::mediapipe::{FrameInput, Handedness, WristObservation, HAND_LANDMARKS};
 use handrig::{Rig, RigOptions, Skeleton, SolveOutput, VrmVersion};
 use recordings::{frame_of, hand};
@@ -134,10 +135,17 @@ fn avatars() -> Vec<Skeleton> {
 
 #[test]
 fn index_distal_lands_on_the_target_dip() {
-    for skel in avatars() {
+    for (skel, solver) in avatars()
+        .into_iter()
+        .flat_map(|s| ArmSolver::ALL.map(|a| (s.clone(), a)))
+    {
         let version = skel.version();
         for side in Side::BOTH {
-            let mut rig = Rig::new(skel.clone(), RigOptions::per_frame()).unwrap();
+            let options = RigOptions {
+                arm_solver: solver,
+                ..RigOptions::per_frame()
+            };
+            let mut rig = Rig::new(skel.clone(), options).unwrap();
             let mut out = SolveOutput::default();
             for r in hand_turns() {
                 let wrist = reachable_wrist(&skel, side);
@@ -155,7 +163,7 @@ fn index_distal_lands_on_the_target_dip() {
                 let err = (distal - report.target_dip).length();
                 assert!(
                     err < 1e-4,
-                    "{version:?} {side:?}: distal {err} m from the target"
+                    "{version:?} {side:?} {solver:?}: distal {err} m from the target"
                 );
                 assert!(report.error < 1e-4);
                 // The hand's world rotation is the IK target rotation.

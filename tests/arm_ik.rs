@@ -5,66 +5,32 @@
 // Native only: proptest and the shared files are not available on wasm32.
 #![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/recordings.rs"]
-mod recordings;
-#[path = "support/rigs.rs"]
-mod rigs;
+#[path = "support/arms.rs"]
+mod arms;
+#[path = "support/geometry.rs"]
+mod geometry;
 
 use core::f32::consts::{FRAC_PI_2, PI};
-use std::sync::OnceLock;
 
+use arms::{arm_lengths as lengths, layouts, skeleton};
+use geometry::{across, dir};
 use glam::{Quat, Vec3};
 use handrig::bones::{HumanBone as B, Side, BONE_COUNT};
 use handrig::ik::{
-    swing, ArmChain, ArmGoal, ArmIk, ArmPose, ArmSolver, ArmSolverState, TwoBoneIk, TwoBoneOptions,
+    swing, ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmSolver, ArmSolverState, TwoBoneIk,
+    TwoBoneOptions,
 };
 use handrig::skeleton::{Skeleton, VrmVersion, WorldPose};
 use proptest::prelude::*;
 
-/// A humanoid with the left arm's rest offsets `upper` (shoulder joint to elbow) and `lower`
-/// (elbow to wrist), internal frame; the right arm mirrors it. Given in the model's own frame
-/// for `version` (VRM 0.x: turned to face -Z), so internally every version is the same.
-fn skeleton(upper: Vec3, lower: Vec3, version: VrmVersion) -> Skeleton {
-    let torso = [
-        (B::Hips, 1.0),
-        (B::Spine, 1.1),
-        (B::Chest, 1.25),
-        (B::UpperChest, 1.35),
-        (B::Neck, 1.45),
-        (B::Head, 1.55),
-    ];
-    let legs = rigs::Legs {
-        x: 0.1,
-        heights: [0.95, 0.5, 0.08],
+/// The analytic solver with the shoulder option off: these tests check the two-bone geometry
+/// from a fixed upper arm joint (the shoulder option is tested in `tests/chain_arm.rs`).
+fn two_bone(skel: &Skeleton) -> ArmSolverState {
+    let arm = ArmOptions {
+        shoulder_angle: 0.0,
+        ..ArmOptions::default()
     };
-    let sh = Vec3::new(0.15, 1.42, 0.0);
-    let left = [
-        (B::LeftShoulder, Vec3::new(0.03, 1.42, 0.0)),
-        (B::LeftUpperArm, sh),
-        (B::LeftLowerArm, sh + upper),
-        (B::LeftHand, sh + (upper + lower)),
-    ];
-    rigs::skeleton(&rigs::t_pose(&torso, legs, &left), version)
-}
-
-/// Rest layouts the property tests run on: robot-like T-pose (arms along ±X, equal bones),
-/// an A-pose with a slightly bent rest elbow and unequal bones, unequal bones with a kinked
-/// rest forearm, the A-pose as VRM 0.x, and the real files: the shared robot, the
-/// human-proportioned VRM 1.0 fixture and the VRM 0.x fixture (Blender-style rolls, -Z facing).
-fn layouts() -> &'static [Skeleton] {
-    static LAYOUTS: OnceLock<Vec<Skeleton>> = OnceLock::new();
-    LAYOUTS.get_or_init(|| {
-        let a_upper = 0.28 * Vec3::new(40f32.to_radians().cos(), -40f32.to_radians().sin(), 0.0);
-        let a_lower = Quat::from_rotation_y(-0.15) * (a_upper.normalize() * 0.24);
-        let mut all = vec![
-            skeleton(Vec3::X * 0.25, Vec3::X * 0.25, VrmVersion::V1),
-            skeleton(a_upper, a_lower, VrmVersion::V1),
-            skeleton(Vec3::X * 0.30, Vec3::new(0.22, 0.0, 0.02), VrmVersion::V1),
-            skeleton(a_upper, a_lower, VrmVersion::V0),
-        ];
-        all.extend(recordings::real_avatars());
-        all
-    })
+    ArmSolverState::with_options(skel, ArmSolver::TwoBone, &arm).unwrap()
 }
 
 struct Solved {
@@ -91,7 +57,7 @@ fn solve_fk(
     local[side.arm()[0].index()] = shoulder_rot;
     let mut world = WorldPose::default();
     skel.forward(&local, &mut world);
-    let reach = state.solve(side, target, hand, pole, &mut local, &world);
+    let reach = state.solve(side, target, hand, pole, None, &mut local, &world);
     skel.forward(&local, &mut world);
     let [_, up, low, h] = side.arm();
     for q in local.iter() {
@@ -107,21 +73,6 @@ fn solve_fk(
     }
 }
 
-fn lengths(skel: &Skeleton, side: Side) -> (f32, f32) {
-    let [_, _, low, h] = side.arm();
-    (skel.rest_local(low).length(), skel.rest_local(h).length())
-}
-
-/// Unit vector from two angles.
-fn dir(theta: f32, phi: f32) -> Vec3 {
-    Vec3::new(phi.sin() * theta.cos(), phi.cos(), phi.sin() * theta.sin())
-}
-
-/// Component of `v` perpendicular to unit `d`.
-fn across(v: Vec3, d: Vec3) -> Vec3 {
-    v - d * d.dot(v)
-}
-
 fn quat_close(a: Quat, b: Quat, tol: f32) -> bool {
     a.dot(b).abs() > 1.0 - tol
 }
@@ -130,7 +81,7 @@ fn quat_close(a: Quat, b: Quat, tol: f32) -> bool {
 fn known_answer_right_angle_elbow() {
     // Left arm along +X, 0.25 + 0.25, pole on the +X side of a target straight ahead.
     let skel = skeleton(Vec3::X * 0.25, Vec3::X * 0.25, VrmVersion::V1);
-    let mut state = ArmSolverState::new(&skel, ArmSolver::TwoBone).unwrap();
+    let mut state = two_bone(&skel);
     let sh = skel.rest_world(B::LeftUpperArm).unwrap();
     // Target at distance 0.25*sqrt(2) along +Z: isoceles right triangle, elbow angle 90deg,
     // the elbow 45 degrees off the line toward the pole (+X).
@@ -166,7 +117,7 @@ fn known_answer_right_angle_elbow() {
 #[test]
 fn hand_world_rotation_is_the_target_rotation() {
     let skel = &layouts()[1];
-    let mut state = ArmSolverState::new(skel, ArmSolver::TwoBone).unwrap();
+    let mut state = two_bone(skel);
     let sh = skel.rest_world(B::RightUpperArm).unwrap();
     let q = Quat::from_euler(glam::EulerRot::YXZ, 0.7, -0.4, 1.9);
     let s = solve_fk(
@@ -196,7 +147,7 @@ fn hand_world_rotation_is_the_target_rotation() {
 fn default_pole_hangs_the_elbow_down_and_back() {
     let skel = &layouts()[0];
     for side in Side::BOTH {
-        let mut state = ArmSolverState::new(skel, ArmSolver::TwoBone).unwrap();
+        let mut state = two_bone(skel);
         let sh = skel.rest_world(side.arm()[1]).unwrap();
         // Reaching forward with a bent arm: the elbow hangs below the shoulder-wrist line.
         let t = sh + Vec3::new(0.0, 0.0, 0.35);
@@ -215,7 +166,7 @@ fn default_pole_hangs_the_elbow_down_and_back() {
 fn unreachable_target_stretches_the_arm_toward_it() {
     for skel in layouts() {
         for side in Side::BOTH {
-            let mut state = ArmSolverState::new(skel, ArmSolver::TwoBone).unwrap();
+            let mut state = two_bone(skel);
             let (a, b) = lengths(skel, side);
             let sh = skel.rest_world(side.arm()[1]).unwrap();
             let d = Vec3::new(0.3, -0.5, 0.8).normalize();
@@ -238,7 +189,7 @@ fn unreachable_target_stretches_the_arm_toward_it() {
 #[test]
 fn too_close_target_folds_and_reports() {
     let skel = &layouts()[2]; // 0.30 + 0.22: targets nearer than 0.08 m are out of reach
-    let mut state = ArmSolverState::new(skel, ArmSolver::TwoBone).unwrap();
+    let mut state = two_bone(skel);
     let sh = skel.rest_world(B::LeftUpperArm).unwrap();
     let (a, b) = lengths(skel, Side::Left);
     let target = sh + Vec3::new(0.0, 0.0, 0.03);
@@ -263,7 +214,7 @@ fn too_close_target_folds_and_reports() {
 #[test]
 fn degenerate_goals_give_finite_poses() {
     for skel in layouts() {
-        let mut state = ArmSolverState::new(skel, ArmSolver::TwoBone).unwrap();
+        let mut state = two_bone(skel);
         let sh = skel.rest_world(B::LeftUpperArm).unwrap();
         // Target exactly at the shoulder, pole at the shoulder, pole at the target.
         for (t, p) in [
@@ -283,7 +234,7 @@ fn degenerate_goals_give_finite_poses() {
         (Vec3::ZERO, Vec3::ZERO),
     ] {
         let skel = skeleton(u, l, VrmVersion::V1);
-        let mut state = ArmSolverState::new(&skel, ArmSolver::TwoBone).unwrap();
+        let mut state = two_bone(&skel);
         let sh = skel.rest_world(B::LeftUpperArm).unwrap();
         let q = Quat::from_rotation_x(0.5);
         for t in [sh, sh + Vec3::new(0.0, -0.25, 0.0), sh + Vec3::Z] {
@@ -374,7 +325,7 @@ proptest! {
     ) {
         let skel = &layouts()[layout];
         let side = if left { Side::Left } else { Side::Right };
-        let mut state = ArmSolverState::new(skel, ArmSolver::TwoBone).unwrap();
+        let mut state = two_bone(skel);
         let shoulder_rot = Quat::from_euler(glam::EulerRot::XYZ, sh_rot[0], sh_rot[1], sh_rot[2]);
         let (a, b) = lengths(skel, side);
         let mut local = [Quat::IDENTITY; BONE_COUNT];
@@ -431,6 +382,8 @@ fn sweep(
             target,
             hand_rotation: None,
             pole: pole(target),
+            shoulder_root: None,
+            finger: None,
         };
         let reach = ik.solve(chain, &goal, &mut out);
         assert!(reach.reachable && reach.residual < 1e-4);
@@ -506,6 +459,8 @@ fn pole_sweep(
             target,
             hand_rotation: None,
             pole: Some(pole_at(i as f32 / n as f32)),
+            shoulder_root: None,
+            finger: None,
         };
         ik.solve(chain, &goal, &mut out);
         if let Some(p) = prev {

@@ -40,7 +40,7 @@ fn sides(rig: &mut Rig, frame: &FrameInput, out: &mut SolveOutput) -> Vec<HandUs
 fn swapped_labels_are_reassigned_by_the_pose() {
     let mut counts = [0usize; 3]; // hands, same side as reference, wrong (trust)
     let mut mislabels = 0;
-    for clip in recordings::ASL_CLIPS {
+    for clip in recordings::ASL {
         let frames = recordings::asl(clip);
         let mut reference = rig(RigOptions::per_frame());
         let mut reassign = rig(RigOptions::per_frame());
@@ -108,7 +108,7 @@ fn swapped_labels_are_reassigned_by_the_pose() {
 /// labels are trusted.
 #[test]
 fn drop_ignores_contradicted_hands_and_no_pose_image_trusts_labels() {
-    let frames = recordings::asl("thanks");
+    let frames = recordings::asl(recordings::ASL[1]);
     let frame = frames
         .iter()
         .find(|f| f.hand_count == 2)
@@ -146,7 +146,7 @@ fn drop_ignores_contradicted_hands_and_no_pose_image_trusts_labels() {
 fn two_hands_with_one_label_are_resolved() {
     let mut resolved = 0;
     let mut total = 0;
-    for clip in recordings::ASL_CLIPS {
+    for clip in recordings::ASL {
         for frame in recordings::asl(clip).iter().filter(|f| f.hand_count == 2) {
             let mut reference = rig(RigOptions::per_frame());
             let mut out = SolveOutput::default();

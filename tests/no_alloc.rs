@@ -1,5 +1,7 @@
 //! `Rig::solve` must not allocate: it runs every frame inside a browser tab. A counting global
-//! allocator checks it on the real hand recording, with wrists and pose input.
+//! allocator checks it on the real hand recording, with wrists and pose input, for every arm
+//! solver; and `ChainSolver::solve` / `solve_into` for both methods. Allocations are counted
+//! per thread, so the tests can run in parallel.
 // Native only: reads ../shared from disk (and uses proptest, not built for wasm32).
 #![cfg(not(target_arch = "wasm32"))]
 
@@ -7,32 +9,55 @@
 mod recordings;
 
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::cell::Cell;
 
+use glam::Vec3;
 use handrig::flat;
+use handrig::ik::{ArmSolver, ChainMethod, ChainSolver, ChainSolverOptions};
+use handrig::kinematics::JointLimit;
 use handrig::{FrameInput, HumanBone, Rig, RigOptions, SolveOutput};
 use recordings::ArmInput;
 
 struct Counting;
 
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    // `const` initialisation: no lazy setup (which could itself allocate) on first use.
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn count() {
+    // `try_with`: the slot is gone while a thread shuts down; those allocations do not matter.
+    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+}
+
+/// Allocations made by this thread so far.
+fn allocations() -> usize {
+    ALLOCATIONS.with(Cell::get)
+}
 
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        count();
         unsafe { System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
         unsafe { System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        count();
         unsafe { System.realloc(ptr, layout, new_size) }
     }
 }
 
 #[global_allocator]
 static GLOBAL: Counting = Counting;
+
+/// The counter sees allocations at all (the counts below are not vacuous).
+fn check_counter() {
+    let before = allocations();
+    let probe = std::hint::black_box(vec![0u8; 64]);
+    assert!(allocations() > before && probe.len() == 64);
+}
 
 #[test]
 fn solve_allocates_nothing_per_frame() {
@@ -41,45 +66,110 @@ fn solve_allocates_nothing_per_frame() {
         .iter()
         .map(|h| h.world)
         .collect();
-    let mut rig = Rig::new(recordings::vrm(recordings::ROBOT), RigOptions::default()).unwrap();
-    let mut out = SolveOutput::default();
-    let mut frame = FrameInput::default();
-    let mut decoded = FrameInput::default();
-    let pose = recordings::plausible_pose();
-    let mut input = vec![0.0f32; flat::input::LEN];
-    let mut output = vec![0.0f32; flat::output::LEN];
+    check_counter();
+    for solver in ArmSolver::ALL {
+        let options = RigOptions {
+            arm_solver: solver,
+            ..RigOptions::default()
+        };
+        let mut rig = Rig::new(recordings::vrm(recordings::ROBOT), options).unwrap();
+        let mut out = SolveOutput::default();
+        let mut frame = FrameInput::default();
+        let mut decoded = FrameInput::default();
+        let pose = recordings::plausible_pose();
+        let mut input = vec![0.0f32; flat::input::LEN];
+        let mut output = vec![0.0f32; flat::output::LEN];
 
-    // Through the flat layout, as the npm package does: encode, decode, solve, write out.
-    let mut run = |rig: &mut Rig, i: usize, mode: usize| {
-        let arm = ArmInput::ALL[mode];
-        recordings::fill_frame(&mut frame, hands[i % hands.len()], 0.9, arm, &pose);
-        frame.time_ms = i as f64 * 33.3;
-        flat::write_input(&frame, &mut input);
-        flat::read_input(&input, frame.time_ms, &mut decoded).unwrap();
-        rig.solve(&decoded, &mut out).unwrap();
-        flat::write_output(rig, &out, &mut output);
+        // Through the flat layout, as the npm package does: encode, decode, solve, write out.
+        let mut run = |rig: &mut Rig, i: usize, mode: usize| {
+            let arm = ArmInput::ALL[mode];
+            recordings::fill_frame(&mut frame, hands[i % hands.len()], 0.9, arm, &pose);
+            frame.time_ms = i as f64 * 33.3;
+            flat::write_input(&frame, &mut input);
+            flat::read_input(&input, frame.time_ms, &mut decoded).unwrap();
+            rig.solve(&decoded, &mut out).unwrap();
+            flat::write_output(rig, &out, &mut output);
+        };
+        // Warm up every path once, then count.
+        for mode in 0..3 {
+            run(&mut rig, 0, mode);
+        }
+        let before = allocations();
+        for i in 0..hands.len() {
+            run(&mut rig, i, i % 3);
+        }
+        let after = allocations();
+        assert_eq!(
+            after - before,
+            0,
+            "Rig::solve ({solver:?}) allocated {} times over {} frames",
+            after - before,
+            hands.len()
+        );
+        // The frames were really solved (the count is not vacuous).
+        assert!(out.solved[HumanBone::RightIndexDistal.index()]);
+        assert!(out.solved[HumanBone::RightLowerArm.index()]);
+    }
+}
+
+#[test]
+fn chain_solves_allocate_nothing() {
+    check_counter();
+    let joints: Vec<Vec3> = (0..8)
+        .map(|k| Vec3::new(0.0, 0.1 * k as f32, 0.02 * (k % 2) as f32))
+        .collect();
+    let hinge = JointLimit::Hinge {
+        axis: Vec3::X,
+        min: -1.0,
+        max: 1.0,
     };
-    // The counter sees allocations at all.
-    let probe_before = ALLOCATIONS.load(Ordering::SeqCst);
-    let probe = std::hint::black_box(vec![0u8; 64]);
-    assert!(ALLOCATIONS.load(Ordering::SeqCst) > probe_before && probe.len() == 64);
-    drop(probe);
-    // Warm up every path once, then count.
-    for mode in 0..3 {
-        run(&mut rig, 0, mode);
+    let cone = JointLimit::Cone { max_angle: 0.6 };
+    let constraints = vec![
+        Some(cone),
+        None,
+        Some(hinge),
+        Some(cone),
+        None,
+        Some(hinge),
+        None,
+    ];
+    for method in [ChainMethod::Fabrik, ChainMethod::Ccd] {
+        for limits in [Vec::new(), constraints.clone()] {
+            let mut solver = ChainSolver::new(&ChainSolverOptions {
+                method,
+                joints: joints.clone(),
+                constraints: limits,
+                ..ChainSolverOptions::default()
+            })
+            .unwrap();
+            let mut out_joints = vec![0.0f32; 3 * 8];
+            let mut out_rotations = vec![0.0f32; 4 * 7];
+            let before = allocations();
+            let mut iterations = 0;
+            for i in 0..500 {
+                let a = i as f32 * 0.05;
+                let target = Vec3::new(0.3 * a.cos(), 0.4 + 0.2 * a.sin(), 0.3 * a.sin());
+                let pole = (i % 3 != 0).then_some(Vec3::new(0.0, 0.3, -1.0));
+                if i % 2 == 0 {
+                    iterations += solver.solve(target, pole).unwrap().status.iterations;
+                } else {
+                    let status = solver
+                        .solve_into(target, pole, &mut out_joints, &mut out_rotations)
+                        .unwrap();
+                    iterations += status.iterations;
+                }
+            }
+            // Out of reach and at the root: the other paths.
+            solver.solve(Vec3::splat(10.0), None).unwrap();
+            solver.solve(Vec3::ZERO, Some(Vec3::Y)).unwrap();
+            let after = allocations();
+            assert_eq!(
+                after - before,
+                0,
+                "{method:?}: {} allocations",
+                after - before
+            );
+            assert!(iterations > 0 && out_joints.iter().any(|x| *x != 0.0));
+        }
     }
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
-    for i in 0..hands.len() {
-        run(&mut rig, i, i % 3);
-    }
-    let after = ALLOCATIONS.load(Ordering::SeqCst);
-    assert_eq!(
-        after - before,
-        0,
-        "Rig::solve allocated {} times over {} frames",
-        after - before,
-        hands.len()
-    );
-    // The frames were really solved (the count is not vacuous).
-    assert!(out.solved[HumanBone::RightIndexDistal.index()]);
 }

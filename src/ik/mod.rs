@@ -1,24 +1,48 @@
-//! Arm IK: upper arm, lower arm and hand rotations that put the wrist on its target.
+//! Inverse kinematics: the arm solvers and a standalone chain solver.
 //!
-//! The shape every method shares (STYLE.md, section 4):
+//! Methods, one file each (the seeds by name):
+//!
+//! * [`two_bone`]: analytic two-bone IK with the elbow swivel from a pole ([`TwoBoneIk`]).
+//! * [`fabrik`]: FABRIK, seed 002 ([`Fabrik`], arm: [`FabrikArm`]).
+//! * [`ccd`]: CCD with limits, damping and priority effectors, seed 004 ([`Ccd`], arm:
+//!   [`CcdArm`]).
+//! * [`chain_solver`]: [`ChainSolver`], FABRIK or CCD over any chain (tails, spines, custom
+//!   rigs), the Rust side of the JS `ChainSolver`.
+//! * [`arm`]: what the arm solvers share: [`ArmOptions`] (shoulder, forearm twist), joint
+//!   positions to normalized-bone rotations.
+//!
+//! The chains themselves (lengths, rest directions, joint limits) are
+//! [`crate::kinematics::Chain`].
+//!
+//! ## Arms
+//! The shape every arm method shares (STYLE.md, section 4):
 //!
 //! * [`ArmChain`]: the geometry of one arm, read once from the avatar's rest pose (which
 //!   bones, their rest offsets and lengths). Works from the avatar's own rest directions, so
 //!   T-pose (arms along ±X), A-pose or any other rest layout is fine; VRM 0.x avatars are
 //!   already turned to face +Z by the [`Skeleton`].
 //! * [`ArmGoal`]: what to reach this frame (world, internal frame): the shoulder joint and
-//!   its parent's rotation, the wrist target position, the hand's world rotation and an
-//!   optional pole (where the elbow should point).
-//! * [`ArmIk`]: one type per method ([`TwoBoneIk`] now; FABRIK and CCD fit the same trait),
-//!   each with an options struct with a documented `Default` ([`TwoBoneOptions`]). Results
-//!   go into caller storage ([`ArmPose`]); a solve allocates nothing.
+//!   its parent's rotation, the wrist target position, the hand's world rotation, an
+//!   optional pole (where the elbow should point), the shoulder bone's root for the shoulder
+//!   option and the aligned finger point's offset.
+//! * [`ArmIk`]: one type per method ([`TwoBoneIk`], [`FabrikArm`], [`CcdArm`]), each with an
+//!   options struct with a documented `Default`. Results go into caller storage
+//!   ([`ArmPose`]); a solve allocates nothing.
 //! * [`ArmSolverState`]: what the [`crate::Rig`] owns: both arms' chains and solvers, chosen by
-//!   the [`ArmSolver`] option, writing straight into the rig's local-rotation array.
+//!   the [`ArmSolver`] option (enum dispatch, no boxing), writing straight into the rig's
+//!   local-rotation array.
 //! * [`IkError`]: `#[non_exhaustive]` setup errors (a solve itself never fails: unreachable or
 //!   degenerate goals produce the best pose and say so in [`ArmReach`]).
 //!
-//! Rotations written are *normalized-bone local rotations* (identity = rest pose).
+//! Every method takes its elbow direction from the same place (the analytic solver's bend
+//! direction: pose elbow or default pole, with its continuity memory), so they agree where
+//! the arm has one solution and none flips the elbow. Rotations written are *normalized-bone
+//! local rotations* (identity = rest pose).
 
+pub mod arm;
+pub mod ccd;
+pub mod chain_solver;
+pub mod fabrik;
 pub mod two_bone;
 
 use core::fmt;
@@ -28,8 +52,16 @@ use serde::Deserialize;
 
 use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::Result;
+use crate::kinematics::RootFrame;
 use crate::skeleton::{Skeleton, WorldPose};
 
+pub use crate::kinematics::swing;
+pub use arm::{ArmOptions, ForearmTwist};
+pub use ccd::{Ccd, CcdArm, CcdOptions, Effector};
+pub use chain_solver::{
+    ChainGoal, ChainMethod, ChainReport, ChainSolution, ChainSolver, ChainSolverOptions,
+};
+pub use fabrik::{Fabrik, FabrikArm, FabrikOptions};
 pub use two_bone::{TwoBoneIk, TwoBoneOptions};
 
 /// Which solver reaches the wrist target (JS: `options.armSolver`).
@@ -40,6 +72,25 @@ pub enum ArmSolver {
     /// `"twoBone"`: analytic two-bone IK with the elbow swivel from a pole ([`TwoBoneIk`]).
     #[default]
     TwoBone,
+    /// `"fabrik"`: FABRIK over the arm chain ([`FabrikArm`], seed 002).
+    Fabrik,
+    /// `"ccd"`: CCD with priority effectors ([`CcdArm`], seed 004).
+    Ccd,
+}
+
+impl ArmSolver {
+    /// Every solver, in the order of [`ArmSolver::as_str`]'s values in the options.
+    pub const ALL: [ArmSolver; 3] = [ArmSolver::TwoBone, ArmSolver::Fabrik, ArmSolver::Ccd];
+
+    /// The JS name: `"twoBone"`, `"fabrik"` or `"ccd"`.
+    #[must_use]
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            ArmSolver::TwoBone => "twoBone",
+            ArmSolver::Fabrik => "fabrik",
+            ArmSolver::Ccd => "ccd",
+        }
+    }
 }
 
 /// What an arm solver achieved.
@@ -106,6 +157,12 @@ pub struct ArmChain {
     /// Unit vector, in the parent's frame, pointing away from the body on this side (+X for
     /// the left arm, -X for the right): where "outward" is for the elbow fallbacks.
     pub outward: Vec3,
+    /// The shoulder bone, when the avatar has one as the upper arm's parent (the shoulder
+    /// option turns it).
+    pub shoulder: Option<HumanBone>,
+    /// Rest offset shoulder joint -> upperArm joint (m, in the shoulder's frame; normalized
+    /// bones: the rest world offset); zero without a shoulder bone.
+    pub shoulder_offset: Vec3,
 }
 
 impl ArmChain {
@@ -125,13 +182,21 @@ impl ArmChain {
             Side::Left => Vec3::X,
             Side::Right => Vec3::NEG_X,
         };
+        let parent = skeleton.parent(upper);
+        let shoulder = parent.filter(|p| *p == side.arm()[0]);
         Ok(ArmChain {
             side,
             bones: [upper, lower, hand],
-            parent: skeleton.parent(upper),
+            parent,
             upper: skeleton.rest_local(lower),
             lower: skeleton.rest_local(hand),
             outward,
+            shoulder,
+            shoulder_offset: if shoulder.is_some() {
+                skeleton.rest_local(upper)
+            } else {
+                Vec3::ZERO
+            },
         })
     }
 
@@ -165,11 +230,23 @@ pub struct ArmGoal {
     /// A world point the elbow should point toward (the pose elbow landmark); `None` uses the
     /// solver's natural default.
     pub pole: Option<Vec3>,
+    /// The shoulder bone's joint and world rotation as posed before the arm solve, for the
+    /// shoulder option ([`ArmOptions::shoulder_angle`]); the solver turns the shoulder from
+    /// there ([`ArmPose::shoulder`]). `None` leaves the shoulder alone. When given, `shoulder`
+    /// and `parent_rotation` are the upper arm joint and the shoulder's rotation of that pose.
+    pub shoulder_root: Option<RootFrame>,
+    /// Offset (world, m) from the wrist to the aligned finger point for this frame's hand
+    /// rotation (fingertip alignment): CCD's first-priority effector. `None` without one.
+    pub finger: Option<Vec3>,
 }
 
 /// A solved arm, written by [`ArmIk::solve`] (caller storage).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArmPose {
+    /// The shoulder option's turn of the shoulder bone, in the shoulder's own frame as posed
+    /// before the solve (its new local rotation is the old one times this); `None` leaves it
+    /// alone.
+    pub shoulder: Option<Quat>,
     /// Local rotation of the upper arm (in its parent's frame).
     pub upper: Quat,
     /// Local rotation of the lower arm (in the upper arm's frame).
@@ -186,6 +263,7 @@ pub struct ArmPose {
 impl Default for ArmPose {
     fn default() -> Self {
         ArmPose {
+            shoulder: None,
             upper: Quat::IDENTITY,
             lower: Quat::IDENTITY,
             hand: Quat::IDENTITY,
@@ -211,6 +289,8 @@ pub trait ArmIk {
 #[derive(Clone, Debug)]
 enum Method {
     TwoBone([TwoBoneIk; 2]),
+    Fabrik([FabrikArm; 2]),
+    Ccd([CcdArm; 2]),
 }
 
 /// Per-avatar arm solver state owned by the [`crate::Rig`]: both arms' chains and solvers.
@@ -218,34 +298,98 @@ enum Method {
 pub struct ArmSolverState {
     chains: [ArmChain; 2],
     method: Method,
+    options: ArmOptions,
     pose: ArmPose,
 }
 
 impl ArmSolverState {
-    /// Prepares `solver` with its default options for both arms of `skeleton`.
+    /// Prepares `solver` with its default options and the default [`ArmOptions`] for both
+    /// arms of `skeleton`.
     ///
     /// # Errors
     /// Missing arm bones (never for a valid [`Skeleton`]).
     pub fn new(skeleton: &Skeleton, solver: ArmSolver) -> Result<Self> {
+        Self::with_options(skeleton, solver, &ArmOptions::default())
+    }
+
+    /// Prepares `solver` with its default options and the shared arm options `arm`.
+    ///
+    /// # Errors
+    /// Options out of range (field named), missing arm bones.
+    pub fn with_options(skeleton: &Skeleton, solver: ArmSolver, arm: &ArmOptions) -> Result<Self> {
         match solver {
-            ArmSolver::TwoBone => Self::with_two_bone(skeleton, TwoBoneOptions::default()),
+            ArmSolver::TwoBone => Self::build(skeleton, arm, |_| {
+                let s = TwoBoneIk::with_arm_options(TwoBoneOptions::default(), arm)?;
+                Ok(Method::TwoBone([s.clone(), s]))
+            }),
+            ArmSolver::Fabrik => Self::with_fabrik(skeleton, FabrikOptions::default(), arm),
+            ArmSolver::Ccd => Self::with_ccd(skeleton, CcdOptions::default(), arm),
         }
     }
 
-    /// Prepares the two-bone solver with explicit options.
+    /// Prepares the two-bone solver with explicit options (default [`ArmOptions`]).
     ///
     /// # Errors
     /// Options out of range, missing arm bones.
     pub fn with_two_bone(skeleton: &Skeleton, options: TwoBoneOptions) -> Result<Self> {
-        let solver = TwoBoneIk::new(options)?;
+        let arm = ArmOptions::default();
+        Self::build(skeleton, &arm, |_| {
+            let s = TwoBoneIk::with_arm_options(options, &arm)?;
+            Ok(Method::TwoBone([s.clone(), s]))
+        })
+    }
+
+    /// Prepares the FABRIK arm solver with explicit options.
+    ///
+    /// # Errors
+    /// Options out of range, missing arm bones.
+    pub fn with_fabrik(
+        skeleton: &Skeleton,
+        options: FabrikOptions,
+        arm: &ArmOptions,
+    ) -> Result<Self> {
+        Self::build(skeleton, arm, |[l, r]| {
+            Ok(Method::Fabrik([
+                FabrikArm::new(l, options, arm)?,
+                FabrikArm::new(r, options, arm)?,
+            ]))
+        })
+    }
+
+    /// Prepares the CCD arm solver with explicit options.
+    ///
+    /// # Errors
+    /// Options out of range, missing arm bones.
+    pub fn with_ccd(skeleton: &Skeleton, options: CcdOptions, arm: &ArmOptions) -> Result<Self> {
+        Self::build(skeleton, arm, |[l, r]| {
+            Ok(Method::Ccd([
+                CcdArm::new(l, options, arm)?,
+                CcdArm::new(r, options, arm)?,
+            ]))
+        })
+    }
+
+    /// Checks `arm`, reads both arms' chains and builds the method for them.
+    fn build(
+        skeleton: &Skeleton,
+        arm: &ArmOptions,
+        method: impl FnOnce(&[ArmChain; 2]) -> Result<Method>,
+    ) -> Result<Self> {
+        arm.validate()?;
+        let chains = Self::chains(skeleton)?;
         Ok(ArmSolverState {
-            chains: [
-                ArmChain::new(skeleton, Side::Left)?,
-                ArmChain::new(skeleton, Side::Right)?,
-            ],
-            method: Method::TwoBone([solver.clone(), solver]),
+            method: method(&chains)?,
+            chains,
+            options: *arm,
             pose: ArmPose::default(),
         })
+    }
+
+    fn chains(skeleton: &Skeleton) -> Result<[ArmChain; 2]> {
+        Ok([
+            ArmChain::new(skeleton, Side::Left)?,
+            ArmChain::new(skeleton, Side::Right)?,
+        ])
     }
 
     /// Which solver this is.
@@ -253,7 +397,15 @@ impl ArmSolverState {
     pub fn solver(&self) -> ArmSolver {
         match self.method {
             Method::TwoBone(_) => ArmSolver::TwoBone,
+            Method::Fabrik(_) => ArmSolver::Fabrik,
+            Method::Ccd(_) => ArmSolver::Ccd,
         }
+    }
+
+    /// The shared arm options in force.
+    #[must_use]
+    pub fn options(&self) -> &ArmOptions {
+        &self.options
     }
 
     /// The chain of `side`.
@@ -262,19 +414,42 @@ impl ArmSolverState {
         &self.chains[side.index()]
     }
 
-    /// Forgets state carried between frames (the remembered elbow swivel).
+    /// Whether solves of `side` write the shoulder bone's rotation (the shoulder option is on
+    /// and the avatar has the bone).
+    #[must_use]
+    pub fn moves_shoulder(&self, side: Side) -> bool {
+        self.options.shoulder_angle > 0.0 && self.chains[side.index()].shoulder.is_some()
+    }
+
+    /// The iterations and convergence of the last solve of `side` (FABRIK and CCD; `None`
+    /// for the analytic solver).
+    #[must_use]
+    pub fn last_report(&self, side: Side) -> Option<ChainReport> {
+        match &self.method {
+            Method::TwoBone(_) => None,
+            Method::Fabrik(s) => Some(s[side.index()].last_report()),
+            Method::Ccd(s) => Some(s[side.index()].last_report()),
+        }
+    }
+
+    /// Forgets state carried between frames (the remembered elbow swivel, the forearm twist
+    /// branch, the warm start).
     pub fn reset(&mut self) {
         match &mut self.method {
             Method::TwoBone(s) => s.iter_mut().for_each(ArmIk::reset),
+            Method::Fabrik(s) => s.iter_mut().for_each(ArmIk::reset),
+            Method::Ccd(s) => s.iter_mut().for_each(ArmIk::reset),
         }
     }
 
     /// Solves one arm: writes upperArm, lowerArm and (with `hand_rotation`) hand local
     /// rotations into `local` so the wrist reaches `target` and the hand's world rotation is
-    /// `hand_rotation`. `world` must hold forward kinematics of `local` for the arm's parents
-    /// (the shoulder position and parent rotation are read from it); it is not updated.
-    /// `pole` is a world point for the elbow (pose elbow landmark). Internal frame throughout.
-    /// Allocates nothing.
+    /// `hand_rotation`; with the shoulder option the shoulder's local rotation is turned
+    /// further when the reach is far. `world` must hold forward kinematics of `local` for the
+    /// arm's parents (the shoulder position and rotations are read from it); it is not
+    /// updated. `pole` is a world point for the elbow (pose elbow landmark); `finger` the
+    /// offset (world) from the wrist to the aligned finger point, for CCD's first effector.
+    /// Internal frame throughout. Allocates nothing.
     #[allow(clippy::too_many_arguments)]
     pub fn solve(
         &mut self,
@@ -282,11 +457,16 @@ impl ArmSolverState {
         target: Vec3,
         hand_rotation: Option<Quat>,
         pole: Option<Vec3>,
+        finger: Option<Vec3>,
         local: &mut [Quat; BONE_COUNT],
         world: &WorldPose,
     ) -> ArmReach {
         let chain = &self.chains[side.index()];
         let [upper, lower, hand] = chain.bones;
+        let shoulder_root = chain.shoulder.map(|s| RootFrame {
+            position: world.position[s.index()],
+            rotation: world.rotation[s.index()],
+        });
         let goal = ArmGoal {
             shoulder: world.position[upper.index()],
             parent_rotation: chain
@@ -295,42 +475,22 @@ impl ArmSolverState {
             target,
             hand_rotation,
             pole,
+            shoulder_root,
+            finger,
         };
         let reach = match &mut self.method {
             Method::TwoBone(s) => s[side.index()].solve(chain, &goal, &mut self.pose),
+            Method::Fabrik(s) => s[side.index()].solve(chain, &goal, &mut self.pose),
+            Method::Ccd(s) => s[side.index()].solve(chain, &goal, &mut self.pose),
         };
+        if let (Some(q), Some(s)) = (self.pose.shoulder, chain.shoulder) {
+            local[s.index()] = (local[s.index()] * q).normalize();
+        }
         local[upper.index()] = self.pose.upper;
         local[lower.index()] = self.pose.lower;
         if hand_rotation.is_some() {
             local[hand.index()] = self.pose.hand;
         }
         reach
-    }
-}
-
-/// The minimal rotation taking unit vector `from` onto unit vector `to` (a swing: its axis
-/// is perpendicular to both, so no twist about either). When they are opposite the rotation
-/// is half a turn about `fallback_axis` made perpendicular to `from` (any perpendicular if
-/// that fails). Always a finite unit quaternion; accurate to f32 rounding at every angle.
-#[must_use]
-pub fn swing(from: Vec3, to: Vec3, fallback_axis: Vec3) -> Quat {
-    // Axis-angle from the cross product and atan2: unlike the half-vector form it keeps full
-    // precision near a half turn, where the cross product is still exact.
-    let cross = from.cross(to);
-    let sin = cross.length();
-    let cos = from.dot(to);
-    if sin > 1e-7 && sin.is_finite() && cos.is_finite() {
-        return Quat::from_axis_angle(cross / sin, sin.atan2(cos));
-    }
-    if cos.is_nan() || cos >= 0.0 {
-        return Quat::IDENTITY;
-    }
-    let axis = (fallback_axis - from * from.dot(fallback_axis))
-        .try_normalize()
-        .unwrap_or_else(|| from.any_orthonormal_vector());
-    if axis.is_finite() {
-        Quat::from_axis_angle(axis, core::f32::consts::PI)
-    } else {
-        Quat::IDENTITY
     }
 }

@@ -36,18 +36,26 @@
 //! The upper arm's local rotation is the swing (minimal rotation, no twist) from its rest
 //! direction to the solved direction, in its parent's frame; the lower arm's likewise in the
 //! upper arm's frame. The hand's local rotation is then whatever makes its world rotation
-//! equal the target rotation, so all forearm twist shows at the wrist.
+//! equal the target rotation, and [`super::ArmOptions::forearm_twist`] of its twist moves
+//! into the forearm (see [`super::arm`]).
+//!
+//! ## Shoulder
+//! With [`super::ArmOptions::shoulder_angle`] and the goal's shoulder bone, the shoulder
+//! first turns toward the target by the closed-form angle of [`super::arm::shoulder_need`]
+//! (0 unless the reach is far), then the arm solves from the turned upper arm joint.
 
 use core::f32::consts::PI;
 
 use glam::{Quat, Vec3};
 
-use super::{swing, ArmChain, ArmGoal, ArmIk, ArmPose, ArmReach, IkError};
+use super::arm::{
+    finish_hand, shoulder_need, shoulder_root, shoulder_turn, ForearmTwist, REACH_TOLERANCE,
+};
+use super::{swing, ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, IkError};
+use crate::kinematics::angle_between;
 
 /// Lengths and distances below this (m) are treated as zero.
 const EPS: f32 = 1e-6;
-/// Slack (m) on the reach limits before a target counts as unreachable.
-const REACH_TOLERANCE: f32 = 1e-5;
 
 /// Options of [`TwoBoneIk`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -105,6 +113,9 @@ pub struct TwoBoneIk {
     cone_sin: f32,
     /// The last solve, for continuity inside the cones.
     last: Option<Memory>,
+    /// Shoulder and forearm twist options.
+    arm: ArmOptions,
+    twist: ForearmTwist,
 }
 
 impl TwoBoneIk {
@@ -113,12 +124,65 @@ impl TwoBoneIk {
     /// # Errors
     /// Options out of range (see [`TwoBoneOptions::validate`]).
     pub fn new(options: TwoBoneOptions) -> Result<Self, IkError> {
+        Self::with_arm_options(options, &ArmOptions::default())
+    }
+
+    /// A solver with `options` and the shared arm options `arm` (shoulder, forearm twist;
+    /// [`TwoBoneIk::new`] uses their defaults). `arm` should have passed
+    /// [`ArmOptions::validate`]; out-of-range fractions are clamped.
+    ///
+    /// # Errors
+    /// Options out of range (see [`TwoBoneOptions::validate`]).
+    pub fn with_arm_options(options: TwoBoneOptions, arm: &ArmOptions) -> Result<Self, IkError> {
         options.validate()?;
         Ok(TwoBoneIk {
             options,
             cone_sin: options.collinear_cone.sin(),
             last: None,
+            arm: *arm,
+            twist: ForearmTwist::new(arm.forearm_twist),
         })
+    }
+
+    /// The shoulder-to-target direction (unit) for `goal` with the upper arm joint at
+    /// `goal.shoulder` and the arm's parent turned by `parent`: the target's direction, or at
+    /// the shoulder itself the last direction, else the rest direction.
+    fn target_direction(&self, chain: &ArmChain, goal: &ArmGoal, parent: Quat) -> Vec3 {
+        let to_target = goal.target - goal.shoulder;
+        let dist = to_target.length();
+        if dist > EPS {
+            to_target / dist
+        } else {
+            self.last
+                .map(|m| m.dir)
+                .or_else(|| (parent * (chain.upper + chain.lower)).try_normalize())
+                .unwrap_or(parent * chain.outward)
+        }
+    }
+
+    /// The shoulder-to-target direction and the bend direction (where the elbow points,
+    /// unit, perpendicular to it) this solver would use for `goal`, remembered for continuity
+    /// as by a solve: the FABRIK and CCD arms take their pole from here, so every method
+    /// swivels the elbow the same way. `goal.target` and `goal.shoulder` must be finite.
+    pub(crate) fn swivel(&mut self, chain: &ArmChain, goal: &ArmGoal) -> (Vec3, Vec3) {
+        let parent = if goal.parent_rotation.is_finite() {
+            goal.parent_rotation.normalize()
+        } else {
+            Quat::IDENTITY
+        };
+        let goal = ArmGoal {
+            parent_rotation: parent,
+            ..*goal
+        };
+        let dir = self.target_direction(chain, &goal, parent);
+        let (bend, memory) = self.bend_direction(chain, &goal, dir);
+        self.last = Some(memory);
+        (dir, bend)
+    }
+
+    /// Forgets the swivel memory only (the FABRIK and CCD arms keep their own twist state).
+    pub(crate) fn reset_memory(&mut self) {
+        self.last = None;
     }
 
     /// The options in force.
@@ -229,11 +293,6 @@ fn relax_fraction(w: f32, motion: f32, scale: f32) -> f32 {
     1.0 - (-(rate * motion.max(0.0))).exp()
 }
 
-/// Angle (radians) between unit vectors, accurate near 0 and pi.
-fn angle_between(a: Vec3, b: Vec3) -> f32 {
-    2.0 * (a - b).length().atan2((a + b).length())
-}
-
 /// 0 at `x <= 0`, 1 at `x >= edge`, smooth (C1) between.
 #[inline]
 fn smoothstep(edge: f32, x: f32) -> f32 {
@@ -245,20 +304,33 @@ impl ArmIk for TwoBoneIk {
     fn solve(&mut self, chain: &ArmChain, goal: &ArmGoal, out: &mut ArmPose) -> ArmReach {
         let a = chain.upper_length();
         let b = chain.lower_length();
-        let parent = if goal.parent_rotation.is_finite() {
+        let mut parent = if goal.parent_rotation.is_finite() {
             goal.parent_rotation.normalize()
         } else {
             Quat::IDENTITY
         };
+        let mut shoulder = goal.shoulder;
+        out.shoulder = None;
+        if let Some(root) =
+            shoulder_root(chain, goal, &self.arm).filter(|_| goal.target.is_finite())
+        {
+            let (need, axis) =
+                shoulder_need(&root, chain.shoulder_offset, goal.target, a + b, &self.arm);
+            let local = shoulder_turn(&root, need, axis);
+            out.shoulder = Some(local);
+            parent = (root.rotation * local).normalize();
+            shoulder = root.position + parent * chain.shoulder_offset;
+        }
         let goal = ArmGoal {
             parent_rotation: parent,
+            shoulder,
             ..*goal
         };
-        let shoulder = goal.shoulder;
         let to_target = goal.target - shoulder;
         let dist = to_target.length();
-        if !(dist.is_finite() && shoulder.is_finite()) {
-            // Only reachable through misuse (the Rig validates input): rest pose, no NaN.
+        if !(dist.is_finite() && shoulder.is_finite() && (a + b).is_finite()) {
+            // Only reachable through misuse (the Rig validates input) or an avatar so large
+            // that its squared bone lengths overflow f32: rest pose, no NaN, no panic.
             *out = ArmPose {
                 elbow: shoulder,
                 wrist: shoulder,
@@ -270,14 +342,7 @@ impl ArmIk for TwoBoneIk {
             };
         }
         // Target at the shoulder: keep the last direction, else the rest direction.
-        let dir = if dist > EPS {
-            to_target / dist
-        } else {
-            self.last
-                .map(|m| m.dir)
-                .or_else(|| (parent * (chain.upper + chain.lower)).try_normalize())
-                .unwrap_or(parent * chain.outward)
-        };
+        let dir = self.target_direction(chain, &goal, parent);
 
         let reach_min = (a - b).abs();
         let reach_max = a + b;
@@ -322,14 +387,10 @@ impl ArmIk for TwoBoneIk {
             Quat::IDENTITY
         };
         let lower_world = upper_world * lower;
-        let hand = goal
-            .hand_rotation
-            .filter(|q| q.is_finite() && q.length_squared() > 0.5)
-            .map_or(Quat::IDENTITY, |q| (lower_world.inverse() * q).normalize());
 
         out.upper = upper;
         out.lower = lower;
-        out.hand = hand;
+        finish_hand(chain, lower_world, goal.hand_rotation, &mut self.twist, out);
         out.elbow = shoulder + upper_world * chain.upper;
         out.wrist = out.elbow + lower_world * chain.lower;
         self.last = Some(memory);
@@ -341,5 +402,6 @@ impl ArmIk for TwoBoneIk {
 
     fn reset(&mut self) {
         self.last = None;
+        self.twist.reset();
     }
 }

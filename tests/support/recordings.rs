@@ -59,8 +59,41 @@ fn landmarks(v: &Value, what: &str) -> Result<[Vec3; HAND_LANDMARKS], String> {
     Ok(out)
 }
 
+/// The hands of recording frame `f` (number `i`) in file order: world landmarks, label,
+/// score, and the image landmarks when the file has them. Errors name the frame and field.
+fn hands_of(f: &Value, i: usize) -> Result<Vec<HandObservation>, String> {
+    let hands = f["hands"]
+        .as_array()
+        .ok_or(format!("frame {i}: no hands array"))?;
+    hands
+        .iter()
+        .enumerate()
+        .map(|(k, h)| {
+            let what = format!("frame {i} hands[{k}]");
+            let handedness = h["handedness"]
+                .as_str()
+                .and_then(Handedness::from_label)
+                .ok_or(format!("{what}.handedness: expected Left or Right"))?;
+            let score = h["score"]
+                .as_f64()
+                .ok_or(format!("{what}.score: expected a number"))? as f32;
+            let world = landmarks(&h["worldLandmarks"], &format!("{what}.worldLandmarks"))?;
+            let image = match &h["landmarks"] {
+                Value::Null => None,
+                v => Some(landmarks(v, &format!("{what}.landmarks"))?),
+            };
+            Ok(HandObservation {
+                handedness,
+                score,
+                world,
+                image,
+            })
+        })
+        .collect()
+}
+
 /// Every frame of a MediaPipe hand recording at `path`: each frame's hands in file order
-/// (world landmarks, label, score; no image landmarks). Errors name the frame and field.
+/// (world and image landmarks, label, score). Errors name the frame and field.
 pub fn read_hand_video(path: &Path) -> Result<Vec<Vec<HandObservation>>, String> {
     let v = read_json(path)?;
     let frames = v
@@ -69,34 +102,79 @@ pub fn read_hand_video(path: &Path) -> Result<Vec<Vec<HandObservation>>, String>
     frames
         .iter()
         .enumerate()
+        .map(|(i, f)| hands_of(f, i))
+        .collect()
+}
+
+/// The four sign-language clips: MediaPipe Pose and Hands of one person on the same frames
+/// (un-mirrored video: "Left" is the signer's right hand).
+pub const ASL: [&str; 4] = [
+    "../shared/data/asl/eat.json",
+    "../shared/data/asl/thanks.json",
+    "../shared/data/asl/brother.json",
+    "../shared/data/asl/sister.json",
+];
+
+/// Every frame of an ASL clip at `path` as rig input: its hands (at most [`MAX_HANDS`], in
+/// file order, world and image landmarks), the pose world landmarks with their visibilities
+/// and its image landmarks, and the time.
+pub fn read_asl(path: &Path) -> Result<Vec<FrameInput>, String> {
+    let v = read_json(path)?;
+    let frames = v["frames"]
+        .as_array()
+        .ok_or(format!("{}: no frames array", path.display()))?;
+    frames
+        .iter()
+        .enumerate()
         .map(|(i, f)| {
-            let hands = f["hands"]
+            let hands = hands_of(f, i)?;
+            let mut frame = frame_of(&hands[..hands.len().min(MAX_HANDS)]);
+            frame.time_ms = f["timeMs"].as_f64().unwrap_or(i as f64 * 1000.0 / 30.0);
+            let world = f["pose"]["worldLandmarks"]
                 .as_array()
-                .ok_or(format!("frame {i}: no hands array"))?;
-            hands
-                .iter()
-                .enumerate()
-                .map(|(k, h)| {
-                    let what = format!("frame {i} hands[{k}]");
-                    let handedness = h["handedness"]
-                        .as_str()
-                        .and_then(Handedness::from_label)
-                        .ok_or(format!("{what}.handedness: expected Left or Right"))?;
-                    let score = h["score"]
-                        .as_f64()
-                        .ok_or(format!("{what}.score: expected a number"))?
-                        as f32;
-                    let world = landmarks(&h["worldLandmarks"], &format!("{what}.worldLandmarks"))?;
-                    Ok(HandObservation {
-                        handedness,
-                        score,
-                        world,
-                        image: None,
-                    })
-                })
-                .collect()
+                .filter(|a| a.len() == POSE_LANDMARKS)
+                .ok_or(format!(
+                    "frame {i}: pose.worldLandmarks: expected {POSE_LANDMARKS}"
+                ))?;
+            let mut pose = PoseObservation {
+                world: [Vec3::ZERO; POSE_LANDMARKS],
+                visibility: [1.0; POSE_LANDMARKS],
+            };
+            for (k, p) in world.iter().enumerate() {
+                let c = |j: usize| {
+                    p.get(j)
+                        .and_then(Value::as_f64)
+                        .map(|x| x as f32)
+                        .ok_or(format!("frame {i}: pose.worldLandmarks[{k}]"))
+                };
+                pose.world[k] = Vec3::new(c(0)?, c(1)?, c(2)?);
+                pose.visibility[k] = c(3).unwrap_or(1.0);
+            }
+            frame.pose = Some(pose);
+            if let Some(image) = f["pose"]["landmarks"]
+                .as_array()
+                .filter(|a| a.len() == POSE_LANDMARKS)
+            {
+                let mut points = [Vec3::ZERO; POSE_LANDMARKS];
+                for (k, p) in image.iter().enumerate() {
+                    let c = |j: usize| {
+                        p.get(j)
+                            .and_then(Value::as_f64)
+                            .map(|x| x as f32)
+                            .ok_or(format!("frame {i}: pose.landmarks[{k}]"))
+                    };
+                    points[k] = Vec3::new(c(0)?, c(1)?, c(2)?);
+                }
+                frame.pose_image = Some(points);
+            }
+            Ok(frame)
         })
         .collect()
+}
+
+/// The ASL clip at `relative` (panics if it is unreadable).
+pub fn asl(relative: &str) -> Vec<FrameInput> {
+    read_asl(&path(relative)).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Every frame of a canonical (wrist-frame) hand recording at `path`; `None` for frames the
@@ -277,68 +355,4 @@ pub fn fill_frame(
         }
         ArmInput::Pose => frame.pose = Some(*pose),
     }
-}
-
-/// The four sign-language clips of `../shared/data/asl/` (pose and hands of the same person,
-/// image and world landmarks of both).
-pub const ASL_CLIPS: [&str; 4] = ["eat", "thanks", "brother", "sister"];
-
-fn points<const N: usize>(v: &Value, what: &str) -> Result<([Vec3; N], [f32; N]), String> {
-    let a = v
-        .as_array()
-        .filter(|a| a.len() == N)
-        .ok_or(format!("{what}: expected {N} points"))?;
-    let mut out = [Vec3::ZERO; N];
-    let mut vis = [1.0; N];
-    for (i, p) in a.iter().enumerate() {
-        let c = |k: usize| {
-            p.get(k)
-                .and_then(Value::as_f64)
-                .map(|x| x as f32)
-                .ok_or(format!("{what}[{i}]: expected [x, y, z]"))
-        };
-        out[i] = Vec3::new(c(0)?, c(1)?, c(2)?);
-        if let Some(v) = p.get(3).and_then(Value::as_f64) {
-            vis[i] = v as f32;
-        }
-    }
-    Ok((out, vis))
-}
-
-/// The ASL clip `name` (one of [`ASL_CLIPS`]) as frames: hands with world and image
-/// landmarks, the pose's world landmarks with visibility and its image landmarks, `timeMs`.
-pub fn asl(name: &str) -> Vec<FrameInput> {
-    let p = path(&format!("../shared/data/asl/{name}.json"));
-    let v = read_json(&p).unwrap_or_else(|e| panic!("{e}"));
-    let frames = v["frames"].as_array().expect("frames");
-    frames
-        .iter()
-        .enumerate()
-        .map(|(i, f)| {
-            let mut frame = FrameInput {
-                time_ms: f["timeMs"].as_f64().expect("timeMs"),
-                ..FrameInput::default()
-            };
-            for (k, h) in f["hands"].as_array().expect("hands").iter().enumerate() {
-                let what = format!("{name} frame {i} hands[{k}]");
-                let (world, _) = points(&h["worldLandmarks"], &what).unwrap();
-                let (image, _) = points(&h["landmarks"], &what).unwrap();
-                frame.hands[k] = HandObservation {
-                    handedness: Handedness::from_label(h["handedness"].as_str().unwrap()).unwrap(),
-                    score: h["score"].as_f64().unwrap() as f32,
-                    world,
-                    image: Some(image),
-                };
-                frame.hand_count = k + 1;
-            }
-            if !f["pose"].is_null() {
-                let what = format!("{name} frame {i} pose");
-                let (world, visibility) = points(&f["pose"]["worldLandmarks"], &what).unwrap();
-                let (image, _) = points(&f["pose"]["landmarks"], &what).unwrap();
-                frame.pose = Some(PoseObservation { world, visibility });
-                frame.pose_image = Some(image);
-            }
-            frame
-        })
-        .collect()
 }

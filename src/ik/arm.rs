@@ -1,0 +1,440 @@
+//! What every arm solver shares besides the reach itself: the shoulder option, joint
+//! positions to normalized-bone local rotations, the forearm twist, and the chain plumbing of
+//! the FABRIK and CCD arms (`ChainArm`, crate-private).
+//!
+//! ## Shoulder ([`ArmOptions::shoulder_angle`], [`ArmOptions::shoulder_reach`])
+//! A far reach raises (or pulls forward) the shoulder instead of locking the elbow straight,
+//! as VRIK rotates shoulders. The shoulder bone turns from rest by at most the angle *needed*
+//! to bring the target within `shoulder_reach` of the arm's full length from the upper arm
+//! joint ([`shoulder_need`], a closed form: 0 while the target is comfortably within reach,
+//! growing continuously beyond), and never more than `shoulder_angle`. The analytic solver
+//! turns the shoulder by exactly that angle toward the target; FABRIK and CCD put the shoulder
+//! bone into the chain as bone 0 under a cone limit of that angle and let the method decide
+//! where within it. While the target is comfortably within reach the cone is closed and all
+//! three solvers give the plain two-bone arm.
+//!
+//! ## Rotations
+//! Every bone's local rotation is the swing (minimal rotation) from its rest direction to its
+//! solved direction in its parent's frame ([`crate::kinematics::Chain::rotations`]). The
+//! hand's local rotation makes its world rotation the target rotation; then
+//! [`ArmOptions::forearm_twist`] of its twist about the forearm moves into the forearm
+//! ([`ForearmTwist`]), which turns about its own axis and so keeps the wrist where it is.
+//!
+//! ## Forearm twist continuity
+//! The hand's twist angle is only known modulo a full turn. Taken in `(-pi, pi]` the
+//! forearm's share would jump by `fraction * 2 pi` each time the twist passes a half turn
+//! (a forearm flip). [`ForearmTwist`] keeps the last angle and takes the branch nearest to it,
+//! so a hand rocking about a half turn moves the forearm smoothly; only after the twist
+//! has gone on past a half turn by more than [`TWIST_HYSTERESIS`] in one direction does it
+//! wrap back (a hand cannot really twist that far).
+
+use core::f32::consts::PI;
+
+use glam::{Quat, Vec3};
+use serde::Deserialize;
+
+use crate::error::{Error, Result};
+use crate::kinematics::{angle_between, twist_angle, Chain, JointLimit, RootFrame};
+
+use super::ccd::Effector;
+use super::two_bone::TwoBoneIk;
+use super::{ArmChain, ArmGoal, ArmPose, ArmReach, ChainGoal, ChainReport, TwoBoneOptions};
+
+/// Slack (m) on the reach limits before a target counts as unreachable.
+pub(crate) const REACH_TOLERANCE: f32 = 1e-5;
+
+/// How far past a half turn (radians) the hand's twist may go, in the direction it came
+/// from, before the forearm's share wraps to the other side: 60 degrees.
+pub const TWIST_HYSTERESIS: f32 = PI / 3.0;
+
+/// Options every arm solver shares (JS: `options.arm`).
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+pub struct ArmOptions {
+    /// Largest angle (radians, `0..=pi/2`) the shoulder bone turns from rest to help a far
+    /// reach; 0 keeps the shoulders at rest. Needs the avatar's shoulder bones. Default 15
+    /// degrees (0.2618): a visible shrug or forward reach, well inside the clavicle's
+    /// range of roughly 30-40 degrees elevation.
+    pub shoulder_angle: f32,
+    /// Fraction of the arm's full length (upper + lower arm, `0.5..=1`) beyond which the
+    /// shoulder starts to turn. Default 0.9: an arm reaching further keeps some elbow bend
+    /// while the shoulder helps, and a relaxed arm never moves the shoulder.
+    pub shoulder_reach: f32,
+    /// Fraction (`0..=1`) of the hand's twist about the forearm that the forearm takes (the
+    /// rest stays at the wrist). Default 0.5: halfway, as forearm pronation spreads along
+    /// the forearm; avatars without twist bones then wring at neither end.
+    pub forearm_twist: f32,
+}
+
+impl Default for ArmOptions {
+    fn default() -> Self {
+        ArmOptions {
+            shoulder_angle: 15f32.to_radians(),
+            shoulder_reach: 0.9,
+            forearm_twist: 0.5,
+        }
+    }
+}
+
+impl ArmOptions {
+    /// Checks ranges.
+    ///
+    /// # Errors
+    /// A field out of range, named `options.arm.<field>`.
+    pub fn validate(&self) -> Result<()> {
+        if !(0.0..=PI / 2.0).contains(&self.shoulder_angle) {
+            return Err(Error::invalid(
+                "options.arm.shoulderAngle",
+                "must be an angle in 0..pi/2 radians",
+            ));
+        }
+        if !(0.5..=1.0).contains(&self.shoulder_reach) {
+            return Err(Error::invalid(
+                "options.arm.shoulderReach",
+                "must be a number in 0.5..1",
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.forearm_twist) {
+            return Err(Error::invalid(
+                "options.arm.forearmTwist",
+                "must be a number in 0..1",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The angle (radians, `0..=max_angle`) the shoulder bone must turn from rest toward the
+/// target so that the target is within `reach * arm_length` of the upper arm joint (see the
+/// module docs). `root` is the shoulder bone's joint and its parent's rotation, `offset` the
+/// rest offset shoulder joint -> upper arm joint in that frame. Also returns the unit axis
+/// (world) turning the offset toward the target. 0 when no turn helps.
+#[must_use]
+pub fn shoulder_need(
+    root: &RootFrame,
+    offset: Vec3,
+    target: Vec3,
+    arm_length: f32,
+    options: &ArmOptions,
+) -> (f32, Vec3) {
+    let c = root.rotation * offset;
+    let to_target = target - root.position;
+    let (cl, d) = (c.length(), to_target.length());
+    let r = options.shoulder_reach * arm_length;
+    let Some(axis) = c.cross(to_target).try_normalize().filter(|a| a.is_finite()) else {
+        return (0.0, Vec3::X);
+    };
+    if options.shoulder_angle <= 0.0 || (to_target - c).length() <= r || cl <= 0.0 {
+        return (0.0, axis);
+    }
+    let psi = angle_between(c / cl, to_target / d);
+    // |T - U(phi)|^2 = d^2 + cl^2 - 2 d cl cos(psi - phi) <= r^2
+    let k = (d * d + cl * cl - r * r) / (2.0 * d * cl);
+    let need = if k >= 1.0 {
+        psi
+    } else {
+        (psi - k.acos()).max(0.0)
+    };
+    (need.min(options.shoulder_angle), axis)
+}
+
+/// Moves a share of the hand's twist about the forearm into the forearm, continuously from
+/// frame to frame (see the module docs). One per arm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ForearmTwist {
+    fraction: f32,
+    last: Option<f32>,
+}
+
+impl ForearmTwist {
+    /// The forearm takes `fraction` (0..=1) of the twist.
+    #[must_use]
+    pub fn new(fraction: f32) -> Self {
+        ForearmTwist {
+            fraction: fraction.clamp(0.0, 1.0),
+            last: None,
+        }
+    }
+
+    /// Splits the twist of `hand` (local, in the forearm's frame) about the forearm's rest
+    /// direction `axis` (unit, forearm frame) between `lower` (the forearm's local rotation,
+    /// turned about its own axis) and `hand`. The hand's world rotation and the wrist's
+    /// position are unchanged.
+    pub fn apply(&mut self, axis: Vec3, lower: &mut Quat, hand: &mut Quat) {
+        if self.fraction <= 0.0 || !axis.is_normalized() {
+            return;
+        }
+        let mut angle = twist_angle(*hand, axis);
+        if let Some(prev) = self.last {
+            // The branch nearest the last angle, unless that has run too far past a half turn.
+            let near = angle + 2.0 * PI * ((prev - angle) / (2.0 * PI)).round();
+            if near.abs() <= PI + TWIST_HYSTERESIS {
+                angle = near;
+            }
+        }
+        self.last = Some(angle);
+        let share = Quat::from_axis_angle(axis, self.fraction * angle);
+        *lower = (*lower * share).normalize();
+        *hand = (share.conjugate() * *hand).normalize();
+    }
+
+    /// Forgets the last angle.
+    pub fn reset(&mut self) {
+        self.last = None;
+    }
+}
+
+/// Fills `out.hand` from the target hand rotation (identity without one) given the forearm's
+/// world rotation, and splits the twist.
+pub(crate) fn finish_hand(
+    chain: &ArmChain,
+    lower_world: Quat,
+    hand_rotation: Option<Quat>,
+    twist: &mut ForearmTwist,
+    out: &mut ArmPose,
+) {
+    out.hand = Quat::IDENTITY;
+    if let Some(q) = hand_rotation.filter(|q| q.is_finite() && q.length_squared() > 0.5) {
+        out.hand = (lower_world.inverse() * q).normalize();
+        if let Some(axis) = chain.lower.try_normalize() {
+            twist.apply(axis, &mut out.lower, &mut out.hand);
+        }
+    }
+}
+
+/// The shoulder bone's joint and its parent's rotation when the shoulder option applies to
+/// this goal, else `None`.
+pub(crate) fn shoulder_root(
+    chain: &ArmChain,
+    goal: &ArmGoal,
+    options: &ArmOptions,
+) -> Option<RootFrame> {
+    let root = goal.shoulder_root?;
+    (options.shoulder_angle > 0.0
+        && chain.shoulder.is_some()
+        && root.position.is_finite()
+        && root.rotation.is_finite())
+    .then(|| RootFrame {
+        position: root.position,
+        rotation: root.rotation.normalize(),
+    })
+}
+
+/// The arm chain with its pose, swivel memory and twist state, shared by [`super::FabrikArm`]
+/// and [`super::CcdArm`]: they differ only in the reach step given to [`ChainArm::solve`].
+#[derive(Clone, Debug)]
+pub(crate) struct ChainArm {
+    /// Joints upperArm, lowerArm, hand (the plain arm).
+    plain: Chain,
+    /// Joints shoulder, upperArm, lowerArm, hand (`None` without a shoulder bone).
+    shouldered: Option<Chain>,
+    joints: [Vec3; 4],
+    /// Which chain `joints` holds (for the warm start), `None` before the first solve.
+    last_shouldered: Option<bool>,
+    /// The analytic solver, used for its bend direction (pole logic and memory) only.
+    swivel: TwoBoneIk,
+    twist: ForearmTwist,
+    options: ArmOptions,
+    report: ChainReport,
+}
+
+impl ChainArm {
+    pub(crate) fn new(chain: &ArmChain, options: &ArmOptions) -> Result<Self> {
+        options.validate()?;
+        let [u, l] = [chain.upper, chain.lower];
+        let field = |e: Error| match e {
+            Error::InvalidInput { problem, .. } => Error::degenerate(
+                format!("restPose.bones.{}", chain.bones[0]),
+                format!("arm chain: {problem}"),
+            ),
+            e => e,
+        };
+        let plain = Chain::new(&[Vec3::ZERO, u, u + l], &[]).map_err(field)?;
+        let shouldered = match chain.shoulder {
+            Some(_) if chain.shoulder_offset.length() > 1e-6 => Some(
+                Chain::new(
+                    &[
+                        Vec3::ZERO,
+                        chain.shoulder_offset,
+                        chain.shoulder_offset + u,
+                        chain.shoulder_offset + u + l,
+                    ],
+                    &[Some(JointLimit::Cone { max_angle: 0.0 }), None, None],
+                )
+                .map_err(field)?,
+            ),
+            _ => None,
+        };
+        Ok(ChainArm {
+            plain,
+            shouldered,
+            joints: [Vec3::ZERO; 4],
+            last_shouldered: None,
+            swivel: TwoBoneIk::new(TwoBoneOptions::default()).map_err(Error::from)?,
+            twist: ForearmTwist::new(options.forearm_twist),
+            options: *options,
+            report: ChainReport::failed(),
+        })
+    }
+
+    pub(crate) fn last_report(&self) -> ChainReport {
+        self.report
+    }
+
+    pub(crate) fn reset(&mut self) {
+        self.swivel.reset_memory();
+        self.twist.reset();
+        self.last_shouldered = None;
+    }
+
+    /// Solves `goal` with `reach` (the method: FABRIK or CCD) on the arm chain: sets up the
+    /// shoulder cone, the warm start, the pole and the effectors, then converts the joints
+    /// to local rotations.
+    pub(crate) fn solve(
+        &mut self,
+        chain: &ArmChain,
+        goal: &ArmGoal,
+        out: &mut ArmPose,
+        reach: impl FnOnce(&Chain, &RootFrame, &ChainGoal, &[Effector], &mut [Vec3]) -> ChainReport,
+    ) -> ArmReach {
+        let parent = if goal.parent_rotation.is_finite() {
+            goal.parent_rotation.normalize()
+        } else {
+            Quat::IDENTITY
+        };
+        let arm_length = chain.upper_length() + chain.lower_length();
+        let shoulder =
+            shoulder_root(chain, goal, &self.options).filter(|_| self.shouldered.is_some());
+        if !(goal.target.is_finite() && goal.shoulder.is_finite()) {
+            *out = ArmPose {
+                elbow: goal.shoulder,
+                wrist: goal.shoulder,
+                ..ArmPose::default()
+            };
+            self.report = ChainReport::failed();
+            return ArmReach {
+                reachable: false,
+                residual: f32::INFINITY,
+            };
+        }
+
+        // The chain, its root, and where the upper arm joint is expected (for the swivel).
+        let (kc, root, upper_joint) = match shoulder {
+            Some(root) => {
+                let (need, axis) = shoulder_need(
+                    &root,
+                    chain.shoulder_offset,
+                    goal.target,
+                    arm_length,
+                    &self.options,
+                );
+                let kc = self.shouldered.as_mut().expect("checked above");
+                // The cone limit was validated at setup; `need` is in 0..=pi/2.
+                let _ = kc.set_limit(0, Some(JointLimit::Cone { max_angle: need }));
+                let turned =
+                    Quat::from_axis_angle(axis, need) * (root.rotation * chain.shoulder_offset);
+                (&*kc, root, root.position + turned)
+            }
+            None => (
+                &self.plain,
+                RootFrame {
+                    position: goal.shoulder,
+                    rotation: parent,
+                },
+                goal.shoulder,
+            ),
+        };
+        let n = kc.joint_count();
+        let shouldered = shoulder.is_some();
+        let joints = &mut self.joints[..n];
+        if self.last_shouldered != Some(shouldered) {
+            // First solve, or the chain changed: start from rest (or from the plain arm's
+            // last pose carried over, which anchor() then moves to the root).
+            let rest = kc.rest_joints();
+            for (p, r) in joints.iter_mut().zip(rest) {
+                *p = root.position + root.rotation * *r;
+            }
+        }
+        self.last_shouldered = Some(shouldered);
+
+        // The bend direction of the analytic solver (pose elbow or default pole, continuity
+        // memory): the same pole for every method.
+        let swivel_goal = ArmGoal {
+            shoulder: upper_joint,
+            parent_rotation: if shouldered { root.rotation } else { parent },
+            ..*goal
+        };
+        let (dir, bend) = self.swivel.swivel(chain, &swivel_goal);
+        let distance = (goal.target - upper_joint).length();
+        let pole_point = upper_joint + dir * (0.5 * distance) + bend * arm_length;
+        let upper_index = usize::from(shouldered);
+        let chain_goal = ChainGoal {
+            target: goal.target,
+            pole: Some(pole_point),
+            end_rotation: None,
+            pole_first: upper_index + 1,
+        };
+        let wrist = n - 1;
+        let finger = goal
+            .finger
+            .filter(|f| f.is_finite() && goal.hand_rotation.is_some());
+        let mut effectors = [Effector {
+            joint: wrist,
+            offset: Vec3::ZERO,
+            target: goal.target,
+            first_joint: 0,
+        }; 3];
+        let mut count = 0;
+        if let Some(f) = finger {
+            effectors[count].offset = f;
+            effectors[count].target = goal.target + f;
+            count += 1;
+        }
+        count += 1; // the wrist itself
+        effectors[count] = Effector {
+            joint: wrist - 1,
+            offset: Vec3::ZERO,
+            target: pole_point,
+            first_joint: upper_index,
+        };
+        count += 1;
+        self.report = reach(kc, &root, &chain_goal, &effectors[..count], joints);
+
+        // Joints to local rotations (swing chain), then the hand and its twist.
+        let mut world = [Quat::IDENTITY; 3];
+        kc.rotations(root.rotation, joints, &mut world[..n - 1]);
+        let (upper_parent, upper_world, lower_world) = if shouldered {
+            out.shoulder = Some((root.rotation.conjugate() * world[0]).normalize());
+            (world[0], world[1], world[2])
+        } else {
+            out.shoulder = None;
+            (parent, world[0], world[1])
+        };
+        out.upper = (upper_parent.conjugate() * upper_world).normalize();
+        out.lower = (upper_world.conjugate() * lower_world).normalize();
+        finish_hand(chain, lower_world, goal.hand_rotation, &mut self.twist, out);
+        // Positions by forward kinematics of the written rotations.
+        let upper_at = joints[upper_index];
+        out.elbow = upper_at + upper_parent * out.upper * chain.upper;
+        out.wrist = out.elbow + upper_parent * out.upper * out.lower * chain.lower;
+        let (a, b) = (chain.upper_length(), chain.lower_length());
+        let reach_to = (goal.target - upper_at).length();
+        ArmReach {
+            reachable: reach_to <= a + b + REACH_TOLERANCE
+                && reach_to + REACH_TOLERANCE >= (a - b).abs(),
+            residual: (out.wrist - goal.target).length(),
+        }
+    }
+}
+
+/// The shoulder bone's local rotation turning it by `need` about `axis` (world), in its
+/// parent's frame `root`, used by the analytic solver.
+#[must_use]
+pub(crate) fn shoulder_turn(root: &RootFrame, need: f32, axis: Vec3) -> Quat {
+    let local_axis = root.rotation.conjugate() * axis;
+    if need > 0.0 && local_axis.is_finite() {
+        Quat::from_axis_angle(local_axis.normalize(), need)
+    } else {
+        Quat::IDENTITY
+    }
+}

@@ -1,0 +1,411 @@
+//! A standalone chain IK solver for any chain (tails, spines, custom rigs): the Rust side of
+//! the JS `ChainSolver`.
+//!
+//! ```text
+//! let mut solver = ChainSolver::new(&ChainSolverOptions {
+//!     method: ChainMethod::Fabrik,
+//!     joints: vec![root, j1, j2, end],          // rest positions, root first, >= 3
+//!     constraints: vec![None, Some(JointLimit::Cone { max_angle: 0.5 }), None],
+//!     ..ChainSolverOptions::default()
+//! })?;
+//! let solution = solver.solve(target, Some(pole))?;
+//! // solution.joints, solution.rotations (x y z w from each bone's rest direction),
+//! // solution.status.reached / error / iterations
+//! ```
+//!
+//! The solver owns every buffer: setup allocates, [`ChainSolver::solve`] and
+//! [`ChainSolver::solve_into`] allocate nothing. Each solve starts from the previous solution
+//! (a warm start, so a moving target gives a continuous motion); [`ChainSolver::reset`] goes
+//! back to rest. The root stays at its rest position.
+//!
+//! Rotations are each bone's world rotation from its rest direction: its parent's rotation
+//! followed by the minimal swing onto its solved direction (see [`crate::kinematics::chain`]),
+//! so a chain of normalized bones takes `parent⁻¹ * rotation` as local rotations.
+//!
+//! Degenerate goals have a defined answer: a target at the root folds the chain as far as it
+//! goes (FABRIK's passes from the last pose), a pole on the root-to-target line or at the
+//! root is ignored, a target beyond reach gives the straight chain toward it. A non-finite
+//! target or pole is an error naming the field.
+
+use glam::{Quat, Vec3};
+use serde::Deserialize;
+
+use crate::error::{Error, Result};
+use crate::kinematics::{Chain, JointLimit};
+
+use super::ccd::{Ccd, CcdOptions, Effector};
+use super::fabrik::{Fabrik, FabrikOptions};
+
+/// What a chain must reach (world).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChainGoal {
+    /// Where the end joint should go.
+    pub target: Vec3,
+    /// A point the chain's bend should face (the middle joints turn about the line from the
+    /// pivot to the target toward it); `None` for no preference.
+    pub pole: Option<Vec3>,
+    /// World rotation the last bone should have (from its rest direction): its direction
+    /// is pinned through the target, and its reported rotation is this one (corrected
+    /// minimally if a limit bends the bone). `None` leaves the last bone free.
+    pub end_rotation: Option<Quat>,
+    /// The first joint the pole turns (1 for a plain chain: every middle joint about the
+    /// root-to-target line; the arm with its shoulder bone uses 2, turning only the elbow about
+    /// the upper-arm-to-target line).
+    pub pole_first: usize,
+}
+
+impl ChainGoal {
+    /// Reach `target` with `pole`, the last bone free, the pole turning every middle joint.
+    #[must_use]
+    pub fn new(target: Vec3, pole: Option<Vec3>) -> Self {
+        ChainGoal {
+            target,
+            pole,
+            end_rotation: None,
+            pole_first: 1,
+        }
+    }
+
+    /// The last bone's pinned world direction (unit), from `end_rotation`.
+    #[must_use]
+    pub fn end_direction(&self, chain: &Chain) -> Option<Vec3> {
+        let q = self
+            .end_rotation
+            .filter(|q| q.is_finite() && q.length_squared() > 0.5)?;
+        let last = chain.bone_count() - 1;
+        (chain.bone_count() >= 2)
+            .then(|| (q.normalize() * chain.rest_directions()[last]).normalize())
+    }
+}
+
+/// What a chain solve achieved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChainReport {
+    /// Whether the target is within the chain's reach by its bone lengths (limits ignored).
+    pub reachable: bool,
+    /// Whether the end ended within the tolerance of the target.
+    pub reached: bool,
+    /// Distance (m) between the end and the target after the solve.
+    pub error: f32,
+    /// Iterations run (0 when the pose was already within tolerance, or for a target beyond
+    /// reach: the straight chain needs none).
+    pub iterations: u32,
+}
+
+impl ChainReport {
+    /// A report for `end` against `target`.
+    #[must_use]
+    pub fn measure(
+        end: Vec3,
+        target: Vec3,
+        reachable: bool,
+        iterations: u32,
+        tolerance: f32,
+    ) -> Self {
+        let error = (end - target).length();
+        ChainReport {
+            reachable,
+            reached: error <= tolerance,
+            error: if error.is_finite() {
+                error
+            } else {
+                f32::INFINITY
+            },
+            iterations,
+        }
+    }
+
+    /// Nothing solved (non-finite input, or no solve yet).
+    #[must_use]
+    pub fn failed() -> Self {
+        ChainReport {
+            reachable: false,
+            reached: false,
+            error: f32::INFINITY,
+            iterations: 0,
+        }
+    }
+}
+
+/// Which method a [`ChainSolver`] uses (JS: `method`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "camelCase")]
+#[non_exhaustive]
+pub enum ChainMethod {
+    /// `"fabrik"`: FABRIK ([`Fabrik`], seed 002).
+    #[default]
+    Fabrik,
+    /// `"ccd"`: CCD ([`Ccd`], seed 004).
+    Ccd,
+}
+
+/// Setup of a [`ChainSolver`] (JS: the constructor's argument, same camelCase names).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(rename_all = "camelCase", deny_unknown_fields)]
+pub struct ChainSolverOptions {
+    /// The method. Default `"fabrik"`.
+    #[serde(default)]
+    pub method: ChainMethod,
+    /// Rest joint positions (m), root first; at least 3, no two consecutive ones equal.
+    pub joints: Vec<Vec3>,
+    /// One limit per bone (`None`/`null` for a free bone), or empty for none. Default none.
+    #[serde(default)]
+    pub constraints: Vec<Option<JointLimit>>,
+    /// Most iterations per solve; `None` for the method's default (FABRIK 100, CCD 200).
+    #[serde(default)]
+    pub iterations: Option<u32>,
+    /// End-to-target distance (m) that counts as reached; `None` for 1e-5 of the chain's
+    /// length.
+    #[serde(default)]
+    pub tolerance: Option<f32>,
+    /// CCD's damping: the largest angle (radians) one joint turns per step; `None` for the
+    /// default 0.5. Ignored by FABRIK.
+    #[serde(default)]
+    pub max_step_angle: Option<f32>,
+}
+
+impl Default for ChainSolverOptions {
+    /// FABRIK, no joints yet (set [`ChainSolverOptions::joints`]), no limits, the method's
+    /// default iterations and tolerance.
+    fn default() -> Self {
+        ChainSolverOptions {
+            method: ChainMethod::Fabrik,
+            joints: Vec::new(),
+            constraints: Vec::new(),
+            iterations: None,
+            tolerance: None,
+            max_step_angle: None,
+        }
+    }
+}
+
+/// A solved chain, borrowed from the solver.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChainSolution<'a> {
+    /// Joint positions, root first.
+    pub joints: &'a [Vec3],
+    /// Each bone's world rotation from its rest direction.
+    pub rotations: &'a [Quat],
+    /// Reached, error, iterations.
+    pub status: ChainReport,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Method {
+    Fabrik(Fabrik),
+    Ccd(Ccd),
+}
+
+/// FABRIK or CCD over one chain, owning its pose and buffers (see the module docs).
+#[derive(Clone, Debug)]
+pub struct ChainSolver {
+    chain: Chain,
+    method: Method,
+    joints: Vec<Vec3>,
+    rotations: Vec<Quat>,
+    status: ChainReport,
+}
+
+impl ChainSolver {
+    /// Reads the chain and checks every option.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming the field: fewer than 3 joints (`joints`), a non-finite
+    /// joint or a zero-length bone (`joints[k]`), a constraint count other than 0 or N - 1
+    /// (`constraints`), a bad limit (`constraints[i].maxAngle`, `constraints[i].axis`, ...),
+    /// `iterations` of 0, a non-positive `tolerance`, `maxStepAngle` outside `(0, pi]`.
+    pub fn new(options: &ChainSolverOptions) -> Result<Self> {
+        if options.joints.len() < 3 {
+            return Err(Error::invalid(
+                "joints",
+                format!(
+                    "needs at least 3 joints (2 bones), got {}",
+                    options.joints.len()
+                ),
+            ));
+        }
+        let chain = Chain::new(&options.joints, &options.constraints)?;
+        let tolerance = match options.tolerance {
+            Some(t) => t,
+            None => 1e-5 * chain.total_length(),
+        };
+        let method = match options.method {
+            ChainMethod::Fabrik => Method::Fabrik(Fabrik::new(FabrikOptions {
+                iterations: options
+                    .iterations
+                    .unwrap_or(FabrikOptions::default().iterations),
+                tolerance,
+            })?),
+            ChainMethod::Ccd => {
+                let d = CcdOptions::default();
+                Method::Ccd(Ccd::new(CcdOptions {
+                    iterations: options.iterations.unwrap_or(d.iterations),
+                    tolerance,
+                    max_step_angle: options.max_step_angle.unwrap_or(d.max_step_angle),
+                })?)
+            }
+        };
+        let n = chain.joint_count();
+        let mut solver = ChainSolver {
+            joints: chain.rest_joints().to_vec(),
+            rotations: vec![Quat::IDENTITY; n - 1],
+            status: ChainReport::failed(),
+            chain,
+            method,
+        };
+        solver.reset();
+        Ok(solver)
+    }
+
+    /// The chain (lengths, rest directions, limits).
+    #[must_use]
+    pub fn chain(&self) -> &Chain {
+        &self.chain
+    }
+
+    /// The method in use.
+    #[must_use]
+    pub fn method(&self) -> ChainMethod {
+        match self.method {
+            Method::Fabrik(_) => ChainMethod::Fabrik,
+            Method::Ccd(_) => ChainMethod::Ccd,
+        }
+    }
+
+    /// Number of joints `N` (the solve-into `joints` buffer holds `3 N` numbers, `rotations`
+    /// `4 (N - 1)`).
+    #[must_use]
+    pub fn joint_count(&self) -> usize {
+        self.chain.joint_count()
+    }
+
+    /// Back to the rest pose (the next solve starts from there).
+    pub fn reset(&mut self) {
+        self.joints.copy_from_slice(self.chain.rest_joints());
+        self.rotations.fill(Quat::IDENTITY);
+        self.status = ChainReport::failed();
+    }
+
+    /// The current pose (the last solution, or rest).
+    #[must_use]
+    pub fn solution(&self) -> ChainSolution<'_> {
+        ChainSolution {
+            joints: &self.joints,
+            rotations: &self.rotations,
+            status: self.status,
+        }
+    }
+
+    /// Solves for `target` with an optional `pole` (see [`ChainGoal`]). Allocates nothing.
+    ///
+    /// # Errors
+    /// A non-finite `target` or `pole` (fields `target`, `pole`); the pose is unchanged.
+    pub fn solve(&mut self, target: Vec3, pole: Option<Vec3>) -> Result<ChainSolution<'_>> {
+        self.solve_goal(&ChainGoal::new(target, pole))
+    }
+
+    /// Solves a full [`ChainGoal`] (end rotation, pole's first joint). Allocates nothing.
+    ///
+    /// # Errors
+    /// A non-finite `target`, `pole` or `endRotation`.
+    pub fn solve_goal(&mut self, goal: &ChainGoal) -> Result<ChainSolution<'_>> {
+        if !goal.target.is_finite() {
+            return Err(Error::invalid("target", "must be three finite numbers"));
+        }
+        if goal.pole.is_some_and(|p| !p.is_finite()) {
+            return Err(Error::invalid("pole", "must be three finite numbers"));
+        }
+        if goal
+            .end_rotation
+            .is_some_and(|q| !(q.is_finite() && q.length_squared() > 0.5))
+        {
+            return Err(Error::invalid(
+                "endRotation",
+                "must be a unit quaternion [x, y, z, w]",
+            ));
+        }
+        let root = self.chain.rest_root();
+        let end_direction = goal.end_direction(&self.chain);
+        self.status = match &self.method {
+            Method::Fabrik(f) => f.solve(
+                &self.chain,
+                &root,
+                goal,
+                &mut self.joints,
+                &mut self.rotations,
+            ),
+            Method::Ccd(c) => {
+                let n = self.chain.joint_count();
+                // A pinned last bone: the effector is its root, the target moved back along it.
+                let effector = match end_direction {
+                    Some(d) => Effector {
+                        joint: n - 2,
+                        offset: Vec3::ZERO,
+                        target: goal.target - d * self.chain.lengths()[n - 2],
+                        first_joint: 0,
+                    },
+                    None => Effector::end(&self.chain, goal.target),
+                };
+                let mut status = c.solve(
+                    &self.chain,
+                    &root,
+                    &[effector],
+                    goal.pole.map(|p| (p, goal.pole_first)),
+                    end_direction,
+                    &mut self.joints,
+                    &mut self.rotations,
+                );
+                status.error = (self.joints[n - 1] - goal.target).length();
+                status.reached = status.error <= c.options().tolerance;
+                status
+            }
+        };
+        if let (Some(q), Some(last)) = (goal.end_rotation, self.rotations.last_mut()) {
+            // The pinned bone takes the goal's rotation (with its twist), turned minimally
+            // onto the direction it got.
+            let q = q.normalize();
+            let n = self.joints.len();
+            let want = q * self.chain.rest_directions()[n - 2];
+            let got = (self.joints[n - 1] - self.joints[n - 2]).normalize();
+            *last = (crate::kinematics::swing(want, got, want.any_orthonormal_vector()) * q)
+                .normalize();
+        }
+        Ok(self.solution())
+    }
+
+    /// [`ChainSolver::solve`] into caller storage: `joints` gets `3 N` numbers (x y z per
+    /// joint, root first), `rotations` `4 (N - 1)` (x y z w per bone). Allocates nothing.
+    ///
+    /// # Errors
+    /// A buffer of the wrong length (fields `joints`, `rotations` of the output), a
+    /// non-finite `target` or `pole`.
+    pub fn solve_into(
+        &mut self,
+        target: Vec3,
+        pole: Option<Vec3>,
+        joints: &mut [f32],
+        rotations: &mut [f32],
+    ) -> Result<ChainReport> {
+        let n = self.chain.joint_count();
+        if joints.len() != 3 * n {
+            return Err(Error::invalid(
+                "out.joints",
+                format!("must hold 3 * {n} numbers, has {}", joints.len()),
+            ));
+        }
+        if rotations.len() != 4 * (n - 1) {
+            return Err(Error::invalid(
+                "out.rotations",
+                format!("must hold 4 * {} numbers, has {}", n - 1, rotations.len()),
+            ));
+        }
+        let status = self.solve(target, pole)?.status;
+        for (dst, p) in joints.chunks_exact_mut(3).zip(&self.joints) {
+            dst.copy_from_slice(&p.to_array());
+        }
+        for (dst, q) in rotations.chunks_exact_mut(4).zip(&self.rotations) {
+            dst.copy_from_slice(&q.to_array());
+        }
+        Ok(status)
+    }
+}
