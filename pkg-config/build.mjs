@@ -164,6 +164,7 @@ export function initSync(module) {
 }
 
 export const HandRig = api.HandRig;
+export const ChainSolver = api.ChainSolver;
 export { LAYOUT };
 export const version = ${JSON.stringify(version)};
 export default init;
@@ -188,6 +189,7 @@ function init() {
 function initSync() {}
 
 exports.HandRig = api.HandRig;
+exports.ChainSolver = api.ChainSolver;
 exports.LAYOUT = LAYOUT;
 exports.init = init;
 exports.initSync = initSync;
@@ -203,6 +205,7 @@ import { createRequire } from "node:module";
 const cjs = createRequire(import.meta.url)("./index.cjs");
 
 export const HandRig = cjs.HandRig;
+export const ChainSolver = cjs.ChainSolver;
 export const LAYOUT = cjs.LAYOUT;
 export const init = cjs.init;
 export const initSync = cjs.initSync;

@@ -1075,13 +1075,205 @@ function createHandRigApi(raw, isReady) {
     }
   }
 
-  if (typeof Symbol === "function" && typeof Symbol.dispose === "symbol") {
-    Object.defineProperty(HandRig.prototype, Symbol.dispose, {
-      value: HandRig.prototype.free,
-      writable: true,
-      configurable: true,
-    });
+  // ---------------------------------------------------------------------------------------
+  // ChainSolver: FABRIK or CCD on any chain, over the raw class's flat goal and pose buffers.
+
+  const RawChainSolver = raw.RawChainSolver;
+  const CHAIN_KEYS = ["method", "joints", "constraints", "iterations", "tolerance", "maxStepAngle"];
+
+  function point3(v, field) {
+    const out = [0, 0, 0];
+    readVec3(v, field, out, 0);
+    return out;
   }
 
-  return { HandRig, LAYOUT: L };
+  // Checks the shape of ChainSolver options in JS (field-named errors, no user code run
+  // inside wasm) and returns a plain copy for the Rust side, which checks the geometry.
+  function chainOptions(options) {
+    if (!isObject(options) || Array.isArray(options)) {
+      fail("options", `must be an object { method?, joints, constraints?, iterations?, tolerance? }, got ${describe(options)}`);
+    }
+    for (const k of Object.keys(options)) {
+      if (!CHAIN_KEYS.includes(k)) fail(`options.${k}`, "unknown option");
+    }
+    const out = {};
+    const method = options.method;
+    if (method !== undefined) {
+      if (method !== "fabrik" && method !== "ccd") fail("options.method", `must be "fabrik" or "ccd", got ${describe(method)}`);
+      out.method = method;
+    }
+    const joints = options.joints;
+    if (!Array.isArray(joints)) fail("options.joints", `must be an array of [x, y, z] rest joint positions, root first, got ${describe(joints)}`);
+    if (joints.length < 3) fail("options.joints", `needs at least 3 joints (2 bones), got ${joints.length}`);
+    out.joints = joints.map((p, i) => point3(p, `options.joints[${i}]`));
+    const constraints = options.constraints;
+    if (constraints !== undefined && constraints !== null) {
+      if (!Array.isArray(constraints)) fail("options.constraints", `must be an array (one entry per bone, or null), got ${describe(constraints)}`);
+      out.constraints = constraints.map((c, i) => {
+        const field = `options.constraints[${i}]`;
+        if (c === null || c === undefined) return null;
+        if (!isObject(c)) fail(field, `must be { type: "cone", maxAngle } or { type: "hinge", axis, min, max } or null, got ${describe(c)}`);
+        if (c.type === "cone") {
+          for (const k of Object.keys(c)) if (k !== "type" && k !== "maxAngle") fail(`${field}.${k}`, "unknown field");
+          return { type: "cone", maxAngle: finite(c.maxAngle, `${field}.maxAngle`) };
+        }
+        if (c.type === "hinge") {
+          for (const k of Object.keys(c)) if (!["type", "axis", "min", "max"].includes(k)) fail(`${field}.${k}`, "unknown field");
+          return {
+            type: "hinge",
+            axis: point3(c.axis, `${field}.axis`),
+            min: finite(c.min, `${field}.min`),
+            max: finite(c.max, `${field}.max`),
+          };
+        }
+        return fail(`${field}.type`, `must be "cone" or "hinge", got ${describe(c.type)}`);
+      });
+    }
+    if (options.iterations !== undefined) {
+      const it = options.iterations;
+      if (!Number.isInteger(it) || it < 1 || it > 100000) fail("options.iterations", `must be a whole number in 1..100000, got ${describe(it)}`);
+      out.iterations = it;
+    }
+    if (options.tolerance !== undefined) out.tolerance = finite(options.tolerance, "options.tolerance");
+    if (options.maxStepAngle !== undefined) out.maxStepAngle = finite(options.maxStepAngle, "options.maxStepAngle");
+    return out;
+  }
+
+  class ChainSolver {
+    #raw;
+    #goal;
+    #pose;
+    #n;
+    #result;
+
+    /**
+     * `new ChainSolver({ method: "fabrik" | "ccd", joints, constraints?, iterations?,
+     * tolerance?, maxStepAngle? })`: `joints` are rest joint positions [x, y, z], root first
+     * (at least 3); `constraints` one entry per bone (or null).
+     */
+    constructor(options) {
+      ensureReady("new ChainSolver()");
+      let r;
+      try {
+        r = new RawChainSolver(chainOptions(options));
+      } catch (e) {
+        const err = asError(e);
+        // The Rust side names fields of the options (`joints[1]`, `constraints[0].maxAngle`).
+        if (!(err instanceof FieldError) && !/^options/.test(err.message)) err.message = `options.${err.message}`;
+        throw err;
+      }
+      this.#raw = r;
+      this.#n = r.jointCount;
+      this.#goal = new Float32Array(0);
+      this.#pose = new Float32Array(0);
+    }
+
+    #views(method) {
+      const r = this.#raw;
+      if (r === null) throw new Error(`ChainSolver.${method}: this solver was freed (free() was called)`);
+      if (this.#goal.length === 0) {
+        const buffer = wasmMemory().buffer;
+        this.#goal = new Float32Array(buffer, r.goalPtr(), 7);
+        this.#pose = new Float32Array(buffer, r.posePtr(), r.poseLength);
+      }
+      return r;
+    }
+
+    #run(method, target, pole) {
+      const r = this.#views(method);
+      const g = this.#goal;
+      readVec3(target, "target", g, 0);
+      if (pole === undefined || pole === null) g[3] = 0;
+      else {
+        readVec3(pole, "pole", g, 4);
+        g[3] = 1;
+      }
+      if (r.solveFlat() !== 0) throw new Error(r.takeError());
+      return this.#pose;
+    }
+
+    /** Number of joints. */
+    get jointCount() {
+      return this.#n;
+    }
+
+    /**
+     * Solves toward `{ target, pole? }`: returns `{ joints, rotations, reached, reachable,
+     * error, iterations }` (joints [x, y, z] root first; rotations: each bone's world rotation
+     * from its rest direction [x, y, z, w]). The result object is reused by the next call;
+     * pass `into` (e.g. `{}`) for one of your own.
+     */
+    solve(goal, into) {
+      if (!isObject(goal)) throw new FieldError(`goal: must be { target: [x, y, z], pole?: [x, y, z] }, got ${describe(goal)}`);
+      const p = this.#run("solve", goal.target, goal.pole);
+      const n = this.#n;
+      let out = into;
+      if (out === undefined) {
+        if (this.#result === undefined) this.#result = {};
+        out = this.#result;
+      }
+      if (!Array.isArray(out.joints)) out.joints = Array.from({ length: n }, () => [0, 0, 0]);
+      if (!Array.isArray(out.rotations)) out.rotations = Array.from({ length: n - 1 }, () => [0, 0, 0, 1]);
+      for (let k = 0; k < n; k++) vec(p, 3 * k, out.joints[k]);
+      const r0 = 3 * n;
+      for (let k = 0; k < n - 1; k++) quat(p, r0 + 4 * k, out.rotations[k]);
+      const st = r0 + 4 * (n - 1);
+      out.reached = p[st] === 1;
+      out.reachable = p[st + 1] === 1;
+      out.error = p[st + 2];
+      out.iterations = p[st + 3];
+      return out;
+    }
+
+    /**
+     * Solves toward `target` (and `pole`) into `out.joints` (a Float32Array of 3 N) and
+     * `out.rotations` (4 (N - 1)); sets `out.reached`, `out.reachable`, `out.error`,
+     * `out.iterations`. Allocates nothing.
+     */
+    solveInto(target, out, pole) {
+      const n = this.#n;
+      if (!isObject(out) || !(out.joints instanceof Float32Array) || out.joints.length !== 3 * n ||
+          !(out.rotations instanceof Float32Array) || out.rotations.length !== 4 * (n - 1)) {
+        throw new TypeError(`out: must be { joints: Float32Array(${3 * n}), rotations: Float32Array(${4 * (n - 1)}) }`);
+      }
+      const p = this.#run("solveInto", target, pole);
+      out.joints.set(p.subarray(0, 3 * n));
+      out.rotations.set(p.subarray(3 * n, 3 * n + 4 * (n - 1)));
+      const st = 3 * n + 4 * (n - 1);
+      out.reached = p[st] === 1;
+      out.reachable = p[st + 1] === 1;
+      out.error = p[st + 2];
+      out.iterations = p[st + 3];
+      return out;
+    }
+
+    /** Back to the rest pose. */
+    reset() {
+      this.#views("reset").reset();
+    }
+
+    /** Releases the wasm memory. Safe to call twice. */
+    free() {
+      const r = this.#raw;
+      if (r) {
+        this.#raw = null;
+        this.#goal = new Float32Array(0);
+        this.#pose = new Float32Array(0);
+        r.free();
+      }
+    }
+
+    /** True once `free()` was called. */
+    get freed() {
+      return this.#raw === null;
+    }
+  }
+
+  for (const C of [HandRig, ChainSolver]) {
+    if (typeof Symbol === "function" && typeof Symbol.dispose === "symbol") {
+      Object.defineProperty(C.prototype, Symbol.dispose, { value: C.prototype.free, writable: true, configurable: true });
+    }
+  }
+
+  return { HandRig, ChainSolver, LAYOUT: L };
 }

@@ -12,6 +12,10 @@
 //! `JSON.parse`, so a throwing getter or a lying `length` in user input throws in JavaScript,
 //! before wasm is entered, and cannot leave a rig half-borrowed.
 
+mod chain;
+
+pub use chain::RawChainSolver;
+
 use glam::Vec3;
 use js_sys::{Array, Object, Reflect};
 use wasm_bindgen::prelude::*;
