@@ -29,6 +29,7 @@
 //! * [`align`]: fingertip alignment (the wrist IK target).
 //! * [`body`]: body mapping and calibration from pose landmarks.
 //! * [`ik`]: arm IK solvers.
+//! * [`solve`]: small allocation-free numerical solvers (box-constrained Gauss-Newton).
 //! * [`rig`]: the per-frame pipeline tying them together ([`Rig`]).
 //! * `wasm` (wasm32 only): the JavaScript bindings.
 
@@ -43,6 +44,7 @@ pub mod ik;
 pub mod mediapipe;
 pub mod rig;
 pub mod skeleton;
+pub mod solve;
 pub mod vrm;
 
 #[cfg(target_arch = "wasm32")]
