@@ -12,9 +12,10 @@ use serde::Deserialize;
 
 use crate::align::{self, AlignmentOptions, AlignmentReport};
 use crate::body::{BodyMapper, CalibrationOptions};
+use crate::bones::Finger;
 use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::Result;
-use crate::hand::{HandSolver, HandStatus, HandStrategy};
+use crate::hand::{HandSolver, HandStatus, HandStrategy, RetargetReport};
 use crate::ik::{ArmSolver, ArmSolverState};
 use crate::mediapipe::{hand_landmark, CameraMapping, FrameInput, HAND_LANDMARKS};
 use crate::skeleton::{Skeleton, WorldPose};
@@ -91,6 +92,15 @@ pub struct SolveOutput {
     pub alignment: [Option<AlignmentReport>; 2],
     /// The tracked hand that drove each side this frame, if any.
     pub hands: [Option<TrackedHand>; 2],
+    /// The avatar's fingertips per side (`[left, right]`), thumb to little, world positions
+    /// in the internal frame, every strategy: the distal bone extended by the anatomical
+    /// ratio of [`crate::align::tip_offset`] (the point `alignment.point: "tip"` aligns).
+    /// `None` where the avatar lacks that finger's distal bone.
+    pub fingertips: [[Option<Vec3>; 5]; 2],
+    /// What `handStrategy: "retarget"` did per side this frame (`None` for other strategies
+    /// and for sides not freshly solved); targets are world positions in the internal frame,
+    /// like [`SolveOutput::fingertips`].
+    pub retarget: [Option<RetargetReport>; 2],
 }
 
 /// Which tracked hand drove an avatar side, and whether its rotations are fresh.
@@ -113,6 +123,8 @@ impl Default for SolveOutput {
             ik_targets: [None, None],
             alignment: [None, None],
             hands: [None, None],
+            fingertips: [[None; 5]; 2],
+            retarget: [None, None],
         }
     }
 }
@@ -179,6 +191,16 @@ impl Rig {
         self.body.reset();
     }
 
+    /// Calibrates the hand scale of `handStrategy: "retarget"` (avatar hand over user hand)
+    /// on each side from the last hand solved there, which should be an open, flat hand
+    /// (the seed's bounding-box scale; see [`crate::hand::retarget`]). Until then, or after
+    /// a refused calibration, the scale comes from the hand's stable lengths. Returns the new
+    /// scale per side (`[left, right]`), `None` where nothing changed (no hand solved yet,
+    /// fingers not straight, or no retargetable fingers). Any strategy may calibrate.
+    pub fn calibrate_hand_scale(&mut self) -> [Option<f32>; 2] {
+        Side::BOTH.map(|side| self.hands.calibrate_hand_scale(side))
+    }
+
     /// Solves one frame into `out` (internal frame; see [`Rig::export_rotation`] and
     /// [`Rig::export_position`] for the model frame). Allocates nothing.
     ///
@@ -192,6 +214,7 @@ impl Rig {
         out.ik_targets = [None, None];
         out.alignment = [None, None];
         out.hands = [None, None];
+        out.retarget = [None, None];
         // Everything not solved this frame goes back to rest.
         out.local = [Quat::IDENTITY; BONE_COUNT];
 
@@ -203,6 +226,22 @@ impl Rig {
             self.solve_side(side, frame, camera, out);
         }
         self.skeleton.forward(&out.local, &mut out.world);
+        for side in Side::BOTH {
+            let s = side.index();
+            for finger in Finger::ALL {
+                out.fingertips[s][finger.index()] =
+                    align::fingertip(&self.skeleton, &out.world, side, finger);
+            }
+            let fresh = out.hands[s].is_some_and(|h| h.status == HandStatus::Solved);
+            if let (true, Some(report)) = (fresh, self.hands.retarget_report(side)) {
+                let hand = side.hand().index();
+                let (p, q) = (out.world.position[hand], out.world.rotation[hand]);
+                out.retarget[s] = Some(RetargetReport {
+                    targets: report.targets.map(|t| t.map(|t| p + q * t)),
+                    ..*report
+                });
+            }
+        }
         Ok(())
     }
 
@@ -234,7 +273,7 @@ impl Rig {
                 score: h.score,
             });
             if hand_rotation.is_some() {
-                for b in crate::bones::Finger::ALL
+                for b in Finger::ALL
                     .iter()
                     .flat_map(|f| side.finger(*f))
                     .chain([side.hand()])
@@ -496,10 +535,10 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
         OptionDescription {
             path: "handStrategy",
             kind: Enum {
-                values: vec!["analytic"],
+                values: vec!["analytic", "retarget"],
                 default: "analytic",
             },
-            description: "How hands are solved: analytic = palm frame + anatomically limited joint angles.",
+            description: "How hands are solved: analytic = palm frame + anatomically limited joint angles; retarget = the avatar's fingertips placed where the user's are (scaled to the avatar's hand), within the same limits.",
         },
         OptionDescription {
             path: "armSolver",

@@ -87,6 +87,16 @@ impl Basis {
         (b.atan2(a), a.hypot(b).atan2(c))
     }
 
+    /// The world axes the base joint turns about when its longitude and its colatitude grow:
+    /// `(pole, east)` signed so that `d/dlon R = skew(pole) R` and `d/dcolat R = skew(east) R`
+    /// for the base rotation `R` (the whole local frame turns rigidly; the sign carries the
+    /// basis' handedness). The tangent-space derivative of seed 003, `R = (I + phi skew(k)) R0`.
+    pub fn turn_axes(&self, lon: f32) -> (Vec3, Vec3) {
+        let handed = self.x.cross(self.y).dot(self.z).signum();
+        let (sl, cl) = lon.sin_cos();
+        (handed * self.z, handed * (-sl * self.x + cl * self.y))
+    }
+
     /// The direction, flexion direction and hinge axis at `(lon, colat)`.
     pub fn frame(&self, kind: Kind, lon: f32, colat: f32) -> Frame {
         let l = self.local(lon, colat);
@@ -272,6 +282,24 @@ mod tests {
                 assert!(f.dir.dot(f.flex).abs() < 1e-5);
                 let q = glam::Quat::from_axis_angle(f.hinge.normalize(), 0.5);
                 assert!((q * f.dir - bend(f.dir, f.flex, 0.5)).length() < 1e-5);
+            }
+        }
+    }
+
+    #[test]
+    fn turn_axes_are_the_frame_derivatives() {
+        let right = Basis::from_hints(Vec3::Y, Vec3::Z, Vec3::X).unwrap();
+        for b in [basis(), right] {
+            for kind in [Kind::Finger, Kind::Thumb] {
+                let (lon, colat, h) = (0.7_f32, 1.1_f32, 1e-3_f32);
+                let f = b.frame(kind, lon, colat);
+                let (pole, east) = b.turn_axes(lon);
+                let dl = b.frame(kind, lon + h, colat);
+                let dc = b.frame(kind, lon, colat + h);
+                for (v, vl, vc) in [(f.dir, dl.dir, dc.dir), (f.hinge, dl.hinge, dc.hinge)] {
+                    assert!(((vl - v) / h - pole.cross(v)).length() < 2e-3, "{kind:?}");
+                    assert!(((vc - v) / h - east.cross(v)).length() < 2e-3, "{kind:?}");
+                }
             }
         }
     }

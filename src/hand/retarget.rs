@@ -1,0 +1,840 @@
+//! Optimization-based hand retargeting (seed 003, section 3.1): `handStrategy: "retarget"`.
+//!
+//! Copying joint angles (the [`HandStrategy::Analytic`](super::HandStrategy) strategy, the
+//! seed's "naive" one) puts the avatar's fingers in the user's shape, but the avatar's hand
+//! has other proportions, so pinches open and contacts miss. Here the avatar's finger angles
+//! are instead chosen so that its fingertips land where the user's are.
+//!
+//! ## Hands
+//!
+//! * The **intermediate hand** is the avatar's own hand: its bone lengths and rest
+//!   directions, and the analytic solver's joint model (per finger a 2-DOF base joint in
+//!   spherical coordinates about its pole, two hinges; see [`super::chain`]) with the
+//!   anatomical limits of [`super::limits`]. Four parameters per finger, in [`Dof`] order:
+//!   MCP flexion and abduction (thumb: CMC abduction and opposition), PIP and DIP flexion
+//!   (thumb: MCP and IP), measured on the avatar's rest palm as the analytic solver measures
+//!   them on the tracked palm. The palm is rigid (avatar palms have no cupping joint).
+//! * The **tracked hand** is MediaPipe's 21 world landmarks, turned into the avatar's hand
+//!   frame by the analytic solver's palm rotation and uniformly scaled by `s` (below), the
+//!   wrist on the avatar's hand joint.
+//!
+//! ## Objective (seed eq. 1)
+//!
+//! ```text
+//! E(q) = 1/2 sum_k w_k |x_k(q) - s p_k|^2 + R(q)     subject to  limits
+//! R(q) = 1/2 sum_fingers w_s (DIP - 2/3 PIP)^2 + 1/2 w_t |q - q_previous|^2
+//! ```
+//!
+//! `x_k(q)` are avatar points by forward kinematics relative to the hand joint, `p_k` the
+//! user's landmarks relative to the wrist. Features: the five fingertips (weights
+//! [`RetargetOptions::tip_weights`], thumb and index emphasized for pinching) and, with a
+//! low weight, the two joints between base and tip so finger shapes stay natural. The
+//! spatial term keeps the distal joint near two thirds of the proximal
+//! interphalangeal flexion (Rijpkema & Girard, "Computer animation of knowledge-based human
+//! grasping", SIGGRAPH 1991), deciding what the tip position leaves open; the temporal term
+//! pulls toward the previous frame's solution. The avatar fingertip is
+//! the model of [`crate::align::tip_offset`] (the distal bone extended by an anatomical
+//! ratio), the same point `alignment.point: "tip"` aligns.
+//!
+//! Fingers do not share parameters or features, so `J'WJ + d2R` is block diagonal: the
+//! whole-hand Gauss-Newton step is exactly five independent 4-parameter steps, and each
+//! finger is solved by [`crate::solve::least_squares`] on its own (reported iterations: the
+//! most any finger needed, what a whole-hand solve with a common stopping rule would run).
+//! Each starts from the previous frame's solution or from this frame's analytic solution
+//! (clamped to the limits), whichever fits better. The Jacobian is analytic: a base angle
+//! turns everything distal about [`Basis::turn_axes`], a hinge about its world axis, i.e.
+//! `d/dphi (I + phi skew(k)) R0 = skew(k) R0`.
+//!
+//! ## Scale
+//!
+//! Both ways compare hand *lengths* (wrist to the tip of the longest finger, the
+//! anthropometric hand size), which decide whether the avatar's fingers can reach the scaled
+//! targets:
+//!
+//! * **Calibrated** (the seed's): the user shows an open, flat hand and the app calls
+//!   [`crate::Rig::calibrate_hand_scale`]; `s` = the ratio of the lengths of the hands'
+//!   bounding boxes along the palm's forward axis (the avatar's box from its rest hand
+//!   including fingertips). The box's width is left out: it measures finger spread and where
+//!   the thumb rests, which differ between a user's open hand and an avatar's rest pose (the
+//!   debug robot's thumb splays at 45 degrees: its box diagonal would scale the user's hand
+//!   12% past its fingers' reach). Refused when the fingers are not straight (see
+//!   [`OPEN_HAND_STRAIGHTNESS`]).
+//! * **Automatic** (no calibration): from lengths that do not change with the pose: the
+//!   wrist-to-knuckle palm length plus the three phalanx lengths of the middle finger
+//!   (wrist to fingertip along the ray; all rays summed if the avatar lacks a complete middle
+//!   finger), averaged over frames ([`SCALE_FRAMES`]). Palm lengths alone would match palms,
+//!   not hands: an avatar whose palm is long for its fingers (the debug robot: 12.5 cm palm,
+//!   8.4 cm fingers) would get the user's fingers scaled out of its reach.
+
+use glam::{Mat3, Quat, Vec3};
+
+use super::chain::{wrap, Basis, Kind};
+use super::limits::LIMITS;
+use super::{orthonormal_frame, HandReport, SideRest};
+use crate::align::tip_offset;
+use crate::bones::{Finger, Side};
+use crate::mediapipe::HAND_LANDMARKS;
+use crate::skeleton::Skeleton;
+use crate::solve::least_squares::{minimize, Model, Objective, Settings};
+
+/// Weights and stopping rule of the retargeting objective (see the module docs). Costs are
+/// in m^2 (feature weights are dimensionless), so a regularization weight `w` in m^2/rad^2
+/// makes one radian cost as much as a fingertip `sqrt(w)` meters off.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RetargetOptions {
+    /// Fingertip feature weights, thumb to little. Default: thumb and index 2, the others
+    /// 1 (thumb and index emphasized for pinching, as the seed does).
+    pub tip_weights: [f32; 5],
+    /// Weight of each intermediate joint feature (the two joints between base and tip, hung
+    /// back from the fingertip target along the user's phalanges). Default 0.02.
+    pub joint_weight: f32,
+    /// Weight of the pinch feature (the thumb tip relative to the index tip) when the user's
+    /// scaled tips are within half of [`RetargetOptions::pinch_distance`]; it fades out
+    /// smoothly to 0 at that distance. Default 10.
+    pub pinch_weight: f32,
+    /// Scaled thumb-index tip distance (m) below which the pinch feature starts to count.
+    /// Default 0.04.
+    pub pinch_distance: f32,
+    /// Spatial term (DIP toward two thirds of PIP), m^2/rad^2. Default `2e-6` (a radian
+    /// costs like a fingertip 1.4 mm off).
+    pub spatial_weight: f32,
+    /// Temporal term (toward the previous frame's angles), m^2/rad^2 per parameter, for a
+    /// finger whose target stood still; it falls off as `1 / (1 + (v / temporal_speed)^2)`
+    /// with the target's move `v` since the previous frame, so tracking noise is smoothed and
+    /// real motion (a pinch closing) is followed with little lag. Default `4e-3` (a radian
+    /// costs like a fingertip 63 mm off). Without a previous frame only a negligible
+    /// [`DAMPING`] toward the starting point remains.
+    pub temporal_weight: f32,
+    /// The target move (m per frame) at which the temporal weight has halved. Default 3 mm
+    /// (MediaPipe's fingertip noise is about 1 mm a frame, finger motion several).
+    pub temporal_speed: f32,
+    /// Gauss-Newton stopping rule.
+    pub settings: Settings,
+}
+
+impl Default for RetargetOptions {
+    fn default() -> Self {
+        RetargetOptions {
+            tip_weights: [2.0, 2.0, 1.0, 1.0, 1.0],
+            joint_weight: 0.02,
+            pinch_weight: 10.0,
+            pinch_distance: 0.04,
+            spatial_weight: 2e-6,
+            temporal_weight: 4e-3,
+            temporal_speed: 3e-3,
+            settings: Settings {
+                max_iterations: 50,
+                step_tolerance: 1e-5,
+            },
+        }
+    }
+}
+
+impl RetargetOptions {
+    /// Whether every weight is finite and non-negative, the temporal weight and both
+    /// distances positive (the temporal term keeps the Gauss-Newton model positive definite)
+    /// and at least one iteration allowed.
+    #[must_use]
+    pub fn is_valid(&self) -> bool {
+        let finite = |v: &f32| v.is_finite() && *v >= 0.0;
+        self.tip_weights.iter().all(finite)
+            && [
+                self.joint_weight,
+                self.pinch_weight,
+                self.spatial_weight,
+                self.settings.step_tolerance,
+            ]
+            .iter()
+            .all(finite)
+            && [
+                self.temporal_weight,
+                self.temporal_speed,
+                self.pinch_distance,
+            ]
+            .iter()
+            .all(|v| finite(v) && *v > 0.0)
+            && self.settings.max_iterations > 0
+    }
+}
+
+/// Frames the automatic scale averages (about a second of video); afterwards it follows
+/// slow changes as an exponential average over as many frames.
+pub const SCALE_FRAMES: u32 = 30;
+/// The straight extent of a user's open hand over its wrist-to-fingertip path length: the
+/// automatic scale compares path lengths, the calibration extents (fingers never lie
+/// perfectly straight; 0.94 to 0.97 on the shared recordings' most open frames).
+pub const OPEN_EXTENT: f32 = 0.95;
+/// Calibration needs every finger (index to little) this straight: the knuckle-to-tip
+/// distance over the summed phalanx lengths.
+pub const OPEN_HAND_STRAIGHTNESS: f32 = 0.9;
+/// Weight (m^2/rad^2) toward the starting point on a frame without a previous solution:
+/// keeps the Gauss-Newton model positive definite, moves a fingertip by well under a
+/// micrometer.
+pub const DAMPING: f32 = 1e-9;
+/// Smallest hinge flexion (radians, 2 degrees) a Gauss-Newton start gets.
+const START_FLEXION: f32 = 2.0 * core::f32::consts::PI / 180.0;
+/// The DIP flexion that the spatial term prefers, as a fraction of PIP flexion.
+const DIP_PER_PIP: f32 = 2.0 / 3.0;
+
+/// What the retargeting did for one hand.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RetargetReport {
+    /// The scaled user fingertips placed on the avatar, thumb to little (`None` where the
+    /// avatar lacks the finger's distal bone). From [`super::HandSolver::retarget_report`]:
+    /// relative to the hand joint in the hand bone's frame; in [`crate::SolveOutput`]: world
+    /// positions in the internal frame.
+    pub targets: [Option<Vec3>; 5],
+    /// Avatar hand size over user hand size (the uniform scale applied to the user's hand).
+    pub scale: f32,
+    /// Gauss-Newton iterations: the most any finger needed.
+    pub iterations: u32,
+    /// Weighted RMS distance between the avatar's fingertips and the targets, meters:
+    /// `sqrt(sum w_f |tip_f - target_f|^2 / sum w_f)` with [`RetargetOptions::tip_weights`].
+    pub residual: f32,
+}
+
+/// One avatar bone of a finger chain.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Link {
+    /// Anatomical slot (0 base, 1, 2).
+    slot: usize,
+    /// Rest offset from the previous link's joint (zero for the first).
+    offset: Vec3,
+    /// Rest direction (unit).
+    dir: Vec3,
+    /// Rest hinge axis (unit; links after the first turn about it).
+    hinge: Vec3,
+    /// Rest bend from the previous link's direction about `hinge` (radians): the bone's
+    /// rotation is the anatomical hinge angle minus this.
+    beta: f32,
+}
+
+/// The avatar's finger as the retargeting sees it: rest geometry in the hand's rest axes,
+/// relative to the hand joint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct FingerModel {
+    finger: Finger,
+    kind: Kind,
+    basis: Basis,
+    /// Fingers: longitude of the wrist-to-knuckle line (abduction is measured from it).
+    lon_prior: f32,
+    /// Rest position of the first bone's joint.
+    base: Vec3,
+    /// Transpose of the first bone's rest frame `(dir, hinge, dir x hinge)`: its rotation is
+    /// the posed frame times this (the analytic solver's twist-free base rotation).
+    rest_inv: Mat3,
+    links: [Link; 3],
+    count: usize,
+    /// The fingertip relative to the distal bone's joint, in its frame.
+    tip: Vec3,
+    lower: [f32; 4],
+    upper: [f32; 4],
+}
+
+/// Posed points of one finger, indexed by slot (0..3 joints; 3 the tip), and their
+/// derivatives with respect to the four parameters.
+struct Posed {
+    points: [Vec3; 4],
+    jacobian: [[Vec3; 4]; 4],
+    /// Local rotations of the links (link order).
+    local: [Mat3; 3],
+}
+
+impl FingerModel {
+    fn new(skeleton: &Skeleton, side: Side, rest: &SideRest, finger: Finger) -> Option<Self> {
+        let fr = &rest.fingers[finger.index()];
+        let hand = skeleton.rest_world(side.hand())?;
+        let bones = side.finger(finger);
+        // The fingertip model needs the distal bone, the last link.
+        let last = fr.bones[fr.count.checked_sub(1)?]?;
+        if last.slot != 2 {
+            return None;
+        }
+        let tip = tip_offset(skeleton, side, finger)?;
+        let first = fr.bones[0]?;
+        let base = skeleton.rest_world(bones[first.slot])? - hand;
+        let mut links = [Link {
+            slot: 0,
+            offset: Vec3::ZERO,
+            dir: Vec3::X,
+            hinge: Vec3::Y,
+            beta: 0.0,
+        }; 3];
+        for (i, link) in links.iter_mut().enumerate().take(fr.count) {
+            let b = fr.bones[i]?;
+            let (offset, beta) = if i == 0 {
+                (Vec3::ZERO, 0.0)
+            } else {
+                let prev = fr.bones[i - 1]?;
+                (
+                    skeleton.rest_local(bones[b.slot]),
+                    b.dir.dot(prev.flex).atan2(b.dir.dot(prev.dir)),
+                )
+            };
+            *link = Link {
+                slot: b.slot,
+                offset,
+                dir: b.dir,
+                hinge: b.hinge,
+                beta,
+            };
+        }
+        let lims = LIMITS[finger.index()];
+        let lower = core::array::from_fn(|k| lims[k].radians().0);
+        let upper = core::array::from_fn(|k| lims[k].radians().1);
+        Some(FingerModel {
+            finger,
+            kind: fr.kind,
+            basis: fr.basis,
+            lon_prior: fr.lon_prior,
+            base,
+            rest_inv: orthonormal_frame(first.dir, first.hinge)?.transpose(),
+            links,
+            count: fr.count,
+            tip,
+            lower,
+            upper,
+        })
+    }
+
+    /// `q` moved into the limits.
+    fn clamp(&self, q: [f32; 4]) -> [f32; 4] {
+        core::array::from_fn(|k| q[k].max(self.lower[k]).min(self.upper[k]))
+    }
+
+    /// Rest length of the avatar's segment from the joint at `slot` to the next joint
+    /// (slot 2: to the fingertip); 0 when the joint is absent.
+    fn segment(&self, slot: usize) -> f32 {
+        let i = self.links[..self.count].iter().position(|l| l.slot == slot);
+        match i {
+            Some(i) if i + 1 < self.count => self.links[i + 1].offset.length(),
+            Some(_) => self.tip.length(),
+            None => 0.0,
+        }
+    }
+
+    /// Longitude and colatitude of the base direction from the two base parameters.
+    #[inline]
+    fn spherical(&self, q: &[f32; 4]) -> (f32, f32) {
+        match self.kind {
+            Kind::Finger => (self.lon_prior + q[1], core::f32::consts::FRAC_PI_2 - q[0]),
+            Kind::Thumb => (q[1], q[0]),
+        }
+    }
+
+    /// The two base parameters of a posed base bone with direction `dir` and hinge axis
+    /// `hinge` (inverse of [`FingerModel::spherical`], in the limits' turn). The longitude is
+    /// read from the hinge (the frame's `east` direction), so it stays defined when the bone
+    /// points along the pole, and the colatitude is signed (fingers flexed past the pole).
+    fn base_params(&self, dir: Vec3, hinge: Vec3) -> (f32, f32) {
+        let b = &self.basis;
+        let east = match self.kind {
+            // hinge = dir x north = -east on a right-handed basis.
+            Kind::Finger => -b.x.cross(b.y).dot(b.z).signum() * hinge,
+            // hinge = dir x east.
+            Kind::Thumb => hinge.cross(dir),
+        };
+        let lon = (-east.dot(b.x)).atan2(east.dot(b.y));
+        let g = lon.cos() * b.x + lon.sin() * b.y;
+        let colat = dir.dot(g).atan2(dir.dot(b.z));
+        match self.kind {
+            Kind::Finger => (
+                core::f32::consts::FRAC_PI_2 - colat,
+                wrap(lon - self.lon_prior),
+            ),
+            Kind::Thumb => {
+                let center = 0.5 * (self.lower[1] + self.upper[1]);
+                (colat, wrap(lon - center) + center)
+            }
+        }
+    }
+
+    /// Forward kinematics and its Jacobian (tangent-space rotation derivatives).
+    fn pose(&self, q: &[f32; 4]) -> Posed {
+        let (lon, colat) = self.spherical(q);
+        let frame = self.basis.frame(self.kind, lon, colat);
+        let r0 =
+            Mat3::from_cols(frame.dir, frame.hinge, frame.dir.cross(frame.hinge)) * self.rest_inv;
+        let (turn_lon, turn_colat) = self.basis.turn_axes(lon);
+        let base_axes = match self.kind {
+            Kind::Finger => [-turn_colat, turn_lon],
+            Kind::Thumb => [turn_colat, turn_lon],
+        };
+        let mut posed = Posed {
+            points: [self.base; 4],
+            jacobian: [[Vec3::ZERO; 4]; 4],
+            local: [r0, Mat3::IDENTITY, Mat3::IDENTITY],
+        };
+        // Per link: its joint (the pivot) and its world hinge axis.
+        let mut pivot = [self.base; 3];
+        let mut axis = [Vec3::ZERO; 3];
+        let mut rot = r0;
+        let mut pos = self.base;
+        for i in 1..self.count {
+            let l = &self.links[i];
+            pos += rot * l.offset;
+            axis[i] = rot * l.hinge;
+            pivot[i] = pos;
+            let theta = self.hinge_sum(q, i) - l.beta;
+            let local = Mat3::from_axis_angle(l.hinge, theta);
+            posed.local[i] = local;
+            rot *= local;
+            posed.points[l.slot] = pos;
+        }
+        posed.points[3] = pos + rot * self.tip;
+        let first_slot = self.links[0].slot;
+        for s in first_slot + 1..4 {
+            if s < 3 && !self.links[..self.count].iter().any(|l| l.slot == s) {
+                continue;
+            }
+            let p = posed.points[s];
+            posed.jacobian[s][0] = base_axes[0].cross(p - self.base);
+            posed.jacobian[s][1] = base_axes[1].cross(p - self.base);
+            for i in 1..self.count {
+                let l = &self.links[i];
+                if s <= l.slot {
+                    continue;
+                }
+                let col = axis[i].cross(p - pivot[i]);
+                for k in self.links[i - 1].slot + 1..=l.slot {
+                    posed.jacobian[s][1 + k] = col;
+                }
+            }
+        }
+        posed
+    }
+
+    /// The anatomical hinge angles link `i` carries (those of the slots since the previous
+    /// link: a missing intermediate bone's angle is carried by the distal bone).
+    #[inline]
+    fn hinge_sum(&self, q: &[f32; 4], i: usize) -> f32 {
+        (self.links[i - 1].slot + 1..=self.links[i].slot)
+            .map(|k| q[1 + k])
+            .sum()
+    }
+
+    /// Writes the links' local rotations into `out` (15 finger locals, `finger * 3 + slot`).
+    fn write(&self, posed: &Posed, out: &mut [Quat; 15]) {
+        let fi = self.finger.index();
+        for (l, m) in self.links[..self.count].iter().zip(posed.local) {
+            out[fi * 3 + l.slot] = Quat::from_mat3(&m).normalize();
+        }
+    }
+
+    /// The anatomical angles of this finger as posed by `local` (15 finger locals):
+    /// measured geometrically from the posed bone directions, the inverse of the
+    /// parametrization. A missing bone's hinge angle is reported on the next bone.
+    fn measure(&self, local: &[Quat; 15]) -> [f32; 4] {
+        let fi = self.finger.index();
+        let r0 = local[fi * 3 + self.links[0].slot];
+        let dir0 = r0 * self.links[0].dir;
+        let (a0, a1) = self.base_params(dir0, r0 * self.links[0].hinge);
+        let mut angles = [a0, a1, 0.0, 0.0];
+        let mut rot = r0;
+        let (mut prev_dir, mut prev_flex) =
+            (dir0, rot * self.links[0].hinge.cross(self.links[0].dir));
+        for l in &self.links[1..self.count] {
+            rot *= local[fi * 3 + l.slot];
+            let dir = rot * l.dir;
+            angles[1 + l.slot] = dir.dot(prev_flex).atan2(dir.dot(prev_dir));
+            prev_dir = dir;
+            prev_flex = rot * l.hinge.cross(l.dir);
+        }
+        angles
+    }
+}
+
+/// One finger's objective for [`minimize`].
+#[derive(Clone, Copy)]
+struct FingerProblem<'a> {
+    model: &'a FingerModel,
+    /// Targets by slot (1, 2 joints; 3 the tip).
+    targets: [Vec3; 4],
+    /// Feature weights by slot (0 for the base and absent joints).
+    weights: [f32; 4],
+    previous: [f32; 4],
+    spatial: f32,
+    temporal: f32,
+}
+
+impl FingerProblem<'_> {
+    /// Adds this finger's terms at `q[offset..offset + 4]` into `m`; returns the cost, the
+    /// posed fingertip and its Jacobian.
+    fn accumulate<const N: usize>(
+        &self,
+        q: &[f32; N],
+        offset: usize,
+        m: &mut Model<N>,
+    ) -> (f32, Vec3, [Vec3; 4]) {
+        let own: [f32; 4] = core::array::from_fn(|k| q[offset + k]);
+        let posed = self.model.pose(&own);
+        let mut cost = 0.0;
+        let mut columns = [Vec3::ZERO; N];
+        for s in 1..4 {
+            if self.weights[s] > 0.0 {
+                columns[offset..offset + 4].copy_from_slice(&posed.jacobian[s]);
+                cost += m.add_point(self.weights[s], posed.points[s] - self.targets[s], &columns);
+            }
+        }
+        let mut row = [0.0; N];
+        if self.model.kind == Kind::Finger {
+            row[offset + 2] = -DIP_PER_PIP;
+            row[offset + 3] = 1.0;
+            cost += m.add_scalar(self.spatial, own[3] - DIP_PER_PIP * own[2], &row);
+        }
+        for k in 0..4 {
+            row = [0.0; N];
+            row[offset + k] = 1.0;
+            cost += m.add_scalar(self.temporal, own[k] - self.previous[k], &row);
+        }
+        (cost, posed.points[3], posed.jacobian[3])
+    }
+}
+
+impl Objective<4> for FingerProblem<'_> {
+    fn evaluate(&mut self, q: &[f32; 4], model: Option<&mut Model<4>>) -> f32 {
+        let mut scratch = Model::default();
+        self.accumulate(q, 0, model.unwrap_or(&mut scratch)).0
+    }
+}
+
+/// Thumb and index together with the pinch feature: the thumb tip relative to the index
+/// tip, matched to the user's (weight `weight`).
+struct PinchProblem<'a, 'b> {
+    thumb: &'b FingerProblem<'a>,
+    index: &'b FingerProblem<'a>,
+    weight: f32,
+    /// The user's thumb tip minus index tip, scaled.
+    target: Vec3,
+}
+
+impl Objective<8> for PinchProblem<'_, '_> {
+    fn evaluate(&mut self, q: &[f32; 8], model: Option<&mut Model<8>>) -> f32 {
+        let mut scratch = Model::default();
+        let m = model.unwrap_or(&mut scratch);
+        let (c_thumb, thumb, j_thumb) = self.thumb.accumulate(q, 0, m);
+        let (c_index, index, j_index) = self.index.accumulate(q, 4, m);
+        let columns: [Vec3; 8] =
+            core::array::from_fn(|k| if k < 4 { j_thumb[k] } else { -j_index[k - 4] });
+        c_thumb + c_index + m.add_point(self.weight, thumb - index - self.target, &columns)
+    }
+}
+
+/// The avatar's hand for retargeting: the fingers that have a distal bone, and the sizes
+/// the scale compares.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct HandModel {
+    fingers: [Option<FingerModel>; 5],
+    /// Wrist-to-fingertip length along the rays the automatic scale compares, index to
+    /// little (0: not compared).
+    rays: [f32; 4],
+    /// Rest palm frame, columns `(forward, radial, palmar)`.
+    palm: Mat3,
+    /// Length of the rest hand's bounding box along the palm's forward axis.
+    open_length: f32,
+}
+
+impl HandModel {
+    pub(super) fn new(skeleton: &Skeleton, side: Side, rest: &SideRest) -> Option<Self> {
+        let fingers = Finger::ALL.map(|f| FingerModel::new(skeleton, side, rest, f));
+        if fingers.iter().all(Option::is_none) {
+            return None;
+        }
+        let mut rays = [0.0; 4];
+        let mut lo = Vec3::ZERO;
+        let mut hi = Vec3::ZERO;
+        let palm = rest.frame;
+        for m in fingers.iter().flatten() {
+            let posed = m.pose(&m.rest_params());
+            let fi = m.finger.index();
+            if fi > 0 && m.links[0].slot == 0 {
+                rays[fi - 1] = m.base.length()
+                    + (1..4)
+                        .map(|s| (posed.points[s] - posed.points[s - 1]).length())
+                        .sum::<f32>();
+            }
+            for p in &posed.points {
+                let v = palm.transpose() * *p;
+                lo = lo.min(v);
+                hi = hi.max(v);
+            }
+        }
+        // The middle finger's ray when the avatar has it complete, else every complete ray.
+        if rays[1] > 0.0 {
+            rays = [0.0, rays[1], 0.0, 0.0];
+        }
+        Some(HandModel {
+            fingers,
+            rays,
+            palm,
+            open_length: hi.x - lo.x,
+        })
+    }
+
+    /// The automatic scale of one frame: avatar ray length over the user's (`None` when
+    /// the user's hand is degenerate).
+    fn stable_scale(&self, p: &[Vec3; HAND_LANDMARKS]) -> Option<f32> {
+        let (mut avatar, mut user) = (0.0, 0.0);
+        for (i, finger) in Finger::ALL[1..].iter().enumerate() {
+            if self.rays[i] <= 0.0 {
+                continue;
+            }
+            let ids = finger.landmarks();
+            avatar += self.rays[i];
+            user += p[ids[0]].length()
+                + (1..4)
+                    .map(|k| (p[ids[k]] - p[ids[k - 1]]).length())
+                    .sum::<f32>();
+        }
+        let s = OPEN_EXTENT * avatar / user;
+        (user > 1e-4 && s.is_finite() && s > 0.0).then_some(s)
+    }
+
+    /// The calibrated scale from an open, flat hand `p` (see the module docs); `None` when
+    /// the fingers are not straight or the hand is degenerate.
+    fn open_hand_scale(&self, p: &[Vec3; HAND_LANDMARKS]) -> Option<f32> {
+        for finger in &Finger::ALL[1..] {
+            let ids = finger.landmarks();
+            let path: f32 = (1..4).map(|k| (p[ids[k]] - p[ids[k - 1]]).length()).sum();
+            let straight = (p[ids[3]] - p[ids[0]]).length();
+            if !(path > 1e-4 && straight >= OPEN_HAND_STRAIGHTNESS * path) {
+                return None;
+            }
+        }
+        let mut lo = Vec3::ZERO;
+        let mut hi = Vec3::ZERO;
+        for q in p {
+            let v = self.palm.transpose() * *q;
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+        let s = self.open_length / (hi.x - lo.x);
+        (s.is_finite() && s > 0.0).then_some(s)
+    }
+}
+
+impl FingerModel {
+    /// The parameters of the avatar's rest finger (the base as it rests, hinges at their
+    /// rest bends).
+    fn rest_params(&self) -> [f32; 4] {
+        let (a0, a1) = self.base_params(self.links[0].dir, self.links[0].hinge);
+        let mut q = [a0, a1, 0.0, 0.0];
+        for i in 1..self.count {
+            q[self.links[i].slot + 1] = self.links[i].beta;
+        }
+        q
+    }
+}
+
+/// Retargeting state of one side: the previous solution, the scale, the last tracked hand
+/// (for calibration) and the last report.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct SideState {
+    previous: Option<[[f32; 4]; 5]>,
+    /// The previous frame's fingertip targets (with `previous`).
+    previous_targets: [Vec3; 5],
+    /// Running mean of the automatic scale and how many frames it holds.
+    auto_scale: f32,
+    auto_frames: u32,
+    /// Calibrated or preset scale (overrides the automatic one).
+    fixed_scale: Option<f32>,
+    /// The last solved frame's landmarks in the hand frame, relative to the wrist.
+    last_hand: Option<[Vec3; HAND_LANDMARKS]>,
+    pub(super) report: Option<RetargetReport>,
+}
+
+impl SideState {
+    /// The scale in force (`None` before any frame without a fixed scale).
+    pub(super) fn scale(&self) -> Option<f32> {
+        self.fixed_scale
+            .or((self.auto_frames > 0).then_some(self.auto_scale))
+    }
+
+    /// Sets (or with `None` clears) a fixed scale.
+    pub(super) fn set_scale(&mut self, scale: Option<f32>) {
+        self.fixed_scale = scale.filter(|s| s.is_finite() && *s > 0.0);
+    }
+
+    /// Takes in a solved frame's hand (`p`: landmarks in the hand frame relative to the
+    /// wrist): updates the automatic scale and keeps the hand for calibration. Every strategy
+    /// does this, so the scale is known when the strategy changes and calibration works.
+    pub(super) fn observe(&mut self, model: &HandModel, p: &[Vec3; HAND_LANDMARKS]) {
+        if let Some(s) = model.stable_scale(p) {
+            self.auto_frames = (self.auto_frames + 1).min(SCALE_FRAMES);
+            self.auto_scale += (s - self.auto_scale) / self.auto_frames as f32;
+        }
+        self.last_hand = Some(*p);
+    }
+
+    /// Calibrates from the last solved frame (an open hand); returns the new scale.
+    pub(super) fn calibrate(&mut self, model: &HandModel) -> Option<f32> {
+        let s = model.open_hand_scale(self.last_hand.as_ref()?)?;
+        self.fixed_scale = Some(s);
+        Some(s)
+    }
+
+    /// Forgets the previous solution and the automatic scale (not a fixed scale).
+    pub(super) fn reset(&mut self) {
+        *self = SideState {
+            fixed_scale: self.fixed_scale,
+            ..SideState::default()
+        };
+    }
+}
+
+/// Retargets one hand. `p`: the tracked landmarks in the hand frame relative to the wrist
+/// (the analytic solver's palm rotation undone), already given to [`SideState::observe`];
+/// `analytic`: the analytic solve of this frame (its angles are a first guess). Overwrites
+/// the retargeted fingers' locals in `out` (the others keep the analytic rotations).
+/// Allocates nothing; a finger whose solve is not finite keeps its analytic rotations.
+pub(super) fn solve(
+    model: &HandModel,
+    options: &RetargetOptions,
+    state: &mut SideState,
+    p: &[Vec3; HAND_LANDMARKS],
+    analytic: &HandReport,
+    out: &mut [Quat; 15],
+) -> RetargetReport {
+    let scale = state.scale().unwrap_or(1.0);
+    let mut problems = model.fingers.each_ref().map(|m| {
+        m.as_ref().map(|m| FingerProblem {
+            model: m,
+            targets: [Vec3::ZERO; 4],
+            weights: [0.0; 4],
+            previous: [0.0; 4],
+            spatial: options.spatial_weight,
+            temporal: options.temporal_weight,
+        })
+    });
+    // Per finger: targets, weights and the starting point.
+    let mut start = [[0.0_f32; 4]; 5];
+    for problem in problems.iter_mut().flatten() {
+        let m = problem.model;
+        let fi = m.finger.index();
+        let ids = m.finger.landmarks();
+        // The fingertip target, and the joints hung back from it along the user's phalanx
+        // directions with the avatar's phalanx lengths (the user's finger shape near the
+        // tip, at the avatar's size).
+        problem.targets[3] = scale * p[ids[3]];
+        problem.weights[3] = options.tip_weights[fi];
+        for s in (1..3).rev() {
+            let user = (p[ids[s + 1]] - p[ids[s]]).normalize_or_zero();
+            problem.targets[s] = problem.targets[s + 1] - m.segment(s) * user;
+            if m.segment(s) > 0.0 {
+                problem.weights[s] = options.joint_weight;
+            }
+        }
+        let guess = m.clamp(core::array::from_fn(|k| analytic.angles[fi][k]));
+        start[fi] = guess;
+        problem.previous = guess;
+        problem.temporal = DAMPING;
+        if let Some(previous) = state.previous {
+            problem.temporal = options.temporal_weight;
+            let previous = m.clamp(previous[fi]);
+            problem.previous = previous;
+            let v = (problem.targets[3] - state.previous_targets[fi]).length();
+            problem.temporal /= 1.0 + (v / options.temporal_speed).powi(2);
+            if problem.evaluate(&previous, None) < problem.evaluate(&guess, None) {
+                start[fi] = previous;
+            }
+        }
+        // A straight finger whose target lies a little nearer along its own axis is a saddle
+        // of the fingertip distance: every rotation moves the tip sideways, the gradient
+        // vanishes and Gauss-Newton would stay. Start straight hinges slightly flexed, the
+        // way fingers bend (the objective is unchanged).
+        for (q, hi) in start[fi].iter_mut().zip(m.upper).skip(2) {
+            if q.abs() < START_FLEXION {
+                *q = START_FLEXION.min(hi);
+            }
+        }
+    }
+    let mut solution = start;
+    let mut iterations = 0;
+    let [thumb, index, rest @ ..] = &mut problems;
+    // Thumb and index: one problem while the user's tips are close enough for the pinch
+    // feature to count.
+    let mut pinched = false;
+    if let (Some(thumb), Some(index)) = (thumb.as_mut(), index.as_mut()) {
+        let target = thumb.targets[3] - index.targets[3];
+        let weight = options.pinch_weight * pinch_ramp(target.length(), options.pinch_distance);
+        if weight > 0.0 {
+            pinched = true;
+            let mut q: [f32; 8] = core::array::from_fn(|k| start[k / 4][k % 4]);
+            let lower = core::array::from_fn(|k| [thumb.model, index.model][k / 4].lower[k % 4]);
+            let upper = core::array::from_fn(|k| [thumb.model, index.model][k / 4].upper[k % 4]);
+            let mut pinch = PinchProblem {
+                thumb,
+                index,
+                weight,
+                target,
+            };
+            let result = minimize(&mut pinch, &mut q, &lower, &upper, &options.settings);
+            iterations = iterations.max(result.iterations);
+            for k in 0..8 {
+                solution[k / 4][k % 4] = q[k];
+            }
+        }
+    }
+    let singles = [thumb, index]
+        .into_iter()
+        .filter(|_| !pinched)
+        .chain(rest.iter_mut());
+    for problem in singles.flatten() {
+        let fi = problem.model.finger.index();
+        let m = problem.model;
+        let result = minimize(
+            problem,
+            &mut solution[fi],
+            &m.lower,
+            &m.upper,
+            &options.settings,
+        );
+        iterations = iterations.max(result.iterations);
+    }
+
+    let mut report = RetargetReport {
+        targets: [None; 5],
+        scale,
+        iterations,
+        residual: 0.0,
+    };
+    let (mut err, mut weight) = (0.0, 0.0);
+    let mut previous = state.previous.unwrap_or(start);
+    for problem in problems.iter().flatten() {
+        let m = problem.model;
+        let fi = m.finger.index();
+        let q = solution[fi];
+        let posed = m.pose(&q);
+        if !(q.iter().all(|v| v.is_finite()) && posed.points[3].is_finite()) {
+            continue;
+        }
+        m.write(&posed, out);
+        previous[fi] = q;
+        state.previous_targets[fi] = problem.targets[3];
+        report.targets[fi] = Some(problem.targets[3]);
+        let w = options.tip_weights[fi];
+        err += w * (posed.points[3] - problem.targets[3]).length_squared();
+        weight += w;
+    }
+    report.residual = if weight > 0.0 {
+        (err / weight).sqrt()
+    } else {
+        0.0
+    };
+    state.previous = Some(previous);
+    state.report = Some(report);
+    report
+}
+
+/// Weight of the pinch feature as a fraction of its full weight, for the user's scaled
+/// thumb-index tip distance `d`: 1 below `full / 2`, 0 beyond `full`, smooth in between.
+fn pinch_ramp(d: f32, full: f32) -> f32 {
+    let t = ((full - d) / (0.5 * full)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// Anatomical angles `[finger] -> [base0, base1, hinge1, hinge2]` (radians, [`super::Dof`] order)
+/// of the retargeting model's fingers as posed by the 15 finger locals of one side.
+pub(super) fn measure(model: &HandModel, local: &[Quat; 15]) -> [Option<[f32; 4]>; 5] {
+    model.fingers.map(|m| m.map(|m| m.measure(local)))
+}
