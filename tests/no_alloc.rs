@@ -1,5 +1,6 @@
 //! `Rig::solve` must not allocate: it runs every frame inside a browser tab. A counting global
-//! allocator checks it on the real hand recording, with wrists and pose input.
+//! allocator checks it on the real hand recording, with wrists and pose input, for every hand
+//! strategy (one test: the counter is global, parallel tests would count each other).
 // Native only: reads ../shared from disk (and uses proptest, not built for wasm32).
 #![cfg(not(target_arch = "wasm32"))]
 
@@ -9,6 +10,7 @@ mod recordings;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use handrig::hand::HandStrategy;
 use handrig::{FrameInput, HumanBone, Rig, RigOptions, SolveOutput};
 use recordings::ArmInput;
 
@@ -40,7 +42,17 @@ fn solve_allocates_nothing_per_frame() {
         .iter()
         .map(|h| h.world)
         .collect();
-    let mut rig = Rig::new(recordings::vrm(recordings::ROBOT), RigOptions::default()).unwrap();
+    for strategy in [HandStrategy::Analytic, HandStrategy::Retarget] {
+        let options = RigOptions {
+            hand_strategy: strategy,
+            ..RigOptions::default()
+        };
+        let rig = Rig::new(recordings::vrm(recordings::ROBOT), options).unwrap();
+        count_allocations(rig, &hands, strategy);
+    }
+}
+
+fn count_allocations(mut rig: Rig, hands: &[[glam::Vec3; 21]], strategy: HandStrategy) {
     let mut out = SolveOutput::default();
     let mut frame = FrameInput::default();
     let pose = recordings::plausible_pose();
@@ -68,10 +80,15 @@ fn solve_allocates_nothing_per_frame() {
     assert_eq!(
         after - before,
         0,
-        "Rig::solve allocated {} times over {} frames",
+        "Rig::solve ({strategy:?}) allocated {} times over {} frames",
         after - before,
         hands.len()
     );
     // The frames were really solved (the count is not vacuous).
     assert!(out.solved[HumanBone::RightIndexDistal.index()]);
+    assert_eq!(
+        out.retarget[1].is_some(),
+        strategy == HandStrategy::Retarget,
+        "{strategy:?}"
+    );
 }

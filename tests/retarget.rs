@@ -12,8 +12,10 @@ use glam::{Quat, Vec3};
 use hand_model::{avatar, place, pose, poses, Angles, HandLayout, HandModel};
 use handrig::align::{fingertip, TIP_RATIO};
 use handrig::hand::retarget::OPEN_EXTENT;
-use handrig::hand::{HandSolver, HandStatus, HandStrategy, LIMITS};
+use handrig::hand::{HandSolver, HandStatus, HandStrategy, RetargetOptions, LIMITS};
+use handrig::mediapipe::{FrameInput, Handedness, WristObservation};
 use handrig::{Finger, Side, Skeleton, WorldPose, BONE_COUNT};
+use handrig::{Rig, RigOptions, SolveOutput};
 
 /// Segment stretch that makes the model's tip (0.8 of the previous segment past the DIP) the
 /// avatar's fingertip model (`TIP_RATIO`).
@@ -290,4 +292,118 @@ fn degenerate_hands_keep_the_previous_solution_and_never_produce_nan() {
             assert!(r.residual.is_finite() && r.scale.is_finite(), "{r:?}");
         }
     }
+}
+
+/// The landmarks of `lm` (avatar frame) as MediaPipe reports them (camera axes; the default
+/// mapping `(x, -y, -z)` is its own inverse), labelled for the un-mirrored subject's right
+/// hand (MediaPipe says "Left").
+fn mediapipe_frame(lm: &[Vec3; 21], wrist: Option<Vec3>) -> FrameInput {
+    let world = lm.map(|p| Vec3::new(p.x, -p.y, -p.z));
+    let mut frame = recordings::frame_of(&[recordings::hand(Handedness::Left, 0.9, world)]);
+    frame.wrists[Side::Right.index()] = wrist.map(|position| WristObservation {
+        position,
+        rotation: None,
+    });
+    frame
+}
+
+fn rig_options(json: &str) -> RigOptions {
+    serde_json::from_str(json).unwrap()
+}
+
+#[test]
+fn the_rig_reports_fingertips_for_every_strategy_and_retarget_targets_in_world() {
+    for skel in [
+        recordings::vrm(recordings::FIXTURE_VRM1),
+        recordings::vrm(recordings::FIXTURE_VRM0),
+    ] {
+        let side = Side::Right;
+        let model = HandModel::from_skeleton(&skel, side);
+        let lm = landmarks(&model, &pose("pinch"), &tip_stretch(1.0), turn());
+        // A reachable wrist in front of the right shoulder (model frame).
+        let shoulder = skel.rest_world(side.arm()[1]).unwrap();
+        let wrist = shoulder + Vec3::new(-0.05, -0.2, 0.28);
+        let frame = mediapipe_frame(&lm, Some(skel.version().position_to_internal(wrist)));
+        for strategy in ["analytic", "retarget"] {
+            let options = rig_options(&format!(
+                r#"{{ "handStrategy": "{strategy}", "alignment": {{ "point": "tip" }} }}"#
+            ));
+            let mut rig = Rig::new(skel.clone(), options).unwrap();
+            let mut out = SolveOutput::default();
+            rig.solve(&frame, &mut out).unwrap();
+            // Fingertips: the distal bone extended by the anatomical ratio, both sides.
+            for s in Side::BOTH {
+                for f in Finger::ALL {
+                    let distal = s.finger(f)[2].index();
+                    let want = out.world.position[distal]
+                        + out.world.rotation[distal]
+                            * (skel.rest_local(s.finger(f)[2]) * TIP_RATIO[f.index()]);
+                    let got = out.fingertips[s.index()][f.index()].expect("fingertip");
+                    assert!((got - want).length() < 1e-6, "{strategy} {s:?} {f:?}");
+                }
+            }
+            // Fingertip alignment works with either strategy's rotations.
+            let a = out.alignment[side.index()].expect("aligned");
+            assert!(a.reachable && a.error < 1e-3, "{strategy}: {a:?}");
+            match strategy {
+                "analytic" => assert!(out.retarget.iter().all(Option::is_none)),
+                _ => {
+                    assert!(out.retarget[Side::Left.index()].is_none());
+                    let r = out.retarget[side.index()].expect("retarget report");
+                    // Targets: the user's wrist-to-tip offsets, scaled, from the avatar's
+                    // hand joint in the world; the avatar's fingertips on them, the residual
+                    // their weighted RMS distance.
+                    let hand = out.world.position[side.hand().index()];
+                    let (mut err, mut weight) = (0.0, 0.0);
+                    for f in Finger::ALL {
+                        let target = r.targets[f.index()].unwrap();
+                        let user = r.scale * (lm[f.landmarks()[3]] - lm[0]);
+                        assert!((target - hand - user).length() < 1e-5, "{f:?}");
+                        let tip = out.fingertips[side.index()][f.index()].unwrap();
+                        let w = RetargetOptions::default().tip_weights[f.index()];
+                        err += w * (tip - target).length_squared();
+                        weight += w;
+                        assert!((tip - target).length() < 1e-3, "{f:?}");
+                    }
+                    assert!(((err / weight).sqrt() - r.residual).abs() < 1e-5, "{r:?}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn the_rig_calibrates_the_hand_scale_from_an_open_hand() {
+    let skel = avatar(&HandLayout::standard(), &[]);
+    let side = Side::Right;
+    let model = HandModel::from_skeleton(&skel, side);
+    let options = rig_options(r#"{ "handStrategy": "retarget" }"#);
+    let mut rig = Rig::new(skel.clone(), options).unwrap();
+    let mut out = SolveOutput::default();
+    assert_eq!(rig.calibrate_hand_scale(), [None, None]);
+    let open = place(
+        &model.landmarks(&pose("flat"), &tip_stretch(1.0)),
+        Quat::IDENTITY,
+        0.8,
+        Vec3::ZERO,
+    );
+    rig.solve(&mediapipe_frame(&open, None), &mut out).unwrap();
+    let auto = out.retarget[side.index()].unwrap().scale;
+    assert!((auto - OPEN_EXTENT / 0.8).abs() < 1e-4, "{auto}");
+    let [left, right] = rig.calibrate_hand_scale();
+    assert_eq!(left, None, "no left hand was seen");
+    let s = right.expect("open hand calibrates");
+    assert!((s - 1.0 / 0.8).abs() < 1e-3, "{s}");
+    let fist = place(
+        &model.landmarks(&pose("fist"), &tip_stretch(1.0)),
+        Quat::IDENTITY,
+        0.8,
+        Vec3::ZERO,
+    );
+    rig.solve(&mediapipe_frame(&fist, None), &mut out).unwrap();
+    assert_eq!(out.retarget[side.index()].unwrap().scale, s);
+    // A fist does not calibrate; the calibrated scale stays.
+    assert_eq!(rig.calibrate_hand_scale(), [None, None]);
+    rig.solve(&mediapipe_frame(&fist, None), &mut out).unwrap();
+    assert_eq!(out.retarget[side.index()].unwrap().scale, s);
 }

@@ -9,11 +9,13 @@
 //!
 //! * The **intermediate hand** is the avatar's own hand: its bone lengths and rest
 //!   directions, and the analytic solver's joint model (per finger a 2-DOF base joint in
-//!   spherical coordinates about its pole, two hinges; see [`super::chain`]) with the
-//!   anatomical limits of [`super::limits`]. Four parameters per finger, in [`Dof`] order:
-//!   MCP flexion and abduction (thumb: CMC abduction and opposition), PIP and DIP flexion
-//!   (thumb: MCP and IP), measured on the avatar's rest palm as the analytic solver measures
-//!   them on the tracked palm. The palm is rigid (avatar palms have no cupping joint).
+//!   spherical coordinates about its pole, two hinges; see `super::chain`) with the
+//!   anatomical limits of [`super::limits`]. Four parameters per finger, in
+//!   [`Dof`](super::Dof) order: MCP flexion and abduction (thumb: CMC abduction and
+//!   opposition), PIP and DIP flexion (thumb: MCP and IP), measured on the avatar's rest palm
+//!   as the analytic solver measures them on the tracked palm; the avatar bones take them the
+//!   way the analytic solver poses them (a twist-free base rotation, hinges about the rest
+//!   hinge axes). The palm is rigid (avatar palms have no cupping joint).
 //! * The **tracked hand** is MediaPipe's 21 world landmarks, turned into the avatar's hand
 //!   frame by the analytic solver's palm rotation and uniformly scaled by `s` (below), the
 //!   wrist on the avatar's hand joint.
@@ -21,33 +23,53 @@
 //! ## Objective (seed eq. 1)
 //!
 //! ```text
-//! E(q) = 1/2 sum_k w_k |x_k(q) - s p_k|^2 + R(q)     subject to  limits
-//! R(q) = 1/2 sum_fingers w_s (DIP - 2/3 PIP)^2 + 1/2 w_t |q - q_previous|^2
+//! E(q) = 1/2 sum_k w_k |x_k(q) - t_k|^2 + 1/2 w_p |(x_thumb - x_index) - (t_thumb - t_index)|^2
+//!      + 1/2 w_s sum_fingers (DIP - 2/3 PIP)^2 + 1/2 w_t |q - q_previous|^2
+//! subject to the joint limits (box constraints on q)
 //! ```
 //!
-//! `x_k(q)` are avatar points by forward kinematics relative to the hand joint, `p_k` the
-//! user's landmarks relative to the wrist. Features: the five fingertips (weights
-//! [`RetargetOptions::tip_weights`], thumb and index emphasized for pinching) and, with a
-//! low weight, the two joints between base and tip so finger shapes stay natural. The
-//! spatial term keeps the distal joint near two thirds of the proximal
-//! interphalangeal flexion (Rijpkema & Girard, "Computer animation of knowledge-based human
-//! grasping", SIGGRAPH 1991), deciding what the tip position leaves open; the temporal term
-//! pulls toward the previous frame's solution. The avatar fingertip is
-//! the model of [`crate::align::tip_offset`] (the distal bone extended by an anatomical
-//! ratio), the same point `alignment.point: "tip"` aligns.
+//! `x_k(q)` are avatar points by forward kinematics relative to the hand joint. Features
+//! (diagonal `W`, [`RetargetOptions`]):
 //!
-//! Fingers do not share parameters or features, so `J'WJ + d2R` is block diagonal: the
-//! whole-hand Gauss-Newton step is exactly five independent 4-parameter steps, and each
-//! finger is solved by [`crate::solve::least_squares`] on its own (reported iterations: the
-//! most any finger needed, what a whole-hand solve with a common stopping rule would run).
-//! Each starts from the previous frame's solution or from this frame's analytic solution
-//! (clamped to the limits), whichever fits better. The Jacobian is analytic: a base angle
-//! turns everything distal about [`Basis::turn_axes`], a hinge about its world axis, i.e.
-//! `d/dphi (I + phi skew(k)) R0 = skew(k) R0`.
+//! * the five fingertips, targets `t = s p_tip` (`p` the user's landmarks relative to the
+//!   wrist), thumb and index weighted double for pinching as the seed does. The avatar
+//!   fingertip is the model of [`crate::align::tip_offset`] (the distal bone extended by an
+//!   anatomical ratio), the point `alignment.point: "tip"` aligns;
+//! * with a low weight, the two joints between base and tip, their targets hung back from
+//!   the fingertip target along the user's phalanx directions with the avatar's phalanx
+//!   lengths: the user's finger shape near the tip, at the avatar's size. (The user's own
+//!   joint positions, scaled, cannot all be reached together with the tip when the avatar's
+//!   proportions differ; chasing them made fingers jump between poses on the debug robot.)
+//! * the pinch: the thumb tip relative to the index tip, weighted up smoothly as the user's
+//!   scaled tips come within [`RetargetOptions::pinch_distance`], so a pinch closes on the
+//!   avatar even where its thumb cannot reach the absolute target (the seed's "very accurate
+//!   pinching").
+//!
+//! Regularization: the spatial term keeps the distal joint near two thirds of the proximal
+//! interphalangeal flexion (Rijpkema & Girard, "Computer animation of knowledge-based human
+//! grasping", SIGGRAPH 1991), smoothing what the features leave open; the temporal term
+//! pulls toward the previous frame's solution, weaker the faster the finger's target moves
+//! (tracking noise is smoothed, real motion followed; see
+//! [`RetargetOptions::temporal_weight`]).
+//!
+//! ## Solve
+//!
+//! Fingers share no parameters, and only thumb and index share a feature (the pinch), so
+//! `J'WJ + d2R` is block diagonal: the whole-hand Gauss-Newton step is exactly one step per
+//! block, four parameters per finger (eight for thumb and index while the pinch feature
+//! counts). Each block is solved by [`crate::solve::least_squares`] (box constraints by an
+//! active set, Cholesky and Schur-complement multipliers); the reported iterations are the
+//! most any block needed, what a whole-hand solve with a common stopping rule runs. A block
+//! starts from the previous frame's solution or from this frame's analytic solution (clamped
+//! to the limits), whichever costs less, with straight hinges nudged 2 degrees into flexion
+//! (a straight finger whose target is a little nearer is a saddle with zero gradient). The
+//! Jacobian is analytic: a base angle turns everything distal about
+//! `Basis::turn_axes`, a hinge about its world axis, `d/dphi (I + phi skew(k)) R0 =
+//! skew(k) R0`.
 //!
 //! ## Scale
 //!
-//! Both ways compare hand *lengths* (wrist to the tip of the longest finger, the
+//! Both ways compare hand *lengths* (wrist to the tip of the middle finger, the
 //! anthropometric hand size), which decide whether the avatar's fingers can reach the scaled
 //! targets:
 //!
@@ -56,15 +78,18 @@
 //!   bounding boxes along the palm's forward axis (the avatar's box from its rest hand
 //!   including fingertips). The box's width is left out: it measures finger spread and where
 //!   the thumb rests, which differ between a user's open hand and an avatar's rest pose (the
-//!   debug robot's thumb splays at 45 degrees: its box diagonal would scale the user's hand
-//!   12% past its fingers' reach). Refused when the fingers are not straight (see
-//!   [`OPEN_HAND_STRAIGHTNESS`]).
+//!   debug robot's thumb splays at 45 degrees: its box diagonal scaled the user's hand 12%
+//!   past its fingers' reach: median fingertip error 9.9 mm instead of 2.5 mm on the shared
+//!   video). Refused when
+//!   the fingers are not straight (see [`OPEN_HAND_STRAIGHTNESS`]).
 //! * **Automatic** (no calibration): from lengths that do not change with the pose: the
 //!   wrist-to-knuckle palm length plus the three phalanx lengths of the middle finger
 //!   (wrist to fingertip along the ray; all rays summed if the avatar lacks a complete middle
-//!   finger), averaged over frames ([`SCALE_FRAMES`]). Palm lengths alone would match palms,
-//!   not hands: an avatar whose palm is long for its fingers (the debug robot: 12.5 cm palm,
-//!   8.4 cm fingers) would get the user's fingers scaled out of its reach.
+//!   finger), times [`OPEN_EXTENT`] (a path is longer than the open hand's straight extent
+//!   the calibration measures), averaged over frames ([`SCALE_FRAMES`]). Palm lengths alone
+//!   would match palms, not hands: an avatar whose palm is long for its fingers (the debug
+//!   robot: 12.5 cm palm, 8.4 cm fingers) would get the user's fingers scaled out of its
+//!   reach (scale 1.31 instead of 1.05, median fingertip error 18 mm on the shared video).
 
 use glam::{Mat3, Quat, Vec3};
 
@@ -108,7 +133,8 @@ pub struct RetargetOptions {
     /// The target move (m per frame) at which the temporal weight has halved. Default 3 mm
     /// (MediaPipe's fingertip noise is about 1 mm a frame, finger motion several).
     pub temporal_speed: f32,
-    /// Gauss-Newton stopping rule.
+    /// Gauss-Newton stopping rule. Default: at most 50 iterations, done when a step is
+    /// under `1e-4` rad (a fingertip moves less than 10 micrometers).
     pub settings: Settings,
 }
 
@@ -124,16 +150,16 @@ impl Default for RetargetOptions {
             temporal_speed: 3e-3,
             settings: Settings {
                 max_iterations: 50,
-                step_tolerance: 1e-5,
+                step_tolerance: 1e-4,
             },
         }
     }
 }
 
 impl RetargetOptions {
-    /// Whether every weight is finite and non-negative, the temporal weight and both
-    /// distances positive (the temporal term keeps the Gauss-Newton model positive definite)
-    /// and at least one iteration allowed.
+    /// Whether every weight is finite and non-negative, the temporal weight, the temporal
+    /// speed and the pinch distance positive (the temporal term keeps the Gauss-Newton model
+    /// positive definite) and at least one iteration allowed.
     #[must_use]
     pub fn is_valid(&self) -> bool {
         let finite = |v: &f32| v.is_finite() && *v >= 0.0;
@@ -349,17 +375,13 @@ impl FingerModel {
         }
     }
 
-    /// Forward kinematics and its Jacobian (tangent-space rotation derivatives).
-    fn pose(&self, q: &[f32; 4]) -> Posed {
+    /// Forward kinematics and, with `jacobian`, its derivatives (tangent-space rotation
+    /// derivatives; zero otherwise).
+    fn pose(&self, q: &[f32; 4], jacobian: bool) -> Posed {
         let (lon, colat) = self.spherical(q);
         let frame = self.basis.frame(self.kind, lon, colat);
         let r0 =
             Mat3::from_cols(frame.dir, frame.hinge, frame.dir.cross(frame.hinge)) * self.rest_inv;
-        let (turn_lon, turn_colat) = self.basis.turn_axes(lon);
-        let base_axes = match self.kind {
-            Kind::Finger => [-turn_colat, turn_lon],
-            Kind::Thumb => [turn_colat, turn_lon],
-        };
         let mut posed = Posed {
             points: [self.base; 4],
             jacobian: [[Vec3::ZERO; 4]; 4],
@@ -382,6 +404,14 @@ impl FingerModel {
             posed.points[l.slot] = pos;
         }
         posed.points[3] = pos + rot * self.tip;
+        if !jacobian {
+            return posed;
+        }
+        let (turn_lon, turn_colat) = self.basis.turn_axes(lon);
+        let base_axes = match self.kind {
+            Kind::Finger => [-turn_colat, turn_lon],
+            Kind::Thumb => [turn_colat, turn_lon],
+        };
         let first_slot = self.links[0].slot;
         for s in first_slot + 1..4 {
             if s < 3 && !self.links[..self.count].iter().any(|l| l.slot == s) {
@@ -458,34 +488,49 @@ struct FingerProblem<'a> {
 }
 
 impl FingerProblem<'_> {
-    /// Adds this finger's terms at `q[offset..offset + 4]` into `m`; returns the cost, the
-    /// posed fingertip and its Jacobian.
+    /// The cost of this finger's terms at `q[offset..offset + 4]`, and with `model` their
+    /// Gauss-Newton model added into it; also the posed fingertip and its Jacobian (zero
+    /// without `model`).
     fn accumulate<const N: usize>(
         &self,
         q: &[f32; N],
         offset: usize,
-        m: &mut Model<N>,
+        mut model: Option<&mut Model<N>>,
     ) -> (f32, Vec3, [Vec3; 4]) {
         let own: [f32; 4] = core::array::from_fn(|k| q[offset + k]);
-        let posed = self.model.pose(&own);
+        let posed = self.model.pose(&own, model.is_some());
         let mut cost = 0.0;
         let mut columns = [Vec3::ZERO; N];
         for s in 1..4 {
             if self.weights[s] > 0.0 {
-                columns[offset..offset + 4].copy_from_slice(&posed.jacobian[s]);
-                cost += m.add_point(self.weights[s], posed.points[s] - self.targets[s], &columns);
+                let e = posed.points[s] - self.targets[s];
+                cost += match model.as_deref_mut() {
+                    Some(m) => {
+                        columns[offset..offset + 4].copy_from_slice(&posed.jacobian[s]);
+                        m.add_point(self.weights[s], e, &columns)
+                    }
+                    None => 0.5 * self.weights[s] * e.length_squared(),
+                };
             }
         }
-        let mut row = [0.0; N];
         if self.model.kind == Kind::Finger {
-            row[offset + 2] = -DIP_PER_PIP;
-            row[offset + 3] = 1.0;
-            cost += m.add_scalar(self.spatial, own[3] - DIP_PER_PIP * own[2], &row);
+            let e = own[3] - DIP_PER_PIP * own[2];
+            cost += match model.as_deref_mut() {
+                Some(m) => {
+                    let mut row = [0.0; N];
+                    row[offset + 2] = -DIP_PER_PIP;
+                    row[offset + 3] = 1.0;
+                    m.add_scalar(self.spatial, e, &row)
+                }
+                None => 0.5 * self.spatial * e * e,
+            };
         }
-        for k in 0..4 {
-            row = [0.0; N];
-            row[offset + k] = 1.0;
-            cost += m.add_scalar(self.temporal, own[k] - self.previous[k], &row);
+        for (k, (q, previous)) in own.iter().zip(self.previous).enumerate() {
+            let e = q - previous;
+            cost += match model.as_deref_mut() {
+                Some(m) => m.add_coordinate(self.temporal, offset + k, e),
+                None => 0.5 * self.temporal * e * e,
+            };
         }
         (cost, posed.points[3], posed.jacobian[3])
     }
@@ -493,8 +538,7 @@ impl FingerProblem<'_> {
 
 impl Objective<4> for FingerProblem<'_> {
     fn evaluate(&mut self, q: &[f32; 4], model: Option<&mut Model<4>>) -> f32 {
-        let mut scratch = Model::default();
-        self.accumulate(q, 0, model.unwrap_or(&mut scratch)).0
+        self.accumulate(q, 0, model).0
     }
 }
 
@@ -509,14 +553,19 @@ struct PinchProblem<'a, 'b> {
 }
 
 impl Objective<8> for PinchProblem<'_, '_> {
-    fn evaluate(&mut self, q: &[f32; 8], model: Option<&mut Model<8>>) -> f32 {
-        let mut scratch = Model::default();
-        let m = model.unwrap_or(&mut scratch);
-        let (c_thumb, thumb, j_thumb) = self.thumb.accumulate(q, 0, m);
-        let (c_index, index, j_index) = self.index.accumulate(q, 4, m);
-        let columns: [Vec3; 8] =
-            core::array::from_fn(|k| if k < 4 { j_thumb[k] } else { -j_index[k - 4] });
-        c_thumb + c_index + m.add_point(self.weight, thumb - index - self.target, &columns)
+    fn evaluate(&mut self, q: &[f32; 8], mut model: Option<&mut Model<8>>) -> f32 {
+        let (c_thumb, thumb, j_thumb) = self.thumb.accumulate(q, 0, model.as_deref_mut());
+        let (c_index, index, j_index) = self.index.accumulate(q, 4, model.as_deref_mut());
+        let e = thumb - index - self.target;
+        let pinch = match model {
+            Some(m) => {
+                let columns: [Vec3; 8] =
+                    core::array::from_fn(|k| if k < 4 { j_thumb[k] } else { -j_index[k - 4] });
+                m.add_point(self.weight, e, &columns)
+            }
+            None => 0.5 * self.weight * e.length_squared(),
+        };
+        c_thumb + c_index + pinch
     }
 }
 
@@ -545,7 +594,7 @@ impl HandModel {
         let mut hi = Vec3::ZERO;
         let palm = rest.frame;
         for m in fingers.iter().flatten() {
-            let posed = m.pose(&m.rest_params());
+            let posed = m.pose(&m.rest_params(), false);
             let fi = m.finger.index();
             if fi > 0 && m.links[0].slot == 0 {
                 rays[fi - 1] = m.base.length()
@@ -804,7 +853,7 @@ pub(super) fn solve(
         let m = problem.model;
         let fi = m.finger.index();
         let q = solution[fi];
-        let posed = m.pose(&q);
+        let posed = m.pose(&q, false);
         if !(q.iter().all(|v| v.is_finite()) && posed.points[3].is_finite()) {
             continue;
         }
@@ -837,4 +886,144 @@ fn pinch_ramp(d: f32, full: f32) -> f32 {
 /// of the retargeting model's fingers as posed by the 15 finger locals of one side.
 pub(super) fn measure(model: &HandModel, local: &[Quat; 15]) -> [Option<[f32; 4]>; 5] {
     model.fingers.map(|m| m.map(|m| m.measure(local)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bones::HumanBone as B;
+    use crate::skeleton::VrmVersion;
+
+    /// A T-pose body (VRM 1.0 frame) with a right hand whose fingers rest spread and bent
+    /// (from 3 to 11 degrees a joint) in their anatomical planes, and a thumb forward and
+    /// palmar.
+    fn skeleton() -> Skeleton {
+        let mut bones = vec![
+            (B::Hips, Vec3::new(0.0, 1.0, 0.0)),
+            (B::Spine, Vec3::new(0.0, 1.1, 0.0)),
+            (B::Head, Vec3::new(0.0, 1.6, 0.0)),
+            (B::LeftUpperLeg, Vec3::new(0.1, 0.9, 0.0)),
+            (B::LeftLowerLeg, Vec3::new(0.1, 0.5, 0.0)),
+            (B::LeftFoot, Vec3::new(0.1, 0.1, 0.0)),
+            (B::RightUpperLeg, Vec3::new(-0.1, 0.9, 0.0)),
+            (B::RightLowerLeg, Vec3::new(-0.1, 0.5, 0.0)),
+            (B::RightFoot, Vec3::new(-0.1, 0.1, 0.0)),
+            (B::LeftUpperArm, Vec3::new(0.2, 1.4, 0.0)),
+            (B::LeftLowerArm, Vec3::new(0.45, 1.4, 0.0)),
+            (B::LeftHand, Vec3::new(0.7, 1.4, 0.0)),
+            (B::RightUpperArm, Vec3::new(-0.2, 1.4, 0.0)),
+            (B::RightLowerArm, Vec3::new(-0.45, 1.4, 0.0)),
+        ];
+        let hand = Vec3::new(-0.7, 1.4, 0.0);
+        bones.push((B::RightHand, hand));
+        let side = Side::Right;
+        for (f, z, bend) in [
+            (Finger::Index, 0.025_f32, 0.05_f32),
+            (Finger::Middle, 0.0, 0.1),
+            (Finger::Ring, -0.02, 0.15),
+            (Finger::Little, -0.038, 0.2),
+        ] {
+            let mut p = hand + Vec3::new(-0.09, 0.0, z);
+            let mut d = Vec3::new(-1.0, 0.0, 0.1 * z / 0.025).normalize();
+            for (bone, len) in side.finger(f).into_iter().zip([0.045, 0.027, 0.0]) {
+                bones.push((bone, p));
+                // Bent in the finger's vertical plane (palm down: toward -Y).
+                d = (Quat::from_axis_angle(Vec3::Y.cross(d).normalize(), bend) * d).normalize();
+                p += d * len;
+            }
+        }
+        let t = Vec3::new(-0.6, -0.4, 0.6).normalize();
+        let t0 = hand + Vec3::new(-0.02, -0.01, 0.02);
+        for (bone, k) in side
+            .finger(Finger::Thumb)
+            .into_iter()
+            .zip([0.0, 0.04, 0.07])
+        {
+            bones.push((bone, t0 + t * k));
+        }
+        Skeleton::new(&bones, VrmVersion::V1).unwrap()
+    }
+
+    fn model() -> HandModel {
+        let skel = skeleton();
+        let rest = super::super::side_rest(&skel, Side::Right).unwrap();
+        HandModel::new(&skel, Side::Right, &rest).unwrap()
+    }
+
+    /// Parameter sets inside the limits for every finger.
+    fn samples(m: &FingerModel) -> [[f32; 4]; 4] {
+        let at =
+            |t: [f32; 4]| core::array::from_fn(|k| m.lower[k] + t[k] * (m.upper[k] - m.lower[k]));
+        [
+            at([0.3, 0.5, 0.2, 0.4]),
+            at([0.7, 0.2, 0.6, 0.5]),
+            at([0.5, 0.8, 0.9, 0.1]),
+            at([0.15, 0.4, 0.05, 0.3]),
+        ]
+    }
+
+    #[test]
+    fn jacobian_matches_finite_differences() {
+        let model = model();
+        for m in model.fingers.iter().flatten() {
+            for q in samples(m) {
+                let posed = m.pose(&q, true);
+                for k in 0..4 {
+                    let h = 1e-3;
+                    let (mut up, mut down) = (q, q);
+                    up[k] += h;
+                    down[k] -= h;
+                    let (a, b) = (m.pose(&up, false), m.pose(&down, false));
+                    for s in 1..4 {
+                        let fd = (a.points[s] - b.points[s]) / (2.0 * h);
+                        let e = (fd - posed.jacobian[s][k]).length();
+                        assert!(e < 2e-4, "{:?} point {s} param {k}: {e}", m.finger);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn measuring_a_posed_finger_gives_back_its_parameters() {
+        let model = model();
+        for m in model.fingers.iter().flatten() {
+            for q in samples(m) {
+                let mut local = [Quat::IDENTITY; 15];
+                m.write(&m.pose(&q, false), &mut local);
+                let got = m.measure(&local);
+                for k in 0..4 {
+                    assert!(
+                        (got[k] - q[k]).abs() < 1e-4,
+                        "{:?} param {k}: {} vs {}",
+                        m.finger,
+                        got[k],
+                        q[k]
+                    );
+                }
+            }
+            // The rest parameters pose the rest finger. (A rest finger bent out of its
+            // anatomical plane would come back turned about its base direction: the
+            // twist-free base rotation takes its rest hinge to the anatomical one.)
+            let posed = m.pose(&m.rest_params(), false);
+            let mut joint = m.base;
+            for l in &m.links[1..m.count] {
+                joint += l.offset;
+                let e = (posed.points[l.slot] - joint).length();
+                assert!(e < 1e-5, "{:?} joint {}: {e}", m.finger, l.slot);
+            }
+            let e = (posed.points[3] - joint - m.tip).length();
+            assert!(e < 1e-5, "{:?} tip: {e}", m.finger);
+        }
+    }
+
+    #[test]
+    fn pinch_ramp_is_smooth_and_bounded() {
+        assert_eq!(pinch_ramp(0.0, 0.04), 1.0);
+        assert_eq!(pinch_ramp(0.02, 0.04), 1.0);
+        assert_eq!(pinch_ramp(0.04, 0.04), 0.0);
+        assert_eq!(pinch_ramp(1.0, 0.04), 0.0);
+        let mid = pinch_ramp(0.03, 0.04);
+        assert!((mid - 0.5).abs() < 1e-6, "{mid}");
+    }
 }

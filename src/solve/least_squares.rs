@@ -87,6 +87,15 @@ impl<const N: usize> Model<N> {
         0.5 * weight * e.length_squared()
     }
 
+    /// Adds a weighted residual `e = x[index] - constant` (derivative 1 in coordinate
+    /// `index`, 0 elsewhere: a prior or temporal term); returns its cost `1/2 w e^2`.
+    pub fn add_coordinate(&mut self, weight: f32, index: usize, e: f32) -> f32 {
+        let w = f64::from(weight);
+        self.hessian[index][index] += w;
+        self.gradient[index] += w * f64::from(e);
+        0.5 * weight * e * e
+    }
+
     /// Adds a weighted scalar residual `e` with derivative `row` (`de/dx`); returns its
     /// cost `1/2 w e^2`.
     pub fn add_scalar(&mut self, weight: f32, e: f32, row: &[f32; N]) -> f32 {
