@@ -163,7 +163,7 @@ const ARMIJO: f64 = 1e-4;
 
 /// Minimizes `objective` over the box `lower..=upper` from `x` (moved into the box first),
 /// leaving the result in `x`. Bounds must satisfy `lower <= upper` (a pair violating it is
-/// treated as fixed at `lower`). Allocates nothing; never panics.
+/// treated as fixed at `lower`); infinite bounds are no bounds. Allocates nothing; never panics.
 pub fn minimize<const N: usize, O: Objective<N>>(
     objective: &mut O,
     x: &mut [f32; N],
@@ -240,7 +240,7 @@ enum Bound {
 
 /// Solves the strictly convex box-constrained QP
 /// `minimize 1/2 s'Hs + g's subject to lower <= s <= upper` (`lower <= 0 <= upper`, so `s = 0`
-/// is feasible) by the active-set method with Cholesky and Schur-complement multipliers
+/// is feasible; infinite bounds are no bounds) by the active-set method with Cholesky and Schur-complement multipliers
 /// described in the module docs. `None` when `H` is not numerically positive definite or the
 /// input is not finite.
 #[must_use]
@@ -254,7 +254,7 @@ pub fn box_qp<const N: usize>(
     if !cholesky(&mut l, N) {
         return None;
     }
-    if !g.iter().chain(lower).chain(upper).all(|v| v.is_finite()) {
+    if !g.iter().all(|v| v.is_finite()) || lower.iter().chain(upper).any(|v| v.is_nan()) {
         return None;
     }
     // Start at s = 0 with the bounds that are active there and that the gradient pushes
