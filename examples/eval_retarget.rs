@@ -30,6 +30,8 @@
 
 #[path = "../tests/support/recordings.rs"]
 mod recordings;
+#[path = "../tests/support/stats.rs"]
+mod stats;
 
 use std::time::Instant;
 
@@ -39,6 +41,7 @@ use handrig::hand::{HandSolver, HandStrategy, RetargetOptions, LIMITS};
 use handrig::mediapipe::{CameraMapping, HAND_LANDMARKS};
 use handrig::{Finger, Side, Skeleton, WorldPose, BONE_COUNT};
 use serde_json::{json, Value};
+use stats::{percentile, sorted};
 
 type Landmarks = [Vec3; HAND_LANDMARKS];
 
@@ -46,20 +49,6 @@ type Landmarks = [Vec3; HAND_LANDMARKS];
 const LIMIT_SLACK: f32 = 1e-3;
 /// Pinch frames: scaled user thumb-index distance under this, meters.
 const PINCH: f32 = 0.02;
-
-fn percentile(sorted: &[f32], p: f32) -> f32 {
-    if sorted.is_empty() {
-        return f32::NAN;
-    }
-    let rank = p / 100.0 * (sorted.len() - 1) as f32;
-    let (lo, hi) = (rank.floor() as usize, rank.ceil() as usize);
-    sorted[lo] + (sorted[hi] - sorted[lo]) * (rank - lo as f32)
-}
-
-fn sorted(mut v: Vec<f32>) -> Vec<f32> {
-    v.sort_by(f32::total_cmp);
-    v
-}
 
 /// The subject's right hand of each frame, in the avatar frame (the rig's default mapping).
 fn recordings() -> Vec<(&'static str, Vec<Option<Landmarks>>)> {
