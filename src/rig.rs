@@ -273,7 +273,7 @@ impl Rig {
                 score: h.score,
             });
             if hand_rotation.is_some() {
-                for b in Finger::ALL
+                for b in crate::bones::Finger::ALL
                     .iter()
                     .flat_map(|f| side.finger(*f))
                     .chain([side.hand()])
