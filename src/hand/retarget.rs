@@ -253,6 +253,9 @@ struct FingerModel {
     count: usize,
     /// The fingertip relative to the distal bone's joint, in its frame.
     tip: Vec3,
+    /// The link that carries each hinge parameter (index 0: PIP / thumb MCP, 1: DIP / IP;
+    /// `None` when the avatar has no bone between, see [`FingerModel::hinge_sum`]).
+    carrier: [Option<usize>; 2],
     lower: [f32; 4],
     upper: [f32; 4],
 }
@@ -262,8 +265,6 @@ struct FingerModel {
 struct Posed {
     points: [Vec3; 4],
     jacobian: [[Vec3; 4]; 4],
-    /// Local rotations of the links (link order).
-    local: [Mat3; 3],
 }
 
 impl FingerModel {
@@ -305,6 +306,9 @@ impl FingerModel {
                 beta,
             };
         }
+        let carrier = core::array::from_fn(|h| {
+            (1..fr.count).find(|&i| links[i - 1].slot <= h && h < links[i].slot)
+        });
         let lims = LIMITS[finger.index()];
         let lower = core::array::from_fn(|k| lims[k].radians().0);
         let upper = core::array::from_fn(|k| lims[k].radians().1);
@@ -318,6 +322,7 @@ impl FingerModel {
             links,
             count: fr.count,
             tip,
+            carrier,
             lower,
             upper,
         })
@@ -375,32 +380,32 @@ impl FingerModel {
         }
     }
 
+    /// The twist-free base rotation for the base parameters (`lon`, `colat`).
+    #[inline]
+    fn base_rotation(&self, lon: f32, colat: f32) -> Mat3 {
+        let frame = self.basis.frame(self.kind, lon, colat);
+        Mat3::from_cols(frame.dir, frame.hinge, frame.dir.cross(frame.hinge)) * self.rest_inv
+    }
+
     /// Forward kinematics and, with `jacobian`, its derivatives (tangent-space rotation
     /// derivatives; zero otherwise).
     fn pose(&self, q: &[f32; 4], jacobian: bool) -> Posed {
         let (lon, colat) = self.spherical(q);
-        let frame = self.basis.frame(self.kind, lon, colat);
-        let r0 =
-            Mat3::from_cols(frame.dir, frame.hinge, frame.dir.cross(frame.hinge)) * self.rest_inv;
+        let mut rot = self.base_rotation(lon, colat);
         let mut posed = Posed {
             points: [self.base; 4],
             jacobian: [[Vec3::ZERO; 4]; 4],
-            local: [r0, Mat3::IDENTITY, Mat3::IDENTITY],
         };
         // Per link: its joint (the pivot) and its world hinge axis.
         let mut pivot = [self.base; 3];
         let mut axis = [Vec3::ZERO; 3];
-        let mut rot = r0;
         let mut pos = self.base;
         for i in 1..self.count {
             let l = &self.links[i];
             pos += rot * l.offset;
             axis[i] = rot * l.hinge;
             pivot[i] = pos;
-            let theta = self.hinge_sum(q, i) - l.beta;
-            let local = Mat3::from_axis_angle(l.hinge, theta);
-            posed.local[i] = local;
-            rot *= local;
+            rot *= Mat3::from_axis_angle(l.hinge, self.hinge_sum(q, i) - l.beta);
             posed.points[l.slot] = pos;
         }
         posed.points[3] = pos + rot * self.tip;
@@ -412,22 +417,16 @@ impl FingerModel {
             Kind::Finger => [-turn_colat, turn_lon],
             Kind::Thumb => [turn_colat, turn_lon],
         };
-        let first_slot = self.links[0].slot;
-        for s in first_slot + 1..4 {
-            if s < 3 && !self.links[..self.count].iter().any(|l| l.slot == s) {
-                continue;
-            }
+        for s in self.links[0].slot + 1..4 {
             let p = posed.points[s];
-            posed.jacobian[s][0] = base_axes[0].cross(p - self.base);
-            posed.jacobian[s][1] = base_axes[1].cross(p - self.base);
-            for i in 1..self.count {
-                let l = &self.links[i];
-                if s <= l.slot {
-                    continue;
-                }
-                let col = axis[i].cross(p - pivot[i]);
-                for k in self.links[i - 1].slot + 1..=l.slot {
-                    posed.jacobian[s][1 + k] = col;
+            let column = &mut posed.jacobian[s];
+            column[0] = base_axes[0].cross(p - self.base);
+            column[1] = base_axes[1].cross(p - self.base);
+            for (h, carrier) in self.carrier.iter().enumerate() {
+                if let Some(i) = *carrier {
+                    if s > self.links[i].slot {
+                        column[2 + h] = axis[i].cross(p - pivot[i]);
+                    }
                 }
             }
         }
@@ -443,11 +442,16 @@ impl FingerModel {
             .sum()
     }
 
-    /// Writes the links' local rotations into `out` (15 finger locals, `finger * 3 + slot`).
-    fn write(&self, posed: &Posed, out: &mut [Quat; 15]) {
+    /// Writes the links' local rotations at `q` into `out` (15 finger locals,
+    /// `finger * 3 + slot`).
+    fn write(&self, q: &[f32; 4], out: &mut [Quat; 15]) {
         let fi = self.finger.index();
-        for (l, m) in self.links[..self.count].iter().zip(posed.local) {
-            out[fi * 3 + l.slot] = Quat::from_mat3(&m).normalize();
+        let (lon, colat) = self.spherical(q);
+        let base = Quat::from_mat3(&self.base_rotation(lon, colat)).normalize();
+        out[fi * 3 + self.links[0].slot] = base;
+        for i in 1..self.count {
+            let l = &self.links[i];
+            out[fi * 3 + l.slot] = Quat::from_axis_angle(l.hinge, self.hinge_sum(q, i) - l.beta);
         }
     }
 
@@ -857,7 +861,7 @@ pub(super) fn solve(
         if !(q.iter().all(|v| v.is_finite()) && posed.points[3].is_finite()) {
             continue;
         }
-        m.write(&posed, out);
+        m.write(&q, out);
         previous[fi] = q;
         state.previous_targets[fi] = problem.targets[3];
         report.targets[fi] = Some(problem.targets[3]);
@@ -990,7 +994,7 @@ mod tests {
         for m in model.fingers.iter().flatten() {
             for q in samples(m) {
                 let mut local = [Quat::IDENTITY; 15];
-                m.write(&m.pose(&q, false), &mut local);
+                m.write(&q, &mut local);
                 let got = m.measure(&local);
                 for k in 0..4 {
                     assert!(
