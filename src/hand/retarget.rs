@@ -738,7 +738,8 @@ impl SideState {
 /// Retargets one hand. `p`: the tracked landmarks in the hand frame relative to the wrist
 /// (the analytic solver's palm rotation undone), already given to [`SideState::observe`];
 /// `analytic`: the analytic solve of this frame (its angles are a first guess). Overwrites
-/// the retargeted fingers' locals in `out` (the others keep the analytic rotations).
+/// the retargeted fingers' locals in `out` (the others keep the analytic rotations) and
+/// leaves the report in `state`.
 /// Allocates nothing; a finger whose solve is not finite keeps its analytic rotations.
 pub(super) fn solve(
     model: &HandModel,
@@ -747,7 +748,7 @@ pub(super) fn solve(
     p: &[Vec3; HAND_LANDMARKS],
     analytic: &HandReport,
     out: &mut [Quat; 15],
-) -> RetargetReport {
+) {
     let scale = state.scale().unwrap_or(1.0);
     let mut problems = model.fingers.each_ref().map(|m| {
         m.as_ref().map(|m| FingerProblem {
@@ -876,7 +877,6 @@ pub(super) fn solve(
     };
     state.previous = Some(previous);
     state.report = Some(report);
-    report
 }
 
 /// Weight of the pinch feature as a fraction of its full weight, for the user's scaled
