@@ -18,6 +18,8 @@
 
 #[path = "../tests/support/recordings.rs"]
 mod recordings;
+#[path = "../tests/support/stats.rs"]
+mod stats;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -27,6 +29,7 @@ use handrig::hand::{palm_frame, Dof, HandSolver, HandStrategy, DOF_COUNT};
 use handrig::mediapipe::{CameraMapping, HAND_LANDMARKS};
 use handrig::{Finger, HumanBone, Side, Skeleton, VrmVersion, WorldPose, BONE_COUNT};
 use serde_json::{json, Value};
+use stats::percentile;
 
 type Landmarks = [Vec3; HAND_LANDMARKS];
 
@@ -195,15 +198,6 @@ fn mp_segment(
 
 fn angle_deg(a: Vec3, b: Vec3) -> f32 {
     a.dot(b).clamp(-1.0, 1.0).acos().to_degrees()
-}
-
-fn percentile(sorted: &[f32], p: f32) -> f32 {
-    if sorted.is_empty() {
-        return f32::NAN;
-    }
-    let rank = p / 100.0 * (sorted.len() - 1) as f32;
-    let (lo, hi) = (rank.floor() as usize, rank.ceil() as usize);
-    sorted[lo] + (sorted[hi] - sorted[lo]) * (rank - lo as f32)
 }
 
 #[derive(Default)]

@@ -141,9 +141,35 @@ pub fn avatar_offset(
         AlignPoint::Dip => Some(dip),
         AlignPoint::Tip => {
             let rot = distal_world_rotation(skeleton, side.hand(), hand_rotation, distal, local);
-            Some(dip + rot * (skeleton.rest_local(distal) * TIP_RATIO[options.finger.index()]))
+            Some(dip + rot * tip_offset(skeleton, side, options.finger)?)
         }
     }
+}
+
+/// The avatar's fingertip model ([`AlignPoint::Tip`]): the tip relative to the distal bone's
+/// joint, in the distal bone's normalized frame (so a posed tip is `distal position + distal
+/// world rotation * offset`): the distal bone's rest offset from its parent (the previous
+/// segment) times [`TIP_RATIO`]. VRM has no tip bones. `None` when the avatar lacks the
+/// finger's distal bone.
+#[must_use]
+pub fn tip_offset(skeleton: &Skeleton, side: Side, finger: Finger) -> Option<Vec3> {
+    let distal = side.finger(finger)[2];
+    skeleton
+        .has(distal)
+        .then(|| skeleton.rest_local(distal) * TIP_RATIO[finger.index()])
+}
+
+/// World position of the avatar's fingertip ([`tip_offset`]) in a posed avatar `world`
+/// (forward kinematics of the current rotations). `None` when the avatar lacks the distal bone.
+#[must_use]
+pub fn fingertip(
+    skeleton: &Skeleton,
+    world: &WorldPose,
+    side: Side,
+    finger: Finger,
+) -> Option<Vec3> {
+    let distal = side.finger(finger)[2].index();
+    Some(world.position[distal] + world.rotation[distal] * tip_offset(skeleton, side, finger)?)
 }
 
 fn distal_world_rotation(

@@ -31,6 +31,7 @@
 //! * [`kinematics`]: serial chains with fixed bone lengths and joint limits (hinge, cone).
 //! * [`ik`]: arm IK solvers (two-bone, FABRIK, CCD) and the standalone [`ik::ChainSolver`].
 //! * [`filter`]: One Euro smoothing and easing over tracking loss.
+//! * [`solve`]: small allocation-free numerical solvers (box-constrained Gauss-Newton).
 //! * [`rig`]: the per-frame pipeline tying them together ([`Rig`]).
 //! * [`flat`]: the flat `f32` frame layout of the typed-array path (input and output).
 //! * `wasm` (wasm32 only): the raw JavaScript bindings over [`flat`].
@@ -49,6 +50,7 @@ pub mod kinematics;
 pub mod mediapipe;
 pub mod rig;
 pub mod skeleton;
+pub mod solve;
 pub mod vrm;
 
 #[cfg(target_arch = "wasm32")]

@@ -17,7 +17,8 @@
 //!    the arm solver ([`crate::ik`]);
 //! 6. **ease** ([`Rig::ease`]): groups whose tracking was lost hold, then ease to rest;
 //!    returning ones blend in ([`crate::filter::dropout`]); rotations keep their hemisphere;
-//! 7. **report**: forward kinematics of the whole avatar.
+//! 7. **report** ([`Rig::report`]): forward kinematics of the whole avatar, its fingertips,
+//!    the retargeting reports.
 //!
 //! [`Rig::reset`] clears the history of every stage.
 
@@ -26,10 +27,11 @@ use serde::Deserialize;
 
 use crate::align::{self, AlignmentOptions, AlignmentReport};
 use crate::body::{BodyMapper, CalibrationOptions};
+use crate::bones::Finger;
 use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::Result;
 use crate::filter::{Clock, DropoutOptions, FilterOptions, OneEuroQuat, PointFilters, Presence};
-use crate::hand::{HandSolver, HandStatus, HandStrategy};
+use crate::hand::{HandSolver, HandStatus, HandStrategy, RetargetReport};
 use crate::ik::{ArmOptions, ArmSolver, ArmSolverState};
 use crate::mediapipe::{
     hand_landmark, pose_landmark, CameraMapping, FrameInput, PoseObservation, HAND_LANDMARKS,
@@ -171,6 +173,15 @@ pub struct SolveOutput {
     pub alignment: [Option<AlignmentReport>; 2],
     /// The tracked hand that drove each side this frame, if any.
     pub hands: [Option<TrackedHand>; 2],
+    /// The avatar's fingertips per side (`[left, right]`), thumb to little, world positions
+    /// in the internal frame, every strategy: the distal bone extended by the anatomical
+    /// ratio of [`crate::align::tip_offset`] (the point `alignment.point: "tip"` aligns).
+    /// `None` where the avatar lacks that finger's distal bone.
+    pub fingertips: [[Option<Vec3>; 5]; 2],
+    /// What `handStrategy: "retarget"` did per side this frame (`None` for other strategies
+    /// and for sides not freshly solved); targets are world positions in the internal frame,
+    /// like [`SolveOutput::fingertips`].
+    pub retarget: [Option<RetargetReport>; 2],
     /// What became of each input hand (in the frame's order; `Unused` past its count).
     pub hand_use: [HandUse; MAX_HANDS],
 }
@@ -216,6 +227,8 @@ impl Default for SolveOutput {
             alignment: [None, None],
             hands: [None, None],
             hand_use: [HandUse::Unused; MAX_HANDS],
+            fingertips: [[None; 5]; 2],
+            retarget: [None, None],
         }
     }
 }
@@ -394,6 +407,16 @@ impl Rig {
         self.body.reset();
     }
 
+    /// Calibrates the hand scale of `handStrategy: "retarget"` (avatar hand over user hand)
+    /// on each side from the last hand solved there, which should be an open, flat hand
+    /// (the seed's bounding-box scale; see [`crate::hand::retarget`]). Until then, or after
+    /// a refused calibration, the scale comes from the hand's stable lengths. Returns the new
+    /// scale per side (`[left, right]`), `None` where nothing changed (no hand solved yet,
+    /// fingers not straight, or no retargetable fingers). Any strategy may calibrate.
+    pub fn calibrate_hand_scale(&mut self) -> [Option<f32>; 2] {
+        Side::BOTH.map(|side| self.hands.calibrate_hand_scale(side))
+    }
+
     /// Solves one frame into `out` (internal frame; see [`Rig::export_rotation`] and
     /// [`Rig::export_position`] for the model frame). Allocates nothing.
     ///
@@ -413,6 +436,7 @@ impl Rig {
         out.alignment = [None, None];
         out.hands = [None, None];
         out.hand_use = [HandUse::Unused; MAX_HANDS];
+        out.retarget = [None, None];
         // Everything not solved this frame goes back to rest (then the easing stage decides).
         out.local = [Quat::IDENTITY; BONE_COUNT];
 
@@ -424,8 +448,30 @@ impl Rig {
             self.reach_target(side, hand_rotation, source, out);
         }
         self.ease(frame.time_ms, out);
-        self.skeleton.forward(&out.local, &mut out.world);
+        self.report(out);
         Ok(())
+    }
+
+    /// Stage 7: forward kinematics of what is shown, the avatar's fingertips, and the
+    /// retargeting reports placed on the avatar.
+    fn report(&self, out: &mut SolveOutput) {
+        self.skeleton.forward(&out.local, &mut out.world);
+        for side in Side::BOTH {
+            let s = side.index();
+            for finger in Finger::ALL {
+                out.fingertips[s][finger.index()] =
+                    align::fingertip(&self.skeleton, &out.world, side, finger);
+            }
+            let fresh = out.hands[s].is_some_and(|h| h.status == HandStatus::Solved);
+            if let (true, Some(report)) = (fresh, self.hands.retarget_report(side)) {
+                let hand = side.hand().index();
+                let (p, q) = (out.world.position[hand], out.world.rotation[hand]);
+                out.retarget[s] = Some(RetargetReport {
+                    targets: report.targets.map(|t| t.map(|t| p + q * t)),
+                    ..*report
+                });
+            }
+        }
     }
 
     /// Stage 1: which tracked hand drives each side (`[left, right]`), recording what became
@@ -910,10 +956,10 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
         OptionDescription {
             path: "handStrategy",
             kind: Enum {
-                values: vec!["analytic"],
+                values: vec!["analytic", "retarget"],
                 default: "analytic",
             },
-            description: "How hands are solved: analytic = palm frame + anatomically limited joint angles.",
+            description: "How hands are solved: analytic = palm frame + anatomically limited joint angles; retarget = the avatar's fingertips placed where the user's are (scaled to the avatar's hand), within the same limits.",
         },
         OptionDescription {
             path: "armSolver",

@@ -1,7 +1,7 @@
 //! `Rig::solve` must not allocate: it runs every frame inside a browser tab. A counting global
 //! allocator checks it on the real hand recording, with wrists and pose input, for every arm
-//! solver; and `ChainSolver::solve` / `solve_into` for both methods. Allocations are counted
-//! per thread, so the tests can run in parallel.
+//! solver and hand strategy, through the flat layout; and `ChainSolver::solve` / `solve_into`
+//! for both methods. Allocations are counted per thread, so the tests can run in parallel.
 // Native only: reads ../shared from disk (and uses proptest, not built for wasm32).
 #![cfg(not(target_arch = "wasm32"))]
 
@@ -13,6 +13,7 @@ use std::cell::Cell;
 
 use glam::Vec3;
 use handrig::flat;
+use handrig::hand::HandStrategy;
 use handrig::ik::{ArmSolver, ChainMethod, ChainSolver, ChainSolverOptions};
 use handrig::kinematics::JointLimit;
 use handrig::{FrameInput, HumanBone, Rig, RigOptions, SolveOutput};
@@ -67,9 +68,14 @@ fn solve_allocates_nothing_per_frame() {
         .map(|h| h.world)
         .collect();
     check_counter();
-    for solver in ArmSolver::ALL {
+    let cases = ArmSolver::ALL
+        .map(|s| (s, HandStrategy::Analytic))
+        .into_iter()
+        .chain([(ArmSolver::TwoBone, HandStrategy::Retarget)]);
+    for (solver, strategy) in cases {
         let options = RigOptions {
             arm_solver: solver,
+            hand_strategy: strategy,
             ..RigOptions::default()
         };
         let mut rig = Rig::new(recordings::vrm(recordings::ROBOT), options).unwrap();
@@ -102,13 +108,18 @@ fn solve_allocates_nothing_per_frame() {
         assert_eq!(
             after - before,
             0,
-            "Rig::solve ({solver:?}) allocated {} times over {} frames",
+            "Rig::solve ({solver:?}, {strategy:?}) allocated {} times over {} frames",
             after - before,
             hands.len()
         );
         // The frames were really solved (the count is not vacuous).
         assert!(out.solved[HumanBone::RightIndexDistal.index()]);
         assert!(out.solved[HumanBone::RightLowerArm.index()]);
+        assert_eq!(
+            out.retarget[1].is_some(),
+            strategy == HandStrategy::Retarget,
+            "{strategy:?}"
+        );
     }
 }
 

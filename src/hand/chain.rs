@@ -22,6 +22,8 @@
 
 use glam::Vec3;
 
+use crate::solve::least_squares::{minimize, Model, Objective, Settings};
+
 /// An orthonormal basis; `z` is the pole.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Basis {
@@ -87,6 +89,16 @@ impl Basis {
         (b.atan2(a), a.hypot(b).atan2(c))
     }
 
+    /// The world axes the base joint turns about when its longitude and its colatitude grow:
+    /// `(pole, east)` signed so that `d/dlon R = skew(pole) R` and `d/dcolat R = skew(east) R`
+    /// for the base rotation `R` (the whole local frame turns rigidly; the sign carries the
+    /// basis' handedness). The tangent-space derivative of seed 003, `R = (I + phi skew(k)) R0`.
+    pub fn turn_axes(&self, lon: f32) -> (Vec3, Vec3) {
+        let handed = self.x.cross(self.y).dot(self.z).signum();
+        let (sl, cl) = lon.sin_cos();
+        (handed * self.z, handed * (-sl * self.x + cl * self.y))
+    }
+
     /// The direction, flexion direction and hinge axis at `(lon, colat)`.
     pub fn frame(&self, kind: Kind, lon: f32, colat: f32) -> Frame {
         let l = self.local(lon, colat);
@@ -149,66 +161,51 @@ fn residuals(
     (r, j)
 }
 
-fn cost(r: &[f32; 5]) -> f32 {
-    r.iter().map(|x| x * x).sum()
+/// [`fit`]'s objective: the residuals of [`residuals`], unweighted.
+struct BaseFit<'a> {
+    basis: &'a Basis,
+    kind: Kind,
+    targets: &'a Targets,
+}
+
+impl Objective<2> for BaseFit<'_> {
+    fn evaluate(&mut self, x: &[f32; 2], model: Option<&mut Model<2>>) -> f32 {
+        let (r, j) = residuals(self.basis, self.kind, self.targets, x[0], x[1]);
+        match model {
+            Some(m) => r
+                .iter()
+                .zip(&j)
+                .map(|(r, j)| m.add_scalar(1.0, *r, j))
+                .sum(),
+            None => 0.5 * r.iter().map(|x| x * x).sum::<f32>(),
+        }
+    }
 }
 
 /// Least-squares base angles: the base direction and hinge plane that best explain all
 /// segments (base segment direction, hinge segments' distance from the hinge plane).
-/// Starts at the base segment's own direction; a few damped Gauss-Newton steps.
+/// Gauss-Newton ([`crate::solve::least_squares`], unbounded) from the base segment's own
+/// direction; where the data cannot fix both angles (a singular model) that start is kept.
 pub fn fit(basis: &Basis, kind: Kind, t: &Targets) -> (f32, f32) {
-    let (mut lon, mut colat) = basis.spherical(t.dir[0]);
-    let (mut r, mut j) = residuals(basis, kind, t, lon, colat);
-    let mut c = cost(&r);
-    let mut mu = 1e-4_f32;
-    for _ in 0..20 {
-        let mut a = [[0.0_f32; 2]; 2];
-        let mut g = [0.0_f32; 2];
-        for (ri, ji) in r.iter().zip(j.iter()) {
-            for p in 0..2 {
-                g[p] += ji[p] * ri;
-                for q in 0..2 {
-                    a[p][q] += ji[p] * ji[q];
-                }
-            }
-        }
-        let mut stepped = false;
-        let mut small = false;
-        while mu < 1e4 {
-            let m00 = a[0][0] * (1.0 + mu) + 1e-9;
-            let m11 = a[1][1] * (1.0 + mu) + 1e-9;
-            let det = m00 * m11 - a[0][1] * a[1][0];
-            if det.abs() < 1e-20 || !det.is_finite() {
-                mu *= 10.0;
-                continue;
-            }
-            let dl = -(m11 * g[0] - a[0][1] * g[1]) / det;
-            let dc = -(m00 * g[1] - a[1][0] * g[0]) / det;
-            if !(dl.is_finite() && dc.is_finite()) {
-                mu *= 10.0;
-                continue;
-            }
-            let (nl, nc) = (lon + dl, colat + dc);
-            let (nr, nj) = residuals(basis, kind, t, nl, nc);
-            let nc_cost = cost(&nr);
-            if nc_cost <= c {
-                lon = nl;
-                colat = nc;
-                r = nr;
-                j = nj;
-                small = dl.abs() + dc.abs() < 1e-6 || c - nc_cost < 1e-12;
-                c = nc_cost;
-                mu = (mu * 0.3).max(1e-7);
-                stepped = true;
-                break;
-            }
-            mu *= 10.0;
-        }
-        if !stepped || small {
-            break;
-        }
-    }
-    (lon, colat)
+    let (lon, colat) = basis.spherical(t.dir[0]);
+    let mut x = [lon, colat];
+    let mut objective = BaseFit {
+        basis,
+        kind,
+        targets: t,
+    };
+    let settings = Settings {
+        max_iterations: 20,
+        step_tolerance: 1e-4,
+    };
+    minimize(
+        &mut objective,
+        &mut x,
+        &[f32::NEG_INFINITY; 2],
+        &[f32::INFINITY; 2],
+        &settings,
+    );
+    (x[0], x[1])
 }
 
 /// Wraps an angle into `(-pi, pi]`.
@@ -272,6 +269,24 @@ mod tests {
                 assert!(f.dir.dot(f.flex).abs() < 1e-5);
                 let q = glam::Quat::from_axis_angle(f.hinge.normalize(), 0.5);
                 assert!((q * f.dir - bend(f.dir, f.flex, 0.5)).length() < 1e-5);
+            }
+        }
+    }
+
+    #[test]
+    fn turn_axes_are_the_frame_derivatives() {
+        let right = Basis::from_hints(Vec3::Y, Vec3::Z, Vec3::X).unwrap();
+        for b in [basis(), right] {
+            for kind in [Kind::Finger, Kind::Thumb] {
+                let (lon, colat, h) = (0.7_f32, 1.1_f32, 1e-3_f32);
+                let f = b.frame(kind, lon, colat);
+                let (pole, east) = b.turn_axes(lon);
+                let dl = b.frame(kind, lon + h, colat);
+                let dc = b.frame(kind, lon, colat + h);
+                for (v, vl, vc) in [(f.dir, dl.dir, dc.dir), (f.hinge, dl.hinge, dc.hinge)] {
+                    assert!(((vl - v) / h - pole.cross(v)).length() < 2e-3, "{kind:?}");
+                    assert!(((vc - v) / h - east.cross(v)).length() < 2e-3, "{kind:?}");
+                }
             }
         }
     }

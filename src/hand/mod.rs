@@ -60,8 +60,10 @@ use crate::skeleton::Skeleton;
 
 mod chain;
 pub mod limits;
+pub mod retarget;
 
 pub use limits::{Dof, JointRange, DOF_COUNT, LIMITS};
+pub use retarget::{RetargetOptions, RetargetReport};
 
 use chain::{bend, clamp_angle, hinge_angle, wrap, Basis, Kind, Targets};
 
@@ -73,6 +75,10 @@ pub enum HandStrategy {
     /// joint model with literature joint limits (see the module docs).
     #[default]
     Analytic,
+    /// Optimization-based retargeting (seed 003, section 3.1): the analytic solve, then
+    /// finger angles fitted so the avatar's fingertips land on the user's, scaled to the
+    /// avatar's hand, within the same joint limits (see [`retarget`]).
+    Retarget,
 }
 
 /// What the last [`HandSolver::solve`] did for one side.
@@ -227,6 +233,11 @@ struct BoneRest {
 struct FingerRest {
     bones: [Option<BoneRest>; 3],
     count: usize,
+    /// The base joint's model on the avatar's rest palm (the retargeting's joint model).
+    kind: Kind,
+    basis: Basis,
+    /// Fingers: longitude of the avatar's wrist-to-knuckle line in `basis`.
+    lon_prior: f32,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -248,9 +259,14 @@ struct Held {
 /// holding the last good solve. [`HandSolver::solve`] allocates nothing.
 #[derive(Clone, Debug)]
 pub struct HandSolver {
+    strategy: HandStrategy,
     rest: [Option<SideRest>; 2],
     held: [Option<Held>; 2],
     report: [HandReport; 2],
+    /// The retargeting's avatar hands (every strategy: [`HandSolver::avatar_angles`]).
+    models: [Option<retarget::HandModel>; 2],
+    retarget: [retarget::SideState; 2],
+    retarget_options: RetargetOptions,
 }
 
 impl HandSolver {
@@ -259,27 +275,107 @@ impl HandSolver {
     ///
     /// # Errors
     /// None currently; the `Result` leaves room for strategies that need more of the rig.
-    pub fn new(skeleton: &Skeleton, _strategy: HandStrategy) -> Result<Self> {
+    pub fn new(skeleton: &Skeleton, strategy: HandStrategy) -> Result<Self> {
+        let rest = Side::BOTH.map(|side| side_rest(skeleton, side));
+        let models = Side::BOTH.map(|side| {
+            rest[side.index()]
+                .as_ref()
+                .and_then(|r| retarget::HandModel::new(skeleton, side, r))
+        });
         Ok(HandSolver {
-            rest: [
-                side_rest(skeleton, Side::Left),
-                side_rest(skeleton, Side::Right),
-            ],
+            strategy,
+            rest,
             held: [None, None],
             report: [HandReport::default(); 2],
+            models,
+            retarget: [retarget::SideState::default(); 2],
+            retarget_options: RetargetOptions::default(),
         })
+    }
+
+    /// Sets the retargeting's weights and stopping rule.
+    ///
+    /// # Errors
+    /// Options failing [`RetargetOptions::is_valid`] (named `options.retarget`).
+    pub fn set_retarget_options(&mut self, options: RetargetOptions) -> Result<()> {
+        if !options.is_valid() {
+            return Err(crate::Error::invalid(
+                "options.retarget",
+                "weights must be finite and non-negative, the temporal weight positive",
+            ));
+        }
+        self.retarget_options = options;
+        Ok(())
+    }
+
+    /// Forgets every side's history: held rotations, reports, the retargeting's previous
+    /// solution and automatic scale (a calibrated or preset hand scale stays).
+    pub fn reset(&mut self) {
+        self.held = [None, None];
+        self.report = [HandReport::default(); 2];
+        for state in &mut self.retarget {
+            state.reset();
+        }
+    }
+
+    /// The strategy in use.
+    #[must_use]
+    pub fn strategy(&self) -> HandStrategy {
+        self.strategy
+    }
+
+    /// What the retargeting did in the last solve of `side`: `Some` only when that solve
+    /// was fresh ([`HandStatus::Solved`]) with [`HandStrategy::Retarget`]. Targets are
+    /// relative to the hand joint, in the hand bone's frame.
+    #[must_use]
+    pub fn retarget_report(&self, side: Side) -> Option<&RetargetReport> {
+        self.retarget[side.index()].report.as_ref()
+    }
+
+    /// The hand scale (avatar / user) the retargeting uses on `side`: the calibrated or
+    /// preset one, else the automatic one; `None` before the first frame.
+    #[must_use]
+    pub fn hand_scale(&self, side: Side) -> Option<f32> {
+        self.retarget[side.index()].scale()
+    }
+
+    /// Presets the hand scale of `side` (`None`: back to automatic). Non-finite or
+    /// non-positive values count as `None`.
+    pub fn set_hand_scale(&mut self, side: Side, scale: Option<f32>) {
+        self.retarget[side.index()].set_scale(scale);
+    }
+
+    /// Calibrates the hand scale of `side` from the last hand solved there, which should be
+    /// an open, flat hand (the seed's bounding-box scale, see [`retarget`]). Returns the new
+    /// scale, or `None` (nothing changed) when no hand was solved yet, its fingers are not
+    /// straight, or the avatar has no retargetable fingers.
+    pub fn calibrate_hand_scale(&mut self, side: Side) -> Option<f32> {
+        let model = self.models[side.index()].as_ref()?;
+        self.retarget[side.index()].calibrate(model)
+    }
+
+    /// The anatomical angles, radians, `[finger] -> [base0, base1, hinge1, hinge2]` ([`Dof`]
+    /// order), of the avatar's fingers as posed by `local`, measured on the avatar's rest
+    /// palm the way the analytic solver measures the tracked hand: what the retargeting
+    /// keeps within [`LIMITS`]. `None` for fingers without a distal bone.
+    #[must_use]
+    pub fn avatar_angles(&self, side: Side, local: &[Quat; BONE_COUNT]) -> [Option<[f32; 4]>; 5] {
+        let Some(model) = self.models[side.index()].as_ref() else {
+            return [None; 5];
+        };
+        let mut fingers = [Quat::IDENTITY; 15];
+        for finger in Finger::ALL {
+            for (slot, bone) in side.finger(finger).into_iter().enumerate() {
+                fingers[finger.index() * 3 + slot] = local[bone.index()];
+            }
+        }
+        retarget::measure(model, &fingers)
     }
 
     /// The report of the last solve of `side`.
     #[must_use]
     pub fn report(&self, side: Side) -> &HandReport {
         &self.report[side.index()]
-    }
-
-    /// Forgets the held solves and reports (the next degenerate hand is skipped, not held).
-    pub fn reset(&mut self) {
-        self.held = [None, None];
-        self.report = [HandReport::default(); 2];
     }
 
     /// The rest direction the solver uses for a finger bone (unit, internal frame; a bone
@@ -333,11 +429,26 @@ impl HandSolver {
         let s = side.index();
         let mut scratch = [Quat::IDENTITY; 15];
         let mut report = HandReport::default();
-        let fresh = self.rest[s]
-            .as_ref()
-            .and_then(|rest| solve_side(rest, side, landmarks, &mut scratch, &mut report));
+        let mut hand = [Vec3::ZERO; HAND_LANDMARKS];
+        let fresh = self.rest[s].as_ref().and_then(|rest| {
+            solve_side(rest, side, landmarks, &mut scratch, &mut report, &mut hand)
+        });
+        self.retarget[s].report = None;
         match fresh {
             Some(rotation) => {
+                if let Some(model) = &self.models[s] {
+                    self.retarget[s].observe(model, &hand);
+                    if self.strategy == HandStrategy::Retarget {
+                        retarget::solve(
+                            model,
+                            &self.retarget_options,
+                            &mut self.retarget[s],
+                            &hand,
+                            &report,
+                            &mut scratch,
+                        );
+                    }
+                }
                 write_fingers(skeleton, side, &scratch, local);
                 report.status = HandStatus::Solved;
                 self.report[s] = report;
@@ -465,6 +576,9 @@ fn side_rest(skeleton: &Skeleton, side: Side) -> Option<SideRest> {
     let mut fingers = [FingerRest {
         bones: [None; 3],
         count: 0,
+        kind: Kind::Finger,
+        basis: Basis { x: f, y: r, z: n },
+        lon_prior: 0.0,
     }; 5];
     for finger in Finger::ALL {
         let bones = side.finger(finger);
@@ -516,6 +630,11 @@ fn side_rest(skeleton: &Skeleton, side: Side) -> Option<SideRest> {
         let mut rest = FingerRest {
             bones: [None; 3],
             count,
+            kind,
+            basis,
+            lon_prior: basis
+                .spherical((present[0].2 - hand).try_normalize().unwrap_or(f))
+                .0,
         };
         for i in 0..count {
             let d = dirs[i];
@@ -568,15 +687,19 @@ fn rest_hinge(dirs: &[Vec3], rule: Vec3) -> Vec3 {
     (axis - axis.dot(d) * d).try_normalize().unwrap_or(rule)
 }
 
+/// The orthonormal frame `(x, y', x cross y')` of `x` and `y` made perpendicular to it;
+/// `None` when degenerate.
+fn orthonormal_frame(x: Vec3, y: Vec3) -> Option<Mat3> {
+    let x = x.try_normalize()?;
+    let y = (y - y.dot(x) * x).try_normalize()?;
+    Some(Mat3::from_cols(x, y, x.cross(y)))
+}
+
 /// Rotation taking `(a, b)` to `(c, d)`: `a`, `c` exactly, `b`, `d` after making them
 /// perpendicular. Both pairs must be non-degenerate.
 fn frame_rotation(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Option<Quat> {
-    let m = |x: Vec3, y: Vec3| -> Option<Mat3> {
-        let x = x.try_normalize()?;
-        let y = (y - y.dot(x) * x).try_normalize()?;
-        Some(Mat3::from_cols(x, y, x.cross(y)))
-    };
-    let q = Quat::from_mat3(&(m(c, d)? * m(a, b)?.transpose())).normalize();
+    let m = orthonormal_frame(c, d)? * orthonormal_frame(a, b)?.transpose();
+    let q = Quat::from_mat3(&m).normalize();
     q.is_finite().then_some(q)
 }
 
@@ -588,6 +711,7 @@ fn solve_side(
     lm: &[Vec3; HAND_LANDMARKS],
     out: &mut [Quat; 15],
     report: &mut HandReport,
+    hand: &mut [Vec3; HAND_LANDMARKS],
 ) -> Option<Quat> {
     let obs = rest.palm.observed(side, lm)?;
     let rotation = Quat::from_mat3(&(obs * rest.frame.transpose())).normalize();
@@ -602,6 +726,7 @@ fn solve_side(
     for finger in Finger::ALL {
         solve_finger(rest, finger, &p, (f, r, n), out, report)?;
     }
+    *hand = p;
     Some(rotation)
 }
 

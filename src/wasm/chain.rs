@@ -29,9 +29,8 @@ impl RawChainSolver {
     pub fn new(options: JsValue) -> Result<RawChainSolver, JsError> {
         let value: serde_json::Value = serde_wasm_bindgen::from_value(options)
             .map_err(|e| JsError::new(&format!("options: {e}")))?;
-        let options: ChainSolverOptions = serde_json::from_value(value).map_err(|e| {
-            JsError::new(&format!("options: {e}"))
-        })?;
+        let options: ChainSolverOptions =
+            serde_json::from_value(value).map_err(|e| JsError::new(&format!("options: {e}")))?;
         let solver = ChainSolver::new(&options).map_err(|e| JsError::new(&e.to_string()))?;
         let n = solver.joint_count();
         Ok(RawChainSolver {
