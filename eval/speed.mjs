@@ -5,7 +5,7 @@
 // `Hand.solve` for every tracked hand.
 //
 //   make pkg && npm ci --prefix eval     # once
-//   node eval/speed.mjs [--passes N] [--json]
+//   node eval/speed.mjs [--passes N] [--json] [--pkg DIR]   (DIR: a built package, default pkg/)
 //
 // Frames:
 // - full frame: the four sign-language clips ../shared/data/asl/*.json (250 frames, pose and
@@ -29,9 +29,11 @@ const root = resolve(here, "..");
 const shared = process.env.HANDRIG_SHARED ?? resolve(root, "../shared");
 const require = createRequire(import.meta.url);
 
+const pkgArg = process.argv.indexOf("--pkg");
+const pkgDir = pkgArg > 0 ? resolve(process.argv[pkgArg + 1]) : resolve(root, "pkg");
 let HandRig, Kalidokit;
 try {
-  ({ HandRig } = require(resolve(root, "pkg")));
+  ({ HandRig } = require(pkgDir));
 } catch (e) {
   console.error(`handrig package not built (${e.code ?? e.message}): run \`make pkg\` first`);
   process.exit(1);

@@ -33,7 +33,8 @@ import zlib from "node:zlib";
 // The shipped WebAssembly file's one name (in wasm/, exported as "handrig/handrig_bg.wasm").
 const WASM_NAME = "handrig_bg.wasm";
 
-// Size budget of the shipped .wasm, gzipped (issue 10); tests/node checks the release build.
+// Size budget of the shipped .wasm, gzipped, from issue 10 (set before the chain IK and the
+// retargeting landed). Printed with every build; tests/node guards a ceiling of 200 KiB.
 const WASM_GZIP_BUDGET = 150 * 1024;
 
 const here = path.dirname(fileURLToPath(import.meta.url));
@@ -364,7 +365,8 @@ function main() {
   const gz = zlib.gzipSync(wasmBytes, { level: 9 }).length;
   console.log(
     `build.mjs: ${path.relative(root, out) || "."}/ ready: handrig ${v} (${args.dev ? "dev" : "release"}), ` +
-      `wasm ${kib(wasmBytes.length)} raw, ${kib(gz)} gzip (budget ${kib(WASM_GZIP_BUDGET)} gzip)`,
+      `wasm ${kib(wasmBytes.length)} raw, ${kib(gz)} gzip (budget ${kib(WASM_GZIP_BUDGET)} gzip` +
+      `${gz > WASM_GZIP_BUDGET ? `: OVER by ${kib(gz - WASM_GZIP_BUDGET)}` : ""})`,
   );
 }
 

@@ -27,7 +27,7 @@ use crate::mediapipe::{
 use crate::rig::{HandUse, Rig, SolveOutput};
 
 /// Layout version: bumped whenever an offset or meaning below changes.
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
 
 /// Input offsets (indices into the input `f32` array).
 pub mod input {
@@ -104,7 +104,7 @@ pub mod output {
     /// Per-side reports, `[left, right]`; side `s` starts at `SIDES + s * SIDE_STRIDE`.
     pub const SIDES: usize = BONE_POSITIONS + 3 * BONE_COUNT;
     /// Size of one side's report.
-    pub const SIDE_STRIDE: usize = 32;
+    pub const SIDE_STRIDE: usize = 64;
     /// Offsets inside a side's report.
     pub mod side {
         /// The tracked hand driving this side: `0` none, `1` solved, `2` held (degenerate
@@ -137,6 +137,22 @@ pub mod output {
         pub const HAND_INDEX: usize = 23;
         /// `1` when that hand's label contradicted the pose and it was reassigned here.
         pub const HAND_REASSIGNED: usize = 24;
+        /// The avatar's fingertips, thumb to little, `x y z` each (the distal bone extended by
+        /// the anatomical ratio, as `alignment.point: "tip"`); NaN for a finger the avatar
+        /// lacks. Every frame, every strategy.
+        pub const FINGERTIPS: usize = 25;
+        /// `1` when the retargeting report below is valid (`handStrategy: "retarget"`, a
+        /// hand freshly solved this frame).
+        pub const RETARGET_PRESENT: usize = 40;
+        /// The scaled user fingertips placed on the avatar, thumb to little, `x y z` each
+        /// (NaN where the avatar lacks the finger).
+        pub const RETARGET_TARGETS: usize = 41;
+        /// Avatar hand size over user hand size.
+        pub const RETARGET_SCALE: usize = 56;
+        /// Gauss-Newton iterations (the most any finger needed).
+        pub const RETARGET_ITERATIONS: usize = 57;
+        /// Weighted RMS fingertip-to-target distance (m).
+        pub const RETARGET_RESIDUAL: usize = 58;
     }
     /// What became of each input hand slot (4): `0` unused, `1` drove the left side, `2` the
     /// right side (see `side.handReassigned`), `3` ignored: score below `minHandScore`, `4`
@@ -151,7 +167,9 @@ pub mod output {
 const _: () = {
     assert!(input::hand::IMAGE + 3 * HAND_LANDMARKS <= input::HAND_STRIDE);
     assert!(input::wrist::ROTATION + 4 <= input::WRIST_STRIDE);
-    assert!(output::side::HAND_REASSIGNED < output::SIDE_STRIDE);
+    assert!(output::side::RETARGET_RESIDUAL < output::SIDE_STRIDE);
+    assert!(output::side::FINGERTIPS + 15 <= output::side::RETARGET_PRESENT);
+    assert!(output::side::RETARGET_TARGETS + 15 <= output::side::RETARGET_SCALE);
     assert!(input::POSE_HAS_IMAGE < input::HANDS);
 };
 
@@ -203,6 +221,24 @@ pub const FIELDS: &[(&str, usize)] = &[
     ("output.side.aligned", output::side::ALIGNED),
     ("output.side.handIndex", output::side::HAND_INDEX),
     ("output.side.handReassigned", output::side::HAND_REASSIGNED),
+    ("output.side.fingertips", output::side::FINGERTIPS),
+    (
+        "output.side.retargetPresent",
+        output::side::RETARGET_PRESENT,
+    ),
+    (
+        "output.side.retargetTargets",
+        output::side::RETARGET_TARGETS,
+    ),
+    ("output.side.retargetScale", output::side::RETARGET_SCALE),
+    (
+        "output.side.retargetIterations",
+        output::side::RETARGET_ITERATIONS,
+    ),
+    (
+        "output.side.retargetResidual",
+        output::side::RETARGET_RESIDUAL,
+    ),
     ("output.handUse", output::HAND_USE),
 ];
 
@@ -497,6 +533,22 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
             out.hands[s].map_or((-1.0, false), |h| (h.index as f32, h.reassigned));
         buf[at + output::side::HAND_INDEX] = index;
         put_flag(buf, at + output::side::HAND_REASSIGNED, reassigned);
+        let point = |p: Option<Vec3>| p.map_or(Vec3::NAN, |p| rig.export_position(p));
+        for (f, tip) in out.fingertips[s].iter().enumerate() {
+            put_vec3(buf, at + output::side::FINGERTIPS + 3 * f, point(*tip));
+        }
+        let r = out.retarget[s];
+        put_flag(buf, at + output::side::RETARGET_PRESENT, r.is_some());
+        for f in 0..5 {
+            let t = r.and_then(|r| r.targets[f]);
+            put_vec3(buf, at + output::side::RETARGET_TARGETS + 3 * f, point(t));
+        }
+        let (scale, iterations, residual) = r.map_or((0.0, 0.0, 0.0), |r| {
+            (r.scale, r.iterations as f32, r.residual)
+        });
+        buf[at + output::side::RETARGET_SCALE] = scale;
+        buf[at + output::side::RETARGET_ITERATIONS] = iterations;
+        buf[at + output::side::RETARGET_RESIDUAL] = residual;
     }
     for (slot, using) in out.hand_use.iter().enumerate() {
         buf[output::HAND_USE + slot] = match using {

@@ -755,7 +755,7 @@ impl Rig {
                     } else if blend.weight <= 0.0 {
                         self.anchor[i]
                     } else {
-                        self.anchor[i].slerp(target, blend.weight).normalize()
+                        nlerp(self.anchor[i], target, blend.weight)
                     };
                     let q = if q.dot(self.shown[i]) < 0.0 { -q } else { q };
                     out.local[i] = q;
@@ -817,6 +817,13 @@ impl Rig {
     pub fn export_position(&self, p: Vec3) -> Vec3 {
         self.skeleton.version().position_to_internal(p)
     }
+}
+
+/// Normalized linear interpolation from `a` to `b` (the short way): for easing it looks like a
+/// slerp, and costs no trigonometry (software `acos`/`sin` are slow in wasm).
+fn nlerp(a: Quat, b: Quat, t: f32) -> Quat {
+    let b = if a.dot(b) < 0.0 { -b } else { b };
+    (a * (1.0 - t) + b * t).normalize()
 }
 
 /// Sets the hand's local rotation so its world rotation is `hand_world`, given the arm's

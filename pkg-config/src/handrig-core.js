@@ -105,9 +105,10 @@ function createHandRigApi(raw, isReady) {
   }
 
   // Writes `n` points of `stride` floats from `list` at `out[o..]` (x y z, then visibility
-  // when `stride` is 4). Accepts arrays of {x, y, z} or [x, y, z] (pose: [x, y, z, v]) and flat
-  // typed arrays / number arrays of n * 3. Each element is read once.
-  function packPoints(list, out, o, n, stride, fa, fi, fb) {
+  // when `stride` is 4). Accepts arrays of {x, y, z} or [x, y, z] (pose landmarks also
+  // [x, y, z, visibility], `withVisibility`) and flat typed arrays / number arrays of n * 3.
+  // Each element is read once.
+  function packPoints(list, out, o, n, stride, fa, fi, fb, withVisibility = stride === 4) {
     const flatLength = n * 3;
     if (ArrayBuffer.isView(list) || (Array.isArray(list) && list.length === flatLength && typeof list[0] === "number")) {
       const len = list.length;
@@ -141,8 +142,8 @@ function createHandRigApi(raw, isReady) {
       if (Array.isArray(p) || ArrayBuffer.isView(p)) {
         array = true;
         const m = p.length;
-        if (m !== 3 && !(stride === 4 && m === 4)) {
-          fail(`${path(fa, fi, fb)}[${k}]`, `must have 3 numbers [x, y, z]${stride === 4 ? " (or 4 with visibility)" : ""}, got ${m}`);
+        if (m !== 3 && !(withVisibility && m === 4)) {
+          fail(`${path(fa, fi, fb)}[${k}]`, `must have 3 numbers [x, y, z]${withVisibility ? " (or 4 with visibility)" : ""}, got ${m}`);
         }
         x = p[0];
         y = p[1];
@@ -497,7 +498,7 @@ function createHandRigApi(raw, isReady) {
       }
       if (!(Array.isArray(image) && image.length === 0)) {
         at(imageName, person, "");
-        packPoints(image, input, LI.poseImage, POSE_POINTS, 3, imageName, person, "");
+        packPoints(image, input, LI.poseImage, POSE_POINTS, 3, imageName, person, "", true);
         input[LI.poseHasImage] = 1;
       }
     }
@@ -645,22 +646,13 @@ function createHandRigApi(raw, isReady) {
   // output view. `driven`/`present` are the rig's bone indices.
   function fillResult(result, out, input, driven, present) {
     result.timeMs = TIME[0];
-    let bones = result.bones;
-    if (!isObject(bones)) bones = result.bones = {};
-    for (let k = 0; k < driven.length; k++) {
-      const i = driven[k];
-      const name = BONES[i];
-      const q = bones[name];
-      bones[name] = quat(out, LO.boneRotations + 4 * i, Array.isArray(q) ? q : [0, 0, 0, 1]);
-    }
-    let world = result.worldPositions;
-    if (!isObject(world)) world = result.worldPositions = {};
-    for (let k = 0; k < present.length; k++) {
-      const i = present[k];
-      const name = BONES[i];
-      const p = world[name];
-      world[name] = vec(out, LO.bonePositions + 3 * i, Array.isArray(p) ? p : [0, 0, 0]);
-    }
+    // The per-bone arrays, found by name once per result object and then updated by index:
+    // a property store by a varying key is a slow (megamorphic) lookup every time.
+    const arrays = boneArrays(result, driven, present);
+    const rotations = arrays.rotations;
+    for (let k = 0; k < driven.length; k++) quat(out, LO.boneRotations + 4 * driven[k], rotations[k]);
+    const positions = arrays.positions;
+    for (let k = 0; k < present.length; k++) vec(out, LO.bonePositions + 3 * present[k], positions[k]);
     let targets = result.ikTargets;
     if (!isObject(targets)) targets = result.ikTargets = {};
     let alignment = result.alignment;
@@ -699,6 +691,25 @@ function createHandRigApi(raw, isReady) {
         hands[side] = h;
       } else if (side in hands) delete hands[side];
     }
+    let tips = result.fingertips;
+    if (!isObject(tips)) tips = result.fingertips = {};
+    let retarget = result.retarget;
+    if (!isObject(retarget)) retarget = result.retarget = {};
+    for (let s = 0; s < 2; s++) {
+      const side = SIDES[s];
+      const at = LO.sides + s * LO.sideStride;
+      const cache = sideCache(result, s);
+      if (fingers(out, at + S.fingertips, cache.tips)) tips[side] = cache.tips;
+      else if (side in tips) delete tips[side];
+      if (out[at + S.retargetPresent] === 1) {
+        const r = cache.retarget;
+        fingers(out, at + S.retargetTargets, r.targets);
+        r.scale = out[at + S.retargetScale];
+        r.iterations = out[at + S.retargetIterations];
+        r.residual = out[at + S.retargetResidual];
+        retarget[side] = r;
+      } else if (side in retarget) delete retarget[side];
+    }
     let use = result.handUse;
     if (!Array.isArray(use)) use = result.handUse = [];
     const count = input[LI.handCount];
@@ -708,6 +719,59 @@ function createHandRigApi(raw, isReady) {
   }
 
   const HAND_USE = [null, "left", "right", "lowScore", "duplicate", "contradicted"];
+  const FINGERS = ["thumb", "index", "middle", "ring", "little"];
+
+  // Five points (NaN for a finger the avatar lacks) into `dst.thumb` ... `dst.little`
+  // (undefined where missing). Returns whether any finger is there.
+  function fingers(out, at, dst) {
+    let any = false;
+    for (let f = 0; f < 5; f++) {
+      const o = at + 3 * f;
+      const name = FINGERS[f];
+      if (Number.isNaN(out[o])) {
+        dst[name] = undefined;
+        continue;
+      }
+      const p = dst.points[f];
+      vec(out, o, p);
+      dst[name] = p;
+      any = true;
+    }
+    return any;
+  }
+
+  // { thumb, index, middle, ring, little } with the five reused arrays kept non-enumerable.
+  function fingerSet() {
+    const o = { thumb: undefined, index: undefined, middle: undefined, ring: undefined, little: undefined };
+    Object.defineProperty(o, "points", { value: FINGERS.map(() => [0, 0, 0]), enumerable: false });
+    return o;
+  }
+
+  // The arrays of `result.bones` and `result.worldPositions`, in the rig's driven / present
+  // order, kept on a hidden property of the result (re-found if the caller swapped an object).
+  const BONE_ARRAYS = typeof Symbol === "function" ? Symbol("handrig.bones") : "__handrigBones";
+  function boneArrays(result, driven, present) {
+    let c = result[BONE_ARRAYS];
+    if (c !== undefined && c.bones === result.bones && c.world === result.worldPositions && c.driven === driven) return c;
+    let bones = result.bones;
+    if (!isObject(bones)) bones = result.bones = {};
+    let world = result.worldPositions;
+    if (!isObject(world)) world = result.worldPositions = {};
+    const take = (o, name, n) => {
+      const a = o[name];
+      if (Array.isArray(a) && a.length === n) return a;
+      return (o[name] = n === 4 ? [0, 0, 0, 1] : [0, 0, 0]);
+    };
+    c = {
+      bones,
+      world,
+      driven,
+      rotations: driven.map((i) => take(bones, BONES[i], 4)),
+      positions: present.map((i) => take(world, BONES[i], 3)),
+    };
+    Object.defineProperty(result, BONE_ARRAYS, { value: c, enumerable: false, configurable: true, writable: true });
+    return c;
+  }
 
   // Per-side sub-objects, kept on a hidden property of the result so a reused result reuses
   // them (and a fresh `{}` gets its own).
@@ -726,6 +790,8 @@ function createHandRigApi(raw, isReady) {
           aligned: false,
         },
         hand: { status: "solved", score: 0, index: 0, reassigned: false },
+        tips: fingerSet(),
+        retarget: { targets: fingerSet(), scale: 0, iterations: 0, residual: 0 },
       });
       c = [make(), make()];
       Object.defineProperty(result, SIDE_CACHE, { value: c, enumerable: false });
@@ -817,6 +883,12 @@ function createHandRigApi(raw, isReady) {
     return out;
   }
 
+  /** Options as the JSON text the raw constructors take (undefined for the defaults). */
+  function optionsJson(options) {
+    const normalized = normalizeOptions(options);
+    return normalized === undefined ? undefined : JSON.stringify(normalized);
+  }
+
   // ---------------------------------------------------------------------------------------
   // Rest poses.
 
@@ -888,7 +960,7 @@ function createHandRigApi(raw, isReady) {
       let r;
       try {
         const { rest, version } = restPoseToFlat(restPose);
-        r = new RawHandRig(rest, version, normalizeOptions(options));
+        r = new RawHandRig(rest, version, optionsJson(options));
       } catch (e) {
         throw asError(e);
       }
@@ -915,7 +987,7 @@ function createHandRigApi(raw, isReady) {
       ensureReady("HandRig.fromVrm()");
       let r;
       try {
-        r = RawHandRig.fromVrm(vrmBytes(bytes), normalizeOptions(options));
+        r = RawHandRig.fromVrm(vrmBytes(bytes), optionsJson(options));
       } catch (e) {
         throw asError(e);
       }
@@ -1053,9 +1125,20 @@ function createHandRigApi(raw, isReady) {
       this.#live("resetCalibration").resetCalibration();
     }
 
-    /** Forgets all history (held hands, elbow swivel, calibration). */
+    /** Forgets all history: filters, holds and blends, held hands, elbow swivel, calibration. */
     reset() {
       this.#live("reset").reset();
+    }
+
+    /**
+     * Calibrates the hand scale of `handStrategy: "retarget"` from the last hand solved on
+     * each side, which should be an open, flat hand (call it while the user shows one).
+     * Returns `{ left, right }`: the new scale (avatar hand / user hand), or null where
+     * nothing changed (no hand yet, fingers not straight).
+     */
+    calibrateHandScale() {
+      const [left, right] = this.#live("calibrateHandScale").calibrateHandScale();
+      return { left: Number.isNaN(left) ? null : left, right: Number.isNaN(right) ? null : right };
     }
 
     /** Releases the wasm memory. Safe to call twice; the rig is unusable afterwards. */
@@ -1155,7 +1238,7 @@ function createHandRigApi(raw, isReady) {
       ensureReady("new ChainSolver()");
       let r;
       try {
-        r = new RawChainSolver(chainOptions(options));
+        r = new RawChainSolver(JSON.stringify(chainOptions(options)));
       } catch (e) {
         const err = asError(e);
         // The Rust side names fields of the options (`joints[1]`, `constraints[0].maxAngle`).

@@ -193,6 +193,31 @@ export interface SolveResult {
   hands: { left?: TrackedHand; right?: TrackedHand };
   /** Per hand of the frame (its order): the avatar side it drove, or why it was ignored. */
   handUse: HandUse[];
+  /** The avatar's fingertips per side (the distal bone extended by the anatomical ratio), every frame and strategy; a finger the avatar lacks is undefined. */
+  fingertips: { left?: Fingers<Vec3>; right?: Fingers<Vec3> };
+  /** What `handStrategy: "retarget"` did per side this frame (sides freshly solved by it). */
+  retarget: { left?: RetargetReport; right?: RetargetReport };
+}
+
+/** One value per finger (undefined where the avatar lacks the finger). */
+export interface Fingers<T> {
+  thumb?: T;
+  index?: T;
+  middle?: T;
+  ring?: T;
+  little?: T;
+}
+
+/** The retargeting of one hand (seed 003). */
+export interface RetargetReport {
+  /** The user's fingertips, scaled to the avatar's hand and placed on it (same frame as `fingertips`). */
+  targets: Fingers<Vec3>;
+  /** Avatar hand size / user hand size. */
+  scale: number;
+  /** Gauss-Newton iterations (the most any finger needed). */
+  iterations: number;
+  /** Weighted RMS distance (m) between the avatar's fingertips and the targets. */
+  residual: number;
 }
 
 export type FingerName = "thumb" | "index" | "middle" | "ring" | "little";
@@ -203,10 +228,19 @@ export interface HandRigOptions {
   inputMirrored?: boolean;
   /** The avatar mirrors the user: the user's right hand drives the avatar's left. Default false. */
   mirror?: boolean;
-  /** How hands are solved. Default "analytic". */
-  handStrategy?: "analytic";
-  /** Arm IK solver reaching the wrist target. Default "twoBone". */
-  armSolver?: "twoBone";
+  /** How hands are solved: "analytic" (default) or "retarget" (Gauss-Newton fingertip retargeting, seed 003). */
+  handStrategy?: "analytic" | "retarget";
+  /** Arm IK solver reaching the wrist target: "twoBone" (default), "fabrik" (seed 002) or "ccd" (seed 004). */
+  armSolver?: "twoBone" | "fabrik" | "ccd";
+  /** Options every arm solver shares. */
+  arm?: {
+    /** Largest angle (radians, 0..pi/2) the shoulder turns to help a far reach; 0 keeps shoulders at rest. Default 15 degrees. */
+    shoulderAngle?: number;
+    /** Fraction of the arm's length (0.5..1) beyond which the shoulder turns toward the target. Default 0.9. */
+    shoulderReach?: number;
+    /** Share (0..1) of the hand's twist about the forearm that the forearm takes. Default 0.5. */
+    forearmTwist?: number;
+  };
   /** Fingertip alignment. */
   alignment?: {
     /** Default true. */
@@ -315,6 +349,12 @@ export interface FlatLayout {
       readonly aligned: number;
       readonly handIndex: number;
       readonly handReassigned: number;
+      readonly fingertips: number;
+      readonly retargetPresent: number;
+      readonly retargetTargets: number;
+      readonly retargetScale: number;
+      readonly retargetIterations: number;
+      readonly retargetResidual: number;
     };
     readonly handUse: number;
   };
@@ -326,6 +366,65 @@ export interface FlatLayout {
 
 /** The flat frame layout of this build. */
 export declare const LAYOUT: FlatLayout;
+
+/** A joint limit of a chain bone, in the parent bone's frame (bone 0: against its rest direction). */
+export type JointConstraint =
+  | { type: "cone"; maxAngle: number }
+  | { type: "hinge"; axis: Vec3 | Landmark; min: number; max: number };
+
+/** Options of a `ChainSolver`. */
+export interface ChainSolverOptions {
+  /** "fabrik" (default, seed 002) or "ccd" (seed 004). */
+  method?: "fabrik" | "ccd";
+  /** Rest joint positions, root first, at least 3 (meters). */
+  joints: ReadonlyArray<Vec3 | Landmark>;
+  /** One entry per bone (joints.length - 1), or null for a free bone; omit for none. */
+  constraints?: ReadonlyArray<JointConstraint | null>;
+  /** Most iterations per solve (default FABRIK 100, CCD 200). */
+  iterations?: number;
+  /** End-to-target distance that counts as reached (default 1e-5 of the chain length). */
+  tolerance?: number;
+  /** CCD's damping: the largest angle (radians) a joint turns per step (default 0.5). */
+  maxStepAngle?: number;
+}
+
+/** A solved chain. */
+export interface ChainSolution {
+  /** Joint positions, root first. */
+  joints: Vec3[];
+  /** Each bone's world rotation from its rest direction. */
+  rotations: Quat[];
+  /** The end is within the tolerance of the target. */
+  reached: boolean;
+  /** The target is within the chain's length (limits ignored). */
+  reachable: boolean;
+  /** End-to-target distance (m). */
+  error: number;
+  /** Iterations run. */
+  iterations: number;
+}
+
+/** FABRIK or CCD on any chain (tails, spines, custom rigs). Create once, `solve` per frame, `free()` when done. */
+export declare class ChainSolver {
+  /** @throws Error naming the field (`options.joints[3]`, `options.constraints[1].maxAngle`). */
+  constructor(options: ChainSolverOptions);
+  /** Number of joints. */
+  readonly jointCount: number;
+  /** Solves toward `goal.target` (with the middle joints turned toward `goal.pole`). The result object is reused by the next call; pass `into` for one of your own. */
+  solve(goal: { target: Vec3 | Landmark; pole?: Vec3 | Landmark }, into?: object): ChainSolution;
+  /** The same into typed arrays (`joints`: 3 N, `rotations`: 4 (N - 1)); sets `reached`, `reachable`, `error`, `iterations` on `out`. Allocates nothing. */
+  solveInto<T extends { joints: Float32Array; rotations: Float32Array }>(
+    target: Vec3 | Landmark | Float32Array,
+    out: T,
+    pole?: Vec3 | Landmark | Float32Array,
+  ): T & { reached: boolean; reachable: boolean; error: number; iterations: number };
+  /** Back to the rest pose. */
+  reset(): void;
+  /** Releases the wasm memory. Idempotent. */
+  free(): void;
+  /** True once `free()` was called. */
+  readonly freed: boolean;
+}
 
 /** One option, for building UIs: its dot-separated path, type, range and default. */
 export type OptionDescription =
@@ -381,8 +480,10 @@ export declare class HandRig {
   solveInto(input: Float32Array, output: Float32Array, timeMs: number): Float32Array;
   /** The bones the rig writes every frame (`result.bones`), parent-first. */
   drivenBones(): HumanBoneName[];
-  /** Forgets all history: held hands, elbow swivel, body-scale calibration. */
+  /** Forgets all history: filters, dropout holds and blends, held hands, elbow swivel, body-scale calibration. */
   reset(): void;
+  /** Calibrates the retargeting's hand scale from the last hand solved per side (show an open, flat hand); null where nothing changed. */
+  calibrateHandScale(): { left: number | null; right: number | null };
   /** Rest world positions of the avatar's bones, meters, the model's own frame. */
   restWorldPositions(): BoneMap<Vec3>;
   /** The bones this avatar has, parent-first. */

