@@ -1093,7 +1093,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
         OptionDescription {
             path: "filter.minCutoff",
             kind: Number {
-                min: 0.001,
+                min: 0.05,
                 max: 1000.0,
                 default: Some(d.filter.min_cutoff),
                 step: 0.05,
@@ -1113,7 +1113,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
         OptionDescription {
             path: "filter.dCutoff",
             kind: Number {
-                min: 0.001,
+                min: 0.05,
                 max: 1000.0,
                 default: Some(d.filter.d_cutoff),
                 step: 0.05,

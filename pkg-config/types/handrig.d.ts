@@ -234,7 +234,7 @@ export interface HandRigOptions {
   armSolver?: "twoBone" | "fabrik" | "ccd";
   /** Options every arm solver shares. */
   arm?: {
-    /** Largest angle (radians, 0..pi/2) the shoulder turns to help a far reach; 0 keeps shoulders at rest. Default 15 degrees. */
+    /** Largest angle (radians, 0..pi/2) the shoulder turns to help a far reach; 0 keeps shoulders at rest. Default 0.26 (about 15 degrees). */
     shoulderAngle?: number;
     /** Fraction of the arm's length (0.5..1) beyond which the shoulder turns toward the target. Default 0.9. */
     shoulderReach?: number;
@@ -271,11 +271,11 @@ export interface HandRigOptions {
     | {
         /** Default true. */
         enabled?: boolean;
-        /** Cutoff at rest, Hz (0.001..1000). Default 1.5. */
+        /** Cutoff at rest, Hz (0.05..1000). Default 1.5. */
         minCutoff?: number;
         /** Speed coefficient, Hz per m/s (0..10000). Default 2. */
         beta?: number;
-        /** Cutoff of the speed estimate, Hz (0.001..1000). Default 1. */
+        /** Cutoff of the speed estimate, Hz (0.05..1000). Default 1. */
         dCutoff?: number;
       };
   /** Holding and easing over tracking loss; `false`: lost hands and arms snap to rest. */

@@ -42,10 +42,10 @@ impl OneEuroOptions {
     /// # Errors
     /// A cutoff that is not a positive finite number, or a negative or non-finite `beta`.
     pub fn validate(&self, field: &str) -> Result<()> {
-        if !(0.001..=1000.0).contains(&self.min_cutoff) {
+        if !(0.05..=1000.0).contains(&self.min_cutoff) {
             return Err(Error::invalid(
                 format!("{field}.minCutoff"),
-                "must be a number in 0.001..1000 (Hz)",
+                "must be a number in 0.05..1000 (Hz)",
             ));
         }
         if !(0.0..=10_000.0).contains(&self.beta) {
@@ -54,10 +54,10 @@ impl OneEuroOptions {
                 "must be a number in 0..10000",
             ));
         }
-        if !(0.001..=1000.0).contains(&self.d_cutoff) {
+        if !(0.05..=1000.0).contains(&self.d_cutoff) {
             return Err(Error::invalid(
                 format!("{field}.dCutoff"),
-                "must be a number in 0.001..1000 (Hz)",
+                "must be a number in 0.05..1000 (Hz)",
             ));
         }
         Ok(())

@@ -52,9 +52,10 @@ pub const TWIST_HYSTERESIS: f32 = PI / 3.0;
 #[serde(rename_all = "camelCase", default, deny_unknown_fields)]
 pub struct ArmOptions {
     /// Largest angle (radians, `0..=pi/2`) the shoulder bone turns from rest to help a far
-    /// reach; 0 keeps the shoulders at rest. Needs the avatar's shoulder bones. Default 15
-    /// degrees (0.2618): a visible shrug or forward reach, well inside the clavicle's
-    /// range of roughly 30-40 degrees elevation.
+    /// reach; 0 keeps the shoulders at rest. Needs the avatar's shoulder bones. Default 0.26
+    /// (about 15 degrees; a round number of radians, so settings UIs with a 0.01 step can
+    /// hold it): a visible shrug or forward reach, well inside the clavicle's range of
+    /// roughly 30-40 degrees elevation.
     pub shoulder_angle: f32,
     /// Fraction of the arm's full length (upper + lower arm, `0.5..=1`) beyond which the
     /// shoulder starts to turn. Default 0.9: an arm reaching further keeps some elbow bend
@@ -69,7 +70,7 @@ pub struct ArmOptions {
 impl Default for ArmOptions {
     fn default() -> Self {
         ArmOptions {
-            shoulder_angle: 15f32.to_radians(),
+            shoulder_angle: 0.26,
             shoulder_reach: 0.9,
             forearm_twist: 0.5,
         }
