@@ -29,7 +29,7 @@ NODE_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NODE_DIRS))
 help:
 	@echo "make demo       build the package (pkg/) and serve the demo on 127.0.0.1"
 	@echo "make test       all tests: test-rust test-wasm test-node test-www"
-	@echo "make setup      install missing tools: chromium (apt), wasm32 target, wasm-bindgen-cli $(WASM_BINDGEN_VERSION), wasm-pack, npm deps"
+	@echo "make setup      install missing tools: chromium and ffmpeg (apt), wasm32 target, wasm-bindgen-cli $(WASM_BINDGEN_VERSION), wasm-pack, npm deps"
 	@echo "make pkg        build the npm package into pkg/ (release); make pkg-dev: debug build"
 	@echo "make test-rust  cargo test"
 	@echo "make test-wasm  wasm-pack test --node (wasm-bindgen-test)"
@@ -41,11 +41,13 @@ help:
 
 setup: setup-system setup-rust setup-node
 
-# Debian packages: chromium for the demo's browser tests. (No binaryen: Debian's wasm-opt 108
+# Debian packages: chromium for the demo's browser tests, ffmpeg to turn real videos into its
+# fake camera (www/tests/webcam-*.test.mjs) and for tools/record-video.mjs. (No binaryen: Debian's wasm-opt 108
 # breaks wasm-bindgen 0.2.130 output; pkg-config/build.mjs runs binaryen from npm instead.)
 setup-system:
 	@missing=""; \
 	command -v chromium >/dev/null || missing="$$missing chromium"; \
+	command -v ffmpeg >/dev/null || missing="$$missing ffmpeg"; \
 	command -v node >/dev/null || missing="$$missing nodejs"; \
 	command -v npm >/dev/null || missing="$$missing npm"; \
 	command -v cc >/dev/null || missing="$$missing gcc libc6-dev"; \

@@ -764,6 +764,10 @@ Object.assign(demo, {
     return nextRender();
   },
   nextRender,
+  /** Freezes (true) or resumes the live webcam processing; the avatar keeps the last frame. */
+  pauseWebcam: (on) => {
+    if (webcam) webcam.paused = on;
+  },
   /** Reloads the current avatar bytes (e.g. after a test changed it). */
   reloadAvatar: () => (avatarBytes ? loadAvatar(avatarBytes, avatarName) : Promise.resolve()),
   /**

@@ -78,6 +78,8 @@ export class Webcam {
     this.onError = onError ?? ((e) => console.warn("webcam:", e));
     /** Optional `(video) => any`, called just before each MediaPipe call; its value is `info.tag`. */
     this.probe = null;
+    /** While true, camera frames are skipped (the avatar keeps the last one). */
+    this.paused = false;
     this.mode = null;
     this.solution = null;
     this.hand = null;
@@ -163,7 +165,7 @@ export class Webcam {
   onVideoFrame = async () => {
     if (!this.running || this.busy) return;
     const v = this.video;
-    if (v.readyState < 2 || v.currentTime === this.lastVideoTime) return this.schedule();
+    if (this.paused || v.readyState < 2 || v.currentTime === this.lastVideoTime) return this.schedule();
     this.lastVideoTime = v.currentTime;
     this.busy = true;
     try {
