@@ -24,7 +24,7 @@ NODE_DIRS := pkg-config tests/node $(if $(wildcard www/package-lock.json),www)
 NODE_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NODE_DIRS))
 
 .PHONY: help setup setup-system setup-rust setup-node pkg pkg-dev \
-        test test-rust test-wasm test-node test-www demo eval bench clean
+        test test-rust test-wasm test-node test-www demo eval bench record-check clean
 
 help:
 	@echo "make demo       build the package (pkg/) and serve the demo on 127.0.0.1"
@@ -37,6 +37,7 @@ help:
 	@echo "make test-www   the demo's browser tests (Playwright + Debian chromium), when www/ has them"
 	@echo "make eval       measured figures: hand accuracy vs Kalidokit, alignment table, wasm solve time"
 	@echo "make bench      criterion benchmark of Rig::solve (native)"
+	@echo "make record-check  record the shared videos with tools/record-video.mjs and compare with the shared recordings"
 	@echo "make clean      remove pkg/ and the package build's scratch files (not target/)"
 
 setup: setup-system setup-rust setup-node
@@ -113,6 +114,11 @@ eval: pkg eval/node_modules/.package-lock.json
 # Native per-frame cost of Rig::solve (criterion).
 bench: setup
 	cargo bench --bench solve
+
+# MediaPipe from npm on the shared videos (tools/record-video.mjs), compared landmark by landmark
+# with the shared recordings made by other MediaPipe builds; artifacts/recordings/summary.md.
+record-check: setup
+	node tools/check-shared-recordings.mjs
 
 demo: pkg
 	@[ -f www/serve.mjs ] || { echo "demo: www/serve.mjs not found" >&2; exit 1; }

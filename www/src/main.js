@@ -11,7 +11,7 @@ import init, { HandRig } from "handrig";
 import { Avatar, parseVrm } from "./avatar.js";
 import { loadRecordings } from "./recording.js";
 import { buildOptionsPanel, getPath } from "./options-panel.js";
-import { LOCAL_WASM_BASE, Webcam, modelSource } from "./webcam.js";
+import { LOCAL_WASM_BASE, Webcam, WebcamStopped, modelSource } from "./webcam.js";
 import { RecordingBuilder } from "./recording-format.js";
 
 const $ = (id) => document.getElementById(id);
@@ -46,7 +46,10 @@ const demo = {
     framesWithHands: 0,
     framesWithPose: 0,
     mediapipeMs: null,
-    mediapipeMsMedian: null,
+    /** Median over the last 60 frames (computed when read: nothing sorted per frame). */
+    get mediapipeMsMedian() {
+      return mediapipeTimes.length ? median(mediapipeTimes) : null;
+    },
     fps: null,
     recordedFrames: 0,
     recording: false,
@@ -564,13 +567,16 @@ async function startWebcam() {
       framesWithHands: 0,
       framesWithPose: 0,
       mediapipeMs: null,
-      mediapipeMsMedian: null,
       fps: null,
     });
     $("webcam-stop").disabled = false;
     $("record").disabled = false;
     ws.textContent = `running: ${webcam.mediapipeLabel}${mode === "tasks" && !pose ? " (hands only: arms stay at rest)" : ""}`;
   } catch (e) {
+    if (e instanceof WebcamStopped) {
+      ws.textContent = "stopped";
+      return;
+    }
     webcam?.stop();
     webcam = null;
     $("webcam-start").disabled = false;
@@ -590,7 +596,6 @@ function onWebcamFrame(frame, info) {
   w.mediapipeMs = info.mediapipeMs;
   mediapipeTimes.push(info.mediapipeMs);
   if (mediapipeTimes.length > SOLVE_WINDOW) mediapipeTimes.shift();
-  w.mediapipeMsMedian = median(mediapipeTimes);
   const elapsed = performance.now() - webcamStartMs;
   w.fps = elapsed > 0 ? (w.frames * 1000) / elapsed : null;
   if (recorder) {

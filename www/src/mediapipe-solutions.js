@@ -111,6 +111,7 @@ export class LegacySolution {
     this.mp = mp;
     this.last = null;
     this.closed = false;
+    this.inputs = { image: null };
     mp.onResults((r) => {
       this.last = r;
     });
@@ -136,8 +137,10 @@ export class LegacySolution {
   async detect(image, timeMs) {
     if (this.closed) throw new Error(`${this.label}: detect() after close()`);
     this.last = null;
-    if (timeMs !== undefined && this.inner) await this.inner.send({ image }, timeMs);
-    else await this.mp.send({ image });
+    this.inputs.image = image;
+    if (timeMs !== undefined && this.inner) await this.inner.send(this.inputs, timeMs);
+    else await this.mp.send(this.inputs);
+    this.inputs.image = null;
     if (!this.last) throw new Error(`${this.label}: no results for the frame`);
     return this.last;
   }

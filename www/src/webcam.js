@@ -47,6 +47,14 @@ export async function modelSource(url, file) {
 
 const NO_HANDS = Object.freeze([]);
 
+/** Thrown by start() when stop() was called before it finished. */
+export class WebcamStopped extends Error {
+  constructor() {
+    super("the webcam was stopped while starting");
+    this.name = "WebcamStopped";
+  }
+}
+
 /** What went wrong opening the camera, in words (getUserMedia's DOMException names). */
 export function cameraError(e) {
   switch (e?.name) {
@@ -86,6 +94,7 @@ export class Webcam {
     this.pose = null;
     this.stream = null;
     this.running = false;
+    this.stopped = false;
     this.busy = false;
     this.lastVideoTime = -1;
     this.results = null;
@@ -121,16 +130,26 @@ export class Webcam {
       if (pose) {
         this.pose = await vision.PoseLandmarker.createFromOptions(fileset, { baseOptions: pose, runningMode: "VIDEO", numPoses: 1 });
       }
+      this.checkStopped();
       await this.openCamera();
     } else {
       // The camera first: without one (or without permission) there is no point loading models.
       await this.openCamera();
+      this.checkStopped();
       this.onProgress(`loading MediaPipe ${mode} (its models come with the page)…`);
       this.solution = await LegacySolution.create(mode, { cpu });
     }
+    this.checkStopped();
     this.running = true;
     this.info.index = -1;
     this.schedule();
+  }
+
+  // stop() during start(): give back what was opened meanwhile.
+  checkStopped() {
+    if (!this.stopped) return;
+    this.stop();
+    throw new WebcamStopped();
   }
 
   async openCamera() {
@@ -143,6 +162,7 @@ export class Webcam {
     } catch (e) {
       throw new Error(cameraError(e), { cause: e });
     }
+    this.checkStopped();
     this.video.srcObject = this.stream;
     this.video.hidden = false;
     await this.video.play();
@@ -240,6 +260,7 @@ export class Webcam {
 
   /** Stops the camera; MediaPipe is closed now, or when the frame in progress is done. */
   stop() {
+    this.stopped = true;
     this.running = false;
     clearTimeout(this.pollTimer);
     for (const t of this.stream?.getTracks() ?? []) t.stop();
