@@ -43,6 +43,7 @@ const demo = {
     mediapipe: "",
     size: null,
     frames: 0,
+    cameraFrames: 0,
     framesWithHands: 0,
     framesWithPose: 0,
     mediapipeMs: null,
@@ -564,6 +565,7 @@ async function startWebcam() {
       mediapipe: webcam.mediapipeLabel,
       size: webcam.size,
       frames: 0,
+      cameraFrames: 0,
       framesWithHands: 0,
       framesWithPose: 0,
       mediapipeMs: null,
@@ -591,6 +593,7 @@ function onWebcamFrame(frame, info) {
   dirty = true;
   const w = demo.webcam;
   w.frames++;
+  w.cameraFrames = info.cameraFrames;
   if (info.handCount > 0) w.framesWithHands++;
   if (frame.pose) w.framesWithPose++;
   w.mediapipeMs = info.mediapipeMs;
@@ -608,7 +611,8 @@ function onWebcamFrame(frame, info) {
   if (w.frames % 10 === 1) {
     $("webcam-status").textContent =
       `running: ${w.mediapipe} · ${w.fps.toFixed(1)} frames/s · MediaPipe ${w.mediapipeMsMedian.toFixed(0)} ms · ` +
-      `handrig ${fmtUs(demo.solveUsMedian.with)} µs · hands in ${w.framesWithHands}/${w.frames} frames`;
+      `handrig ${fmtUs(demo.solveUsMedian.with)} µs · hands in ${w.framesWithHands}/${w.frames} frames ` +
+      `(of ${w.cameraFrames} from the camera)`;
     if (recorder) $("record-status").textContent = `recording: ${recorder.length} frames`;
   }
   demo.onWebcamFrame?.(info, frame, demo.results.with);

@@ -75,7 +75,8 @@ export function cameraError(e) {
 export class Webcam {
   /**
    * `onFrame(frame, info)` is called once per processed camera frame with the handrig frame
-   * and `info` = { index, timeMs, mediapipeMs, handCount, tag } (both objects reused: read them in the
+   * and `info` = { index, timeMs, mediapipeMs, handCount, cameraFrames (frames the camera
+   * delivered since the start, processed or skipped), tag } (both objects reused: read them in the
    * call). `onError(error)` when processing fails (the webcam is stopped first).
    * `onProgress(text)` while starting.
    */
@@ -103,7 +104,8 @@ export class Webcam {
     this.holisticHands = HOLISTIC_HAND_LABELS.map(([, handedness]) => ({ handedness, landmarks: null }));
     this.holisticList = [];
     this.poseSlot = { worldLandmarks: null };
-    this.info = { index: -1, timeMs: 0, mediapipeMs: 0, handCount: 0, tag: undefined };
+    this.info = { index: -1, timeMs: 0, mediapipeMs: 0, handCount: 0, cameraFrames: 0, tag: undefined };
+    this.firstPresented = -1;
     this.pollTimer = 0;
   }
 
@@ -142,6 +144,7 @@ export class Webcam {
     this.checkStopped();
     this.running = true;
     this.info.index = -1;
+    this.firstPresented = -1;
     this.schedule();
   }
 
@@ -182,11 +185,15 @@ export class Webcam {
 
   // One camera frame: run MediaPipe on it (the next frame is asked for when this one is done,
   // so frames that arrive meanwhile are skipped, never queued).
-  onVideoFrame = async () => {
+  onVideoFrame = async (_now, metadata) => {
     if (!this.running || this.busy) return;
     const v = this.video;
     if (this.paused || v.readyState < 2 || v.currentTime === this.lastVideoTime) return this.schedule();
     this.lastVideoTime = v.currentTime;
+    // Camera frames shown since the start, processed or not.
+    const presented = metadata ? metadata.presentedFrames : v.getVideoPlaybackQuality().totalVideoFrames;
+    if (this.firstPresented < 0) this.firstPresented = presented;
+    this.info.cameraFrames = presented - this.firstPresented + 1;
     this.busy = true;
     try {
       await this.process(performance.now());

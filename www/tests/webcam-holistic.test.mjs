@@ -86,8 +86,10 @@ test("holistic mode (the default): pose every frame, hands where the shared reco
   const us = median(log.map((l) => l.solveUs));
   assert.ok(mp > 0 && mp < 3000, `MediaPipe ${mp} ms a frame`);
   assert.ok(us > 0 && us < 5000, `handrig ${us} µs a frame`);
+  const played = log.at(-1).cameraFrames;
+  assert.ok(played >= log.length, `${played} camera frames`);
   console.log(
-    `# holistic mode: ${log.length} frames in ${seconds.toFixed(1)} s, pose on ${withPose}, a hand on ${tracked} ` +
+    `# holistic mode: ${log.length} frames processed of ${played} played by the camera in ${seconds.toFixed(1)} s, pose on ${withPose}, a hand on ${tracked} ` +
       `(on ${found}/${refHands.length} of the frames where the shared recording has one, none on ${quiet}/${refNone.length} without); ` +
       `MediaPipe median ${mp.toFixed(0)} ms, handrig median ${us.toFixed(0)} µs a frame`,
   );

@@ -64,6 +64,7 @@ export async function installWebcamLog(page, { width }) {
           mediapipeMs: info.mediapipeMs,
           solveUs: d.solveUs.with,
           handCount: info.handCount,
+          cameraFrames: info.cameraFrames,
           pose: !!frame.pose,
           right: result?.hands?.right?.status ?? null,
           left: result?.hands?.left?.status ?? null,
