@@ -168,7 +168,12 @@ export class Webcam {
     this.checkStopped();
     this.video.srcObject = this.stream;
     this.video.hidden = false;
-    await this.video.play();
+    try {
+      await this.video.play();
+    } catch (e) {
+      this.checkStopped(); // play() is interrupted when stop() takes the stream away
+      throw e;
+    }
   }
 
   /** Size of the camera image MediaPipe sees. */
