@@ -24,12 +24,12 @@ NODE_DIRS := pkg-config tests/node $(if $(wildcard www/package-lock.json),www)
 NODE_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NODE_DIRS))
 
 .PHONY: help setup setup-system setup-rust setup-node pkg pkg-dev \
-        test test-rust test-wasm test-node test-www demo eval bench clean
+        test test-rust test-wasm test-node test-www demo eval bench record-check clean
 
 help:
 	@echo "make demo       build the package (pkg/) and serve the demo on 127.0.0.1"
 	@echo "make test       all tests: test-rust test-wasm test-node test-www"
-	@echo "make setup      install missing tools: chromium (apt), wasm32 target, wasm-bindgen-cli $(WASM_BINDGEN_VERSION), wasm-pack, npm deps"
+	@echo "make setup      install missing tools: chromium and ffmpeg (apt), wasm32 target, wasm-bindgen-cli $(WASM_BINDGEN_VERSION), wasm-pack, npm deps"
 	@echo "make pkg        build the npm package into pkg/ (release); make pkg-dev: debug build"
 	@echo "make test-rust  cargo test"
 	@echo "make test-wasm  wasm-pack test --node (wasm-bindgen-test)"
@@ -37,15 +37,18 @@ help:
 	@echo "make test-www   the demo's browser tests (Playwright + Debian chromium), when www/ has them"
 	@echo "make eval       measured figures: hand accuracy vs Kalidokit, alignment table, wasm solve time"
 	@echo "make bench      criterion benchmark of Rig::solve (native)"
+	@echo "make record-check  record the shared videos with tools/record-video.mjs and compare with the shared recordings"
 	@echo "make clean      remove pkg/ and the package build's scratch files (not target/)"
 
 setup: setup-system setup-rust setup-node
 
-# Debian packages: chromium for the demo's browser tests. (No binaryen: Debian's wasm-opt 108
+# Debian packages: chromium for the demo's browser tests, ffmpeg to turn real videos into its
+# fake camera (www/tests/webcam-*.test.mjs) and for tools/record-video.mjs. (No binaryen: Debian's wasm-opt 108
 # breaks wasm-bindgen 0.2.130 output; pkg-config/build.mjs runs binaryen from npm instead.)
 setup-system:
 	@missing=""; \
 	command -v chromium >/dev/null || missing="$$missing chromium"; \
+	command -v ffmpeg >/dev/null || missing="$$missing ffmpeg"; \
 	command -v node >/dev/null || missing="$$missing nodejs"; \
 	command -v npm >/dev/null || missing="$$missing npm"; \
 	command -v cc >/dev/null || missing="$$missing gcc libc6-dev"; \
@@ -111,6 +114,11 @@ eval: pkg eval/node_modules/.package-lock.json
 # Native per-frame cost of Rig::solve (criterion).
 bench: setup
 	cargo bench --bench solve
+
+# MediaPipe from npm on the shared videos (tools/record-video.mjs), compared landmark by landmark
+# with the shared recordings made by other MediaPipe builds; artifacts/recordings/summary.md.
+record-check: setup
+	node tools/check-shared-recordings.mjs
 
 demo: pkg
 	@[ -f www/serve.mjs ] || { echo "demo: www/serve.mjs not found" >&2; exit 1; }

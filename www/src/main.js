@@ -11,7 +11,8 @@ import init, { HandRig } from "handrig";
 import { Avatar, parseVrm } from "./avatar.js";
 import { loadRecordings } from "./recording.js";
 import { buildOptionsPanel, getPath } from "./options-panel.js";
-import { LOCAL_WASM_BASE, Webcam, modelSource } from "./webcam.js";
+import { LOCAL_WASM_BASE, Webcam, WebcamStopped, modelSource } from "./webcam.js";
+import { RecordingBuilder } from "./recording-format.js";
 
 const $ = (id) => document.getElementById(id);
 const VIEW_KEYS = ["without", "with"];
@@ -35,6 +36,31 @@ const demo = {
   solveUs: { without: null, with: null },
   solveUsMedian: { without: null, with: null },
   solveErrors: 0,
+  // Live webcam mode (see webcam.js): counters since Start, medians over the last 60 frames.
+  webcam: {
+    mode: null,
+    running: false,
+    mediapipe: "",
+    size: null,
+    frames: 0,
+    cameraFrames: 0,
+    framesWithHands: 0,
+    framesWithPose: 0,
+    mediapipeMs: null,
+    /** Median over the last 60 frames (computed when read: nothing sorted per frame). */
+    get mediapipeMsMedian() {
+      return mediapipeTimes.length ? median(mediapipeTimes) : null;
+    },
+    fps: null,
+    recordedFrames: 0,
+    recording: false,
+  },
+  // Test and console hooks for the webcam mode (null when unused): `webcamProbe(video)` runs
+  // just before each MediaPipe call and its value comes back as `info.tag`;
+  // `onWebcamFrame(info, frame, result)` runs after each live frame is solved (`result`: the
+  // right view's, reused by the next frame).
+  webcamProbe: null,
+  onWebcamFrame: null,
 };
 window.__handrigDemo = demo;
 
@@ -465,8 +491,18 @@ function wireUi() {
   });
 
   $("wasm-base").value = LOCAL_WASM_BASE;
+  $("webcam-mode").addEventListener("change", showWebcamMode);
+  showWebcamMode();
   $("webcam-start").addEventListener("click", startWebcam);
   $("webcam-stop").addEventListener("click", stopWebcam);
+  $("record").addEventListener("click", toggleRecording);
+  $("download-recording").addEventListener("click", downloadRecording);
+}
+
+function showWebcamMode() {
+  const tasks = $("webcam-mode").value === "tasks";
+  $("tasks-fields").hidden = !tasks;
+  $("webcam-inference-field").hidden = tasks;
 }
 
 function setSource(src) {
@@ -484,35 +520,169 @@ function setSource(src) {
   dirty = true;
 }
 
+// ---------------------------------------------------------------- webcam
+
+const mediapipeTimes = [];
+let webcamStartMs = 0;
+let recorder = null;
+let recordT0 = 0;
+/** Longest recording kept in memory: 10 minutes at 30 frames a second. */
+const MAX_RECORDED_FRAMES = 18000;
+
 async function startWebcam() {
   const ws = $("webcam-status");
+  const mode = $("webcam-mode").value;
+  let hand = null;
+  let pose = null;
+  ws.textContent = "starting…";
   try {
-    const hand = await modelSource($("hand-model-url").value, $("hand-model-file").files?.[0]);
-    const pose = await modelSource($("pose-model-url").value, $("pose-model-file").files?.[0]);
-    if (!hand) {
-      ws.textContent = "Give the hand landmarker model (.task) as a URL or a local file first.";
+    if (mode === "tasks") {
+      hand = await modelSource($("hand-model-url").value, $("hand-model-file").files?.[0]);
+      pose = await modelSource($("pose-model-url").value, $("pose-model-file").files?.[0]);
+      if (!hand) {
+        ws.textContent = "Give the hand landmarker model (.task) as a URL or a local file first.";
+        return;
+      }
+    }
+    stopWebcam();
+    $("webcam-start").disabled = true;
+    ws.textContent = mode === "tasks" ? "loading MediaPipe tasks-vision…" : "opening the camera…";
+    const inference = $("webcam-inference").value;
+    webcam = new Webcam($("webcam-video"), {
+      onFrame: onWebcamFrame,
+      onError: onWebcamError,
+      onProgress: (text) => (ws.textContent = text),
+    });
+    webcam.probe = demo.webcamProbe;
+    await webcam.start({ mode, hand, pose, wasmBase: $("wasm-base").value.trim(), cpu: inference === "auto" ? undefined : inference === "cpu" });
+    // A new live session: fresh rigs (calibration, held hands) and counters.
+    createRigs();
+    mediapipeTimes.length = 0;
+    webcamStartMs = performance.now();
+    Object.assign(demo.webcam, {
+      mode,
+      running: true,
+      mediapipe: webcam.mediapipeLabel,
+      size: webcam.size,
+      frames: 0,
+      cameraFrames: 0,
+      framesWithHands: 0,
+      framesWithPose: 0,
+      mediapipeMs: null,
+      fps: null,
+    });
+    $("webcam-stop").disabled = false;
+    $("record").disabled = false;
+    ws.textContent = `running: ${webcam.mediapipeLabel}${mode === "tasks" && !pose ? " (hands only: arms stay at rest)" : ""}`;
+  } catch (e) {
+    if (e instanceof WebcamStopped) {
+      ws.textContent = "stopped";
       return;
     }
-    ws.textContent = "loading MediaPipe…";
-    webcam = new Webcam($("webcam-video"));
-    await webcam.start({ hand, pose, wasmBase: $("wasm-base").value.trim() });
-    $("webcam-start").disabled = true;
-    $("webcam-stop").disabled = false;
-    ws.textContent = pose ? "running: hands and pose" : "running: hands only (arms stay at rest)";
-  } catch (e) {
     webcam?.stop();
     webcam = null;
+    $("webcam-start").disabled = false;
     // MediaPipe's messages carry a source-location trace: the first line says what failed.
     ws.textContent = `webcam failed: ${String(e?.message ?? e).split("\n")[0]}`;
     console.warn("webcam failed:", e);
   }
 }
 
-function stopWebcam() {
-  webcam?.stop();
+function onWebcamFrame(frame, info) {
+  solveAndShow(frame);
+  dirty = true;
+  const w = demo.webcam;
+  w.frames++;
+  w.cameraFrames = info.cameraFrames;
+  if (info.handCount > 0) w.framesWithHands++;
+  if (frame.pose) w.framesWithPose++;
+  w.mediapipeMs = info.mediapipeMs;
+  mediapipeTimes.push(info.mediapipeMs);
+  if (mediapipeTimes.length > SOLVE_WINDOW) mediapipeTimes.shift();
+  const elapsed = performance.now() - webcamStartMs;
+  w.fps = elapsed > 0 ? (w.frames * 1000) / elapsed : null;
+  if (recorder) {
+    const { hands, pose } = webcam.recordParts();
+    if (recorder.length === 0) recordT0 = info.timeMs;
+    recorder.add(recorder.length, info.timeMs - recordT0, hands, pose);
+    w.recordedFrames = recorder.length;
+    if (recorder.length >= MAX_RECORDED_FRAMES) stopRecording(`stopped at ${MAX_RECORDED_FRAMES} frames (the in-memory limit)`);
+  }
+  if (w.frames % 10 === 1) {
+    $("webcam-status").textContent =
+      `running: ${w.mediapipe} · ${w.fps.toFixed(1)} frames/s · MediaPipe ${w.mediapipeMsMedian.toFixed(0)} ms · ` +
+      `handrig ${fmtUs(demo.solveUsMedian.with)} µs · hands in ${w.framesWithHands}/${w.frames} frames ` +
+      `(of ${w.cameraFrames} from the camera)`;
+    if (recorder) $("record-status").textContent = `recording: ${recorder.length} frames`;
+  }
+  demo.onWebcamFrame?.(info, frame, demo.results.with);
+}
+
+function onWebcamError(e) {
   webcam = null;
+  demo.webcam.running = false;
   $("webcam-start").disabled = false;
   $("webcam-stop").disabled = true;
+  if (recorder) stopRecording("stopped: the webcam failed");
+  $("webcam-status").textContent = `webcam failed: ${String(e?.message ?? e).split("\n")[0]}`;
+  console.warn("webcam failed:", e);
+}
+
+function stopWebcam() {
+  if (recorder) stopRecording();
+  webcam?.stop();
+  webcam = null;
+  demo.webcam.running = false;
+  $("webcam-start").disabled = false;
+  $("webcam-stop").disabled = true;
+  $("record").disabled = true;
+}
+
+function toggleRecording() {
+  if (recorder) return stopRecording();
+  if (!webcam) return;
+  const { width, height } = webcam.size;
+  recorder = new RecordingBuilder({
+    source: "webcam",
+    width,
+    height,
+    fps: null,
+    mediapipe: webcam.mediapipeLabel,
+    mode: demo.webcam.mode,
+    recordedAt: new Date().toISOString(),
+    handrigOptions: demo.options,
+  });
+  demo.webcam.recording = true;
+  demo.webcam.recordedFrames = 0;
+  $("record").textContent = "Stop recording";
+  $("download-recording").disabled = true;
+  $("record-status").textContent = "recording: 0 frames";
+}
+
+let lastRecording = null;
+
+function stopRecording(why = "") {
+  if (!recorder) return;
+  lastRecording = recorder;
+  recorder = null;
+  demo.webcam.recording = false;
+  $("record").textContent = "Record";
+  $("download-recording").disabled = lastRecording.length === 0;
+  $("record-status").textContent = `recorded ${lastRecording.length} frames${why ? ` (${why})` : ""}: download it as JSON`;
+}
+
+function downloadRecording() {
+  if (recorder) stopRecording();
+  if (!lastRecording) return;
+  const blob = new Blob([lastRecording.toJSON()], { type: "application/json" });
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(blob);
+  const stamp = new Date().toISOString().replace(/[:.]/g, "-").slice(0, 19);
+  a.download = `handrig-webcam-${lastRecording.meta.mode}-${stamp}.json`;
+  document.body.appendChild(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(a.href), 10_000);
 }
 
 function onOptionsChanged(opts, path) {
@@ -551,11 +721,7 @@ function tick(now) {
       dirty = false;
     }
   } else {
-    const frame = webcam?.detect(now);
-    if (frame) {
-      solveAndShow(frame);
-      dirty = true;
-    }
+    // Live frames are solved as MediaPipe delivers them (onWebcamFrame); draw the last one.
     if (dirty) {
       render();
       dirty = false;
@@ -607,6 +773,10 @@ Object.assign(demo, {
     return nextRender();
   },
   nextRender,
+  /** Freezes (true) or resumes the live webcam processing; the avatar keeps the last frame. */
+  pauseWebcam: (on) => {
+    if (webcam) webcam.paused = on;
+  },
   /** Reloads the current avatar bytes (e.g. after a test changed it). */
   reloadAvatar: () => (avatarBytes ? loadAvatar(avatarBytes, avatarName) : Promise.resolve()),
   /**

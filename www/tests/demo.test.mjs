@@ -228,13 +228,21 @@ test("every control re-creates the rigs with its option, and the controls change
   assert.deepEqual(errors, []);
 });
 
-test("webcam mode explains the model files and asks for them", async () => {
+test("webcam mode: built-in MediaPipe by default; the tasks-vision mode explains the model files and asks for them", async () => {
   await page.check('input[name="source"][value="webcam"]');
   assert.ok(await page.isVisible("#webcam-controls"));
-  assert.match(await page.textContent("#webcam-controls"), /\.task/);
+  // The default needs nothing: Holistic from npm, no model fields shown.
+  assert.equal(await page.inputValue("#webcam-mode"), "holistic");
+  assert.equal(await page.isVisible("#tasks-fields"), false);
+  assert.match(await page.textContent("#webcam-controls"), /@mediapipe\/holistic/);
+  await page.selectOption("#webcam-mode", "tasks");
+  assert.ok(await page.isVisible("#tasks-fields"));
+  assert.equal(await page.isVisible("#webcam-inference-field"), false, "the inference choice is for the built-in modes");
+  assert.match(await page.textContent("#tasks-fields"), /\.task/);
   assert.match(await page.inputValue("#wasm-base"), /tasks-vision\/wasm$/);
   await page.click("#webcam-start");
   assert.match(await page.textContent("#webcam-status"), /hand landmarker model/);
+  await page.selectOption("#webcam-mode", "holistic");
   await page.check('input[name="source"][value="recording"]');
   assert.ok(await page.isVisible("#recording-controls"));
   await setFrame(140);
@@ -242,8 +250,30 @@ test("webcam mode explains the model files and asks for them", async () => {
   assert.deepEqual(errors, []);
 });
 
+test("webcam mode without a camera says so, and loads no model", async () => {
+  // Camera access granted (as a user would), but headless Chromium here has no camera device.
+  await env.context.grantPermissions(["camera"], { origin: new URL(env.url).origin });
+  await page.check('input[name="source"][value="webcam"]');
+  const requests = [];
+  const onRequest = (r) => requests.push(r.url());
+  page.on("request", onRequest);
+  const before = errors.length;
+  await page.click("#webcam-start");
+  await page.waitForFunction(() => /failed|running/.test(document.getElementById("webcam-status").textContent), null, {
+    timeout: 30_000,
+  });
+  page.off("request", onRequest);
+  assert.match(await page.textContent("#webcam-status"), /^webcam failed: no camera found/);
+  assert.deepEqual(requests.filter((u) => /@mediapipe\/holistic/.test(u)), [], "no model was fetched");
+  assert.deepEqual(errors.slice(before), []);
+  assert.equal(await page.isDisabled("#webcam-start"), false, "can try again");
+  assert.equal(await page.isDisabled("#record"), true, "nothing to record");
+  await page.check('input[name="source"][value="recording"]');
+});
+
 test("webcam mode loads the local MediaPipe runtime and reports a bad model file on the page", async () => {
   await page.check('input[name="source"][value="webcam"]');
+  await page.selectOption("#webcam-mode", "tasks");
   await page.setInputFiles("#hand-model-file", {
     name: "not-a-model.task",
     mimeType: "application/octet-stream",
@@ -264,5 +294,6 @@ test("webcam mode loads the local MediaPipe runtime and reports a bad model file
   assert.deepEqual(extra, []);
   errors.length = before;
   assert.equal(await page.isDisabled("#webcam-start"), false, "can try again");
+  await page.selectOption("#webcam-mode", "holistic");
   await page.check('input[name="source"][value="recording"]');
 });

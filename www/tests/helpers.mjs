@@ -1,7 +1,8 @@
 // Shared browser-test helpers: the static server on a free port and headless Debian Chromium
 // through playwright-core (no browser download: executablePath is the system chromium).
 
-import { existsSync, mkdtempSync, mkdirSync, rmSync } from "node:fs";
+import { execFileSync } from "node:child_process";
+import { existsSync, mkdtempSync, mkdirSync, readFileSync, renameSync, rmSync, statSync, writeFileSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { dirname, join, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
@@ -16,8 +17,11 @@ mkdirSync(SCREENSHOTS, { recursive: true });
 
 export const CHROMIUM = process.env.CHROMIUM ?? "/usr/bin/chromium";
 
-/** Starts the server on a free port and a fresh headless Chromium profile. */
-export async function launch() {
+/**
+ * Starts the server on a free port and a fresh headless Chromium profile. `fakeCamera`: a
+ * .y4m or .mjpeg file Chromium plays as the webcam (looped), with camera access granted.
+ */
+export async function launch({ fakeCamera } = {}) {
   if (!findPackageDir()) {
     throw new Error("the handrig package is not built: run `make pkg` (node pkg-config/build.mjs) first");
   }
@@ -40,7 +44,15 @@ export async function launch() {
       // WebGL without a GPU: ANGLE on SwiftShader.
       "--use-angle=swiftshader",
       "--enable-unsafe-swiftshader",
+      ...(fakeCamera
+        ? [
+            "--use-fake-device-for-media-stream",
+            "--use-fake-ui-for-media-stream",
+            `--use-file-for-fake-video-capture=${fakeCamera}`,
+          ]
+        : []),
     ],
+    ...(fakeCamera ? { permissions: ["camera"] } : {}),
   });
   return {
     url: srv.url,
@@ -186,4 +198,73 @@ export function around(p, r, bounds) {
   const x1 = Math.min(bounds.x + bounds.w, p.x + r);
   const y1 = Math.min(bounds.y + bounds.h, p.y + r);
   return { x: x0, y: y0, w: Math.max(1, x1 - x0), h: Math.max(1, y1 - y0) };
+}
+
+// ---------------------------------------------------------------- fake camera videos
+
+export const FAKE_CAMERA_DIR = join(REPO, "artifacts", "fake-camera");
+
+/** Bits of the frame code burnt into the top-left corner of fake camera videos (plus parity). */
+export const CODE_BITS = 12;
+/** Size of one code block in pixels of the fake camera video. */
+export const CODE_BLOCK = 10;
+
+/**
+ * Makes (once; cached in artifacts/fake-camera/) a .y4m file for Chromium's fake camera from
+ * segments of real videos, with Debian's ffmpeg: `clips` = [{ file, from, to }] (frame range,
+ * `to` exclusive), each scaled to `width` (height keeps the aspect), concatenated, every
+ * frame kept and played at `fps` (slower than the source: MediaPipe on software GL processes
+ * a few frames a second, so a slower camera gives it more of the motion).
+ * Every frame carries its code `clipIndex * 1024 + sourceFrame` in the top-left corner as
+ * CODE_BITS + 1 black/white blocks of CODE_BLOCK px (least significant first, then even
+ * parity), so a test can tell which source frame MediaPipe was given (decodeFrameCode).
+ * Raw y4m is big (width x height x 1.5 bytes a frame): keep clips short.
+ */
+export function fakeCameraVideo(name, { clips, width = 640, fps = 15 }) {
+  if (!clips.length) throw new Error("fakeCameraVideo: no clips");
+  mkdirSync(FAKE_CAMERA_DIR, { recursive: true });
+  const spec = clips.map((c) => `${c.file.split("/").pop()}:${c.from}-${c.to}`).join("+");
+  const out = join(FAKE_CAMERA_DIR, `${name}-${width}w-${fps}fps.y4m`);
+  const newest = Math.max(...clips.map((c) => statSync(c.file).mtimeMs));
+  if (existsSync(out) && statSync(out).mtimeMs > newest && existsSync(`${out}.spec`) && readSpec(`${out}.spec`) === spec) return out;
+  try {
+    execFileSync("ffmpeg", ["-version"], { stdio: "ignore" });
+  } catch {
+    throw new Error("ffmpeg not found: the fake-camera tests convert videos with Debian's ffmpeg (`make setup` installs it)");
+  }
+  const B = CODE_BLOCK;
+  const chains = clips.map((c, i) => {
+    const boxes = [`drawbox=x=0:y=0:w=${(CODE_BITS + 1) * B}:h=${B}:color=black:t=fill`];
+    // Bit k of the code (clip * 1024 + source frame); n counts frames after trim from 0.
+    const code = `(${i * 1024 + c.from}+n)`;
+    const bit = (k) => `mod(floor(${code}/${2 ** k}),2)`;
+    for (let k = 0; k < CODE_BITS; k++) {
+      boxes.push(`drawbox=x=${k * B}:y=0:w=${B}:h=${B}:color=white:t=fill:enable='eq(${bit(k)},1)'`);
+    }
+    const parity = Array.from({ length: CODE_BITS }, (_, k) => bit(k)).join("+");
+    boxes.push(`drawbox=x=${CODE_BITS * B}:y=0:w=${B}:h=${B}:color=white:t=fill:enable='eq(mod(${parity},2),1)'`);
+    return (
+      `[${i}:v]trim=start_frame=${c.from}:end_frame=${c.to},setpts=PTS-STARTPTS,` +
+      `scale=${width}:-2,setsar=1,${boxes.join(",")}[v${i}]`
+    );
+  });
+  const graph = `${chains.join(";")};${clips.map((_, i) => `[v${i}]`).join("")}concat=n=${clips.length}:v=1:a=0,setpts=N/(${fps}*TB)[out]`;
+  const tmp = `${out}.tmp`;
+  execFileSync(
+    "ffmpeg",
+    ["-v", "error", "-y", ...clips.flatMap((c) => ["-i", c.file]), "-filter_complex", graph, "-map", "[out]", "-r", String(fps),
+      "-pix_fmt", "yuv420p", "-f", "yuv4mpegpipe", tmp],
+    { stdio: ["ignore", "ignore", "pipe"] },
+  );
+  renameSync(tmp, out);
+  writeSpec(`${out}.spec`, spec);
+  return out;
+}
+
+function readSpec(f) {
+  return readFileSync(f, "utf8");
+}
+
+function writeSpec(f, spec) {
+  writeFileSync(f, spec);
 }

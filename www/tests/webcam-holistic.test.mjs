@@ -1,0 +1,191 @@
+// End to end on real pixels, pose and both hands: Chromium's fake camera plays two of the
+// shared sign-language clips (../shared/data/asl: `eat`, fingertips to the mouth with the
+// right hand, then `brother`, both hands, one at the forehead), the demo's default webcam mode
+// runs MediaPipe Holistic from npm on them for real, and pose and hands of the same camera
+// frame drive handrig together. Checked against the shared recordings of the same clips
+// (MediaPipe Pose + Hands 0.10.14, Python) frame by frame through the frame codes the fake
+// camera video carries (see fakeCameraVideo).
+//
+// Bounded: 112 source frames at 15 frames a second, 40 processed frames or 60 s.
+
+import { after, before, test } from "node:test";
+import assert from "node:assert/strict";
+import { readFileSync } from "node:fs";
+import { createRequire } from "node:module";
+import { join } from "node:path";
+import { REPO, SHARED, fakeCameraVideo, launch, openDemo, pixelStats, shot } from "./helpers.mjs";
+import { installWebcamLog, landmarkCurl, mean, median, pearson, screenshotAtFrames, sharedFrames, startWebcam, waitForFrames } from "./webcam-support.mjs";
+import { readRecording } from "../src/recording-format.js";
+import { findPackageDir } from "../serve.mjs";
+
+// `lead`: video frames before the shared recording's frame 0. brother.mp4 has 66 frames and
+// brother.json 65: its frame k is the video's frame k + 1 (tools/compare-recordings.mjs finds
+// the landmarks closest at that offset: 1.6 px median against 5.0 px at the same index).
+const CLIPS = [
+  { name: "eat", lead: 0 },
+  { name: "brother", lead: 1 },
+];
+const WIDTH = 640;
+const FRAMES = 40;
+const EAT = 0; // frame code = clip index * 1024 + source frame
+const BROTHER = 1024;
+
+let env;
+let page;
+let errors;
+let log;
+let armLength;
+const refs = CLIPS.map((c) => sharedFrames(`data/asl/${c.name}.json`));
+/** The shared recording's frame for a frame code (clip * 1024 + video frame), or null. */
+const refFrame = (tag) => {
+  const c = tag >> 10;
+  return refs[c]?.[(tag & 1023) - CLIPS[c].lead] ?? null;
+};
+const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+const quatAngle = (a, b) => (2 * Math.acos(Math.min(1, Math.abs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]))) * 180) / Math.PI;
+
+before(async () => {
+  const camera = fakeCameraVideo("asl-eat-brother", {
+    clips: CLIPS.map((c, i) => ({ file: join(SHARED, `data/asl/${c.name}.mp4`), from: 0, to: refs[i].length + c.lead })),
+    width: WIDTH,
+    fps: 15,
+  });
+  env = await launch({ fakeCamera: camera });
+  ({ page, errors } = await openDemo(env));
+  armLength = await page.evaluate(() => window.__handrigDemo.avatar.armLength);
+  await installWebcamLog(page, { width: WIDTH });
+  await startWebcam(page, "holistic");
+});
+
+after(async () => {
+  await env?.close();
+});
+
+test("holistic mode (the default): pose every frame, hands where the shared recording has them, nothing in the console errors", async () => {
+  const t0 = Date.now();
+  log = await waitForFrames(page, FRAMES, 60_000);
+  const seconds = (Date.now() - t0) / 1000;
+  const w = await page.evaluate(() => window.__handrigDemo.webcam);
+  assert.equal(w.mediapipe, "@mediapipe/holistic 0.5.1675471629");
+  assert.deepEqual(w.size, { width: WIDTH, height: 480 });
+  assert.ok(log.length >= 20, `frames processed in ${seconds.toFixed(0)} s: ${log.length}`);
+  const tagged = log.filter((l) => l.tag != null && refFrame(l.tag));
+  assert.ok(tagged.length >= 0.9 * log.length, `frame codes read on ${tagged.length}/${log.length} frames`);
+  assert.ok(new Set(tagged.map((l) => l.tag >> 10)).size === 2, "both clips were played");
+  const withPose = log.filter((l) => l.pose).length;
+  assert.ok(withPose >= 0.9 * log.length, `pose world landmarks on ${withPose}/${log.length} frames`);
+  // Hands where the recording (another MediaPipe build) has them, none where it has none.
+  const refHands = tagged.filter((l) => refFrame(l.tag).hands.length > 0);
+  const refNone = tagged.filter((l) => refFrame(l.tag).hands.length === 0);
+  const found = refHands.filter((l) => l.handCount > 0).length;
+  const quiet = refNone.filter((l) => l.handCount === 0).length;
+  assert.ok(refHands.length >= 8 && found >= 0.6 * refHands.length, `hands found on ${found}/${refHands.length} frames that have them`);
+  assert.ok(refNone.length === 0 || quiet >= 0.7 * refNone.length, `no hand on ${quiet}/${refNone.length} frames without`);
+  const tracked = log.filter((l) => l.handCount > 0).length;
+  const mp = median(log.map((l) => l.mediapipeMs));
+  const us = median(log.map((l) => l.solveUs));
+  assert.ok(mp > 0 && mp < 3000, `MediaPipe ${mp} ms a frame`);
+  assert.ok(us > 0 && us < 5000, `handrig ${us} µs a frame`);
+  const played = log.at(-1).cameraFrames;
+  assert.ok(played >= log.length, `${played} camera frames`);
+  console.log(
+    `# holistic mode: ${log.length} frames processed of ${played} played by the camera in ${seconds.toFixed(1)} s, pose on ${withPose}, a hand on ${tracked} ` +
+      `(on ${found}/${refHands.length} of the frames where the shared recording has one, none on ${quiet}/${refNone.length} without); ` +
+      `MediaPipe median ${mp.toFixed(0)} ms, handrig median ${us.toFixed(0)} µs a frame`,
+  );
+  assert.deepEqual(errors, []);
+});
+
+test("holistic mode: the signer's right hand drives the avatar's right hand, and both hands drive both sides", async () => {
+  // `eat` has only the signer's right hand up (the recording labels it "Left"): Holistic
+  // reports it as rightHandLandmarks and the avatar's right hand must take it.
+  const eat = log.filter((l) => l.tag != null && l.tag < BROTHER && l.handCount > 0);
+  assert.ok(eat.length >= 3, `${eat.length} eat frames with a hand`);
+  assert.ok(eat.filter((l) => l.right === "solved").length >= 0.8 * eat.length, `right hand solved: ${eat.map((l) => l.right)}`);
+  assert.equal(eat.filter((l) => l.left === "solved").length, 0, "the left hand stays unsolved in eat");
+  // `brother`: both hands at once.
+  const both = log.filter((l) => l.tag >= BROTHER && l.right === "solved" && l.left === "solved");
+  assert.ok(both.length >= 3, `both avatar hands solved in ${both.length} brother frames`);
+  for (const l of both) assert.ok(l.curlRight > 0 && l.curlLeft > 0, "solved hands bend their fingers");
+  // The fingers change with the video.
+  const curls = log.filter((l) => l.right === "solved").map((l) => l.curlRight);
+  assert.ok(Math.max(...curls) - Math.min(...curls) > 20, `right finger bend ranges over ${Math.min(...curls).toFixed(0)}-${Math.max(...curls).toFixed(0)} deg`);
+  const pairs = log
+    .filter((l) => l.tag != null && l.right === "solved")
+    .map((l) => [refFrame(l.tag)?.hands.find((h) => h.handedness === "Left"), l.curlRight])
+    .filter(([h]) => h);
+  const r = pearson(pairs.map(([h]) => landmarkCurl(h.worldLandmarks)), pairs.map((p) => p[1]));
+  console.log(`# holistic fingers (image landmarks only) vs the shared recording's world landmarks: r = ${r.toFixed(2)} over ${pairs.length} frames`);
+  // Holistic's image-only hands through handrig's image path against another MediaPipe's world
+  // landmarks, over a narrow range of bends (about 25-60 degrees): a loose bound.
+  assert.ok(pairs.length >= 8 && r > 0.3, `the avatar's finger bend follows the recorded one: r = ${r.toFixed(2)} over ${pairs.length} frames`);
+});
+
+test("holistic mode: the arm follows the pose: the right hand rises to the face in `eat` and comes back down", async () => {
+  // Frames of `eat` with the fingertips at the mouth (the recording's hand wrist above the
+  // shoulders' level) and at rest (before the hand comes up, after it went down).
+  const atMouth = log.filter((l) => l.tag != null && l.tag >= EAT + 16 && l.tag <= EAT + 30);
+  const atRest = log.filter((l) => l.tag != null && ((l.tag >= EAT && l.tag <= EAT + 3) || (l.tag >= EAT + 40 && l.tag < EAT + 47)));
+  assert.ok(atMouth.length >= 2 && atRest.length >= 2, `${atMouth.length} mouth and ${atRest.length} rest frames processed`);
+  const y = (ls) => mean(ls.map((l) => l.rightHand[1]));
+  const toHead = (ls) => mean(ls.map((l) => dist(l.rightIndexDistal, l.head)));
+  const rise = y(atMouth) - y(atRest);
+  const closer = toHead(atRest) - toHead(atMouth);
+  const arm = mean(atMouth.map((l) => quatAngle(l.rightUpperArm, atRest[0].rightUpperArm)));
+  console.log(
+    `# eat: avatar right hand ${rise.toFixed(3)} m higher at the mouth than at rest; index tip to head ` +
+      `${toHead(atMouth).toFixed(3)} m at the mouth vs ${toHead(atRest).toFixed(3)} m at rest (arm ${armLength.toFixed(3)} m); upper arm turned ${arm.toFixed(0)} deg`,
+  );
+  assert.ok(rise > 0.5 * armLength, `the hand rises by ${rise.toFixed(3)} m`);
+  assert.ok(closer > 0.3 * armLength, `the index tip comes ${closer.toFixed(3)} m closer to the head`);
+  assert.ok(arm > 30, `the upper arm turns ${arm.toFixed(0)} degrees`);
+  const shotAt = await screenshotAtFrames(page, EAT + 18, EAT + 30, shot("webcam-holistic-eat-mouth.png"));
+  assert.ok(shotAt, "a frame with the hand at the mouth was shown");
+  const rects = await page.evaluate(() => window.__handrigDemo.viewRects());
+  const s = await pixelStats(page, shotAt.png, rects.with.close);
+  assert.ok(s.hues[6] >= 10 && s.hues[9] >= 10, `finger pixels in the close-up: ${s.hues}`);
+  assert.ok(await screenshotAtFrames(page, BROTHER + 20, BROTHER + 50, shot("webcam-holistic-brother.png")), "a brother frame was shown");
+  assert.deepEqual(errors, []);
+});
+
+test("holistic mode: the live session downloads as a recording in the shared format that handrig replays", async () => {
+  await page.click("#record");
+  const n0 = await page.evaluate(() => window.__webcamLog.length);
+  await page.waitForFunction((n) => window.__webcamLog.length >= n + 10, n0, { timeout: 30_000 });
+  assert.equal(await page.isDisabled("#download-recording"), true, "nothing to download while recording");
+  assert.match(await page.textContent("#record"), /Stop recording/);
+  await page.click("#record");
+  const [dl] = await Promise.all([page.waitForEvent("download"), page.click("#download-recording")]);
+  const path = join(REPO, "artifacts", "webcam-holistic-recording.json");
+  await dl.saveAs(path);
+  const rec = JSON.parse(readFileSync(path, "utf8"));
+  const sum = readRecording(rec);
+  assert.ok(sum.frames >= 10, `${sum.frames} frames`);
+  assert.equal(rec.mode, "holistic");
+  assert.equal(rec.mediapipe, "@mediapipe/holistic 0.5.1675471629");
+  assert.deepEqual([rec.width, rec.height], [WIDTH, 480]);
+  assert.ok(sum.framesWithPose >= 0.9 * sum.frames, `pose in ${sum.framesWithPose}/${sum.frames} frames`);
+  for (const f of rec.frames) {
+    if (!f.pose) continue;
+    assert.equal(f.pose.landmarks.length, 33);
+    assert.equal(f.pose.worldLandmarks.length, 33);
+    assert.ok(f.pose.worldLandmarks.every((p) => p.length === 4 && p[3] >= 0 && p[3] <= 1), "visibility kept");
+  }
+  assert.equal(sum.withWorldHands, 0, "Holistic has no hand world landmarks");
+  // handrig (the built package, in Node) replays the frames, image-only hands with the
+  // recording's aspect ratio.
+  const { HandRig } = createRequire(import.meta.url)(findPackageDir());
+  const rig = HandRig.fromVrm(readFileSync(join(SHARED, "avatars/debug-robot.vrm")));
+  let armed = 0;
+  let handsSolved = 0;
+  for (const f of rec.frames) {
+    const r = rig.solve({ ...f, imageAspect: rec.width / rec.height });
+    if (r.ikTargets.left || r.ikTargets.right) armed++;
+    handsSolved += (r.hands.left?.status === "solved") + (r.hands.right?.status === "solved");
+  }
+  rig.free();
+  assert.equal(handsSolved, sum.hands, "every recorded hand drives a hand of the avatar");
+  assert.ok(armed > 0, `pose drives an arm in ${armed} frames`);
+  await page.click("#webcam-stop");
+  assert.deepEqual(errors, []);
+});
