@@ -381,19 +381,22 @@ function createHandRigApi(raw, isReady) {
             (name === "frame" ? " (a PoseLandmarker result goes in frame.pose)" : ""),
         );
       }
-      // Holistic legacy: image landmarks per side, labelled like MediaPipe's hand labels.
+      // Holistic legacy: image landmarks per side. Holistic names the hands by the subject's
+      // side, like its pose (`leftHandLandmarks` is the hand at the pose's left wrist); the
+      // Hands solutions label them as if the image were mirrored. So `leftHandLandmarks` is the
+      // hand Hands would label "Right", and the other way round.
       let n = 0;
       const left = r.leftHandLandmarks;
       const right = r.rightHandLandmarks;
       if (left !== undefined && left !== null) {
         const f = P.leftHandLandmarks;
         input[LI.hands + n * LI.handStride + LI.hand.score] = 1;
-        packHand(input, n++, 0, null, left, -1, f, "", f, "");
+        packHand(input, n++, 1, null, left, -1, f, "", f, "");
       }
       if (right !== undefined && right !== null) {
         const f = P.rightHandLandmarks;
         input[LI.hands + n * LI.handStride + LI.hand.score] = 1;
-        packHand(input, n++, 1, null, right, -1, f, "", f, "");
+        packHand(input, n++, 0, null, right, -1, f, "", f, "");
       }
       if (n === 0 && left === undefined && right === undefined) return -1;
       return n;

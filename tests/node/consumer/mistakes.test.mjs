@@ -174,3 +174,25 @@ describe("lost tracking: every driven bone in every result, applied by the adapt
     rig.free();
   });
 });
+
+describe("legacy Holistic results", () => {
+  it("leftHandLandmarks is the subject's left hand: it drives the side a Hands 'Right' label does", async () => {
+    const fs = await import("node:fs");
+    const path = await import("node:path");
+    const { shared } = await import("./support.mjs");
+    const clip = JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", "thanks.json"), "utf8"));
+    const rig = HandRig.fromVrm(robotBytes, { filter: false, dropout: false });
+    let checked = 0;
+    for (const f of clip.frames) {
+      for (const h of f.hands) {
+        const key = h.handedness === "Left" ? "rightHandLandmarks" : "leftHandLandmarks";
+        const hands = rig.solve({ timeMs: f.timeMs, hands: [h] }, {}).hands;
+        const holistic = rig.solve({ timeMs: f.timeMs, [key]: h.landmarks, imageAspect: 640 / 480 }, {}).hands;
+        assert.deepEqual(Object.keys(holistic), Object.keys(hands), `frame ${f.frame}: ${key}`);
+        checked++;
+      }
+    }
+    assert.ok(checked > 50, `${checked} hands`);
+    rig.free();
+  });
+});
