@@ -36,7 +36,7 @@ help:
 	@echo "make test-node  npm pack pkg/, install it in a temp project, node --test from ESM and CJS"
 	@echo "make test-www   the demo's browser tests (Playwright + Debian chromium), when www/ has them"
 	@echo "make eval       measured figures: hand accuracy vs Kalidokit, alignment table, wasm solve time"
-	@echo "make bench      criterion benchmark of Rig::solve (native)"
+	@echo "make bench      criterion benchmarks: Rig::solve, chain IK, retargeting (native)"
 	@echo "make record-check  record the shared videos with tools/record-video.mjs and compare with the shared recordings"
 	@echo "make clean      remove pkg/ and the package build's scratch files (not target/)"
 
@@ -108,12 +108,17 @@ test-www: pkg
 # hand accuracy vs Kalidokit, the alignment acceptance table, and wasm solve time vs Kalidokit.
 eval: pkg eval/node_modules/.package-lock.json
 	node eval/hands.mjs
+	cargo run --quiet --release --example eval_hands
+	cargo run --quiet --release --example eval_retarget
 	cargo run --quiet --release --example eval_alignment
+	cargo run --quiet --release --example eval_live
 	node eval/speed.mjs
 
 # Native per-frame cost of Rig::solve (criterion).
 bench: setup
 	cargo bench --bench solve
+	cargo bench --bench chain
+	cargo bench --bench retarget
 
 # MediaPipe from npm on the shared videos (tools/record-video.mjs), compared landmark by landmark
 # with the shared recordings made by other MediaPipe builds; artifacts/recordings/summary.md.
