@@ -212,12 +212,16 @@ export class Avatar {
     const sphere = new THREE.SphereGeometry(r, 16, 12);
     const ring = new THREE.TorusGeometry(r * 1.25, r * 0.3, 8, 24);
     const cube = new THREE.BoxGeometry(r * 1.4, r * 1.4, r * 1.4);
+    const small = new THREE.OctahedronGeometry(r * 0.45);
     this.marks = {};
     for (const side of ["left", "right"]) {
       this.marks[side] = {
         target: mk(0xff3b6b, sphere),
         avatar: mk(0x35e06f, ring),
         ik: mk(0xffd23b, cube),
+        // handStrategy "retarget": the user's fingertips placed on the avatar (small, in each
+        // finger's colour).
+        tips: ["thumb", "index", "middle", "ring", "little"].map((f) => [f, mk(FINGER_COLOR[f], small)]),
       };
       const line = new THREE.Line(
         new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(), new THREE.Vector3()]),
@@ -304,8 +308,9 @@ export class Avatar {
 
   /**
    * Places the markers for one side from a handrig result (model frame): target point, the
-   * avatar's aligned point as three-vrm shows it, the wrist IK target, and a line between the
-   * first two. Returns the distance (m) between target and the shown avatar point, or null.
+   * avatar's aligned point as three-vrm shows it, the wrist IK target, a line between the
+   * first two, and with `handStrategy: "retarget"` the fingertip targets. Returns the distance
+   * (m) between target and the shown avatar point, or null.
    */
   updateMarkers(result, finger, point) {
     let shown = {};
@@ -313,6 +318,12 @@ export class Avatar {
       const m = this.marks[side];
       const al = result?.alignment?.[side];
       const ik = result?.ikTargets?.[side];
+      const targets = result?.retarget?.[side]?.targets;
+      for (const [finger, mesh] of m.tips) {
+        const t = targets?.[finger];
+        mesh.visible = !!t;
+        if (t) mesh.position.fromArray(t);
+      }
       m.ik.visible = !!ik;
       if (ik) m.ik.position.fromArray(ik.position);
       const avatarPoint = al ? this.alignedPointModel(side, finger, point, m.point) : null;

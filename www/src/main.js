@@ -34,6 +34,7 @@ const demo = {
   errorMm: { without: { left: null, right: null }, with: { left: null, right: null } },
   shownErrorMm: { without: { left: null, right: null }, with: { left: null, right: null } },
   solveUs: { without: null, with: null },
+  jitter: { without: null, with: null },
   solveUsMedian: { without: null, with: null },
   solveErrors: 0,
   // Live webcam mode (see webcam.js): counters since Start, medians over the last 60 frames.
@@ -105,6 +106,7 @@ const views = Object.fromEntries(
       rig: null,
       result: null,
       times: [],
+      jitter: null, // a JitterMeter, made on first use
     },
   ]),
 );
@@ -311,6 +313,8 @@ function solveAndShow(frame) {
     demo.solveUsMedian[key] = median(v.times);
     v.avatar.apply(result);
     v.avatar.updateSkeleton();
+    v.jitter ??= new JitterMeter();
+    demo.jitter[key] = v.jitter.push(result);
     const { finger, point } = alignedFocus(result);
     const shown = v.avatar.updateMarkers(result, finger, point);
     for (const side of ["left", "right"]) {
@@ -324,6 +328,57 @@ function solveAndShow(frame) {
   updateReadouts();
 }
 
+/**
+ * Jitter readout: mean angular acceleration of the right hand's bones (degrees per frame²,
+ * the angle of the change of each bone's frame-to-frame rotation) over the last 60 frames.
+ * Toggle `filter.enabled` in the panel to see the One Euro filter's effect.
+ */
+class JitterMeter {
+  constructor() {
+    this.prev = new Map(); // bone -> [q0, q1]
+    this.values = [];
+    this.d1 = new THREE.Quaternion();
+    this.d2 = new THREE.Quaternion();
+    this.q = new THREE.Quaternion();
+  }
+
+  push(result) {
+    const bones = result?.bones;
+    if (!bones || !result.hands?.right) return this.mean();
+    let sum = 0;
+    let n = 0;
+    for (const name of JITTER_BONES) {
+      const q = bones[name];
+      if (!q) continue;
+      let hist = this.prev.get(name);
+      if (!hist) this.prev.set(name, (hist = [new THREE.Quaternion(), new THREE.Quaternion(), 0]));
+      const [q0, q1] = hist;
+      if (hist[2] >= 2) {
+        this.d1.copy(q0).invert().multiply(q1);
+        this.q.set(q[0], q[1], q[2], q[3]);
+        this.d2.copy(q1).invert().multiply(this.q);
+        sum += (this.d1.invert().multiply(this.d2).angleTo(IDENTITY) * 180) / Math.PI;
+        n++;
+      }
+      q0.copy(q1);
+      q1.set(q[0], q[1], q[2], q[3]);
+      hist[2] = Math.min(hist[2] + 1, 2);
+    }
+    if (n > 0) {
+      this.values.push(sum / n);
+      if (this.values.length > SOLVE_WINDOW) this.values.shift();
+    }
+    return this.mean();
+  }
+
+  mean() {
+    return this.values.length ? this.values.reduce((a, b) => a + b, 0) / this.values.length : null;
+  }
+}
+const IDENTITY = new THREE.Quaternion();
+const JITTER_BONES = ["rightHand", ...["Thumb", "Index", "Middle", "Ring", "Little"].flatMap((f) =>
+  (f === "Thumb" ? ["Metacarpal", "Proximal", "Distal"] : ["Proximal", "Intermediate", "Distal"]).map((j) => `right${f}${j}`))];
+
 const fmtMm = (x) => (x == null ? "–" : x.toFixed(x < 10 ? 2 : 1));
 const fmtUs = (x) => (x == null ? "–" : x.toFixed(0));
 
@@ -333,6 +388,7 @@ function updateReadouts() {
     $(`ro-left-${key}`).textContent = fmtMm(demo.errorMm[key].left);
     $(`ro-us-${key}`).textContent = fmtUs(demo.solveUs[key]);
     $(`ro-usmed-${key}`).textContent = fmtUs(demo.solveUsMedian[key]);
+    $(`ro-jitter-${key}`).textContent = demo.jitter[key] == null ? "–" : demo.jitter[key].toFixed(2);
     const e = demo.errorMm[key];
     const side = e.right != null ? "right" : e.left != null ? "left" : null;
     $(`err-${key}`).textContent = side
@@ -777,6 +833,8 @@ Object.assign(demo, {
   pauseWebcam: (on) => {
     if (webcam) webcam.paused = on;
   },
+  /** How many retargeting fingertip markers the "with" view shows (right side). */
+  retargetMarkersShown: () => views.with.avatar?.marks.right.tips.filter(([, m]) => m.visible).length ?? 0,
   /** Reloads the current avatar bytes (e.g. after a test changed it). */
   reloadAvatar: () => (avatarBytes ? loadAvatar(avatarBytes, avatarName) : Promise.resolve()),
   /**

@@ -190,6 +190,23 @@ test("every control re-creates the rigs with its option, and the controls change
       assert.ok(dist(p, s.results.without.ikTargets.right.position) > 0.002, "and is not the plain pose wrist");
     },
     minHandScore: (s) => assert.ok(!s.results.with.hands.right && !s.results.with.alignment.right, "the hand (score < 1) is ignored"),
+    // Playing a few frames with filtering off: the jitter readout is there (and differs).
+    "filter.enabled": async (s) => {
+      assert.equal(s.options.filter.enabled, false);
+      const text = await page.textContent("#ro-jitter-with");
+      assert.match(text, /^(–|\d+\.\d\d)$/, `jitter readout ${text}`);
+    },
+    // Every arm solver reaches the same aligned target (screenshots of each).
+    armSolver: (s) => {
+      assert.ok(s.results.with.alignment.right.reachable, "reached");
+      assert.ok(s.errorMm.with.right < 0.05, `alignment error ${s.errorMm.with.right} mm`);
+    },
+    handStrategy: async (s) => {
+      const r = s.results.with.retarget.right;
+      assert.ok(r && r.scale > 0 && r.targets.index, "retargeting report with the fingertip targets");
+      const shown = await page.evaluate(() => window.__handrigDemo.retargetMarkersShown?.());
+      assert.equal(shown, 5, "the five fingertip targets are drawn");
+    },
   };
   const nonDefault = (d) => {
     if (d.type === "boolean") return [!d.default];
@@ -213,7 +230,7 @@ test("every control re-creates the rigs with its option, and the controls change
       assert.doesNotMatch(await page.textContent("#status"), /rejected|failed/, `${path}=${value} accepted`);
       assert.ok(s.results.with, `${path}=${value}: the new rig solves`);
       if (effects[path]) {
-        effects[path](s);
+        await effects[path](s);
         checkedEffects++;
         await page.screenshot({ path: shot(`option-${path.replace(/\./g, "-")}-${value}.png`) });
       }
@@ -225,6 +242,21 @@ test("every control re-creates the rigs with its option, and the controls change
     assert.deepEqual(s.results.with.bones, base.results.with.bones, `${path}: same output after restoring`);
   }
   assert.ok(checkedEffects >= 6, `output effects checked for ${checkedEffects} options`);
+  assert.deepEqual(errors, []);
+});
+
+test("the jitter readout: playing the recording with the One Euro filter on shows less jitter than with it off", async () => {
+  const play = async () => {
+    for (let i = 60; i < 120; i++) await setFrame(i);
+    return page.evaluate(() => window.__handrigDemo.jitter.with);
+  };
+  const on = await play();
+  await page.evaluate(() => window.__handrigDemo.setOption("filter.enabled", false));
+  const off = await play();
+  await page.evaluate(() => window.__handrigDemo.setOption("filter.enabled", true));
+  assert.ok(Number.isFinite(on) && Number.isFinite(off), `jitter ${on} / ${off}`);
+  assert.ok(on < 0.8 * off, `jitter with the filter ${on.toFixed(2)} vs without ${off.toFixed(2)} deg/frame²`);
+  console.log(`# demo jitter readout: ${on.toFixed(2)} deg/frame² filtered, ${off.toFixed(2)} unfiltered`);
   assert.deepEqual(errors, []);
 });
 
