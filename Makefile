@@ -35,7 +35,7 @@ help:
 	@echo "make test-wasm  wasm-pack test --node (wasm-bindgen-test)"
 	@echo "make test-node  npm pack pkg/, install it in a temp project, node --test from ESM and CJS"
 	@echo "make test-www   the demo's browser tests (Playwright + Debian chromium), when www/ has them"
-	@echo "make eval       measured figures: hand accuracy vs Kalidokit, alignment table, wasm solve time"
+	@echo "make eval       every evaluation, then one table of all methods (eval/table.mjs)"
 	@echo "make bench      criterion benchmarks: Rig::solve, chain IK, retargeting (native)"
 	@echo "make record-check  record the shared videos with tools/record-video.mjs and compare with the shared recordings"
 	@echo "make clean      remove pkg/ and the package build's scratch files (not target/)"
@@ -107,12 +107,9 @@ test-www: pkg
 # The measured figures of the README ("Hand solver", "Fingertip alignment and arm IK"):
 # hand accuracy vs Kalidokit, the alignment acceptance table, and wasm solve time vs Kalidokit.
 eval: pkg eval/node_modules/.package-lock.json
-	node eval/hands.mjs
 	cargo run --quiet --release --example eval_hands
-	cargo run --quiet --release --example eval_retarget
-	cargo run --quiet --release --example eval_alignment
 	cargo run --quiet --release --example eval_live
-	node eval/speed.mjs
+	node eval/table.mjs --verbose
 
 # Native per-frame cost of Rig::solve (criterion).
 bench: setup

@@ -301,7 +301,7 @@ fn run(skel: &Skeleton, session: &Session, side: Side, method: Method) -> (Vec<f
         session,
         side,
         method,
-        RigOptions::default(),
+        RigOptions::per_frame(),
         |i, _, out, target_dip| {
             if method == Method::Late && i == 0 {
                 // No previous frame yet: frame 0 only primes the late vector (a live app has
@@ -362,7 +362,7 @@ fn arm_frame(frame: usize, rig: &Rig, out: &SolveOutput, side: Side, target_dip:
 fn without_shoulder(solver: ArmSolver) -> RigOptions {
     let mut o = RigOptions {
         arm_solver: solver,
-        ..RigOptions::default()
+        ..RigOptions::per_frame()
     };
     o.arm.shoulder_angle = 0.0;
     o
@@ -470,7 +470,7 @@ fn solver_rows(
             let (plain, _) = frames(without_shoulder(solver));
             let (solved, total) = frames(RigOptions {
                 arm_solver: solver,
-                ..RigOptions::default()
+                ..RigOptions::per_frame()
             });
             let mut errors: Vec<f32> = solved.iter().filter_map(|f| f.error).collect();
             SolverRow {
