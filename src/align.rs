@@ -237,7 +237,8 @@ pub fn wrist_target(
 }
 
 /// Distance between the avatar's aligned point in the posed avatar and the report's target.
-/// Runs forward kinematics of `local` into `world`. `f32::NAN` if the avatar lacks the finger.
+/// Updates `world` for the side's arm, hand and fingers from `local` (the rest of `world`, the
+/// torso in particular, must be current). `f32::NAN` if the avatar lacks the finger.
 pub fn alignment_error(
     skeleton: &Skeleton,
     side: Side,
@@ -246,7 +247,13 @@ pub fn alignment_error(
     local: &[Quat; BONE_COUNT],
     world: &mut WorldPose,
 ) -> f32 {
-    skeleton.forward(local, world);
+    let [shoulder, upper, ..] = side.arm();
+    let root = if skeleton.has(shoulder) {
+        shoulder
+    } else {
+        upper
+    };
+    skeleton.forward_below(root, local, world);
     let hand = side.hand().index();
     match avatar_offset(skeleton, side, options, world.rotation[hand], local) {
         Some(a) => (world.position[hand] + a - report.target_dip).length(),

@@ -442,6 +442,8 @@ impl Rig {
 
         let picks = self.select_hands(frame, camera, out);
         self.observe_pose(frame, camera, dt);
+        // The world pose the arms hang from (the torso; arms and hands do not move it), once.
+        self.skeleton.forward(&out.local, &mut out.world);
         for side in Side::BOTH {
             let hand_rotation = self.solve_hand(side, frame, picks[side.index()], dt, out);
             let source = self.wrist_source(side, frame, dt);
@@ -784,8 +786,8 @@ impl Rig {
         finger: Option<Vec3>,
         out: &mut SolveOutput,
     ) -> crate::ik::ArmReach {
-        // World frame of the arm's parent chain (torso at rest: handrig does not move it).
-        self.skeleton.forward(&out.local, &mut out.world);
+        // `out.world` holds the arm's parent chain (posed once per frame in `solve`; neither
+        // side's arm moves it).
         let reach = self.arms.solve(
             side,
             target,

@@ -223,6 +223,37 @@ impl Skeleton {
         }
     }
 
+    /// Forward kinematics of `root` and everything below it, from `local`, assuming the rest of
+    /// `out` is current (the root's parent in particular). A side's arm after its IK, without
+    /// recomputing the torso, the legs and the other arm. Allocates nothing.
+    pub fn forward_below(&self, root: HumanBone, local: &[Quat; BONE_COUNT], out: &mut WorldPose) {
+        let mut posed = [false; BONE_COUNT];
+        // Parent-first order: a bone's parent comes before it, so one pass from the root
+        // reaches every descendant after its parent.
+        for bone in &HumanBone::ALL[root.index()..] {
+            let i = bone.index();
+            if !self.present[i] {
+                continue;
+            }
+            let parent = self.parent[i];
+            if *bone != root && !parent.is_some_and(|p| posed[p.index()]) {
+                continue;
+            }
+            posed[i] = true;
+            match parent {
+                Some(p) => {
+                    let pr = out.rotation[p.index()];
+                    out.position[i] = out.position[p.index()] + pr * self.rest_local[i];
+                    out.rotation[i] = pr * local[i];
+                }
+                None => {
+                    out.position[i] = self.rest_local[i];
+                    out.rotation[i] = local[i];
+                }
+            }
+        }
+    }
+
     /// Forward kinematics of one chain below an already-posed bone: the world position of
     /// `tip` when `from` sits at `from_position` with world rotation `from_rotation` and the
     /// bones between take their rotations from `local`. Returns `None` when `tip` is absent or
