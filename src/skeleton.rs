@@ -205,20 +205,24 @@ impl Skeleton {
     /// root stays at its rest position. Allocates nothing.
     pub fn forward(&self, local: &[Quat; BONE_COUNT], out: &mut WorldPose) {
         for bone in HumanBone::ALL {
-            let i = bone.index();
-            if !self.present[i] {
-                continue;
+            if self.present[bone.index()] {
+                self.pose_bone(bone.index(), local, out);
             }
-            match self.parent[i] {
-                Some(p) => {
-                    let pr = out.rotation[p.index()];
-                    out.position[i] = out.position[p.index()] + pr * self.rest_local[i];
-                    out.rotation[i] = pr * local[i];
-                }
-                None => {
-                    out.position[i] = self.rest_local[i];
-                    out.rotation[i] = local[i];
-                }
+        }
+    }
+
+    /// World position and rotation of bone `i` from its parent's (already in `out`).
+    #[inline]
+    fn pose_bone(&self, i: usize, local: &[Quat; BONE_COUNT], out: &mut WorldPose) {
+        match self.parent[i] {
+            Some(p) => {
+                let pr = out.rotation[p.index()];
+                out.position[i] = out.position[p.index()] + pr * self.rest_local[i];
+                out.rotation[i] = pr * local[i];
+            }
+            None => {
+                out.position[i] = self.rest_local[i];
+                out.rotation[i] = local[i];
             }
         }
     }
@@ -240,17 +244,7 @@ impl Skeleton {
                 continue;
             }
             posed[i] = true;
-            match parent {
-                Some(p) => {
-                    let pr = out.rotation[p.index()];
-                    out.position[i] = out.position[p.index()] + pr * self.rest_local[i];
-                    out.rotation[i] = pr * local[i];
-                }
-                None => {
-                    out.position[i] = self.rest_local[i];
-                    out.rotation[i] = local[i];
-                }
-            }
+            self.pose_bone(i, local, out);
         }
     }
 

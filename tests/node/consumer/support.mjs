@@ -131,3 +131,24 @@ export function solveRecording(rig, { every = 1 } = {}) {
   }
   return results;
 }
+
+/**
+ * The robot's `.vrm` with its glTF JSON edited by `edit(json)`, repacked (the BIN chunk kept):
+ * for tests of malformed or hostile files.
+ */
+export function editedRobot(edit) {
+  const glb = fs.readFileSync(avatars.robot);
+  const jsonLen = glb.readUInt32LE(12);
+  const json = JSON.parse(glb.subarray(20, 20 + jsonLen).toString());
+  const bin = glb.subarray(20 + jsonLen);
+  edit(json);
+  let text = Buffer.from(JSON.stringify(json));
+  text = Buffer.concat([text, Buffer.alloc((4 - (text.length % 4)) % 4, 0x20)]);
+  const head = Buffer.alloc(20);
+  head.write("glTF", 0);
+  head.writeUInt32LE(2, 4);
+  head.writeUInt32LE(20 + text.length + bin.length, 8);
+  head.writeUInt32LE(text.length, 12);
+  head.write("JSON", 16);
+  return Buffer.concat([head, text, bin]);
+}
