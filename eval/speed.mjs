@@ -31,9 +31,9 @@ const require = createRequire(import.meta.url);
 
 const pkgArg = process.argv.indexOf("--pkg");
 const pkgDir = pkgArg > 0 ? resolve(process.argv[pkgArg + 1]) : resolve(root, "pkg");
-let HandRig, Kalidokit;
+let HandRig, ChainSolver, Kalidokit;
 try {
-  ({ HandRig } = require(pkgDir));
+  ({ HandRig, ChainSolver } = require(pkgDir));
 } catch (e) {
   console.error(`handrig package not built (${e.code ?? e.message}): run \`make pkg\` first`);
   process.exit(1);
@@ -120,6 +120,41 @@ const kdHand = time("Kalidokit Hand.solve", handFrames.length, (i) => {
   sink += Kalidokit.Hand.solve(kalidokitHands[i], "Right") ? 1 : 0;
 });
 
+// Arm solvers and the handStrategy, through the object API on the full frames, and the
+// standalone ChainSolver (a 6-bone chain chasing a moving target).
+const variants = [
+  ["armSolver fabrik", { armSolver: "fabrik" }],
+  ["armSolver ccd", { armSolver: "ccd" }],
+  ["handStrategy retarget", { handStrategy: "retarget" }],
+].map(([label, options]) => {
+  const r = HandRig.fromVrm(robot, options);
+  const row = time(`handrig object API: full frame, ${label}`, aslFrames.length, (i) => {
+    sink += r.solve(aslFrames[i]).timeMs;
+  });
+  r.free();
+  return row;
+});
+const chainJoints = Array.from({ length: 7 }, (_, k) => [0, 0.1 * k, 0.02 * (k % 2)]);
+const chainRows = ["fabrik", "ccd"].map((method) => {
+  const c = new ChainSolver({ method, joints: chainJoints });
+  const out = { joints: new Float32Array(21), rotations: new Float32Array(24) };
+  const target = new Float32Array(3);
+  const iterations = [];
+  const row = time(`ChainSolver ${method}, 6 bones (solveInto)`, 600, (i) => {
+    const a = i * 0.05;
+    target[0] = 0.3 * Math.cos(a);
+    target[1] = 0.4 + 0.2 * Math.sin(a);
+    target[2] = 0.3 * Math.sin(a);
+    c.solveInto(target, out);
+    iterations.push(out.iterations);
+  });
+  iterations.sort((x, y) => x - y);
+  row.iterationsMean = iterations.reduce((x, y) => x + y, 0) / iterations.length;
+  row.iterationsP95 = iterations[Math.floor(0.95 * iterations.length)];
+  c.free();
+  return row;
+});
+
 // Many avatars: 100 rigs, each solving every full frame once per pass.
 const many = HandRig.fromVrm(robot);
 const rigs = Array.from({ length: 100 }, () => HandRig.fromVrm(robot));
@@ -136,22 +171,26 @@ for (const r of [rig, flatRig, handRig, many, ...rigs]) r.free();
 const rows = [
   { ...full, vs: kdFull },
   { ...flat, vs: kdFull },
+  ...variants.map((v) => ({ ...v, vs: kdFull })),
   { ...kdFull, vs: kdFull },
   { ...hands, vs: kdHand },
   { ...kdHand, vs: kdHand },
 ];
 if (json) {
-  console.log(JSON.stringify({ node: process.version, passes, rows, rigsPerMs }, null, 2));
+  console.log(JSON.stringify({ node: process.version, passes, rows, rigsPerMs, chainRows }, null, 2));
 } else {
   console.log(
     `Per-frame cost, Node ${process.version}, ${passes} passes; full frame: ${aslFrames.length} ASL frames ` +
       `(pose + 0-2 hands), one hand: ${handFrames.length} frames (sink ${sink > 0})`,
   );
-  console.log("method                                        median us    p95 us   Kalidokit / this (median)");
+  console.log("method                                                        median us    p95 us   Kalidokit / this (median)");
   for (const r of rows) {
     console.log(
-      `${r.label.padEnd(45)} ${r.median.toFixed(1).padStart(9)} ${r.p95.toFixed(1).padStart(9)} ${(r.vs.median / r.median).toFixed(2).padStart(12)}`,
+      `${r.label.padEnd(61)} ${r.median.toFixed(1).padStart(9)} ${r.p95.toFixed(1).padStart(9)} ${(r.vs.median / r.median).toFixed(2).padStart(12)}`,
     );
   }
   console.log(`100 rigs, full frames: ${rigsPerMs.toFixed(1)} rigs solved per millisecond (object API)`);
+  for (const r of chainRows) {
+    console.log(`${r.label}: median ${r.median.toFixed(1)} µs, p95 ${r.p95.toFixed(1)} µs, iterations mean ${r.iterationsMean.toFixed(1)} / p95 ${r.iterationsP95}`);
+  }
 }
