@@ -16,8 +16,11 @@ mkdirSync(SCREENSHOTS, { recursive: true });
 
 export const CHROMIUM = process.env.CHROMIUM ?? "/usr/bin/chromium";
 
-/** Starts the server on a free port and a fresh headless Chromium profile. */
-export async function launch() {
+/**
+ * Starts the server on a free port and a fresh headless Chromium profile; `args` are extra
+ * Chromium switches (e.g. a fake camera).
+ */
+export async function launch({ args = [] } = {}) {
   if (!findPackageDir()) {
     throw new Error("the handrig package is not built: run `make pkg` (node pkg-config/build.mjs) first");
   }
@@ -40,6 +43,7 @@ export async function launch() {
       // WebGL without a GPU: ANGLE on SwiftShader.
       "--use-angle=swiftshader",
       "--enable-unsafe-swiftshader",
+      ...args,
     ],
   });
   return {
