@@ -25,7 +25,9 @@
 //! and p95 (linear interpolation) of the bend, the largest, the share beyond 90 degrees (the
 //! issue's measure), the share beyond the range, the largest excess over it, and the index
 //! distal's distance to the target DIP on reachable aligned frames (the rig's report:
-//! fingertip alignment must stay exact).
+//! fingertip alignment must stay exact). Also: the hand's largest turns between consecutive
+//! hand-frames, the arm re-solves the limits took on the frames they changed, and the mean
+//! wall time of `Rig::solve` per frame (this machine, whatever else runs on it).
 //!
 //! Acceptance (exit status 1 otherwise): with the limits, no hand-frame beyond the range by
 //! more than 0.5 degree and the index distal within 0.01 mm of the target DIP (median) and
@@ -59,6 +61,9 @@ struct Measure {
     steps: Vec<f32>,
     /// Arm re-solves the wrist limits took, per hand-frame they changed.
     resolves: Vec<f32>,
+    /// Time (s) spent in `Rig::solve`, and frames solved.
+    seconds: f64,
+    frames: usize,
 }
 
 impl Measure {
@@ -102,7 +107,10 @@ fn run(skel: &Skeleton, frames: &[FrameInput], options: &RigOptions, side: Side,
     let mut out = SolveOutput::default();
     let mut last = None;
     for f in frames {
+        let start = std::time::Instant::now();
         rig.solve(f, &mut out).expect("solve");
+        m.seconds += start.elapsed().as_secs_f64();
+        m.frames += 1;
         let before = m.bends.len();
         m.visit(&frame, skel, &out, side, &mut last);
         if m.bends.len() > before {
@@ -132,6 +140,17 @@ fn main() {
         .and_then(|a| ArmSolver::ALL.into_iter().find(|s| s.as_str() == a))
         .unwrap_or_default();
     println!("armSolver: {}", solver.as_str());
+    // Warm up (caches, page faults) before anything is timed.
+    let skel = recordings::vrm(recordings::ROBOT);
+    for clip in &clips {
+        run(
+            &skel,
+            clip,
+            &RigOptions::default(),
+            Side::Right,
+            &mut Measure::default(),
+        );
+    }
     let mut rows = Vec::new();
     for (avatar, path) in avatars {
         let skel = recordings::vrm(path);
@@ -176,7 +195,7 @@ fn main() {
 
     let mut pass = true;
     println!();
-    println!("| data | avatar | wristLimits | hand-frames | bend median deg | p95 | max | beyond 90 deg | beyond the range | largest excess deg | hand turn per frame p99 / max deg | limited frames: arm re-solves mean / max | index distal to target DIP median / max mm |");
+    println!("| data | avatar | wristLimits | hand-frames | bend median deg | p95 | max | beyond 90 deg | beyond the range | largest excess deg | hand turn per frame p99 / max deg | limited frames: arm re-solves mean / max | solve µs per frame | index distal to target DIP median / max mm |");
     println!(
         "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
     );
@@ -209,7 +228,7 @@ fn main() {
             pass = false;
         }
         println!(
-            "| {} | {} | `{}` | {} | {:.1} | {:.1} | {:.1} | {:.2}% ({}) | {:.2}% ({}) | {:.1} | {:.1} / {:.1} | {} | {:.4} / {:.4} |",
+            "| {} | {} | `{}` | {} | {:.1} | {:.1} | {:.1} | {:.2}% ({}) | {:.2}% ({}) | {:.1} | {:.1} / {:.1} | {} | {:.1} | {:.4} / {:.4} |",
             r.data,
             r.avatar,
             r.limits,
@@ -225,6 +244,7 @@ fn main() {
             stats::percentile(&steps, 99.0).to_degrees(),
             steps.last().copied().unwrap_or(f32::NAN).to_degrees(),
             resolved,
+            1e6 * r.m.seconds / r.m.frames.max(1) as f64,
             err_med * 1000.0,
             err_max * 1000.0,
         );
