@@ -1,7 +1,8 @@
 //! `Rig::solve` must not allocate: it runs every frame inside a browser tab. A counting global
 //! allocator checks it on the real hand recording, with wrists and pose input (the wrist
 //! limits' search included), for every arm solver and hand strategy, through the flat layout;
-//! and `ChainSolver::solve` / `solve_into` for both methods. Allocations are counted per thread, so the tests can run in parallel.
+//! and `ChainSolver::solve` / `solve_into` for both methods. Allocations are counted per
+//! thread, so the tests can run in parallel.
 // Native only: reads ../shared from disk (and uses proptest, not built for wasm32).
 #![cfg(not(target_arch = "wasm32"))]
 
