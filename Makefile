@@ -112,6 +112,7 @@ test-www: pkg
 eval: pkg eval/node_modules/.package-lock.json
 	cargo run --quiet --release --example eval_hands
 	cargo run --quiet --release --example eval_live
+	cargo run --quiet --release --example eval_wrist
 	node eval/table.mjs --verbose
 
 # Native per-frame cost of Rig::solve (criterion).

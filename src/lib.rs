@@ -29,7 +29,8 @@
 //! * [`align`]: fingertip alignment (the wrist IK target).
 //! * [`body`]: body mapping and calibration from pose landmarks.
 //! * [`kinematics`]: serial chains with fixed bone lengths and joint limits (hinge, cone).
-//! * [`ik`]: arm IK solvers (two-bone, FABRIK, CCD) and the standalone [`ik::ChainSolver`].
+//! * [`ik`]: arm IK solvers (two-bone, FABRIK, CCD) with anatomical wrist limits
+//!   ([`ik::wrist`]), and the standalone [`ik::ChainSolver`].
 //! * [`filter`]: One Euro smoothing and easing over tracking loss.
 //! * [`solve`]: small allocation-free numerical solvers (box-constrained Gauss-Newton).
 //! * [`rig`]: the per-frame pipeline tying them together ([`Rig`]).

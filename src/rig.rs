@@ -703,11 +703,26 @@ impl Rig {
             position: target,
             rotation: hand_rot,
         });
-        // The aligned finger point (CCD's first-priority effector).
+        // The aligned finger point (CCD's first-priority effector; the wrist limits turn the
+        // hand about it). With `alignment.weight` w the IK wrist moves by w times the avatar
+        // offset, so the point that stays put is w of the way along it.
+        let weight = self.options.alignment.effective_weight();
         let finger = out.alignment[side.index()]
-            .filter(|a| a.aligned)
-            .map(|a| a.avatar_offset);
+            .filter(|a| a.aligned && weight > 0.0)
+            .map(|a| a.avatar_offset * weight);
         let reach = self.reach(side, target, Some(hand_rot), source.pole, finger, out);
+        if let Some(limited) = reach.wrist {
+            // The wrist limits turned the hand: report the target and rotation reached.
+            let turn = limited.hand_rotation * hand_rot.conjugate();
+            if let Some(t) = out.ik_targets[side.index()].as_mut() {
+                t.position = limited.target;
+                t.rotation = limited.hand_rotation;
+            }
+            if let Some(report) = out.alignment[side.index()].as_mut() {
+                report.ik_wrist = limited.target;
+                report.avatar_offset = turn * report.avatar_offset;
+            }
+        }
         if let Some(report) = out.alignment[side.index()].as_mut() {
             report.reachable = reach.reachable;
             report.error = align::alignment_error(
@@ -1007,6 +1022,13 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 step: 0.05,
             },
             description: "Share of the hand's twist about the forearm that the forearm takes (the rest stays at the wrist).",
+        },
+        OptionDescription {
+            path: "arm.wristLimits",
+            kind: Boolean {
+                default: d.arm.wrist_limits,
+            },
+            description: "Clamp wrist flexion (80°), extension (70°), radial (20°) and ulnar (40°) deviation against the forearm; the hand turns about the aligned fingertip, so alignment stays exact.",
         },
         OptionDescription {
             path: "alignment.enabled",

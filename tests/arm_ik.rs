@@ -23,11 +23,14 @@ use handrig::ik::{
 use handrig::skeleton::{Skeleton, VrmVersion, WorldPose};
 use proptest::prelude::*;
 
-/// The analytic solver with the shoulder option off: these tests check the two-bone geometry
-/// from a fixed upper arm joint (the shoulder option is tested in `tests/chain_arm.rs`).
+/// The analytic solver with the shoulder option and the wrist limits off: these tests check
+/// the two-bone geometry from a fixed upper arm joint with the hand rotation as given (the
+/// shoulder option is tested in `tests/arm_solvers.rs`, the wrist limits in
+/// `tests/wrist_limits.rs`).
 fn two_bone(skel: &Skeleton) -> ArmSolverState {
     let arm = ArmOptions {
         shoulder_angle: 0.0,
+        wrist_limits: false,
         ..ArmOptions::default()
     };
     ArmSolverState::with_options(skel, ArmSolver::TwoBone, &arm).unwrap()

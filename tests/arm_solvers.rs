@@ -22,7 +22,9 @@ use handrig::ik::{ArmOptions, ArmSolver, ArmSolverState, CcdOptions, FabrikOptio
 use handrig::skeleton::{Skeleton, VrmVersion, WorldPose};
 use proptest::prelude::*;
 
-/// Arm options with the shoulder option off (the plain two-bone arm) or at its default.
+/// Arm options with the shoulder option off (the plain two-bone arm) or at its default; the
+/// wrist limits off (these tests give hand rotations the solvers must reach as given; the
+/// limits are tested in `tests/wrist_limits.rs`).
 fn arm_options(shoulder: bool) -> ArmOptions {
     ArmOptions {
         shoulder_angle: if shoulder {
@@ -30,6 +32,7 @@ fn arm_options(shoulder: bool) -> ArmOptions {
         } else {
             0.0
         },
+        wrist_limits: false,
         ..ArmOptions::default()
     }
 }

@@ -1,7 +1,8 @@
 //! `Rig::solve` must not allocate: it runs every frame inside a browser tab. A counting global
-//! allocator checks it on the real hand recording, with wrists and pose input, for every arm
-//! solver and hand strategy, through the flat layout; and `ChainSolver::solve` / `solve_into`
-//! for both methods. Allocations are counted per thread, so the tests can run in parallel.
+//! allocator checks it on the real hand recording, with wrists and pose input (the wrist
+//! limits' search included), for every arm solver and hand strategy, through the flat layout;
+//! and `ChainSolver::solve` / `solve_into` for both methods. Allocations are counted per
+//! thread, so the tests can run in parallel.
 // Native only: reads ../shared from disk (and uses proptest, not built for wasm32).
 #![cfg(not(target_arch = "wasm32"))]
 
@@ -16,7 +17,7 @@ use handrig::flat;
 use handrig::hand::HandStrategy;
 use handrig::ik::{ArmSolver, ChainMethod, ChainSolver, ChainSolverOptions};
 use handrig::kinematics::JointLimit;
-use handrig::{FrameInput, HumanBone, Rig, RigOptions, SolveOutput};
+use handrig::{FrameInput, HumanBone, Rig, RigOptions, Side, SolveOutput};
 use recordings::ArmInput;
 
 struct Counting;
@@ -87,6 +88,8 @@ fn solve_allocates_nothing_per_frame() {
         let mut output = vec![0.0f32; flat::output::LEN];
 
         // Through the flat layout, as the npm package does: encode, decode, solve, write out.
+        // Frames the wrist limits changed (their search re-solves the arm).
+        let mut limited = 0;
         let mut run = |rig: &mut Rig, i: usize, mode: usize| {
             let arm = ArmInput::ALL[mode];
             recordings::fill_frame(&mut frame, hands[i % hands.len()], 0.9, arm, &pose);
@@ -95,6 +98,8 @@ fn solve_allocates_nothing_per_frame() {
             flat::read_input(&input, frame.time_ms, &mut decoded).unwrap();
             rig.solve(&decoded, &mut out).unwrap();
             flat::write_output(rig, &out, &mut output);
+            limited +=
+                usize::from(arm != ArmInput::None && rig.arms().last_wrist(Side::Right).is_some());
         };
         // Warm up every path once, then count.
         for mode in 0..3 {
@@ -112,7 +117,8 @@ fn solve_allocates_nothing_per_frame() {
             after - before,
             hands.len()
         );
-        // The frames were really solved (the count is not vacuous).
+        // The frames were really solved (the count is not vacuous), the wrist limits included.
+        assert!(limited > 10, "{solver:?}: {limited} frames limited");
         assert!(out.solved[HumanBone::RightIndexDistal.index()]);
         assert!(out.solved[HumanBone::RightLowerArm.index()]);
         assert_eq!(

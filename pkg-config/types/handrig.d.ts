@@ -240,6 +240,12 @@ export interface HandRigOptions {
     shoulderReach?: number;
     /** Share (0..1) of the hand's twist about the forearm that the forearm takes. Default 0.5. */
     forearmTwist?: number;
+    /**
+     * Clamp the hand's flexion (80°), extension (70°) and radial (20°) / ulnar (40°) deviation
+     * against the forearm, turning the hand about the aligned fingertip so alignment stays exact.
+     * Default true; false applies the tracked hand rotation as given.
+     */
+    wristLimits?: boolean;
   };
   /** Fingertip alignment. */
   alignment?: {

@@ -38,6 +38,7 @@ use crate::kinematics::{angle_between, twist_angle, Chain, JointLimit, RootFrame
 
 use super::ccd::Effector;
 use super::two_bone::TwoBoneIk;
+use super::wrist::settle;
 use super::{ArmChain, ArmGoal, ArmPose, ArmReach, ChainGoal, ChainReport, TwoBoneOptions};
 
 /// Slack (m) on the reach limits before a target counts as unreachable.
@@ -65,6 +66,12 @@ pub struct ArmOptions {
     /// rest stays at the wrist). Default 0.5: halfway, as forearm pronation spreads along
     /// the forearm; avatars without twist bones then wring at neither end.
     pub forearm_twist: f32,
+    /// Clamp the hand's flexion, extension and radial/ulnar deviation against the forearm to
+    /// the wrist's anatomical range ([`super::wrist`]; sources there), turning the hand about
+    /// the aligned finger point so that fingertip alignment stays exact. Default `true`;
+    /// `false` applies the tracked hand rotation as given. Applies where the arm is solved
+    /// (hands-only input leaves the arm at rest and the hand unlimited).
+    pub wrist_limits: bool,
 }
 
 impl Default for ArmOptions {
@@ -73,6 +80,7 @@ impl Default for ArmOptions {
             shoulder_angle: 0.26,
             shoulder_reach: 0.9,
             forearm_twist: 0.5,
+            wrist_limits: true,
         }
     }
 }
@@ -290,22 +298,20 @@ impl ChainArm {
 
     /// Solves `goal` with `reach` (the method: FABRIK or CCD) on the arm chain: sets up the
     /// shoulder cone, the warm start, the pole and the effectors, then converts the joints
-    /// to local rotations.
+    /// to local rotations; with the wrist limits on, re-solves for the limited hand
+    /// ([`super::wrist`]).
     pub(crate) fn solve(
         &mut self,
         chain: &ArmChain,
         goal: &ArmGoal,
         out: &mut ArmPose,
-        reach: impl FnOnce(&Chain, &RootFrame, &ChainGoal, &[Effector], &mut [Vec3]) -> ChainReport,
+        mut reach: impl FnMut(&Chain, &RootFrame, &ChainGoal, &[Effector], &mut [Vec3]) -> ChainReport,
     ) -> ArmReach {
         let parent = if goal.parent_rotation.is_finite() {
             goal.parent_rotation.normalize()
         } else {
             Quat::IDENTITY
         };
-        let arm_length = chain.upper_length() + chain.lower_length();
-        let shoulder =
-            shoulder_root(chain, goal, &self.options).filter(|_| self.shouldered.is_some());
         if !(goal.target.is_finite() && goal.shoulder.is_finite()) {
             *out = ArmPose {
                 elbow: goal.shoulder,
@@ -316,13 +322,80 @@ impl ChainArm {
             return ArmReach {
                 reachable: false,
                 residual: f32::INFINITY,
+                wrist: None,
             };
         }
+        let pole = self.pole_point(chain, goal, parent);
+        let (mut result, lower) = self.place(chain, goal, parent, pole, out, &mut reach);
+        let mut goal = *goal;
+        let mut lower_world = lower;
+        if self.options.wrist_limits {
+            if let Some(frame) = chain.wrist {
+                result.wrist = settle(&frame, &mut goal, lower, |g| {
+                    let (r, l) = self.place(chain, g, parent, pole, out, &mut reach);
+                    result = r;
+                    lower_world = l;
+                    l
+                });
+            }
+        }
+        finish_hand(chain, lower_world, goal.hand_rotation, &mut self.twist, out);
+        result
+    }
 
-        // The chain, its root, and where the upper arm joint is expected (for the swivel).
-        let (kc, root, upper_joint) = match shoulder {
+    /// The point the elbow is turned toward: the analytic solver's bend direction (pose elbow
+    /// or default pole, continuity memory, updated here) from the upper arm joint as the
+    /// shoulder option would place it for `goal`: the same pole for every method.
+    fn pole_point(&mut self, chain: &ArmChain, goal: &ArmGoal, parent: Quat) -> Vec3 {
+        let arm_length = chain.upper_length() + chain.lower_length();
+        let shoulder =
+            shoulder_root(chain, goal, &self.options).filter(|_| self.shouldered.is_some());
+        let (upper_joint, rotation) = match shoulder {
             Some(root) => {
                 let (need, axis) = shoulder_need(
+                    &root,
+                    chain.shoulder_offset,
+                    goal.target,
+                    arm_length,
+                    &self.options,
+                );
+                let turned =
+                    Quat::from_axis_angle(axis, need) * (root.rotation * chain.shoulder_offset);
+                (root.position + turned, root.rotation)
+            }
+            None => (goal.shoulder, parent),
+        };
+        let swivel_goal = ArmGoal {
+            shoulder: upper_joint,
+            parent_rotation: rotation,
+            ..*goal
+        };
+        let (dir, bend) = self.swivel.swivel(chain, &swivel_goal);
+        let distance = (goal.target - upper_joint).length();
+        upper_joint + dir * (0.5 * distance) + bend * arm_length
+    }
+
+    /// One reach of `goal` toward `pole_point`: the shoulder cone, the warm start, the
+    /// effectors, `reach`, then the shoulder, upper and lower arm rotations and the elbow and
+    /// wrist positions in `out` (the hand is left to [`finish_hand`]). Returns the reach and
+    /// the forearm's world rotation.
+    fn place(
+        &mut self,
+        chain: &ArmChain,
+        goal: &ArmGoal,
+        parent: Quat,
+        pole_point: Vec3,
+        out: &mut ArmPose,
+        reach: &mut impl FnMut(&Chain, &RootFrame, &ChainGoal, &[Effector], &mut [Vec3]) -> ChainReport,
+    ) -> (ArmReach, Quat) {
+        let arm_length = chain.upper_length() + chain.lower_length();
+        let shoulder =
+            shoulder_root(chain, goal, &self.options).filter(|_| self.shouldered.is_some());
+
+        // The chain and its root.
+        let (kc, root) = match shoulder {
+            Some(root) => {
+                let (need, _) = shoulder_need(
                     &root,
                     chain.shoulder_offset,
                     goal.target,
@@ -332,9 +405,7 @@ impl ChainArm {
                 let kc = self.shouldered.as_mut().expect("checked above");
                 // The cone limit was validated at setup; `need` is in 0..=pi/2.
                 let _ = kc.set_limit(0, Some(JointLimit::Cone { max_angle: need }));
-                let turned =
-                    Quat::from_axis_angle(axis, need) * (root.rotation * chain.shoulder_offset);
-                (&*kc, root, root.position + turned)
+                (&*kc, root)
             }
             None => (
                 &self.plain,
@@ -342,7 +413,6 @@ impl ChainArm {
                     position: goal.shoulder,
                     rotation: parent,
                 },
-                goal.shoulder,
             ),
         };
         let n = kc.joint_count();
@@ -358,16 +428,6 @@ impl ChainArm {
         }
         self.last_shouldered = Some(shouldered);
 
-        // The bend direction of the analytic solver (pose elbow or default pole, continuity
-        // memory): the same pole for every method.
-        let swivel_goal = ArmGoal {
-            shoulder: upper_joint,
-            parent_rotation: if shouldered { root.rotation } else { parent },
-            ..*goal
-        };
-        let (dir, bend) = self.swivel.swivel(chain, &swivel_goal);
-        let distance = (goal.target - upper_joint).length();
-        let pole_point = upper_joint + dir * (0.5 * distance) + bend * arm_length;
         let upper_index = usize::from(shouldered);
         let chain_goal = ChainGoal {
             target: goal.target,
@@ -401,7 +461,7 @@ impl ChainArm {
         count += 1;
         self.report = reach(kc, &root, &chain_goal, &effectors[..count], joints);
 
-        // Joints to local rotations (swing chain), then the hand and its twist.
+        // Joints to local rotations (swing chain).
         let mut world = [Quat::IDENTITY; 3];
         kc.rotations(root.rotation, joints, &mut world[..n - 1]);
         let (upper_parent, upper_world, lower_world) = if shouldered {
@@ -413,18 +473,22 @@ impl ChainArm {
         };
         out.upper = (upper_parent.conjugate() * upper_world).normalize();
         out.lower = (upper_world.conjugate() * lower_world).normalize();
-        finish_hand(chain, lower_world, goal.hand_rotation, &mut self.twist, out);
-        // Positions by forward kinematics of the written rotations.
+        // Positions by forward kinematics of the written rotations (the hand's twist, added
+        // later, turns the forearm about its own axis and moves neither).
         let upper_at = joints[upper_index];
         out.elbow = upper_at + upper_parent * out.upper * chain.upper;
         out.wrist = out.elbow + upper_parent * out.upper * out.lower * chain.lower;
         let (a, b) = (chain.upper_length(), chain.lower_length());
         let reach_to = (goal.target - upper_at).length();
-        ArmReach {
-            reachable: reach_to <= a + b + REACH_TOLERANCE
-                && reach_to + REACH_TOLERANCE >= (a - b).abs(),
-            residual: (out.wrist - goal.target).length(),
-        }
+        (
+            ArmReach {
+                reachable: reach_to <= a + b + REACH_TOLERANCE
+                    && reach_to + REACH_TOLERANCE >= (a - b).abs(),
+                residual: (out.wrist - goal.target).length(),
+                wrist: None,
+            },
+            upper_parent * out.upper * out.lower,
+        )
     }
 }
 

@@ -8,8 +8,10 @@
 //!   [`CcdArm`]).
 //! * [`chain_solver`]: [`ChainSolver`], FABRIK or CCD over any chain (tails, spines, custom
 //!   rigs), the Rust side of the JS `ChainSolver`.
-//! * [`arm`]: what the arm solvers share: [`ArmOptions`] (shoulder, forearm twist), joint
-//!   positions to normalized-bone rotations.
+//! * [`arm`]: what the arm solvers share: [`ArmOptions`] (shoulder, forearm twist, wrist
+//!   limits), joint positions to normalized-bone rotations.
+//! * [`wrist`]: the wrist's anatomical limits ([`WristFrame`], [`WRIST_RANGE`]) and how the
+//!   arm solvers keep fingertip alignment exact while applying them.
 //!
 //! The chains themselves (lengths, rest directions, joint limits) are
 //! [`crate::kinematics::Chain`].
@@ -44,6 +46,7 @@ pub mod ccd;
 pub mod chain_solver;
 pub mod fabrik;
 pub mod two_bone;
+pub mod wrist;
 
 use core::fmt;
 
@@ -63,6 +66,7 @@ pub use chain_solver::{
 };
 pub use fabrik::{Fabrik, FabrikArm, FabrikOptions};
 pub use two_bone::{TwoBoneIk, TwoBoneOptions};
+pub use wrist::{WristAngles, WristFrame, WristLimited, WristRange, WRIST_RANGE};
 
 /// Which solver reaches the wrist target (JS: `options.armSolver`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
@@ -102,6 +106,10 @@ pub struct ArmReach {
     /// Distance (m) between the solved wrist (forward kinematics of the written rotations)
     /// and the target. About 0 when reachable; the shortfall when not.
     pub residual: f32,
+    /// What the wrist limits changed ([`ArmOptions::wrist_limits`]): the target and hand
+    /// rotation actually reached; `None` when the hand was within the limits (or they are
+    /// off, or there was no hand rotation).
+    pub wrist: Option<WristLimited>,
 }
 
 /// Setup errors of the arm solvers.
@@ -163,6 +171,9 @@ pub struct ArmChain {
     /// Rest offset shoulder joint -> upperArm joint (m, in the shoulder's frame; normalized
     /// bones: the rest world offset); zero without a shoulder bone.
     pub shoulder_offset: Vec3,
+    /// The wrist's anatomical axes ([`WristFrame::new`]) for the wrist limits; `None` on a
+    /// degenerate rest pose (the hand is then not limited).
+    pub wrist: Option<WristFrame>,
 }
 
 impl ArmChain {
@@ -197,6 +208,7 @@ impl ArmChain {
             } else {
                 Vec3::ZERO
             },
+            wrist: WristFrame::new(skeleton, side),
         })
     }
 
@@ -300,6 +312,8 @@ pub struct ArmSolverState {
     method: Method,
     options: ArmOptions,
     pose: ArmPose,
+    /// What the wrist limits did in the last solve of each side.
+    wrist: [Option<WristLimited>; 2],
 }
 
 impl ArmSolverState {
@@ -382,6 +396,7 @@ impl ArmSolverState {
             chains,
             options: *arm,
             pose: ArmPose::default(),
+            wrist: [None, None],
         })
     }
 
@@ -432,9 +447,17 @@ impl ArmSolverState {
         }
     }
 
+    /// What the wrist limits changed in the last solve of `side` ([`ArmReach::wrist`]):
+    /// `None` when the hand was within them, or they are off.
+    #[must_use]
+    pub fn last_wrist(&self, side: Side) -> Option<WristLimited> {
+        self.wrist[side.index()]
+    }
+
     /// Forgets state carried between frames (the remembered elbow swivel, the forearm twist
     /// branch, the warm start).
     pub fn reset(&mut self) {
+        self.wrist = [None, None];
         match &mut self.method {
             Method::TwoBone(s) => s.iter_mut().for_each(ArmIk::reset),
             Method::Fabrik(s) => s.iter_mut().for_each(ArmIk::reset),
@@ -483,6 +506,7 @@ impl ArmSolverState {
             Method::Fabrik(s) => s[side.index()].solve(chain, &goal, &mut self.pose),
             Method::Ccd(s) => s[side.index()].solve(chain, &goal, &mut self.pose),
         };
+        self.wrist[side.index()] = reach.wrist;
         if let (Some(q), Some(s)) = (self.pose.shoulder, chain.shoulder) {
             local[s.index()] = (local[s.index()] * q).normalize();
         }

@@ -51,6 +51,7 @@ use glam::{Quat, Vec3};
 use super::arm::{
     finish_hand, shoulder_need, shoulder_root, shoulder_turn, ForearmTwist, REACH_TOLERANCE,
 };
+use super::wrist::settle;
 use super::{swing, ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, IkError};
 use crate::kinematics::angle_between;
 
@@ -300,8 +301,20 @@ fn smoothstep(edge: f32, x: f32) -> f32 {
     t * t * (3.0 - 2.0 * t)
 }
 
-impl ArmIk for TwoBoneIk {
-    fn solve(&mut self, chain: &ArmChain, goal: &ArmGoal, out: &mut ArmPose) -> ArmReach {
+impl TwoBoneIk {
+    /// The geometric solve of `goal`: shoulder turn, upper and lower arm rotations, elbow and
+    /// wrist positions into `out` (the hand is left to [`finish_hand`]). Reads but does not
+    /// update the swivel memory; returns the reach, what to remember (`None` for a degenerate
+    /// goal, which leaves the arm at rest) and the forearm's world rotation. `bend` overrides
+    /// the bend direction (made perpendicular to this goal's target line): the wrist limits'
+    /// re-solves keep the first solve's swivel, as the FABRIK and CCD arms keep its pole.
+    fn place(
+        &self,
+        chain: &ArmChain,
+        goal: &ArmGoal,
+        out: &mut ArmPose,
+        bend: Option<Vec3>,
+    ) -> (ArmReach, Option<Memory>, Quat) {
         let a = chain.upper_length();
         let b = chain.lower_length();
         let mut parent = if goal.parent_rotation.is_finite() {
@@ -336,10 +349,12 @@ impl ArmIk for TwoBoneIk {
                 wrist: shoulder,
                 ..ArmPose::default()
             };
-            return ArmReach {
+            let reach = ArmReach {
                 reachable: false,
                 residual: f32::INFINITY,
+                wrist: None,
             };
+            return (reach, None, Quat::IDENTITY);
         }
         // Target at the shoulder: keep the last direction, else the rest direction.
         let dir = self.target_direction(chain, &goal, parent);
@@ -351,7 +366,13 @@ impl ArmIk for TwoBoneIk {
         // max/min rather than clamp: total even when a bound is NaN or they cross.
         let r = dist.max(reach_min).min(reach_max);
 
-        let (bend, memory) = self.bend_direction(chain, &goal, dir);
+        let (bend, memory) = match (self.bend_direction(chain, &goal, dir), bend) {
+            (computed, None) => computed,
+            ((computed, memory), Some(b)) => {
+                let bend = (b - dir * dir.dot(b)).try_normalize().unwrap_or(computed);
+                (bend, Memory { bend, ..memory })
+            }
+        };
         // The elbow's offset along the target line (`along`) and away from it (`height`).
         // Heron's form with the reach-limit factors written out keeps `height` exact (0) at
         // full stretch and full fold, where `sqrt(1 - cos^2)` would be off by ~1e-3 rad.
@@ -390,14 +411,39 @@ impl ArmIk for TwoBoneIk {
 
         out.upper = upper;
         out.lower = lower;
-        finish_hand(chain, lower_world, goal.hand_rotation, &mut self.twist, out);
         out.elbow = shoulder + upper_world * chain.upper;
         out.wrist = out.elbow + lower_world * chain.lower;
-        self.last = Some(memory);
-        ArmReach {
+        let reach = ArmReach {
             reachable,
             residual: (out.wrist - goal.target).length(),
+            wrist: None,
+        };
+        (reach, Some(memory), lower_world)
+    }
+}
+
+impl ArmIk for TwoBoneIk {
+    fn solve(&mut self, chain: &ArmChain, goal: &ArmGoal, out: &mut ArmPose) -> ArmReach {
+        let (mut reach, mut memory, mut lower_world) = self.place(chain, goal, out, None);
+        let mut goal = *goal;
+        if let (true, Some(frame), Some(first)) = (self.arm.wrist_limits, chain.wrist, memory) {
+            let this = &*self;
+            let limited = settle(&frame, &mut goal, lower_world, |g| {
+                let (r, m, l) = this.place(chain, g, out, Some(first.bend));
+                reach = r;
+                memory = m;
+                lower_world = l;
+                l
+            });
+            reach.wrist = limited;
         }
+        let Some(memory) = memory else {
+            return reach;
+        };
+        // The hand's twist turns the forearm about its own axis: positions stay.
+        finish_hand(chain, lower_world, goal.hand_rotation, &mut self.twist, out);
+        self.last = Some(memory);
+        reach
     }
 
     fn reset(&mut self) {

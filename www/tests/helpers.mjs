@@ -19,9 +19,10 @@ export const CHROMIUM = process.env.CHROMIUM ?? "/usr/bin/chromium";
 
 /**
  * Starts the server on a free port and a fresh headless Chromium profile. `fakeCamera`: a
- * .y4m or .mjpeg file Chromium plays as the webcam (looped), with camera access granted.
+ * .y4m or .mjpeg file Chromium plays as the webcam (looped), with camera access granted; `args`
+ * are extra Chromium switches.
  */
-export async function launch({ fakeCamera } = {}) {
+export async function launch({ fakeCamera, args = [] } = {}) {
   if (!findPackageDir()) {
     throw new Error("the handrig package is not built: run `make pkg` (node pkg-config/build.mjs) first");
   }
@@ -51,6 +52,7 @@ export async function launch({ fakeCamera } = {}) {
             `--use-file-for-fake-video-capture=${fakeCamera}`,
           ]
         : []),
+      ...args,
     ],
     ...(fakeCamera ? { permissions: ["camera"] } : {}),
   });
