@@ -465,6 +465,14 @@ impl Rig {
         &self.torso
     }
 
+    /// The torso's rotation of `side`'s shoulder bone in the last solve (internal frame): the
+    /// shrug (`torso: "pose"`) or the app's rotation of it, before the arm solver's turn on
+    /// far reaches. What a lost arm's shoulder eases back to.
+    #[must_use]
+    pub fn shoulder_base(&self, side: Side) -> Quat {
+        self.shoulder_base[side.index()]
+    }
+
     /// Calibrates the hand scale of `handStrategy: "retarget"` (avatar hand over user hand)
     /// on each side from the last hand solved there, which should be an open, flat hand
     /// (the seed's bounding-box scale; see [`crate::hand::retarget`]). Until then, or after

@@ -120,8 +120,10 @@ fn dip_error(
     (world.position[side.finger(Finger::Index)[2].index()] - target).length()
 }
 
+/// Angle (degrees) between rotations, accurate near 0 (q and -q equal).
 fn angle_deg(a: Quat, b: Quat) -> f32 {
-    a.angle_between(b).to_degrees()
+    let d = a * b.conjugate();
+    (2.0 * d.xyz().length().atan2(d.w.abs())).to_degrees()
 }
 
 fn median(mut v: Vec<f32>) -> f32 {
@@ -129,8 +131,8 @@ fn median(mut v: Vec<f32>) -> f32 {
     v[v.len() / 2]
 }
 
-/// The tracked torso (`torso: "pose"`, from the MediaPipe pose) is the user's (within 0.2
-/// degrees: f32 rounding; the acceptance is 3): the avatar's
+/// The tracked torso (`torso: "pose"`, from the MediaPipe pose) is the user's (within 0.01
+/// degrees; the acceptance is 3): the avatar's
 /// upper torso and head take the user's world rotations and the hips its yaw, on every
 /// avatar, mirrored or not; fingertip alignment of both hands lands on the target DIPs
 /// computed from the known pose.
@@ -152,21 +154,21 @@ fn tracked_torso_is_the_users_and_both_hands_align() {
                     let upper = avatar_upper(&rig, &out);
                     let want = shown(pose.upper(), mirror);
                     assert!(
-                        angle_deg(upper, want) < 0.2,
+                        angle_deg(upper, want) < 0.01,
                         "{what}: upper torso {}",
                         angle_deg(upper, want)
                     );
                     let head = out.world.rotation[B::Head.index()];
                     let want = shown(pose.head_world(), mirror);
                     assert!(
-                        angle_deg(head, want) < 0.2,
+                        angle_deg(head, want) < 0.01,
                         "{what}: head {}",
                         angle_deg(head, want)
                     );
                     let hips = out.local[B::Hips.index()];
                     let want = shown(pose.hips(), mirror);
                     assert!(
-                        angle_deg(hips, want) < 0.2,
+                        angle_deg(hips, want) < 0.01,
                         "{what}: hips {}",
                         angle_deg(hips, want)
                     );
@@ -221,17 +223,17 @@ fn body_joints_give_the_same_torso() {
             rig.solve(&f, &mut out).unwrap();
             let upper = avatar_upper(&rig, &out);
             let a = angle_deg(upper, pose.upper());
-            assert!(a < 0.2, "{path} {}: {a}", pose.name);
+            assert!(a < 0.01, "{path} {}: {a}", pose.name);
             let head = out.world.rotation[B::Head.index()];
             assert!(
-                angle_deg(head, pose.head_world()) < 0.2,
+                angle_deg(head, pose.head_world()) < 0.01,
                 "{path} {}",
                 pose.name
             );
             // Output in the model's own frame, like every other bone.
             let q = rig.export_rotation(out.local[B::Hips.index()]);
             let want = version.rotation_to_internal(pose.hips());
-            assert!(angle_deg(q, want) < 0.2, "{path} {}", pose.name);
+            assert!(angle_deg(q, want) < 0.01, "{path} {}", pose.name);
         }
     }
 }
@@ -381,7 +383,7 @@ fn a_lean_is_not_read_as_a_reach() {
         let leaning = arm_rotations(TorsoSource::Frame, &pose);
         for (a, b) in upright.iter().zip(&leaning) {
             assert!(
-                angle_deg(*a, *b) < 0.2,
+                angle_deg(*a, *b) < 0.01,
                 "{}: {}",
                 pose.name,
                 angle_deg(*a, *b)
