@@ -106,6 +106,7 @@ test-www: pkg
 eval: pkg eval/node_modules/.package-lock.json
 	node eval/hands.mjs
 	cargo run --quiet --release --example eval_alignment
+	cargo run --quiet --release --example eval_torso
 	node eval/speed.mjs
 
 # Native per-frame cost of Rig::solve (criterion).
