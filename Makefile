@@ -113,6 +113,7 @@ eval: pkg eval/node_modules/.package-lock.json
 	cargo run --quiet --release --example eval_hands
 	cargo run --quiet --release --example eval_live
 	cargo run --quiet --release --example eval_wrist
+	cargo run --quiet --release --example eval_torso
 	node eval/table.mjs --verbose
 
 # Native per-frame cost of Rig::solve (criterion).

@@ -21,7 +21,25 @@
 //! arm that makes it. The residual mismatch, the avatar's hand being proportionally smaller
 //! or larger than the user's, is what fingertip alignment then removes.
 //!
+//! ## Relative to the torso
+//! The shoulder is the avatar's upper-arm joint as the torso poses it this frame, and the
+//! user's arm (and hand) is measured in the user's upper-torso frame and placed in the
+//! avatar's ([`BodyMapper::map_arm_from`], [`ArmAnchor`]):
+//!
+//! ```text
+//! avatar point = posed avatar shoulder + s * T * (user point - user shoulder),
+//! T = avatar upper-torso frame * user upper-torso frame^-1                (avatar frame)
+//! ```
+//!
+//! (frames as [`crate::torso`] measures them). When the avatar's torso follows the user's
+//! (`torso: "pose"`), `T` is the identity and this is the form above from the posed
+//! shoulder. When it does not (the app's torso, or its rest pose), the arm keeps its pose
+//! relative to the torso: a user who leans forward with the hands still at the chest keeps
+//! the avatar's hands at its chest instead of reaching forward. `torso: "off"` keeps the rest
+//! shoulder and world axes ([`BodyMapper::map_arm`]).
+//!
 //! ## Calibration
+//! Lengths only, so a moving torso does not bias it (a lean or a turn changes no length).
 //! `s = avatar arm length / user arm length`, arm length = upper + lower arm (shoulder to
 //! elbow plus elbow to wrist). The avatar's is the mean of its two arms' rest lengths. The
 //! user's is sampled once per visible arm per pose frame (shoulder, elbow and wrist at or
@@ -46,7 +64,7 @@
 //! * Pose present but no hand: the arm reaches the mapped wrist; the hand follows the
 //!   forearm (nothing to align).
 
-use glam::Vec3;
+use glam::{Quat, Vec3};
 use serde::Deserialize;
 
 use crate::bones::Side;
@@ -243,10 +261,12 @@ impl BodyMapper {
         }
     }
 
-    /// Maps the user's arm driving avatar side `side` onto the avatar (internal frame):
-    /// `avatar shoulder + s * (user point - user shoulder)` for the wrist and (when visible)
-    /// the elbow. `None` when the driving side's shoulder or wrist is below `min_visibility`
-    /// or the avatar lacks the upper arm.
+    /// Maps the user's arm driving avatar side `side` onto the avatar at rest (internal
+    /// frame): `avatar shoulder + s * (user point - user shoulder)` for the wrist and (when
+    /// visible) the elbow, with the avatar's rest upper-arm joint and world axes (the
+    /// `torso: "off"` mapping; [`BodyMapper::map_arm_from`] with [`ArmAnchor::rest`]). `None`
+    /// when the driving side's shoulder or wrist is below `min_visibility` or the avatar lacks
+    /// the upper arm.
     #[must_use]
     pub fn map_arm(
         &self,
@@ -254,6 +274,25 @@ impl BodyMapper {
         side: Side,
         pose: &PoseObservation,
         camera: CameraMapping,
+    ) -> Option<ArmMapping> {
+        let anchor = ArmAnchor::rest(skeleton, side)?;
+        self.map_arm_from(side, pose, camera, anchor)
+    }
+
+    /// Maps the user's arm driving avatar side `side` onto the avatar whose upper-arm joint and
+    /// torso are `anchor`: `anchor.shoulder + s * anchor.rotation * (user point - user
+    /// shoulder)` for the wrist and (when visible) the elbow (internal frame). With
+    /// `anchor.rotation` the turn from the user's upper-torso frame to the avatar's, the arm
+    /// keeps its pose relative to the torso: a lean or a turn is not read as a reach (see
+    /// [`crate::torso`]). `None` when the driving side's shoulder or wrist is below
+    /// `min_visibility`.
+    #[must_use]
+    pub fn map_arm_from(
+        &self,
+        side: Side,
+        pose: &PoseObservation,
+        camera: CameraMapping,
+        anchor: ArmAnchor,
     ) -> Option<ArmMapping> {
         let user = camera.pose_side_for(side);
         let (sh, el, wr) = match user {
@@ -264,14 +303,36 @@ impl BodyMapper {
         if !(seen(sh) && seen(wr)) {
             return None;
         }
-        let shoulder = skeleton.rest_world(side.arm()[1])?;
-        let map =
-            |i: usize| shoulder + self.scale * camera.to_avatar(pose.world[i] - pose.world[sh]);
+        let map = |i: usize| {
+            anchor.shoulder
+                + self.scale * (anchor.rotation * camera.to_avatar(pose.world[i] - pose.world[sh]))
+        };
         let wrist = map(wr);
         let elbow = seen(el).then(|| map(el));
         wrist.is_finite().then_some(ArmMapping {
             wrist,
             elbow: elbow.filter(|e| e.is_finite()),
+        })
+    }
+}
+
+/// Where a user's arm is placed on the avatar by [`BodyMapper::map_arm_from`] (internal frame).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArmAnchor {
+    /// The avatar's upper-arm joint (posed by the torso), where the user's shoulder lands.
+    pub shoulder: Vec3,
+    /// Rotation applied to the user's arm vectors (avatar axes): the avatar's upper-torso
+    /// frame times the inverse of the user's.
+    pub rotation: Quat,
+}
+
+impl ArmAnchor {
+    /// The avatar's rest upper-arm joint, world axes (`None` without the bone).
+    #[must_use]
+    pub fn rest(skeleton: &Skeleton, side: Side) -> Option<ArmAnchor> {
+        Some(ArmAnchor {
+            shoulder: skeleton.rest_world(side.arm()[1])?,
+            rotation: Quat::IDENTITY,
         })
     }
 }

@@ -25,9 +25,10 @@ use crate::mediapipe::{
     MAX_HANDS, POSE_LANDMARKS,
 };
 use crate::rig::{HandUse, Rig, SolveOutput};
+use crate::torso::{BodyJoint, BodyObservation, BODY_JOINT_COUNT, TORSO_BONES};
 
 /// Layout version: bumped whenever an offset or meaning below changes.
-pub const VERSION: u32 = 3;
+pub const VERSION: u32 = 4;
 
 /// Input offsets (indices into the input `f32` array).
 pub mod input {
@@ -84,8 +85,28 @@ pub mod input {
     pub const POSE_HAS_IMAGE: usize = 3;
     /// The pose's 33 normalized image landmarks `x y z` (MediaPipe's `landmarks`).
     pub const POSE_IMAGE: usize = WRISTS + 2 * WRIST_STRIDE;
+    /// The app's torso (`frame.torso`): one slot per torso bone in
+    /// [`crate::torso::TORSO_BONES`] order (`LAYOUT.torsoBones`), `TORSO_STRIDE` apart.
+    pub const TORSO: usize = POSE_IMAGE + 3 * POSE_LANDMARKS;
+    /// Size of one torso slot.
+    pub const TORSO_STRIDE: usize = 5;
+    /// Offsets inside a torso slot.
+    pub mod torso_bone {
+        /// `1` when this bone's rotation is given.
+        pub const PRESENT: usize = 0;
+        /// Local rotation of the normalized bone `x y z w`, the model's own frame.
+        pub const ROTATION: usize = 1;
+    }
+    /// `1` when the body section holds this frame's body-tracker joints.
+    pub const BODY_PRESENT: usize = TORSO + crate::torso::TORSO_BONE_COUNT * TORSO_STRIDE;
+    /// Body-tracker joints (`frame.body`): [`crate::torso::BodyJoint::ALL`] order
+    /// (`LAYOUT.bodyJoints`), `x y z confidence` each (meters, the model's own frame;
+    /// confidence `0..=1`, `0` for a joint not given).
+    pub const BODY: usize = BODY_PRESENT + 1;
+    /// Floats per body joint.
+    pub const BODY_STRIDE: usize = 4;
     /// Length of the input array.
-    pub const LEN: usize = POSE_IMAGE + 3 * POSE_LANDMARKS;
+    pub const LEN: usize = BODY + crate::torso::BODY_JOINT_COUNT * BODY_STRIDE;
 }
 
 /// Output offsets (indices into the output `f32` array).
@@ -171,6 +192,7 @@ const _: () = {
     assert!(output::side::FINGERTIPS + 15 <= output::side::RETARGET_PRESENT);
     assert!(output::side::RETARGET_TARGETS + 15 <= output::side::RETARGET_SCALE);
     assert!(input::POSE_HAS_IMAGE < input::HANDS);
+    assert!(input::torso_bone::ROTATION + 4 <= input::TORSO_STRIDE);
 };
 
 /// Every named offset of the layout as `(path, value)`, for exporting it (JavaScript's
@@ -198,6 +220,13 @@ pub const FIELDS: &[(&str, usize)] = &[
     ("input.wrist.hasRotation", input::wrist::HAS_ROTATION),
     ("input.wrist.position", input::wrist::POSITION),
     ("input.wrist.rotation", input::wrist::ROTATION),
+    ("input.torso", input::TORSO),
+    ("input.torsoStride", input::TORSO_STRIDE),
+    ("input.torsoBone.present", input::torso_bone::PRESENT),
+    ("input.torsoBone.rotation", input::torso_bone::ROTATION),
+    ("input.bodyPresent", input::BODY_PRESENT),
+    ("input.body", input::BODY),
+    ("input.bodyStride", input::BODY_STRIDE),
     ("output.length", output::LEN),
     ("output.boneRotations", output::BONE_ROTATIONS),
     ("output.boneFlags", output::BONE_FLAGS),
@@ -278,7 +307,7 @@ fn points<const N: usize>(
 ///
 /// # Errors
 /// Wrong length, a flag other than 0 or 1, a hand count out of range, non-finite numbers,
-/// scores or visibilities outside `0..=1`, non-unit wrist rotations.
+/// scores, visibilities or confidences outside `0..=1`, non-unit wrist or torso rotations.
 pub fn read_input(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result<()> {
     frame.clear();
     let r = read_input_inner(buf, time_ms, frame);
@@ -429,6 +458,42 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
             None
         };
         frame.wrists[side.index()] = Some(WristObservation { position, rotation });
+    }
+    for (slot, bone) in TORSO_BONES.iter().enumerate() {
+        let at = input::TORSO + slot * input::TORSO_STRIDE;
+        let name = || format!("frame.torso.{bone}");
+        if !flag(buf, at + input::torso_bone::PRESENT, name)? {
+            continue;
+        }
+        let r = at + input::torso_bone::ROTATION;
+        let q = Quat::from_xyzw(buf[r], buf[r + 1], buf[r + 2], buf[r + 3]);
+        if !q.is_finite() || (q.length() - 1.0).abs() > 1e-2 {
+            return Err(Error::invalid(
+                name(),
+                "must be a unit quaternion [x, y, z, w]",
+            ));
+        }
+        frame.torso[slot] = Some(q.normalize());
+    }
+    if flag(buf, input::BODY_PRESENT, || "frame.body".into())? {
+        let mut body = BodyObservation::default();
+        for joint in BodyJoint::ALL {
+            let k = joint.index();
+            let at = input::BODY + k * input::BODY_STRIDE;
+            let name = |f: &str| format!("frame.body.{}{f}", joint.as_str());
+            body.position[k] = vec3_at(buf, at);
+            if !body.position[k].is_finite() {
+                return Err(Error::invalid(name(""), "must be three finite numbers"));
+            }
+            body.confidence[k] = buf[at + 3];
+            if !(0.0..=1.0).contains(&body.confidence[k]) {
+                return Err(Error::invalid(
+                    name(".confidence"),
+                    "must be a number in 0..1",
+                ));
+            }
+        }
+        frame.body = Some(body);
     }
     Ok(())
 }
@@ -614,6 +679,21 @@ pub fn write_input(frame: &FrameInput, buf: &mut [f32]) {
             put_quat(buf, at + input::wrist::ROTATION, q);
         }
     }
+    for (slot, q) in frame.torso.iter().enumerate() {
+        if let Some(q) = q {
+            let at = input::TORSO + slot * input::TORSO_STRIDE;
+            buf[at + input::torso_bone::PRESENT] = 1.0;
+            put_quat(buf, at + input::torso_bone::ROTATION, *q);
+        }
+    }
+    if let Some(body) = &frame.body {
+        buf[input::BODY_PRESENT] = 1.0;
+        for k in 0..BODY_JOINT_COUNT {
+            let at = input::BODY + k * input::BODY_STRIDE;
+            put_vec3(buf, at, body.position[k]);
+            buf[at + 3] = body.confidence[k];
+        }
+    }
 }
 
 #[cfg(test)]
@@ -687,6 +767,12 @@ mod tests {
             position: Vec3::new(0.1, 0.2, 0.3),
             rotation: Some(Quat::from_rotation_y(0.5)),
         });
+        frame.torso[1] = Some(Quat::from_rotation_x(0.25));
+        frame.torso[5] = Some(Quat::from_rotation_y(-0.5));
+        let mut body = BodyObservation::default();
+        body.position[3] = Vec3::new(0.2, 1.4, 0.05);
+        body.confidence[3] = 0.6;
+        frame.body = Some(body);
         let mut buf = vec![0.0; input::LEN];
         write_input(&frame, &mut buf);
         let mut back = FrameInput::default();
@@ -704,5 +790,30 @@ mod tests {
             back.hand_count, 0,
             "a rejected frame leaves the input cleared"
         );
+        buf[k] = 0.0;
+
+        let q = input::TORSO + 5 * input::TORSO_STRIDE + input::torso_bone::ROTATION;
+        buf[q + 3] = 2.0;
+        let e = read_input(&buf, 0.0, &mut back).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "frame.torso.head: must be a unit quaternion [x, y, z, w]"
+        );
+        buf[q + 3] = Quat::from_rotation_y(-0.5).w;
+        let c = input::BODY + 3 * input::BODY_STRIDE + 3;
+        buf[c] = 1.5;
+        let e = read_input(&buf, 0.0, &mut back).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "frame.body.leftUpperArm.confidence: must be a number in 0..1"
+        );
+        buf[c] = 0.6;
+        buf[input::TORSO + input::torso_bone::PRESENT] = 2.0;
+        let e = read_input(&buf, 0.0, &mut back).unwrap_err();
+        assert_eq!(e.to_string(), "frame.torso.hips: must be 0 or 1");
+        buf[input::TORSO + input::torso_bone::PRESENT] = 0.0;
+        read_input(&buf, 0.0, &mut back).unwrap();
+        assert_eq!(back.torso, frame.torso);
+        assert_eq!(back.body, frame.body);
     }
 }

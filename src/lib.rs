@@ -2,7 +2,8 @@
 //!
 //! MediaPipe hand and pose tracking to VRM avatar motion, every frame: finger rotations for
 //! all 30 finger bones and the hand, a wrist IK target placed so the avatar's index fingertip
-//! lands where the user's does (fingertip alignment), and the arm rotations reaching it.
+//! lands where the user's does (fingertip alignment), and the arm rotations reaching it, from
+//! the torso the app draws or the one handrig tracks.
 //!
 //! ## Conventions
 //!
@@ -28,6 +29,8 @@
 //! * [`hand`]: wrist and finger rotations from 21 hand landmarks.
 //! * [`align`]: fingertip alignment (the wrist IK target).
 //! * [`body`]: body mapping and calibration from pose landmarks.
+//! * [`torso`]: the upper body (hips, spine, chest, neck, head, shoulders) from the app or
+//!   from tracking.
 //! * [`kinematics`]: serial chains with fixed bone lengths and joint limits (hinge, cone).
 //! * [`ik`]: arm IK solvers (two-bone, FABRIK, CCD) with anatomical wrist limits
 //!   ([`ik::wrist`]), and the standalone [`ik::ChainSolver`].
@@ -52,6 +55,7 @@ pub mod mediapipe;
 pub mod rig;
 pub mod skeleton;
 pub mod solve;
+pub mod torso;
 pub mod vrm;
 
 #[cfg(target_arch = "wasm32")]

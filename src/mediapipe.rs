@@ -1,5 +1,5 @@
-//! MediaPipe input: hand and pose landmarks, body-tracker wrists, and the conversion from
-//! MediaPipe's camera axes to the avatar frame.
+//! MediaPipe input: hand and pose landmarks, body-tracker wrists and joints, the app's torso,
+//! and the conversion from MediaPipe's camera axes to the avatar frame.
 //!
 //! MediaPipe axes: x to the image right, y down, z away from the camera (right-handed). The
 //! user faces the camera; the avatar faces +Z (toward the viewer). Two options decide the
@@ -19,6 +19,7 @@
 use glam::Vec3;
 
 use crate::bones::Side;
+use crate::torso::{BodyObservation, TorsoRotations, TORSO_BONE_COUNT};
 
 /// Number of MediaPipe hand landmarks.
 pub const HAND_LANDMARKS: usize = 21;
@@ -53,6 +54,14 @@ pub mod hand_landmark {
 pub mod pose_landmark {
     /// Nose.
     pub const NOSE: usize = 0;
+    /// Left eye (center; the subject's left).
+    pub const LEFT_EYE: usize = 2;
+    /// Right eye (center).
+    pub const RIGHT_EYE: usize = 5;
+    /// Left ear.
+    pub const LEFT_EAR: usize = 7;
+    /// Right ear.
+    pub const RIGHT_EAR: usize = 8;
     /// Left shoulder (the subject's left).
     pub const LEFT_SHOULDER: usize = 11;
     /// Right shoulder.
@@ -203,6 +212,12 @@ pub struct FrameInput {
     pub pose_image: Option<[Vec3; POSE_LANDMARKS]>,
     /// Wrists from another body tracker in the avatar frame, indexed by [`Side::index`].
     pub wrists: [Option<WristObservation>; 2],
+    /// The app's torso: local rotations of the torso bones in the model's own frame
+    /// ([`crate::torso::TORSO_BONES`] order; `None` = at rest). See [`crate::torso`].
+    pub torso: TorsoRotations,
+    /// Joints from a body tracker with spine joints, in the model's own frame (used by
+    /// `torso: "pose"`). See [`crate::torso::BodyObservation`].
+    pub body: Option<BodyObservation>,
 }
 
 impl Default for FrameInput {
@@ -220,6 +235,8 @@ impl Default for FrameInput {
             pose: None,
             pose_image: None,
             wrists: [None, None],
+            torso: [None; TORSO_BONE_COUNT],
+            body: None,
         }
     }
 }
@@ -238,6 +255,8 @@ impl FrameInput {
         self.pose = None;
         self.pose_image = None;
         self.wrists = [None, None];
+        self.torso = [None; TORSO_BONE_COUNT];
+        self.body = None;
     }
 }
 

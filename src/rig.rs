@@ -8,16 +8,21 @@
 //!    (`options.handedness`), two hands on one side resolved.
 //! 2. **pose** ([`Rig::observe_pose`]): the pose landmarks, One Euro filtered
 //!    ([`crate::filter`]), feed body-scale calibration ([`crate::body`]).
-//! 3. per side, **hand** ([`Rig::solve_hand`]): the hand's landmarks mapped to the avatar frame
+//! 3. **torso** ([`Rig::torso_stage`]): the torso bones from the app (`frame.torso`) or tracked
+//!    from `body` joints or the pose, eased over tracking loss ([`crate::torso`]); the user's
+//!    upper-torso frame measured on the pose; forward kinematics of the posed torso places
+//!    each arm's anchor (its upper-arm joint and torso frame);
+//! 4. per side, **hand** ([`Rig::solve_hand`]): the hand's landmarks mapped to the avatar frame
 //!    and filtered, then hand orientation and finger rotations ([`crate::hand`]);
-//! 4. per side, **wrist source** ([`Rig::wrist_source`]): the wrist from `wrists` (filtered) or
-//!    from the pose ([`crate::body`]), with the elbow as pole;
-//! 5. per side, **target and IK** ([`Rig::reach_target`]): the wrist IK target by fingertip
+//! 5. per side, **wrist source** ([`Rig::wrist_source`]): the wrist from `wrists` (filtered) or
+//!    from the pose mapped relative to the torso ([`crate::body`]), with the elbow as pole;
+//! 6. per side, **target and IK** ([`Rig::reach_target`]): the wrist IK target by fingertip
 //!    alignment ([`crate::align`]) from forward kinematics of *this* frame's hand, reached by
-//!    the arm solver ([`crate::ik`]);
-//! 6. **ease** ([`Rig::ease`]): groups whose tracking was lost hold, then ease to rest;
-//!    returning ones blend in ([`crate::filter::dropout`]); rotations keep their hemisphere;
-//! 7. **report** ([`Rig::report`]): forward kinematics of the whole avatar, its fingertips,
+//!    the arm solver ([`crate::ik`]) from the posed torso;
+//! 7. **ease** ([`Rig::ease`]): groups whose tracking was lost hold, then ease to rest (a
+//!    shoulder to the torso's rotation of it); returning ones blend in
+//!    ([`crate::filter::dropout`]); rotations keep their hemisphere;
+//! 8. **report** ([`Rig::report`]): forward kinematics of the whole avatar, its fingertips,
 //!    the retargeting reports.
 //!
 //! [`Rig::reset`] clears the history of every stage.
@@ -26,7 +31,7 @@ use glam::{Quat, Vec3};
 use serde::Deserialize;
 
 use crate::align::{self, AlignmentOptions, AlignmentReport};
-use crate::body::{BodyMapper, CalibrationOptions};
+use crate::body::{ArmAnchor, BodyMapper, CalibrationOptions};
 use crate::bones::Finger;
 use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::Result;
@@ -38,6 +43,9 @@ use crate::mediapipe::{
     MAX_HANDS, POSE_LANDMARKS,
 };
 use crate::skeleton::{Skeleton, WorldPose};
+use crate::torso::{
+    self, BodyJoint, TorsoPoints, TorsoSolver, TorsoSource, BODY_JOINT_COUNT, TORSO_BONES,
+};
 
 /// Options of a [`Rig`], set at construction (JS: the `options` argument of `new HandRig`).
 /// Every field has a documented default; JS names are the camelCase field names.
@@ -68,6 +76,10 @@ pub struct RigOptions {
     pub filter: FilterOptions,
     /// Holding and easing over tracking loss.
     pub dropout: DropoutOptions,
+    /// Where the torso comes from: `"frame"` (default: the app's `frame.torso`, rest where
+    /// not given; not driven), `"pose"` (tracked from `body` joints or the pose; driven) or
+    /// `"off"` (the rest torso). See [`crate::torso`].
+    pub torso: TorsoSource,
 }
 
 /// How a hand whose MediaPipe label contradicts the pose is treated (JS:
@@ -112,6 +124,7 @@ impl Default for RigOptions {
             handedness: HandednessPolicy::default(),
             filter: FilterOptions::default(),
             dropout: DropoutOptions::default(),
+            torso: TorsoSource::default(),
         }
     }
 }
@@ -256,6 +269,22 @@ pub struct Rig {
     /// The rotations shown last frame, and the anchors of running blends.
     shown: [Quat; BONE_COUNT],
     anchor: [Quat; BONE_COUNT],
+    /// The torso stage: the avatar's torso, the shrug's neutral, the torso's easing.
+    torso: TorsoSolver,
+    /// Filters of the body-tracker joints.
+    body_filters: PointFilters<BODY_JOINT_COUNT>,
+    /// This frame's torso rotation of each shoulder bone (`[left, right]`): what an arm's
+    /// shoulder eases back to when the arm is lost.
+    shoulder_base: [Quat; 2],
+    /// The arm solver's turn of each shoulder on top of `shoulder_base`, as shown last frame,
+    /// and the anchor of its running blend.
+    shoulder_turn_shown: [Quat; 2],
+    shoulder_turn_anchor: [Quat; 2],
+    /// Where each side's pose arm is placed this frame (posed upper-arm joint, torso turn).
+    anchors: [Option<ArmAnchor>; 2],
+    /// This frame's turn from the user's upper-torso frame (on the pose) to the avatar's,
+    /// when measured (not with `torso: "off"`): applied to the whole pose-driven arm and hand.
+    turn: Option<Quat>,
 }
 
 /// The bone groups that come and go with tracking, per side.
@@ -327,9 +356,17 @@ impl Rig {
             for b in [upper, lower, hand].into_iter().chain(fingers) {
                 driven[b.index()] = skeleton.has(b);
             }
-            // The shoulder when the arm option may turn it on far reaches.
-            driven[shoulder.index()] = skeleton.has(shoulder) && arms.moves_shoulder(side);
+            // The shoulder when the arm option may turn it on far reaches, or the torso
+            // shrugs it.
+            driven[shoulder.index()] = skeleton.has(shoulder)
+                && (arms.moves_shoulder(side) || options.torso == TorsoSource::Pose);
         }
+        if options.torso == TorsoSource::Pose {
+            for b in TORSO_BONES {
+                driven[b.index()] = skeleton.has(b);
+            }
+        }
+        let torso = TorsoSolver::new(&skeleton, options.calibration.frames);
         Ok(Rig {
             skeleton,
             options,
@@ -346,12 +383,21 @@ impl Rig {
             presence: [[Presence::default(); 3]; 2],
             shown: [Quat::IDENTITY; BONE_COUNT],
             anchor: [Quat::IDENTITY; BONE_COUNT],
+            torso,
+            body_filters: PointFilters::default(),
+            shoulder_base: [Quat::IDENTITY; 2],
+            shoulder_turn_shown: [Quat::IDENTITY; 2],
+            shoulder_turn_anchor: [Quat::IDENTITY; 2],
+            anchors: [None, None],
+            turn: None,
         })
     }
 
     /// Whether the rig drives `bone`: it writes the bone's rotation every frame (solved, held
     /// or back at rest), so an app applies it every frame. The hand, finger and arm bones the
-    /// avatar has; other bones are left to the app.
+    /// avatar has (the shoulders when the arm option may turn them); with `torso: "pose"` also
+    /// the torso bones (hips, spine, chest, upperChest, neck, head, shoulders) it has; other
+    /// bones are left to the app.
     #[inline]
     #[must_use]
     pub fn drives(&self, bone: HumanBone) -> bool {
@@ -365,6 +411,7 @@ impl Rig {
         self.hands.reset();
         self.arms.reset();
         self.body.reset();
+        self.torso.reset_calibration();
         self.restart_history();
     }
 
@@ -376,6 +423,10 @@ impl Rig {
         self.wrist_filters = [WristFilter::default(); 2];
         self.presence = [[Presence::default(); 3]; 2];
         self.shown = [Quat::IDENTITY; BONE_COUNT];
+        self.torso.restart();
+        self.body_filters.reset();
+        self.shoulder_turn_shown = [Quat::IDENTITY; 2];
+        self.shoulder_turn_anchor = [Quat::IDENTITY; 2];
     }
 
     /// The avatar's skeleton.
@@ -402,9 +453,24 @@ impl Rig {
         &self.arms
     }
 
-    /// Restarts body-scale calibration.
+    /// Restarts body-scale calibration (and the torso's neutral shoulder height).
     pub fn reset_calibration(&mut self) {
         self.body.reset();
+        self.torso.reset_calibration();
+    }
+
+    /// The torso stage (the avatar's torso bone the arms hang from, the shrug's neutral).
+    #[must_use]
+    pub fn torso(&self) -> &TorsoSolver {
+        &self.torso
+    }
+
+    /// The torso's rotation of `side`'s shoulder bone in the last solve (internal frame): the
+    /// shrug (`torso: "pose"`) or the app's rotation of it, before the arm solver's turn on
+    /// far reaches. What a lost arm's shoulder eases back to.
+    #[must_use]
+    pub fn shoulder_base(&self, side: Side) -> Quat {
+        self.shoulder_base[side.index()]
     }
 
     /// Calibrates the hand scale of `handStrategy: "retarget"` (avatar hand over user hand)
@@ -430,6 +496,7 @@ impl Rig {
         if dt.is_none() {
             // A new session (first frame, time going back, a long gap): no blending across.
             self.presence = [[Presence::default(); 3]; 2];
+            self.torso.restart();
         }
         out.solved = [false; BONE_COUNT];
         out.ik_targets = [None, None];
@@ -442,8 +509,9 @@ impl Rig {
 
         let picks = self.select_hands(frame, camera, out);
         self.observe_pose(frame, camera, dt);
-        // The world pose the arms hang from (the torso; arms and hands do not move it), once.
-        self.skeleton.forward(&out.local, &mut out.world);
+        // The torso (from the app or tracking), and its forward kinematics: the world pose the
+        // arms hang from, once per frame (arms and hands do not move it).
+        self.torso_stage(frame, camera, dt, out);
         for side in Side::BOTH {
             let hand_rotation = self.solve_hand(side, frame, picks[side.index()], dt, out);
             let source = self.wrist_source(side, frame, dt);
@@ -454,7 +522,7 @@ impl Rig {
         Ok(())
     }
 
-    /// Stage 7: forward kinematics of what is shown, the avatar's fingertips, and the
+    /// Stage 8: forward kinematics of what is shown, the avatar's fingertips, and the
     /// retargeting reports placed on the avatar.
     fn report(&self, out: &mut SolveOutput) {
         self.skeleton.forward(&out.local, &mut out.world);
@@ -579,7 +647,82 @@ impl Rig {
         }
     }
 
-    /// Stage 3: the side's hand (landmarks to the avatar frame, filtered, solved). Returns the
+    /// Stage 3: the torso bones into `out.local` (see [`crate::torso`]): the app's
+    /// (`frame.torso`), tracked (`torso: "pose"`, from `body` joints or the pose) with the
+    /// app's bones winning, or rest (`"off"`). Then each arm's anchor for the pose mapping:
+    /// the posed upper-arm joint, and the turn from the user's upper-torso frame (measured on
+    /// the pose) to the avatar's.
+    fn torso_stage(
+        &mut self,
+        frame: &FrameInput,
+        camera: CameraMapping,
+        dt: Option<f32>,
+        out: &mut SolveOutput,
+    ) {
+        let source = self.options.torso;
+        let min_visibility = self.options.calibration.min_visibility;
+        let version = self.skeleton.version();
+        // The user's torso on the pose (also what the pose arms are measured against).
+        let pose_measure = match (source, &self.pose) {
+            (TorsoSource::Off, _) | (_, None) => None,
+            (_, Some(pose)) => Some(torso::measure(&TorsoPoints::from_pose(
+                pose,
+                camera,
+                min_visibility,
+            ))),
+        };
+        if source == TorsoSource::Pose {
+            let measure = match frame.body {
+                Some(mut body) => {
+                    if self.options.filter.enabled {
+                        let o = self.options.filter.one_euro();
+                        self.body_filters
+                            .apply(&mut body.position, frame.time_ms, dt, &o);
+                    }
+                    torso::measure(&TorsoPoints::from_body(&body, version, min_visibility))
+                }
+                None => pose_measure.unwrap_or_default(),
+            };
+            let timing = self.options.dropout.effective();
+            self.torso.track(
+                &self.skeleton,
+                &measure,
+                frame.time_ms,
+                &timing,
+                &mut out.local,
+                &mut out.solved,
+            );
+        }
+        if source != TorsoSource::Off {
+            // The app's bones (in "pose" mode they win over the tracked ones).
+            for (bone, q) in TORSO_BONES.iter().zip(frame.torso.iter()) {
+                if let Some(q) = q {
+                    out.local[bone.index()] = version.rotation_to_internal(*q).normalize();
+                    out.solved[bone.index()] = self.skeleton.has(*bone);
+                }
+            }
+        }
+        for side in Side::BOTH {
+            self.shoulder_base[side.index()] = out.local[side.arm()[0].index()];
+        }
+        // Anchors: forward kinematics of the torso alone (arms at rest).
+        self.skeleton.forward(&out.local, &mut out.world);
+        let top = self.torso.top();
+        let avatar_frame = out.world.rotation[top.index()] * self.torso.rest_upper();
+        self.turn = pose_measure
+            .and_then(|m| m.upper)
+            .map(|user| (avatar_frame * user.conjugate()).normalize())
+            .filter(|q| q.is_finite());
+        for side in Side::BOTH {
+            let upper = side.arm()[1];
+            self.anchors[side.index()] = self.skeleton.has(upper).then(|| ArmAnchor {
+                shoulder: out.world.position[upper.index()],
+                rotation: self.turn.unwrap_or(Quat::IDENTITY),
+            });
+        }
+    }
+
+    /// Stage 4: the side's hand (landmarks to the avatar frame, filtered, solved). Returns the
     /// hand's world rotation when solved or held.
     fn solve_hand(
         &mut self,
@@ -592,8 +735,14 @@ impl Rig {
         let pick = pick?;
         let h = &frame.hands()[pick.index];
         let camera = self.options.camera();
+        // A hand whose arm the pose places (no tracker wrist) turns with the arm: the user's
+        // hand keeps its pose relative to the torso, like the arm (see `torso_stage`).
+        let turn = match (frame.wrists[side.index()], &self.pose, self.turn) {
+            (None, Some(_), Some(turn)) => turn,
+            _ => Quat::IDENTITY,
+        };
         for (dst, src) in self.landmarks.iter_mut().zip(h.world.iter()) {
-            *dst = camera.to_avatar(*src);
+            *dst = turn * camera.to_avatar(*src);
         }
         if self.options.filter.enabled {
             let o = self.options.filter.one_euro();
@@ -620,8 +769,9 @@ impl Rig {
         hand_rotation
     }
 
-    /// Stage 4: where the side's wrist is this frame: a tracker wrist (filtered) or the pose
-    /// wrist mapped onto the avatar, with the pose elbow as pole.
+    /// Stage 5: where the side's wrist is this frame: a tracker wrist (filtered) or the pose
+    /// wrist mapped onto the avatar relative to the torso (the stage 3 anchor), with the pose
+    /// elbow as pole.
     fn wrist_source(
         &mut self,
         side: Side,
@@ -646,9 +796,10 @@ impl Rig {
             });
         }
         let pose = self.pose.as_ref()?;
+        let anchor = self.anchors[side.index()]?;
         let mapped = self
             .body
-            .map_arm(&self.skeleton, side, pose, self.options.camera())?;
+            .map_arm_from(side, pose, self.options.camera(), anchor)?;
         Some(WristSource {
             position: mapped.wrist,
             rotation: None,
@@ -657,8 +808,8 @@ impl Rig {
         })
     }
 
-    /// Stage 5: the wrist IK target (fingertip alignment from this frame's hand) and the arm
-    /// reaching it.
+    /// Stage 6: the wrist IK target (fingertip alignment from this frame's hand) and the arm
+    /// reaching it from the posed torso.
     fn reach_target(
         &mut self,
         side: Side,
@@ -736,7 +887,7 @@ impl Rig {
         }
     }
 
-    /// Stage 6: hold and ease the groups whose tracking was lost, blend in the returning ones
+    /// Stage 7: hold and ease the groups whose tracking was lost, blend in the returning ones
     /// (see [`crate::filter::dropout`]), and keep every driven rotation in the hemisphere of
     /// last frame's (so that apps interpolating output never go the long way round).
     fn ease(&mut self, now_ms: f64, out: &mut SolveOutput) {
@@ -785,10 +936,49 @@ impl Rig {
                         }
                     }
                     Group::Hand => apply(hand),
-                    Group::Arm => [shoulder, upper, lower].into_iter().for_each(apply),
+                    Group::Arm => {
+                        [upper, lower].into_iter().for_each(apply);
+                        if self.arms.moves_shoulder(side) && self.skeleton.has(shoulder) {
+                            self.ease_shoulder(side, blend, out);
+                        }
+                    }
                 }
             }
         }
+    }
+
+    /// Eases the arm's share of a shoulder: the turn the arm solver put on top of the torso's
+    /// rotation of the bone (`shoulder_base`), so that a lost arm's shoulder goes back to the
+    /// torso's (shrug, or the app's) while the torso keeps moving.
+    fn ease_shoulder(&mut self, side: Side, blend: crate::filter::Blend, out: &mut SolveOutput) {
+        let s = side.index();
+        let i = side.arm()[0].index();
+        let base = self.shoulder_base[s];
+        if blend.capture {
+            self.shoulder_turn_anchor[s] = self.shoulder_turn_shown[s];
+        }
+        let target = if blend.to_solved {
+            (base.conjugate() * out.local[i]).normalize()
+        } else {
+            Quat::IDENTITY
+        };
+        let turn = if blend.is_exact() {
+            target
+        } else if blend.weight <= 0.0 {
+            self.shoulder_turn_anchor[s]
+        } else {
+            nlerp(self.shoulder_turn_anchor[s], target, blend.weight)
+        };
+        let turn = if turn.dot(self.shoulder_turn_shown[s]) < 0.0 {
+            -turn
+        } else {
+            turn
+        };
+        self.shoulder_turn_shown[s] = turn;
+        let q = (base * turn).normalize();
+        let q = if q.dot(self.shown[i]) < 0.0 { -q } else { q };
+        out.local[i] = q;
+        self.shown[i] = q;
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -838,7 +1028,7 @@ impl Rig {
 
 /// Normalized linear interpolation from `a` to `b` (the short way): for easing it looks like a
 /// slerp, and costs no trigonometry (software `acos`/`sin` are slow in wasm).
-fn nlerp(a: Quat, b: Quat, t: f32) -> Quat {
+pub(crate) fn nlerp(a: Quat, b: Quat, t: f32) -> Quat {
     let b = if a.dot(b) < 0.0 { -b } else { b };
     (a * (1.0 - t) + b * t).normalize()
 }
@@ -913,6 +1103,33 @@ fn validate_frame(frame: &FrameInput) -> Result<()> {
                         "must be a unit quaternion [x, y, z, w]",
                     ));
                 }
+            }
+        }
+    }
+    for (bone, q) in TORSO_BONES.iter().zip(frame.torso.iter()) {
+        if let Some(q) = q {
+            if !q.is_finite() || (q.length() - 1.0).abs() > 1e-2 {
+                return Err(crate::Error::invalid(
+                    format!("frame.torso.{bone}"),
+                    "must be a unit quaternion [x, y, z, w]",
+                ));
+            }
+        }
+    }
+    if let Some(body) = &frame.body {
+        for j in BodyJoint::ALL {
+            let k = j.index();
+            if !body.position[k].is_finite() {
+                return Err(crate::Error::invalid(
+                    format!("frame.body.{}", j.as_str()),
+                    "must be three finite numbers",
+                ));
+            }
+            if !(0.0..=1.0).contains(&body.confidence[k]) {
+                return Err(crate::Error::invalid(
+                    format!("frame.body.{}.confidence", j.as_str()),
+                    "must be a number in 0..1",
+                ));
             }
         }
     }
@@ -1143,6 +1360,14 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 step: 0.05,
             },
             description: "One Euro cutoff of the speed estimate (Hz).",
+        },
+        OptionDescription {
+            path: "torso",
+            kind: Enum {
+                values: TorsoSource::ALL.iter().map(|s| s.as_str()).collect(),
+                default: d.torso.as_str(),
+            },
+            description: "Where the torso comes from: frame = the app's frame.torso (rest where not given; handrig does not write the torso bones); pose = tracked from frame.body joints or the pose (handrig drives hips, spine, chest, upperChest, neck, head, shoulders); off = the rest torso.",
         },
         OptionDescription {
             path: "dropout.enabled",

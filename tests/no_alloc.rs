@@ -1,8 +1,8 @@
 //! `Rig::solve` must not allocate: it runs every frame inside a browser tab. A counting global
 //! allocator checks it on the real hand recording, with wrists and pose input (the wrist
 //! limits' search included), for every arm solver and hand strategy, through the flat layout;
-//! and `ChainSolver::solve` / `solve_into` for both methods. Allocations are counted per
-//! thread, so the tests can run in parallel.
+//! the torso paths on the real ASL clips; and `ChainSolver::solve` / `solve_into` for both
+//! methods. Allocations are counted per thread, so the tests can run in parallel.
 // Native only: reads ../shared from disk (and uses proptest, not built for wasm32).
 #![cfg(not(target_arch = "wasm32"))]
 
@@ -12,11 +12,12 @@ mod recordings;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
-use glam::Vec3;
+use glam::{Quat, Vec3};
 use handrig::flat;
 use handrig::hand::HandStrategy;
 use handrig::ik::{ArmSolver, ChainMethod, ChainSolver, ChainSolverOptions};
 use handrig::kinematics::JointLimit;
+use handrig::torso::{BodyObservation, TorsoSource};
 use handrig::{FrameInput, HumanBone, Rig, RigOptions, Side, SolveOutput};
 use recordings::ArmInput;
 
@@ -125,6 +126,92 @@ fn solve_allocates_nothing_per_frame() {
             out.retarget[1].is_some(),
             strategy == HandStrategy::Retarget,
             "{strategy:?}"
+        );
+    }
+}
+
+/// The torso paths: `torso: "pose"` from the real ASL clips' pose (hips, shoulders, face),
+/// from body-tracker joints, with the app's bones winning, and with the shoulders lost
+/// (hold, ease); `torso: "frame"` with the app's torso; every frame through the flat layout.
+#[test]
+fn torso_paths_allocate_nothing() {
+    check_counter();
+    let clip = recordings::asl(recordings::ASL[2]);
+    for source in [TorsoSource::Pose, TorsoSource::Frame] {
+        let options = RigOptions {
+            torso: source,
+            ..RigOptions::default()
+        };
+        let mut rig = Rig::new(recordings::vrm(recordings::FIXTURE_VRM1), options).unwrap();
+        let mut out = SolveOutput::default();
+        let mut frame = FrameInput::default();
+        let mut decoded = FrameInput::default();
+        let mut input = vec![0.0f32; flat::input::LEN];
+        let mut output = vec![0.0f32; flat::output::LEN];
+        let mut run = |rig: &mut Rig, out: &mut SolveOutput, i: usize| {
+            frame = clip[i % clip.len()];
+            frame.time_ms = i as f64 * 33.3;
+            match i % 4 {
+                // Body joints from the pose's own points (avatar axes, 1 m up).
+                1 => {
+                    let pose = frame.pose.expect("every ASL frame has a pose");
+                    let mut body = BodyObservation::default();
+                    for (j, k) in [
+                        (0, 23),
+                        (1, 23),
+                        (2, 24),
+                        (3, 11),
+                        (4, 12),
+                        (5, 0),
+                        (6, 2),
+                        (7, 5),
+                        (8, 7),
+                        (9, 8),
+                    ] {
+                        let p = pose.world[k];
+                        body.position[j] = Vec3::new(p.x, 1.0 - p.y, -p.z);
+                        body.confidence[j] = pose.visibility[k];
+                    }
+                    frame.body = Some(body);
+                }
+                // The app's spine and head win.
+                2 => {
+                    frame.torso[1] = Some(Quat::from_rotation_x(0.2));
+                    frame.torso[5] = Some(Quat::from_rotation_y(-0.3));
+                }
+                // Shoulders lost: held, then eased.
+                3 => {
+                    if let Some(p) = frame.pose.as_mut() {
+                        p.visibility[11] = 0.0;
+                    }
+                }
+                _ => {}
+            }
+            flat::write_input(&frame, &mut input);
+            flat::read_input(&input, frame.time_ms, &mut decoded).unwrap();
+            rig.solve(&decoded, out).unwrap();
+            flat::write_output(rig, out, &mut output);
+        };
+        for i in 0..8 {
+            run(&mut rig, &mut out, i);
+        }
+        let before = allocations();
+        for i in 0..=4 * clip.len() {
+            run(&mut rig, &mut out, i);
+        }
+        let after = allocations();
+        assert_eq!(
+            after - before,
+            0,
+            "{source:?}: {} allocations",
+            after - before
+        );
+        // The counted frames were really solved (tracked in "pose"; the app's spine, i % 4 == 2).
+        let tracked = out.solved[HumanBone::Spine.index()];
+        run(&mut rig, &mut out, 2);
+        assert!(
+            (tracked || source == TorsoSource::Frame) && out.solved[HumanBone::Spine.index()],
+            "{source:?}: the torso was solved"
         );
     }
 }

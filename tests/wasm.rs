@@ -467,3 +467,79 @@ fn the_flat_path_allocates_nothing_per_frame() {
     let probe = std::hint::black_box(vec![0u8; 64]);
     assert!(ALLOCATIONS.load(Ordering::SeqCst) > after && probe.len() == 64);
 }
+
+/// The torso sections through the flat path in wasm (`torso: "pose"`): body-tracker joints
+/// drive the torso bones, the app's spine wins, nothing is allocated per frame.
+#[wasm_bindgen_test]
+fn the_torso_sections_drive_the_torso_without_allocating() {
+    use handrig::torso::{BodyJoint, TORSO_BONES};
+    let mut rig = HandRig::from_vrm(ROBOT, Some(r#"{"torso":"pose"}"#.into())).unwrap();
+    let memory: WebAssembly::Memory = HandRig::memory().unchecked_into();
+    let joints = [
+        (BodyJoint::Hips, [0.0, 1.0, 0.0]),
+        (BodyJoint::LeftUpperLeg, [0.09, 1.0, 0.02]),
+        (BodyJoint::RightUpperLeg, [-0.09, 1.0, -0.02]),
+        (BodyJoint::LeftUpperArm, [0.18, 1.48, 0.15]),
+        (BodyJoint::RightUpperArm, [-0.18, 1.46, -0.05]),
+        (BodyJoint::Nose, [0.0, 1.62, 0.12]),
+        (BodyJoint::LeftEye, [0.03, 1.65, 0.09]),
+        (BodyJoint::RightEye, [-0.03, 1.65, 0.09]),
+        (BodyJoint::LeftEar, [0.075, 1.64, 0.0]),
+        (BodyJoint::RightEar, [-0.075, 1.64, 0.01]),
+    ];
+    let mut buf = vec![0.0f32; input::LEN];
+    buf[input::BODY_PRESENT] = 1.0;
+    for (j, p) in joints {
+        let at = input::BODY + j.index() * input::BODY_STRIDE;
+        buf[at..at + 3].copy_from_slice(&p);
+        buf[at + 3] = 0.9;
+    }
+    let spine = TORSO_BONES
+        .iter()
+        .position(|b| *b == HumanBone::Spine)
+        .unwrap();
+    let at = input::TORSO + spine * input::TORSO_STRIDE;
+    buf[at + input::torso_bone::PRESENT] = 1.0;
+    buf[at + input::torso_bone::ROTATION..at + input::torso_bone::ROTATION + 4]
+        .copy_from_slice(&Quat::from_rotation_x(0.2).to_array());
+    let input_view = view(rig.input_ptr(), input::LEN);
+    input_view.copy_from(&buf);
+    assert_eq!(rig.solve_flat(0.0), 0);
+    let out = read_output(&rig);
+    for b in [
+        HumanBone::Hips,
+        HumanBone::Spine,
+        HumanBone::Chest,
+        HumanBone::Head,
+    ] {
+        assert_eq!(flag(&out, b), 1.0, "{b} solved");
+    }
+    assert!(rotation(&out, HumanBone::Spine).abs_diff_eq(Quat::from_rotation_x(0.2), 1e-6));
+    assert!(rotation(&out, HumanBone::Chest).angle_between(Quat::IDENTITY) > 0.05);
+    let bytes = memory
+        .buffer()
+        .unchecked_into::<js_sys::ArrayBuffer>()
+        .byte_length();
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    for i in 0..300 {
+        // Every third frame the shoulders are lost (held, then eased).
+        let c = if i % 3 == 0 { 0.0 } else { 0.9 };
+        for j in [BodyJoint::LeftUpperArm, BodyJoint::RightUpperArm] {
+            buf[input::BODY + j.index() * input::BODY_STRIDE + 3] = c;
+        }
+        input_view.copy_from(&buf);
+        assert_eq!(rig.solve_flat(i as f64 * 33.3), 0);
+    }
+    let after = ALLOCATIONS.load(Ordering::SeqCst);
+    assert_eq!(
+        after - before,
+        0,
+        "solveFlat allocated {} times",
+        after - before
+    );
+    let now = memory
+        .buffer()
+        .unchecked_into::<js_sys::ArrayBuffer>()
+        .byte_length();
+    assert_eq!(now, bytes, "wasm memory grew");
+}

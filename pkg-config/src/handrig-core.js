@@ -30,6 +30,17 @@ function createHandRigApi(raw, isReady) {
   const POSE_POINTS = 33;
   const MAX_HANDS = (LI.pose - LI.hands) / LI.handStride;
   const SIDES = ["left", "right"];
+  // The torso section's bones and the body section's joints, in their flat order.
+  const TORSO_BONES = L.torsoBones;
+  const TORSO_INDEX = new Map(TORSO_BONES.map((name, i) => [name, i]));
+  const TORSO_FIELDS = TORSO_BONES.map((name) => `frame.torso.${name}`);
+  const BODY_JOINTS = L.bodyJoints;
+  const BODY_INDEX = new Map(BODY_JOINTS.map((name, i) => [name, i]));
+  const BODY_FIELDS = BODY_JOINTS.map((name) => ({
+    joint: `frame.body.${name}`,
+    confidence: `frame.body.${name}.confidence`,
+    confidenceAt: `frame.body.${name}[3]`,
+  }));
   // Constructor token for wrapping a raw rig made by a static factory (fromVrm).
   const ADOPT = {};
 
@@ -453,7 +464,7 @@ function createHandRigApi(raw, isReady) {
   }
 
   const KNOWN_FRAME_KEYS = [
-    "timeMs", "hands", "pose", "wrists", "imageAspect", "landmarks", "worldLandmarks", "handedness",
+    "timeMs", "hands", "pose", "wrists", "torso", "body", "imageAspect", "landmarks", "worldLandmarks", "handedness",
     "handednesses", "multiHandLandmarks", "multiHandWorldLandmarks", "multiHandedness",
     "leftHandLandmarks", "rightHandLandmarks", "poseWorldLandmarks", "poseLandmarks",
     "faceLandmarks", "image", "segmentationMask",
@@ -547,6 +558,75 @@ function createHandRigApi(raw, isReady) {
     }
   }
 
+  // frame.torso: { hips?, spine?, chest?, upperChest?, neck?, head?, leftShoulder?,
+  // rightShoulder? }, each a local rotation [x, y, z, w] or { x, y, z, w } (model frame).
+  // Keys are walked with for..in (no key array per frame); each value is read once.
+  function packTorso(torso, input) {
+    at("frame.torso", -1, "");
+    if (!isObject(torso) || Array.isArray(torso) || ArrayBuffer.isView(torso)) {
+      fail("frame.torso", `must be { ${TORSO_BONES.join("?, ")}? } of local rotations [x, y, z, w], got ${describe(torso)}`);
+    }
+    for (const key in torso) {
+      const slot = TORSO_INDEX.get(key);
+      if (slot === undefined) {
+        fail(`frame.torso.${key}`, `unknown torso bone (expected one of ${TORSO_BONES.join(", ")})`);
+      }
+      const field = TORSO_FIELDS[slot];
+      at(field, -1, "");
+      const q = torso[key];
+      if (q === undefined || q === null) continue;
+      const o = LI.torso + slot * LI.torsoStride;
+      readQuat(q, field, input, o + LI.torsoBone.rotation);
+      input[o + LI.torsoBone.present] = 1;
+    }
+  }
+
+  // frame.body: body-tracker joints { hips?, leftUpperLeg?, ... }, each [x, y, z],
+  // [x, y, z, confidence] or { x, y, z, confidence? } (model frame; confidence default 1).
+  function packBody(body, input) {
+    at("frame.body", -1, "");
+    if (!isObject(body) || Array.isArray(body) || ArrayBuffer.isView(body)) {
+      fail("frame.body", `must be { ${BODY_JOINTS.join("?, ")}? } of joints [x, y, z] or [x, y, z, confidence], got ${describe(body)}`);
+    }
+    for (let j = 0; j < BODY_JOINTS.length; j++) input[LI.body + j * LI.bodyStride + 3] = 0;
+    for (const key in body) {
+      const j = BODY_INDEX.get(key);
+      if (j === undefined) {
+        fail(`frame.body.${key}`, `unknown body joint (expected one of ${BODY_JOINTS.join(", ")})`);
+      }
+      const F = BODY_FIELDS[j];
+      at(F.joint, -1, "");
+      const v = body[key];
+      if (v === undefined || v === null) continue;
+      const o = LI.body + j * LI.bodyStride;
+      let confidence = 1;
+      let confidenceField = F.confidence;
+      if (Array.isArray(v) || ArrayBuffer.isView(v)) {
+        const m = v.length;
+        if (m !== 3 && m !== 4) fail(F.joint, `must be [x, y, z] or [x, y, z, confidence], got ${m} numbers`);
+        for (let c = 0; c < 3; c++) {
+          const x = v[c];
+          if (!isFiniteNumber(x)) notFinite(x, `${F.joint}[${c}]`);
+          input[o + c] = x;
+        }
+        if (m === 4) {
+          confidence = v[3];
+          confidenceField = F.confidenceAt;
+        }
+      } else if (isObject(v)) {
+        readVec3(v, F.joint, input, o);
+        const c = v.confidence;
+        if (c !== undefined && c !== null) confidence = c;
+      } else {
+        fail(F.joint, `must be [x, y, z], [x, y, z, confidence] or { x, y, z, confidence? }, got ${describe(v)}`);
+      }
+      if (!isFiniteNumber(confidence)) notFinite(confidence, confidenceField);
+      if (confidence < 0 || confidence > 1) fail(confidenceField, `must be in 0..1, got ${confidence}`);
+      input[o + 3] = confidence;
+    }
+    input[LI.bodyPresent] = 1;
+  }
+
   // The frame's timestamp, kept in a typed array rather than returned (a returned double is
   // boxed: an allocation per frame).
   const TIME = new Float64Array(1);
@@ -560,6 +640,8 @@ function createHandRigApi(raw, isReady) {
     input[LI.posePresent] = 0;
     input[LI.poseHasImage] = 0;
     for (let s = 0; s < 2; s++) input[LI.wrists + s * LI.wristStride + LI.wrist.present] = 0;
+    for (let b = 0; b < TORSO_BONES.length; b++) input[LI.torso + b * LI.torsoStride + LI.torsoBone.present] = 0;
+    input[LI.bodyPresent] = 0;
 
     const t = frame.timeMs;
     if (t === undefined || t === null) TIME[0] = 0;
@@ -606,6 +688,18 @@ function createHandRigApi(raw, isReady) {
     if (wrists !== undefined && wrists !== null) {
       found = true;
       packWrists(wrists, input);
+    }
+
+    const torso = frame.torso;
+    if (torso !== undefined && torso !== null) {
+      found = true;
+      packTorso(torso, input);
+    }
+
+    const body = frame.body;
+    if (body !== undefined && body !== null) {
+      found = true;
+      packBody(body, input);
     }
 
     if (!found) {

@@ -112,6 +112,35 @@ export interface WristInput {
   rotation?: Quat;
 }
 
+/** A quaternion as an object (three.js `Quaternion`-like). */
+export interface QuatLike {
+  x: number;
+  y: number;
+  z: number;
+  w: number;
+}
+
+/** The torso bones `frame.torso` may give, parent-first (`LAYOUT.torsoBones`). */
+export type TorsoBoneName =
+  | "hips" | "spine" | "chest" | "upperChest" | "neck" | "head" | "leftShoulder" | "rightShoulder";
+
+/** The app's torso: normalized-bone local rotations [x, y, z, w] (the model's own frame, like handrig's output); a bone left out is at rest. */
+export type TorsoInput = { [bone in TorsoBoneName]?: Quat | QuatLike | null };
+
+/** Body-tracker joints (`LAYOUT.bodyJoints`), named by the avatar bone whose joint they are, plus the face. */
+export type BodyJointName =
+  | "hips" | "leftUpperLeg" | "rightUpperLeg" | "leftUpperArm" | "rightUpperArm"
+  | "nose" | "leftEye" | "rightEye" | "leftEar" | "rightEar";
+
+/** A body-tracker joint, meters, the model's own frame: [x, y, z], [x, y, z, confidence] or { x, y, z, confidence? } (confidence 0..1, default 1). */
+export type BodyJointInput =
+  | Vec3
+  | readonly [number, number, number, number]
+  | { x: number; y: number; z: number; confidence?: number };
+
+/** Joints from a body tracker with spine joints (used by `torso: "pose"`); left and right are the avatar's sides. */
+export type BodyInput = { [joint in BodyJointName]?: BodyJointInput | null };
+
 /** One frame of tracking. A MediaPipe result object may also be passed as the frame itself. */
 export interface Frame {
   /** Timestamp, milliseconds. Default 0. */
@@ -126,6 +155,10 @@ export interface Frame {
   poseLandmarks?: LandmarkList;
   /** Wrists from another body tracker (used instead of pose wrists). */
   wrists?: { left?: WristInput; right?: WristInput };
+  /** The app's torso (local rotations, model frame): forward kinematics, alignment and arm IK work from it. */
+  torso?: TorsoInput;
+  /** Body-tracker joints: the torso for `torso: "pose"` (preferred over the pose's). */
+  body?: BodyInput;
   /** Image width / height, used to scale image-only hand landmarks. Default 16/9. */
   imageAspect?: number;
 }
@@ -181,7 +214,7 @@ export type HandUse = "left" | "right" | "lowScore" | "duplicate" | "contradicte
 export interface SolveResult {
   /** The frame's timestamp, milliseconds. */
   timeMs: number;
-  /** Local rotations of every bone the rig drives (`rig.drivenBones()`: arms, hands, fingers the avatar has), every frame: solved, held, or back at rest (identity) when tracking is lost. Write them all to `getNormalizedBoneNode(name).quaternion` (`applyToVRM` does). */
+  /** Local rotations of every bone the rig drives (`rig.drivenBones()`: arms, hands, fingers the avatar has; with `torso: "pose"` the torso bones), every frame: solved, held, or back at rest (identity) when tracking is lost. Write them all to `getNormalizedBoneNode(name).quaternion` (`applyToVRM` does). */
   bones: BoneMap<Quat>;
   /** World positions of every bone of the avatar after solving, meters. */
   worldPositions: BoneMap<Vec3>;
@@ -284,6 +317,8 @@ export interface HandRigOptions {
         /** Cutoff of the speed estimate, Hz (0.05..1000). Default 1. */
         dCutoff?: number;
       };
+  /** Where the torso comes from: "frame" (default: the app's `frame.torso`, rest where not given; not in `result.bones`), "pose" (tracked from `frame.body` joints or the pose; driven), "off" (the rest torso). */
+  torso?: "off" | "frame" | "pose";
   /** Holding and easing over tracking loss; `false`: lost hands and arms snap to rest. */
   dropout?:
     | boolean
@@ -332,6 +367,15 @@ export interface FlatLayout {
       readonly position: number;
       readonly rotation: number;
     };
+    readonly torso: number;
+    readonly torsoStride: number;
+    readonly torsoBone: {
+      readonly present: number;
+      readonly rotation: number;
+    };
+    readonly bodyPresent: number;
+    readonly body: number;
+    readonly bodyStride: number;
   };
   readonly output: {
     readonly length: number;
@@ -368,6 +412,10 @@ export interface FlatLayout {
   readonly bones: readonly HumanBoneName[];
   /** The bones VRM requires. */
   readonly requiredBones: readonly HumanBoneName[];
+  /** The torso section's bones, in order. */
+  readonly torsoBones: readonly TorsoBoneName[];
+  /** The body section's joints, in order. */
+  readonly bodyJoints: readonly BodyJointName[];
 }
 
 /** The flat frame layout of this build. */

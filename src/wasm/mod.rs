@@ -160,9 +160,10 @@ impl HandRig {
         self.error.take()
     }
 
-    /// The flat layout: `{ version, input: {...}, output: {...}, bones: [...] }` (offsets of
-    /// [`crate::flat::FIELDS`], nested by their dotted paths, and the 55 bone names in output
-    /// order).
+    /// The flat layout: `{ version, input: {...}, output: {...}, bones: [...], requiredBones,
+    /// torsoBones, bodyJoints }` (offsets of [`crate::flat::FIELDS`], nested by their dotted
+    /// paths; the 55 bone names in output order; the torso section's bones and the body
+    /// section's joints in their order).
     pub fn layout() -> Object {
         let root = Object::new();
         set(&root, "version", &JsValue::from(flat::VERSION));
@@ -198,6 +199,16 @@ impl HandRig {
             .map(|b| JsValue::from_str(b.as_str()))
             .collect();
         set(&root, "requiredBones", &required);
+        let torso: Array = crate::torso::TORSO_BONES
+            .iter()
+            .map(|b| JsValue::from_str(b.as_str()))
+            .collect();
+        set(&root, "torsoBones", &torso);
+        let joints: Array = crate::torso::BodyJoint::ALL
+            .iter()
+            .map(|j| JsValue::from_str(j.as_str()))
+            .collect();
+        set(&root, "bodyJoints", &joints);
         root
     }
 

@@ -235,6 +235,9 @@ function render() {
 let panel = null;
 let recording = null;
 let placement = null;
+// With `torso: "pose"`, a rig solving the Kinect body alone: where the torso puts the shoulders
+// this frame, to place the Kinect wrists from (see src/recording.js).
+let torsoRig = null;
 let webcam = null;
 let avatarBytes = null;
 let avatarName = "";
@@ -265,17 +268,27 @@ function createRigs() {
     v.times = [];
     v.result = null;
   }
+  torsoRig?.free();
+  torsoRig = null;
   if (!views.with.avatar) return;
   const rest = views.with.avatar.rest;
   for (const key of VIEW_KEYS) {
     views[key].rig = new HandRig(rest, optionsFor(key));
   }
+  if (getPath(demo.options ?? {}, "torso") === "pose") torsoRig = new HandRig(rest, optionsFor("with"));
   placement = recording?.placementFor(rest) ?? null;
 }
 
 function currentFrame() {
   if (demo.source === "recording") {
-    return recording ? recording.frameAt(demo.frame, placement, getPath(demo.options ?? {}, "mirror") === true) : null;
+    if (!recording) return null;
+    const mirror = getPath(demo.options ?? {}, "mirror") === true;
+    let shoulders = null;
+    if (torsoRig) {
+      const p = torsoRig.solve(recording.torsoFrameAt(demo.frame, placement, mirror)).worldPositions;
+      shoulders = { left: p.leftUpperArm, right: p.rightUpperArm };
+    }
+    return recording.frameAt(demo.frame, placement, mirror, shoulders);
   }
   return null;
 }

@@ -30,8 +30,31 @@
 //     Kinect wrist, reflected left-right (x negated in the VRM 1.0 frame). (`inputMirrored`
 //     concerns the image given to MediaPipe only and does not touch the Kinect data.)
 // No wrist rotation is given: the hand's rotation comes from the hand landmarks.
+//
+// Body joints (handrig's `body` input, used with `torso: "pose"`): the Kinect joints of the
+// README's mapping (PELVIS -> hips, HIP_* -> *UpperLeg, SHOULDER_* -> *UpperArm, NOSE, EYE_*,
+// EAR_*), in the same reflected frame (a = (-x, y, z)), with their confidences; with `mirror`
+// the sides swap and x is reflected again, for VRM 0.x models x and z are negated (model
+// frame). handrig then turns, bends and nods the avatar's torso; the wrists are then placed
+// from the shoulders as the torso poses them (`frameAt`'s `shoulders`), so that the arms stay
+// attached to the moving torso.
 
 const KINECT_FPS = 30;
+
+// handrig body joint -> Kinect joint of the subject's [left, right] side (the same joint for
+// central ones).
+const BODY_JOINTS = {
+  hips: ["PELVIS", "PELVIS"],
+  leftUpperLeg: ["HIP_LEFT", "HIP_RIGHT"],
+  rightUpperLeg: ["HIP_RIGHT", "HIP_LEFT"],
+  leftUpperArm: ["SHOULDER_LEFT", "SHOULDER_RIGHT"],
+  rightUpperArm: ["SHOULDER_RIGHT", "SHOULDER_LEFT"],
+  nose: ["NOSE", "NOSE"],
+  leftEye: ["EYE_LEFT", "EYE_RIGHT"],
+  rightEye: ["EYE_RIGHT", "EYE_LEFT"],
+  leftEar: ["EAR_LEFT", "EAR_RIGHT"],
+  rightEar: ["EAR_RIGHT", "EAR_LEFT"],
+};
 
 /** Fetches and pairs the two recordings. */
 export async function loadRecordings(base = "./assets/") {
@@ -73,6 +96,7 @@ export class PairedRecording {
         wrist: idx(`WRIST_${S}`),
       };
     }
+    this.bodyJoints = Object.entries(BODY_JOINTS).map(([joint, names]) => [joint, names.map(idx)]);
     this.length = Math.min(hands.length, kinect.frames.length);
     this.fps = KINECT_FPS;
     // Subject arm length (m): median over the session per side, sides averaged.
@@ -105,7 +129,7 @@ export class PairedRecording {
    * The Kinect wrists of frame `i` in the avatar's model frame (see the top of this file);
    * `mirror` as handrig's option of that name.
    */
-  wristsAt(i, placement, mirror = false) {
+  wristsAt(i, placement, mirror = false, shoulders = null) {
     if (!placement) return undefined;
     const f = this.kinect.frames[i].joints;
     const wrists = {};
@@ -118,16 +142,47 @@ export class PairedRecording {
       let o = [-(w[0] - s[0]), w[1] - s[1], w[2] - s[2]];
       if (mirror) o[0] = -o[0];
       if (placement.vrm0) o = [-o[0], o[1], -o[2]];
-      const base = placement.shoulder[side];
+      const base = shoulders?.[side] ?? placement.shoulder[side];
       const k = placement.scale;
       wrists[side] = { position: [base[0] + k * o[0], base[1] + k * o[1], base[2] + k * o[2]] };
     }
     return wrists;
   }
 
-  /** The handrig frame for index `i` (hands unchanged from MediaPipe, wrists converted). */
-  frameAt(i, placement, mirror = false) {
+  /**
+   * The Kinect body joints of frame `i` as handrig's `body` input (model frame; see the top of
+   * this file).
+   */
+  bodyAt(i, placement, mirror = false) {
+    const f = this.kinect.frames[i].joints;
+    const body = {};
+    for (const [joint, [left, right]] of this.bodyJoints) {
+      const j = f[mirror ? right : left];
+      let p = [-j[0], j[1], j[2]];
+      if (mirror) p[0] = -p[0];
+      if (placement?.vrm0) p = [-p[0], p[1], -p[2]];
+      body[joint] = [p[0], p[1], p[2], j[3]];
+    }
+    return body;
+  }
+
+  /**
+   * The handrig frame for index `i` (hands unchanged from MediaPipe, wrists converted, body
+   * joints); `shoulders` ({ left, right } model-frame positions) places the wrists from the
+   * torso's posed shoulders instead of the rest pose's.
+   */
+  frameAt(i, placement, mirror = false, shoulders = null) {
     const h = this.hands[i];
-    return { timeMs: h.timeMs, hands: h.hands, wrists: this.wristsAt(i, placement, mirror) };
+    return {
+      timeMs: h.timeMs,
+      hands: h.hands,
+      wrists: this.wristsAt(i, placement, mirror, shoulders),
+      body: this.bodyAt(i, placement, mirror),
+    };
+  }
+
+  /** The frame's time and body joints alone (for a torso-only solve). */
+  torsoFrameAt(i, placement, mirror = false) {
+    return { timeMs: this.hands[i].timeMs, body: this.bodyAt(i, placement, mirror) };
   }
 }

@@ -207,6 +207,15 @@ test("every control re-creates the rigs with its option, and the controls change
       const shown = await page.evaluate(() => window.__handrigDemo.retargetMarkersShown?.());
       assert.equal(shown, 5, "the five fingertip targets are drawn");
     },
+    torso: (s) => {
+      const spine = s.results.with.bones.spine;
+      if (s.options.torso === "pose") {
+        // The Kinect body turns and bends the avatar's spine; the arms stay aligned on it.
+        const turned = 2 * Math.acos(Math.min(1, Math.abs(spine[3])));
+        assert.ok(turned > (0.5 * Math.PI) / 180, `spine turned ${turned} rad`);
+        assert.ok(s.errorMm.with.right < 0.5, `aligned on the moving torso: ${s.errorMm.with.right} mm`);
+      } else assert.equal(spine, undefined, "torso bones are the app's");
+    },
   };
   const nonDefault = (d) => {
     if (d.type === "boolean") return [!d.default];
