@@ -28,6 +28,7 @@
 //! * [`hand`]: wrist and finger rotations from 21 hand landmarks.
 //! * [`align`]: fingertip alignment (the wrist IK target).
 //! * [`body`]: body mapping and calibration from pose landmarks.
+//! * [`contact`]: self-contact retargeting (finger on the face, hand on hand, body colliders).
 //! * [`kinematics`]: serial chains with fixed bone lengths and joint limits (hinge, cone).
 //! * [`ik`]: arm IK solvers (two-bone, FABRIK, CCD) and the standalone [`ik::ChainSolver`].
 //! * [`filter`]: One Euro smoothing and easing over tracking loss.
@@ -41,6 +42,7 @@
 pub mod align;
 pub mod body;
 pub mod bones;
+pub mod contact;
 pub mod error;
 pub mod filter;
 pub mod flat;

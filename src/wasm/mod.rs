@@ -235,6 +235,12 @@ impl HandRig {
                         let dv = default.map_or(JsValue::NULL, |v| JsValue::from_f64(v as f64));
                         set(&o, "default", &dv);
                     }
+                    OptionKind::Points { names } => {
+                        set(&o, "type", &s("points"));
+                        let v: Array = names.iter().map(|v| s(v)).collect();
+                        set(&o, "names", &v);
+                        set(&o, "default", &JsValue::NULL);
+                    }
                 }
                 JsValue::from(o)
             })
