@@ -212,23 +212,22 @@ impl BodyColliders {
     }
 
     /// The translation that moves the hand (points with margins, world) out of every
-    /// collider; a few passes, so that a push out of one collider into another is resolved.
+    /// collider: each point in turn pushed straight out of each collider it is in
+    /// (Gauss-Seidel projections, three passes, so that a push out of one collider into
+    /// another is resolved). Continuous in the points (taking only the deepest point's push
+    /// would jump where two points are equally deep), except on a collider's core line.
     #[must_use]
     pub fn push(&self, shapes: &[Option<Shape>; 3], points: &[(Vec3, f32)]) -> Vec3 {
         let mut total = Vec3::ZERO;
         for _ in 0..3 {
             let mut moved = false;
             for shape in shapes.iter().flatten() {
-                let mut deepest = (0.0f32, Vec3::ZERO);
                 for (p, margin) in points {
                     let (depth, n) = shape.penetration(*p + total, *margin);
-                    if depth > deepest.0 {
-                        deepest = (depth, n);
+                    if depth > 0.0 {
+                        total += n * depth;
+                        moved = true;
                     }
-                }
-                if deepest.0 > 0.0 {
-                    total += deepest.1 * deepest.0;
-                    moved = true;
                 }
             }
             if !moved {

@@ -193,66 +193,83 @@ pub struct UserFace {
 const MIN_SIZE: f32 = 1e-3;
 
 impl UserFace {
-    /// Builds the face frame from tracked points.
+    /// Builds the face frame from tracked points: a similarity fit of the canonical face
+    /// ([`CANONICAL_EYES`], nose, mouth and ears of [`CANONICAL_ANCHORS`]) to the given
+    /// points.
     ///
-    /// * Lateral axis and size: the ears when both are given (ear to ear is one head
-    ///   breadth), else the eyes (63 mm apart on the canonical face).
-    /// * Up axis: from the mouth (else the nose) to the eyes' midpoint (else the ears'),
-    ///   turned about the lateral axis by the angle that vector makes with "up" on the
-    ///   canonical face (the nose is in front of the eyes, not below them).
-    /// * Origin: the least-squares fit of the canonical face's points to the given ones with
-    ///   that rotation and size (mean of `p - R * size * canonical(p)`).
-    /// * Anchors: nose, mouth and ears where given, the canonical face's elsewhere.
+    /// * Lateral axis and size: from the ears and the eyes (each pair's left-minus-right
+    ///   vector over its canonical length; both pairs summed when both are given).
+    /// * The turn about that axis (nodding): the least-squares angle (2D Procrustes) between
+    ///   the given points and their canonical places, both about their centroids, in the
+    ///   plane across the lateral axis. Every point counts, so one point off the average face
+    ///   (a long nose, a receding mouth) tilts the frame little.
+    /// * Origin: the least-squares translation (mean of `p - R * size * canonical(p)`).
+    /// * Anchors: nose, mouth and ears where given (measured), the canonical face's elsewhere.
     ///
-    /// `None` without a lateral pair and a vertical pair, or for collapsed points.
+    /// `None` without a lateral pair (both eyes or both ears) and a third point off the
+    /// lateral line, or for collapsed points.
     #[must_use]
     pub fn from_points(p: &FacePoints) -> Option<UserFace> {
         let canon_ears = [
             CANONICAL_ANCHORS[FaceAnchor::LeftEar.index()],
             CANONICAL_ANCHORS[FaceAnchor::RightEar.index()],
         ];
-        let (lateral, canon_breadth) = match (p.ears, p.eyes) {
-            ([Some(l), Some(r)], _) => (l - r, (canon_ears[0] - canon_ears[1]).length()),
-            (_, [Some(l), Some(r)]) => (l - r, (CANONICAL_EYES[0] - CANONICAL_EYES[1]).length()),
-            _ => return None,
-        };
-        let size = lateral.length() / canon_breadth;
+        // (measured, canonical) pairs of every given point.
+        let given = [
+            (p.eyes[0], CANONICAL_EYES[0]),
+            (p.eyes[1], CANONICAL_EYES[1]),
+            (p.ears[0], canon_ears[0]),
+            (p.ears[1], canon_ears[1]),
+            (p.nose, CANONICAL_ANCHORS[FaceAnchor::Nose.index()]),
+            (p.mouth, CANONICAL_ANCHORS[FaceAnchor::Mouth.index()]),
+        ];
+        let mut lateral = Vec3::ZERO;
+        let mut lengths = 0.0;
+        for pair in [[0, 1], [2, 3]] {
+            if let (Some(l), Some(r)) = (given[pair[0]].0, given[pair[1]].0) {
+                lateral += l - r;
+                lengths += (given[pair[0]].1 - given[pair[1]].1).length();
+            }
+        }
+        if lengths == 0.0 {
+            return None;
+        }
+        let size = lateral.length() / lengths;
         if !(size.is_finite() && size > MIN_SIZE) {
             return None;
         }
         let x = lateral / lateral.length();
-        let mid = |pair: [Option<Vec3>; 2]| pair[0].zip(pair[1]).map(|(a, b)| 0.5 * (a + b));
-        let upper = mid(p.eyes)
-            .map(|e| (e, Vec3::ZERO))
-            .or_else(|| mid(p.ears).map(|e| (e, 0.5 * (canon_ears[0] + canon_ears[1]))))?;
-        let lower = p
-            .mouth
-            .map(|m| (m, CANONICAL_ANCHORS[FaceAnchor::Mouth.index()]))
-            .or_else(|| {
-                p.nose
-                    .map(|n| (n, CANONICAL_ANCHORS[FaceAnchor::Nose.index()]))
-            })?;
-        let y = up_axis(x, upper.0 - lower.0, upper.1 - lower.1)?;
-        let z = x.cross(y);
-        let rotation = Quat::from_mat3(&Mat3::from_cols(x, y, z)).normalize();
-
-        // Origin: mean of p - R * size * c over the given points.
-        let mut sum = Vec3::ZERO;
-        let mut n = 0.0;
-        let mut add = |point: Option<Vec3>, c: Vec3| {
-            if let Some(point) = point {
-                sum += point - rotation * (c * size);
+        let (mut mean, mut canon_mean, mut n) = (Vec3::ZERO, Vec3::ZERO, 0.0);
+        for (m, c) in given {
+            if let Some(m) = m {
+                mean += m;
+                canon_mean += c;
                 n += 1.0;
             }
-        };
-        add(p.eyes[0], CANONICAL_EYES[0]);
-        add(p.eyes[1], CANONICAL_EYES[1]);
-        add(p.ears[0], canon_ears[0]);
-        add(p.ears[1], canon_ears[1]);
-        add(p.nose, CANONICAL_ANCHORS[FaceAnchor::Nose.index()]);
-        add(p.mouth, CANONICAL_ANCHORS[FaceAnchor::Mouth.index()]);
+        }
+        mean /= n;
+        canon_mean /= n;
+        // Any unit u across x, v = x cross u; Y = cos(t) u + sin(t) v, Z = x cross Y; the
+        // angle t maximizing sum m . (c.y Y + c.z Z) is atan2(b, a).
+        let u = x.any_orthonormal_vector();
+        let v = x.cross(u);
+        let (mut a, mut b) = (0.0f32, 0.0f32);
+        for (m, c) in given {
+            let Some(m) = m else { continue };
+            let (m, c) = (m - mean, c - canon_mean);
+            let (mu, mv) = (m.dot(u), m.dot(v));
+            a += c.y * mu + c.z * mv;
+            b += c.y * mv - c.z * mu;
+        }
+        if a.hypot(b).is_nan() || a.hypot(b) <= 1e-12 {
+            return None;
+        }
+        let t = b.atan2(a);
+        let y = t.cos() * u + t.sin() * v;
+        let z = x.cross(y);
+        let rotation = Quat::from_mat3(&Mat3::from_cols(x, y, z)).normalize();
         let frame = FaceFrame {
-            origin: sum / n,
+            origin: mean - rotation * (canon_mean * size),
             rotation,
             size,
         };
@@ -315,23 +332,6 @@ impl UserFace {
     }
 }
 
-/// The unit up axis perpendicular to unit `x` such that the measured vector `v` (from a lower
-/// to an upper face point) makes with it the angle the canonical vector `c` makes with +Y in
-/// the canonical face's YZ plane.
-fn up_axis(x: Vec3, v: Vec3, c: Vec3) -> Option<Vec3> {
-    let v = v - v.dot(x) * x;
-    let (len, clen) = (v.length(), Vec3::new(0.0, c.y, c.z).length());
-    if !(len > 1e-9 && clen > 1e-9) {
-        return None;
-    }
-    let v = v / len;
-    // v = cos(phi) Y + sin(phi) Z with phi the canonical vector's angle from +Y toward +Z;
-    // Y is v turned back by phi about x.
-    let (cos, sin) = (c.y / clen, c.z / clen);
-    let y = cos * v - sin * x.cross(v);
-    y.is_finite().then(|| y.normalize())
-}
-
 /// The avatar's face, in the head bone's frame: fixed at construction, placed every frame by
 /// the head bone's world position and rotation (forward kinematics), so it follows the head
 /// when the head moves.
@@ -352,17 +352,22 @@ impl AvatarFace {
     /// The avatar's face from its rig, with the app's anchors where given (`given[i]`:
     /// relative to the head bone, the internal frame's axes). Documented defaults:
     ///
-    /// * Head breadth: with both eye bones, eye distance / (63 mm / 145 mm), within 0.5 to
-    ///   5 times the body estimate; otherwise the body estimate, arm length (upper + lower)
-    ///   x [`HEAD_PER_ARM`].
+    /// * Breadth (ear to ear): with both eye bones, eye distance / (63 mm / 145 mm);
+    ///   otherwise the body estimate, arm length (upper + lower) x [`HEAD_PER_ARM`]; kept
+    ///   within 0.5 to 5 times the body estimate.
+    /// * Height scale: the eyes' height above the head bone over the canonical 65 mm (per
+    ///   145 mm of breadth), kept within 0.5 to 2 times the breadth; the breadth when the
+    ///   eyes' height is unknown. Stylized heads are often wider than they are tall between
+    ///   the eyes and the chin: the canonical face is stretched by the breadth across and by
+    ///   the height scale up, down and in depth.
     /// * Origin (between the eyes, on the face's surface): the eye bones' midpoint moved
-    ///   forward by an eyeball radius ([`EYEBALL`] head breadths); else the look-at point
-    ///   (`VRMC_vrm.lookAt.offsetFromHeadBone`, VRM 0.x `firstPersonBoneOffset`), moved
-    ///   forward to [`EYES_FROM_HEAD`]'s depth when it lies less than a third of that in
-    ///   front of the head bone (look-at points usually sit on the head's center line);
-    ///   else [`EYES_FROM_HEAD`].
-    /// * Anchors: the canonical face ([`CANONICAL_ANCHORS`]) placed on that origin at that
-    ///   size.
+    ///   forward by an eyeball radius ([`EYEBALL`] x height scale); else the look-at point
+    ///   (`VRMC_vrm.lookAt.offsetFromHeadBone`, VRM 0.x `firstPersonBoneOffset`; offsets
+    ///   under 1 mm are taken as unset), moved forward to [`EYES_FROM_HEAD`]'s depth when it
+    ///   lies less than a third of that in front of the head bone (look-at points usually
+    ///   sit on the head's center line); else [`EYES_FROM_HEAD`].
+    /// * Anchors: the canonical face ([`CANONICAL_ANCHORS`]) placed on that origin, so
+    ///   stretched; the frame's size is the geometric mean of breadth and height scale.
     #[must_use]
     pub fn from_rig(skeleton: &Skeleton, given: &[Option<Vec3>; ANCHORS]) -> AvatarFace {
         let head = skeleton.rest_world(HumanBone::Head).unwrap_or(Vec3::ZERO);
@@ -381,24 +386,31 @@ impl AvatarFace {
         };
         let eyes = skeleton
             .rest_world(HumanBone::LeftEye)
-            .zip(skeleton.rest_world(HumanBone::RightEye));
+            .zip(skeleton.rest_world(HumanBone::RightEye))
+            .filter(|(l, r)| (*l - *r).length() > 1e-4);
+        let look_at = skeleton.look_at_offset().filter(|o| o.length() > 1e-3);
         let canon_eye_breadth = (CANONICAL_EYES[0] - CANONICAL_EYES[1]).length();
-        let (size, origin) = match eyes {
-            Some((l, r)) if (l - r).length() > 1e-4 => {
-                let size = ((l - r).length() / canon_eye_breadth).clamp(0.5 * body, 5.0 * body);
-                (size, 0.5 * (l + r) - head + Vec3::Z * (EYEBALL * size))
+        let breadth = eyes
+            .map_or(body, |(l, r)| (l - r).length() / canon_eye_breadth)
+            .clamp(0.5 * body, 5.0 * body);
+        // The eyes' center relative to the head bone, if known.
+        let eye_center = eyes.map(|(l, r)| 0.5 * (l + r) - head).or(look_at);
+        let height = eye_center
+            .map_or(breadth, |e| e.y / EYES_FROM_HEAD.y)
+            .clamp(0.5 * breadth, 2.0 * breadth);
+        let origin = match (eyes, look_at) {
+            (Some((l, r)), _) => 0.5 * (l + r) - head + Vec3::Z * (EYEBALL * height),
+            (None, Some(o)) => {
+                let depth = EYES_FROM_HEAD.z * height;
+                if o.z < depth / 3.0 {
+                    Vec3::new(o.x, o.y, depth)
+                } else {
+                    o
+                }
             }
-            _ => {
-                let size = body;
-                let default = EYES_FROM_HEAD * size;
-                let origin = match skeleton.look_at_offset() {
-                    Some(o) if o.z < default.z / 3.0 => Vec3::new(o.x, o.y, default.z),
-                    Some(o) => o,
-                    None => default,
-                };
-                (size, origin)
-            }
+            (None, None) => Vec3::new(0.0, EYES_FROM_HEAD.y * height, EYES_FROM_HEAD.z * height),
         };
+        let stretch = Vec3::new(breadth, height, height);
         let mut anchors = [Vec3::ZERO; ANCHORS];
         let mut flags = [false; ANCHORS];
         for (i, a) in anchors.iter_mut().enumerate() {
@@ -407,12 +419,12 @@ impl AvatarFace {
                     flags[i] = true;
                     p
                 }
-                None => origin + CANONICAL_ANCHORS[i] * size,
+                None => origin + CANONICAL_ANCHORS[i] * stretch,
             };
         }
         AvatarFace {
             origin,
-            size,
+            size: (breadth * height).sqrt(),
             anchors,
             given: flags,
         }

@@ -18,10 +18,27 @@
 //!    built in the same space as the finger: pose face landmarks for pose wrists, the
 //!    tracker's face points (`frame.face`) for tracker wrists.
 //! 2. **Hands** ([`hands`]): both sides' targets together, after the face step.
-//! 3. **Body** ([`colliders`]): each hand pushed out of the torso, neck and head colliders.
+//! 3. **Body** ([`colliders`]): each hand pushed out of the torso, neck and head colliders,
+//!    times `1 - w` of its face contact (a finger on the face wins).
 //!
 //! Every step is continuous in the input and leaves the plain alignment target untouched
 //! beyond the radius. Nothing here keeps state between frames, and nothing allocates.
+//!
+//! ## Continuity bound
+//! Along a finger path, the target moves at most `1 + 3 g + 3 D / (r h)` times as far as the
+//! finger: the plain target moves with the finger (1), the warped one with the avatar's
+//! face size over the user's (`g`) times the warp's stretch (at most about 3: the anchor
+//! interpolation's gradient), and the blend adds its largest slope (3 / (r h): from 1 to 0
+//! over half the radius `r h` in meters) times the largest distance `D` between the warped
+//! and the plain target. `tests/contact.rs` checks it on approach paths to every anchor (the
+//! largest step measured is 0.8 of the bound).
+//!
+//! ## The avatar's head
+//! Face anchors and colliders are read from forward kinematics of the frame's rotations (the
+//! head and torso as they will be shown). Until the torso moves the head, the avatar's face
+//! stays at rest while the user's may turn: the mapping is relative to each face, so a finger
+//! on the user's turned cheek still lands on the avatar's cheek, but the hand keeps the
+//! user's world orientation and may then come at the avatar's face from an odd side.
 //!
 //! The avatar's face and colliders are attached to the head (and torso) bones and placed from
 //! forward kinematics of the frame's rotations, so they follow the head once it moves.
@@ -393,7 +410,12 @@ impl ContactSolver {
                         }
                     }
                 }
-                let push = self.colliders.push(&shapes, &points[..n]);
+                // A finger on the face wins over the colliders: the push fades out as the
+                // face contact fades in (the hand's orientation comes from the user's, so
+                // while the avatar's head does not turn as the user's does, a hand touching
+                // the chin from below may graze the neck).
+                let face = report.as_ref().map_or(0.0, |r| r.weight);
+                let push = (1.0 - face) * self.colliders.push(&shapes, &points[..n]);
                 t.wrist += push;
                 if let Some(r) = report.as_mut() {
                     r.push = push.length();
