@@ -328,6 +328,18 @@ impl ContactSolver {
             .anchor_world(a, world.position[h], world.rotation[h])
     }
 
+    /// The avatar's anchors and colliders with the avatar at rest (internal frame): for
+    /// drawing them, and for apps checking the derived defaults.
+    #[must_use]
+    pub fn rest_model(&self, skeleton: &Skeleton) -> ([Vec3; ANCHORS], [Option<Shape>; 3]) {
+        let mut world = WorldPose::default();
+        skeleton.forward(&[glam::Quat::IDENTITY; crate::bones::BONE_COUNT], &mut world);
+        (
+            FaceAnchor::ALL.map(|a| self.anchor_world(a, &world)),
+            self.colliders.shapes(&world),
+        )
+    }
+
     /// Moves both sides' wrist targets for contact (face, then hands, then body), filling
     /// `reports` for every side with a target. `world` is the avatar posed by this frame's
     /// rotations before the arms' IK (the head and torso as they will be shown); `finger`
