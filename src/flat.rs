@@ -278,7 +278,10 @@ pub const FIELDS: &[(&str, usize)] = &[
     ("output.side.contactPresent", output::side::CONTACT_PRESENT),
     ("output.side.contactAnchor", output::side::CONTACT_ANCHOR),
     ("output.side.contactWeight", output::side::CONTACT_WEIGHT),
-    ("output.side.contactDistance", output::side::CONTACT_DISTANCE),
+    (
+        "output.side.contactDistance",
+        output::side::CONTACT_DISTANCE,
+    ),
     (
         "output.side.contactHandWeight",
         output::side::CONTACT_HAND_WEIGHT,

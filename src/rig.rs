@@ -752,8 +752,9 @@ impl Rig {
         } else {
             source.position
         };
+        let hand_index = out.hands[side.index()].map(|h| h.index);
         let points = (fresh && self.options.contact.enabled)
-            .then(|| self.hand_points(side, frame, &source, hand_rot, &out.local))
+            .then(|| self.hand_points(side, frame, hand_index, &source, hand_rot, &out.local))
             .flatten();
         Plan::Reach {
             target,
@@ -771,6 +772,7 @@ impl Rig {
         &self,
         side: Side,
         frame: &FrameInput,
+        out_hand: Option<usize>,
         source: &WristSource,
         hand_rotation: Quat,
         local: &[Quat; BONE_COUNT],
@@ -826,7 +828,12 @@ impl Rig {
             );
         }
         let middle = side.finger(Finger::Middle)[0];
+        let image_tip = out_hand
+            .and_then(|i| frame.hands().get(i))
+            .and_then(|h| h.image)
+            .map(|img| img[self.options.alignment.finger.landmarks()[3]]);
         Some(HandPoints {
+            image_tip,
             source: kind,
             user,
             avatar,
@@ -881,6 +888,17 @@ impl Rig {
             } else {
                 None
             },
+            pose_image: match (&self.pose, &frame.pose_image) {
+                (Some(pose), Some(image)) if needs(Source::Pose) => {
+                    crate::contact::ImageFit::from_pose(
+                        pose,
+                        image,
+                        self.options.calibration.min_visibility,
+                    )
+                }
+                _ => None,
+            },
+            camera: self.options.camera(),
             tracker: if needs(Source::Tracker) {
                 frame
                     .face
@@ -1486,6 +1504,16 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 step: 0.005,
             },
             description: "Head sphere radius (m); unset = half the head breadth; 0 = no head collider (never covers a face anchor).",
+        },
+        OptionDescription {
+            path: "contact.depthTrust",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.contact.depth_trust),
+                step: 0.05,
+            },
+            description: "MediaPipe pose input: how much the tracked depth between fingertip and face counts (monocular hand depth at the face is off by 15-35 cm); where on the face comes from the image. 1 = as tracked; tracker input always uses its depth.",
         },
     ]
 }

@@ -468,8 +468,8 @@ fn a_turned_avatar_head_carries_its_anchors() {
             let face = UserFace::from_tracker(&head.tracker(skel.version(), true), skel.version())
                 .unwrap();
             let faces = UserFaces {
-                pose: None,
                 tracker: Some(face),
+                ..UserFaces::default()
             };
             for a in FaceAnchor::ALL {
                 // A hand whose fingertip is 0.17 m from its wrist, pointing into the avatar's
@@ -489,6 +489,7 @@ fn a_turned_avatar_head_carries_its_anchors() {
                     avatar,
                     user_palm: 0.09,
                     avatar_palm: 0.08,
+                    image_tip: None,
                 };
                 let mut targets = [
                     Some(SideTarget {

@@ -208,7 +208,10 @@ fn contact_allocates_nothing() {
     let face = TrackerFace {
         nose: Some(at(CANONICAL_ANCHORS[0])),
         eyes: CANONICAL_EYES.map(|e| Some(at(e))),
-        ears: [Some(at(CANONICAL_ANCHORS[5])), Some(at(CANONICAL_ANCHORS[6]))],
+        ears: [
+            Some(at(CANONICAL_ANCHORS[5])),
+            Some(at(CANONICAL_ANCHORS[6])),
+        ],
         mouth: Some(at(CANONICAL_ANCHORS[2])),
     };
     let nose = at(CANONICAL_ANCHORS[0]);
@@ -283,8 +286,19 @@ fn contact_allocates_nothing() {
         run(&mut rig, i, i % 2 == 0);
     }
     let after = allocations();
-    assert_eq!(after - before, 0, "contact allocated {} times", after - before);
+    assert_eq!(
+        after - before,
+        0,
+        "contact allocated {} times",
+        after - before
+    );
     // Not vacuous: face and hand contact were active in most frames.
-    assert!(face_contact > hands.len(), "face contact in {face_contact} side-frames");
-    assert!(hand_contact > hands.len(), "hand contact in {hand_contact} side-frames");
+    assert!(
+        face_contact > hands.len(),
+        "face contact in {face_contact} side-frames"
+    );
+    assert!(
+        hand_contact > hands.len(),
+        "hand contact in {hand_contact} side-frames"
+    );
 }

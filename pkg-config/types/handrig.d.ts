@@ -365,6 +365,8 @@ export interface HandRigOptions {
         torsoRadius?: number | null;
         /** Head sphere radius, meters (0..2); unset = half the head breadth; 0 = none. */
         headRadius?: number | null;
+        /** MediaPipe pose input: how much the tracked depth between fingertip and face counts (0..1); where on the face comes from the image. Default 0.1. */
+        depthTrust?: number;
       };
   /** Dotted paths as `optionDescriptions()` spells them are accepted too: `{ "alignment.weight": 0.5 }`. */
   [dottedPath: `${string}.${string}`]:

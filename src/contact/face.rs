@@ -332,6 +332,128 @@ impl UserFace {
     }
 }
 
+/// The image-to-space map of a MediaPipe pose's face: MediaPipe's world landmarks (camera
+/// axes, meters) against its image landmarks (normalized: x of the width, y of the height),
+/// fitted per axis over the visible face points (nose, eyes, ears, mouth corners):
+/// `world.x = ax image.x + bx`, `world.y = ay image.y + by`. Under weak perspective it carries
+/// an image point at the face's depth into the pose's space (the per-axis scales absorb the
+/// image's aspect).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImageFit {
+    /// Scale and offset of x.
+    pub ax: f32,
+    /// Offset of x.
+    pub bx: f32,
+    /// Scale of y.
+    pub ay: f32,
+    /// Offset of y.
+    pub by: f32,
+}
+
+impl ImageFit {
+    /// Fits the map to the pose's visible face points; `None` with fewer than three or
+    /// without spread on an axis.
+    #[must_use]
+    pub fn from_pose(
+        pose: &PoseObservation,
+        image: &[Vec3; crate::mediapipe::POSE_LANDMARKS],
+        min_visibility: f32,
+    ) -> Option<ImageFit> {
+        let face = [
+            pl::NOSE,
+            pl::LEFT_EYE,
+            pl::RIGHT_EYE,
+            pl::LEFT_EAR,
+            pl::RIGHT_EAR,
+            pl::MOUTH_LEFT,
+            pl::MOUTH_RIGHT,
+        ];
+        let (mut n, mut mw, mut mi) = (0.0f32, Vec3::ZERO, Vec3::ZERO);
+        for k in face {
+            if pose.visibility[k] >= min_visibility {
+                n += 1.0;
+                mw += pose.world[k];
+                mi += image[k];
+            }
+        }
+        if n < 3.0 {
+            return None;
+        }
+        mw /= n;
+        mi /= n;
+        let (mut cx, mut vx, mut cy, mut vy) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+        for k in face {
+            if pose.visibility[k] >= min_visibility {
+                let (w, i) = (pose.world[k] - mw, image[k] - mi);
+                cx += w.x * i.x;
+                vx += i.x * i.x;
+                cy += w.y * i.y;
+                vy += i.y * i.y;
+            }
+        }
+        if vx.is_nan() || vy.is_nan() || vx < 1e-8 || vy < 1e-8 {
+            return None;
+        }
+        let (ax, ay) = (cx / vx, cy / vy);
+        let fit = ImageFit {
+            ax,
+            bx: mw.x - ax * mi.x,
+            ay,
+            by: mw.y - ay * mi.y,
+        };
+        [fit.ax, fit.bx, fit.ay, fit.by]
+            .iter()
+            .all(|v| v.is_finite())
+            .then_some(fit)
+    }
+
+    /// The camera-axes x and y of an image point at the face's depth.
+    #[inline]
+    #[must_use]
+    pub fn apply(&self, image: Vec3) -> (f32, f32) {
+        (self.ax * image.x + self.bx, self.ay * image.y + self.by)
+    }
+}
+
+/// The user's fingertip as face contact measures it with MediaPipe pose input, in the pose's
+/// space (avatar axes): across the camera, from the image when `image_tip` and `fit` are
+/// given (where the image shows the finger on the face), else as tracked; along the camera,
+/// the depth of the face anchor nearest across the camera plus `depth_trust` times the
+/// tracked depth difference (monocular depth of a hand at the face is off by 15 to 35 cm on
+/// the sign-language clips: the image is right about where on the face, the depth is not).
+/// With `depth_trust` 1 and no image this is `tip`.
+#[must_use]
+pub fn pose_tip(
+    face: &UserFace,
+    tip: Vec3,
+    image_tip: Option<Vec3>,
+    fit: Option<&ImageFit>,
+    camera: CameraMapping,
+    depth_trust: f32,
+) -> Vec3 {
+    // `to_avatar` is its own inverse: camera axes and back.
+    let c = camera.to_avatar(tip);
+    let (x, y) = match (image_tip, fit) {
+        (Some(i), Some(f)) => f.apply(i),
+        _ => (c.x, c.y),
+    };
+    let mut nearest = (f32::INFINITY, c.z);
+    for a in &face.anchors {
+        let w = camera.to_avatar(face.frame.to_world(*a));
+        let d2 = (w.x - x) * (w.x - x) + (w.y - y) * (w.y - y);
+        if d2 < nearest.0 {
+            nearest = (d2, w.z);
+        }
+    }
+    let z = nearest.1 + depth_trust * (c.z - nearest.1);
+    let p = camera.to_avatar(Vec3::new(x, y, z));
+    if p.is_finite() {
+        p
+    } else {
+        tip
+    }
+}
+
 /// The avatar's face, in the head bone's frame: fixed at construction, placed every frame by
 /// the head bone's world position and rotation (forward kinematics), so it follows the head
 /// when the head moves.
@@ -540,6 +662,39 @@ mod tests {
         // Nothing vertical: no frame.
         p.nose = None;
         assert!(UserFace::from_points(&p).is_none());
+    }
+
+    #[test]
+    fn pose_tip_keeps_the_image_place_and_scales_the_depth() {
+        let frame = FaceFrame {
+            origin: Vec3::new(0.0, 0.6, 0.1),
+            rotation: Quat::IDENTITY,
+            size: 0.145,
+        };
+        let face = UserFace::from_points(&canonical_points(&frame)).unwrap();
+        let camera = CameraMapping::default();
+        // 30 cm in front of the mouth (toward the camera: +Z in avatar axes).
+        let mouth = frame.to_world(CANONICAL_ANCHORS[FaceAnchor::Mouth.index()]);
+        let tip = mouth + Vec3::new(0.0, 0.0, 0.3);
+        assert!((pose_tip(&face, tip, None, None, camera, 1.0) - tip).length() < 1e-6);
+        let p = pose_tip(&face, tip, None, None, camera, 0.1);
+        assert!(
+            (p - (mouth + Vec3::new(0.0, 0.0, 0.03))).length() < 1e-5,
+            "{p}"
+        );
+        // The image puts the finger 1 cm left of where the world landmarks do.
+        let fit = ImageFit {
+            ax: 1.0,
+            bx: 0.0,
+            ay: -1.0,
+            by: 0.0,
+        };
+        let image = Vec3::new(tip.x + 0.01, tip.y, 0.0);
+        let q = pose_tip(&face, tip, Some(image), Some(&fit), camera, 1.0);
+        assert!(
+            (q - (tip + Vec3::new(0.01, 0.0, 0.0))).length() < 1e-5,
+            "{q}"
+        );
     }
 
     #[test]

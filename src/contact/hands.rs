@@ -47,6 +47,9 @@ pub struct HandPoints {
     pub user_palm: f32,
     /// The avatar's palm length (hand joint to middle proximal joint), meters.
     pub avatar_palm: f32,
+    /// The aligned fingertip's image landmark (normalized, MediaPipe's), when the hand has
+    /// image landmarks: with pose input, where on the face the finger is.
+    pub image_tip: Option<Vec3>,
 }
 
 /// The hand-to-hand correction: translations of the left and right wrist targets and the

@@ -52,10 +52,11 @@ use serde::Deserialize;
 
 use crate::bones::{Finger, HumanBone};
 use crate::error::{Error, Result};
+use crate::mediapipe::CameraMapping;
 use crate::skeleton::{Skeleton, WorldPose};
 
 pub use colliders::{BodyColliders, Shape};
-pub use face::{AvatarFace, FaceAnchor, FaceFrame, FacePoints, UserFace, ANCHORS};
+pub use face::{AvatarFace, FaceAnchor, FaceFrame, FacePoints, ImageFit, UserFace, ANCHORS};
 pub use hands::{HandPoints, Source, POINTS};
 
 /// Largest coordinate accepted in `contact.faceAnchors` (meters from the head bone).
@@ -139,6 +140,10 @@ pub struct ContactOptions {
     pub torso_radius: Option<f32>,
     /// Head sphere radius (m); unset: half the head breadth; 0: no head collider.
     pub head_radius: Option<f32>,
+    /// With MediaPipe pose input, how much the tracked depth between the fingertip and the
+    /// face counts (see [`face::pose_tip`]); 1 = as tracked. Tracker input always uses its
+    /// depth. Default 0.1.
+    pub depth_trust: f32,
 }
 
 impl Default for ContactOptions {
@@ -152,6 +157,7 @@ impl Default for ContactOptions {
             colliders: true,
             torso_radius: None,
             head_radius: None,
+            depth_trust: 0.1,
         }
     }
 }
@@ -180,6 +186,12 @@ impl ContactOptions {
         if !(0.0..=1.0).contains(&self.weight) {
             return Err(Error::invalid(
                 "options.contact.weight",
+                "must be a number in 0..1",
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.depth_trust) {
+            return Err(Error::invalid(
+                "options.contact.depthTrust",
                 "must be a number in 0..1",
             ));
         }
@@ -257,6 +269,10 @@ pub struct UserFaces {
     pub pose: Option<UserFace>,
     /// From the tracker's face points (internal frame), for tracker wrists.
     pub tracker: Option<UserFace>,
+    /// The pose's image-to-space map, when the pose's image landmarks are given.
+    pub pose_image: Option<ImageFit>,
+    /// How MediaPipe input maps onto the avatar (for the pose's camera axes).
+    pub camera: CameraMapping,
 }
 
 impl UserFaces {
@@ -333,7 +349,10 @@ impl ContactSolver {
     #[must_use]
     pub fn rest_model(&self, skeleton: &Skeleton) -> ([Vec3; ANCHORS], [Option<Shape>; 3]) {
         let mut world = WorldPose::default();
-        skeleton.forward(&[glam::Quat::IDENTITY; crate::bones::BONE_COUNT], &mut world);
+        skeleton.forward(
+            &[glam::Quat::IDENTITY; crate::bones::BONE_COUNT],
+            &mut world,
+        );
         (
             FaceAnchor::ALL.map(|a| self.anchor_world(a, &world)),
             self.colliders.shapes(&world),
@@ -367,7 +386,18 @@ impl ContactSolver {
                 if let (Some(user), Some(avatar_tip)) =
                     (faces.for_source(hand.source), hand.avatar[tip])
                 {
-                    let local = user.frame.to_local(hand.user[tip]);
+                    let user_tip = match hand.source {
+                        Source::Pose => face::pose_tip(
+                            user,
+                            hand.user[tip],
+                            hand.image_tip,
+                            faces.pose_image.as_ref(),
+                            faces.camera,
+                            o.depth_trust,
+                        ),
+                        Source::Tracker => hand.user[tip],
+                    };
+                    let local = user.frame.to_local(user_tip);
                     let (anchor, e) = face::nearest(local, &user.anchors);
                     let w = o.weight * face::blend(e, o.radius);
                     r.anchor = Some(anchor);

@@ -53,7 +53,7 @@ function noseTouch(rig) {
 describe("contact: options", () => {
   it("are described, with contact.faceAnchors as a points option", () => {
     const d = new Map(HandRig.optionDescriptions().map((o) => [o.path, o]));
-    for (const p of ["enabled", "radius", "weight", "hands", "faceAnchors", "colliders", "torsoRadius", "headRadius"]) {
+    for (const p of ["enabled", "radius", "weight", "hands", "faceAnchors", "colliders", "torsoRadius", "headRadius", "depthTrust"]) {
       assert.ok(d.has(`contact.${p}`), `contact.${p}`);
     }
     const fa = d.get("contact.faceAnchors");
