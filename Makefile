@@ -35,7 +35,7 @@ help:
 	@echo "make test-wasm  wasm-pack test --node (wasm-bindgen-test)"
 	@echo "make test-node  npm pack pkg/, install it in a temp project, node --test from ESM and CJS"
 	@echo "make test-www   the demo's browser tests (Playwright + Debian chromium), when www/ has them"
-	@echo "make eval       measured figures: hand accuracy vs Kalidokit, alignment table, wasm solve time"
+	@echo "make eval       measured figures: hand accuracy vs Kalidokit, alignment and contact tables, wasm solve time"
 	@echo "make bench      criterion benchmark of Rig::solve (native)"
 	@echo "make clean      remove pkg/ and the package build's scratch files (not target/)"
 
@@ -106,6 +106,7 @@ test-www: pkg
 eval: pkg eval/node_modules/.package-lock.json
 	node eval/hands.mjs
 	cargo run --quiet --release --example eval_alignment
+	cargo run --quiet --release --example eval_contact
 	node eval/speed.mjs
 
 # Native per-frame cost of Rig::solve (criterion).
