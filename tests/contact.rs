@@ -866,6 +866,9 @@ fn contact_options_are_checked_and_named() {
     ] {
         assert!(serde_json::from_str::<RigOptions>(json).is_err(), "{json}");
     }
+    // `null` anchors: none given.
+    let o: RigOptions = serde_json::from_str(r#"{"contact": {"faceAnchors": null}}"#).unwrap();
+    assert_eq!(o.contact, ContactOptions::default());
     // Disabled: no reports, plain targets.
     let o: RigOptions = serde_json::from_str(r#"{"contact": {"enabled": false}}"#).unwrap();
     let mut rig = Rig::new(skel.clone(), o).unwrap();

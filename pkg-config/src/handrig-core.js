@@ -867,7 +867,9 @@ function createHandRigApi(raw, isReady) {
         }
         return value;
       case "points": {
-        // { name: [x, y, z] | {x, y, z} } with names from d.names, normalized to arrays.
+        // { name: [x, y, z] | {x, y, z} } with names from d.names, normalized to arrays;
+        // null: none given (the default).
+        if (value === null) return null;
         if (!isObject(value) || Array.isArray(value)) {
           fail(field, `must be an object { ${d.names.join(", ")} } of [x, y, z] (meters), got ${describe(value)}`);
         }

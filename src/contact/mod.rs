@@ -132,7 +132,9 @@ pub struct ContactOptions {
     pub weight: f32,
     /// Hand-to-hand contact (touching hands stay touching). Default `true`.
     pub hands: bool,
-    /// Face anchors of the avatar given by the app; missing ones derived from the rig.
+    /// Face anchors of the avatar given by the app; missing ones derived from the rig
+    /// (`null` in JSON: none given).
+    #[serde(deserialize_with = "null_as_default")]
     pub face_anchors: FaceAnchorsOption,
     /// Body colliders push hands out of the avatar's torso, neck and head. Default `true`.
     pub colliders: bool,
@@ -160,6 +162,10 @@ impl Default for ContactOptions {
             depth_trust: 0.1,
         }
     }
+}
+
+fn null_as_default<'de, D: serde::Deserializer<'de>>(d: D) -> Result<FaceAnchorsOption, D::Error> {
+    Option::<FaceAnchorsOption>::deserialize(d).map(Option::unwrap_or_default)
 }
 
 /// Range of `contact.radius` (head breadths).
