@@ -147,15 +147,18 @@ fn user_heads(avatar_face: Vec3) -> Vec<Head> {
 fn stylized() -> (Skeleton, ContactOptions) {
     let skel = recordings::vrm(recordings::FIXTURE_VRM1);
     let mut o = ContactOptions::default();
-    let a = &mut o.face_anchors;
-    a.nose = Some([0.0, 0.03, 0.045]);
-    a.chin = Some([0.0, -0.015, 0.03]);
-    a.mouth = Some([0.0, 0.005, 0.04]);
-    a.left_cheek = Some([0.04, 0.03, 0.03]);
-    a.right_cheek = Some([-0.04, 0.03, 0.03]);
-    a.left_ear = Some([0.075, 0.05, -0.01]);
-    a.right_ear = Some([-0.075, 0.05, -0.01]);
-    a.forehead = Some([0.0, 0.11, 0.045]);
+    for (a, p) in [
+        (FaceAnchor::Nose, [0.0, 0.03, 0.045]),
+        (FaceAnchor::Chin, [0.0, -0.015, 0.03]),
+        (FaceAnchor::Mouth, [0.0, 0.005, 0.04]),
+        (FaceAnchor::LeftCheek, [0.04, 0.03, 0.03]),
+        (FaceAnchor::RightCheek, [-0.04, 0.03, 0.03]),
+        (FaceAnchor::LeftEar, [0.075, 0.05, -0.01]),
+        (FaceAnchor::RightEar, [-0.075, 0.05, -0.01]),
+        (FaceAnchor::Forehead, [0.0, 0.11, 0.045]),
+    ] {
+        o.face_anchors.set(a, Some(Vec3::from_array(p)));
+    }
     (skel, o)
 }
 

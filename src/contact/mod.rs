@@ -65,57 +65,61 @@ pub const MAX_ANCHOR_OFFSET: f32 = 10.0;
 /// Face anchors an app gives (JS: `contact.faceAnchors = { nose: [x, y, z], ... }`): meters,
 /// relative to the head bone at rest, in the model's own axes (VRM 0.x: its -Z-facing frame),
 /// e.g. found by raycasting the avatar's mesh. Each optional; missing ones are derived.
-#[derive(Clone, Copy, Debug, PartialEq, Default, Deserialize)]
-#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+///
+/// Read from JSON as an object whose keys are [`FaceAnchor`] names and whose values are
+/// `[x, y, z]` (or `null`); by hand through `serde_json::Value` rather than derived, which
+/// keeps the wasm smaller.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct FaceAnchorsOption {
-    /// The tip of the nose.
-    pub nose: Option<[f32; 3]>,
-    /// The front of the chin.
-    pub chin: Option<[f32; 3]>,
-    /// The middle of the lips.
-    pub mouth: Option<[f32; 3]>,
-    /// The avatar's left cheek.
-    pub left_cheek: Option<[f32; 3]>,
-    /// The avatar's right cheek.
-    pub right_cheek: Option<[f32; 3]>,
-    /// The avatar's left ear.
-    pub left_ear: Option<[f32; 3]>,
-    /// The avatar's right ear.
-    pub right_ear: Option<[f32; 3]>,
-    /// The middle of the forehead.
-    pub forehead: Option<[f32; 3]>,
+    points: [Option<[f32; 3]>; ANCHORS],
+}
+
+impl<'de> Deserialize<'de> for FaceAnchorsOption {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error as _;
+        let mut out = FaceAnchorsOption::default();
+        let map = match serde_json::Value::deserialize(d)? {
+            serde_json::Value::Null => return Ok(out),
+            serde_json::Value::Object(map) => map,
+            _ => {
+                return Err(D::Error::custom(
+                    "faceAnchors: expected an object of [x, y, z]",
+                ))
+            }
+        };
+        for (name, v) in &map {
+            let a = FaceAnchor::from_name(name).ok_or_else(|| {
+                D::Error::custom(format!("faceAnchors: unknown anchor \"{name}\""))
+            })?;
+            if v.is_null() {
+                continue;
+            }
+            let c = v
+                .as_array()
+                .filter(|c| c.len() == 3)
+                .and_then(|c| {
+                    let f = |k: usize| c[k].as_f64().map(|x| x as f32);
+                    Some([f(0)?, f(1)?, f(2)?])
+                })
+                .ok_or_else(|| {
+                    D::Error::custom(format!("faceAnchors.{name}: expected [x, y, z]"))
+                })?;
+            out.points[a.index()] = Some(c);
+        }
+        Ok(out)
+    }
 }
 
 impl FaceAnchorsOption {
     /// The given anchor, as written (model axes).
     #[must_use]
     pub fn get(&self, a: FaceAnchor) -> Option<Vec3> {
-        let v = match a {
-            FaceAnchor::Nose => self.nose,
-            FaceAnchor::Chin => self.chin,
-            FaceAnchor::Mouth => self.mouth,
-            FaceAnchor::LeftCheek => self.left_cheek,
-            FaceAnchor::RightCheek => self.right_cheek,
-            FaceAnchor::LeftEar => self.left_ear,
-            FaceAnchor::RightEar => self.right_ear,
-            FaceAnchor::Forehead => self.forehead,
-        };
-        v.map(Vec3::from_array)
+        self.points[a.index()].map(Vec3::from_array)
     }
 
     /// Sets an anchor (model axes).
     pub fn set(&mut self, a: FaceAnchor, v: Option<Vec3>) {
-        let v = v.map(|v| v.to_array());
-        match a {
-            FaceAnchor::Nose => self.nose = v,
-            FaceAnchor::Chin => self.chin = v,
-            FaceAnchor::Mouth => self.mouth = v,
-            FaceAnchor::LeftCheek => self.left_cheek = v,
-            FaceAnchor::RightCheek => self.right_cheek = v,
-            FaceAnchor::LeftEar => self.left_ear = v,
-            FaceAnchor::RightEar => self.right_ear = v,
-            FaceAnchor::Forehead => self.forehead = v,
-        }
+        self.points[a.index()] = v.map(|v| v.to_array());
     }
 }
 
@@ -134,7 +138,6 @@ pub struct ContactOptions {
     pub hands: bool,
     /// Face anchors of the avatar given by the app; missing ones derived from the rig
     /// (`null` in JSON: none given).
-    #[serde(deserialize_with = "null_as_default")]
     pub face_anchors: FaceAnchorsOption,
     /// Body colliders push hands out of the avatar's torso, neck and head. Default `true`.
     pub colliders: bool,
@@ -162,10 +165,6 @@ impl Default for ContactOptions {
             depth_trust: 0.1,
         }
     }
-}
-
-fn null_as_default<'de, D: serde::Deserializer<'de>>(d: D) -> Result<FaceAnchorsOption, D::Error> {
-    Option::<FaceAnchorsOption>::deserialize(d).map(Option::unwrap_or_default)
 }
 
 /// Range of `contact.radius` (head breadths).
