@@ -1093,6 +1093,48 @@ mod tests {
     }
 
     #[test]
+    fn look_at_offsets_go_through_the_head_node() {
+        // The head node turned 90 degrees about +Y and scaled 2 (a Blender roll): its local
+        // +X offset points along world -Z, twice as long.
+        let (qy, c) = ((FRAC_PI_2 / 2.0).sin(), (FRAC_PI_2 / 2.0).cos());
+        let nodes = format!(
+            r#"[{{"children":[1],"translation":[0,1,0]}},
+               {{"translation":[0,0.5,0],"rotation":[0,{qy},0,{c}],"scale":[2,2,2]}}]"#
+        );
+        let with = |look_at: &str| {
+            glb(
+                &format!(
+                    r#"{{"nodes":{nodes},"extensions":{{"VRMC_vrm":{{"specVersion":"1.0",
+                    "humanoid":{{"humanBones":{{"hips":{{"node":0}},"head":{{"node":1}}}}}},
+                    "lookAt":{look_at}}}}}}}"#
+                ),
+                None,
+            )
+        };
+        let h = parse(&with(r#"{"offsetFromHeadBone":[0.03,0.06,0]}"#)).unwrap();
+        let o = h.look_at.unwrap();
+        assert!(o.abs_diff_eq(Vec3::new(0.0, 0.12, -0.06), 1e-6), "{o}");
+        // Malformed or absent: a hint, ignored.
+        for bad in [
+            r#"{"offsetFromHeadBone":[0,1]}"#,
+            r#"{"offsetFromHeadBone":"x"}"#,
+            "{}",
+        ] {
+            assert_eq!(parse(&with(bad)).unwrap().look_at, None, "{bad}");
+        }
+        // VRM 0.x: firstPersonBoneOffset with z negated, as three-vrm reads it.
+        let v0 = glb(
+            r#"{"nodes":[{"translation":[0,1,0]},{"translation":[0,1.5,0]}],
+               "extensions":{"VRM":{"humanoid":{"humanBones":[{"bone":"hips","node":0},
+               {"bone":"head","node":1}]},
+               "firstPerson":{"firstPersonBoneOffset":{"x":0,"y":0.06,"z":0.02}}}}}"#,
+            None,
+        );
+        let o = parse(&v0).unwrap().look_at.unwrap();
+        assert!(o.abs_diff_eq(Vec3::new(0.0, 0.06, -0.02), 1e-6), "{o}");
+    }
+
+    #[test]
     fn vrm0_names_thumbs_negative_nodes_and_duplicates() {
         let nodes =
             r#"[{"translation":[0,1,0]},{"translation":[0.1,1,0]},{"translation":[0.2,1,0]}]"#;

@@ -907,3 +907,39 @@ fn a_bad_face_point_is_an_error_naming_it() {
         "frame.face.rightEar: must be three finite numbers"
     );
 }
+
+/// Without eye bones the avatar's face sits on the look-at point (its height; the depth of
+/// an average face when the point is on the head's center line), else on an average face.
+#[test]
+fn an_avatar_without_eyes_uses_its_look_at_point() {
+    let full = recordings::vrm(recordings::FIXTURE_VRM1);
+    let bones: Vec<_> = full
+        .bones()
+        .filter(|b| !matches!(b, B::LeftEye | B::RightEye))
+        .map(|b| (b, full.rest_world(b).unwrap()))
+        .collect();
+    let no_eyes = Skeleton::new(&bones, full.version()).unwrap();
+    let plain = ContactSolver::new(&no_eyes, &ContactOptions::default());
+    let with_eyes = ContactSolver::new(&full, &ContactOptions::default());
+    // The average face's origin: within a centimeter of where the fixture's eyes put it.
+    let d = (plain.face().origin - with_eyes.face().origin).length();
+    assert!(d < 0.01, "{d}");
+    // A look-at point 8 cm up on the head's center line: that height, the average depth.
+    let look = no_eyes
+        .clone()
+        .with_look_at_offset(Some(Vec3::new(0.0, 0.08, 0.0)));
+    let f = *ContactSolver::new(&look, &ContactOptions::default()).face();
+    assert!(
+        (f.origin.y - 0.08).abs() < 1e-6 && f.origin.z > 0.05,
+        "{}",
+        f.origin
+    );
+    // In front of the head: taken as it is.
+    let look = no_eyes.with_look_at_offset(Some(Vec3::new(0.0, 0.07, 0.09)));
+    let f = *ContactSolver::new(&look, &ContactOptions::default()).face();
+    assert!(
+        f.origin.abs_diff_eq(Vec3::new(0.0, 0.07, 0.09), 1e-6),
+        "{}",
+        f.origin
+    );
+}

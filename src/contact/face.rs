@@ -131,10 +131,11 @@ pub const EYEBALL: f32 = 0.012 / HEAD_BREADTH;
 /// whose head size nothing else tells.
 pub const HEAD_PER_ARM: f32 = HEAD_BREADTH / 0.54;
 
-/// The point between the eyes relative to the head bone at rest, head breadths: 65 mm above
-/// and 80 mm in front of the head joint (top of the neck) on the human-proportioned fixture
-/// and an average adult; used for avatars with neither eye bones nor a look-at offset.
-pub const EYES_FROM_HEAD: Vec3 = canon(0.0, 0.065, 0.080);
+/// The point between the eyes (on the eyes' surface) relative to the head bone at rest, head
+/// breadths: 65 mm above and 92 mm in front of the head joint (top of the neck), as on the
+/// human-proportioned fixture (eye bones 80 mm in front, plus an eyeball radius); used for
+/// avatars with neither eye bones nor a look-at offset.
+pub const EYES_FROM_HEAD: Vec3 = canon(0.0, 0.065, 0.092);
 
 /// A face's frame: origin between the eyes on the face's surface, rotation (face left, up,
 /// forward as +X, +Y, +Z) and size (head breadth, meters).
