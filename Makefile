@@ -114,6 +114,7 @@ eval: pkg eval/node_modules/.package-lock.json
 	cargo run --quiet --release --example eval_live
 	cargo run --quiet --release --example eval_wrist
 	cargo run --quiet --release --example eval_torso
+	cargo run --quiet --release --example eval_contact
 	node eval/table.mjs --verbose
 
 # Native per-frame cost of Rig::solve (criterion).

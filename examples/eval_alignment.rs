@@ -36,6 +36,9 @@
 //!   given to the rig as the wrist with alignment disabled. Frame 0 has no previous frame: it
 //!   only primes the vector and is not scored for this method (280 frames).
 //!
+//! Self-contact (`contact.enabled`) is off in every rig here: this eval measures alignment
+//! alone (`examples/eval_contact.rs` measures contact).
+//!
 //! Error: distance between the avatar's index distal joint by forward kinematics of the
 //! returned rotations and the target DIP `pose wrist + (hand DIP - hand wrist)` (MediaPipe
 //! offset in the avatar frame, computed here independently of the rig). Statistics over the
@@ -242,6 +245,9 @@ fn drive(
 ) -> usize {
     options.mirror = side == Side::Left;
     options.alignment.enabled = method == Method::Aligned;
+    // Alignment alone: self-contact's body colliders would move targets that come near the
+    // avatar's body (`examples/eval_contact.rs` measures contact).
+    options.contact.enabled = false;
     let cam = options.camera();
     let min_score = options.min_hand_score;
     let mut rig = Rig::new(skel.clone(), options).expect("rig");
@@ -520,6 +526,8 @@ fn asl_frames(
 ) -> (Vec<ArmFrame>, usize) {
     let mut frames = Vec::new();
     let mut total = 0;
+    let mut options = options;
+    options.contact.enabled = false;
     for (c, clip) in clips.iter().enumerate() {
         let mut rig = Rig::new(skel.clone(), options.clone()).expect("rig");
         let mut out = SolveOutput::default();

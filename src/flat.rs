@@ -21,14 +21,16 @@ use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::{Error, Result};
 use crate::hand::HandStatus;
 use crate::mediapipe::{
-    FrameInput, HandObservation, Handedness, PoseObservation, WristObservation, HAND_LANDMARKS,
-    MAX_HANDS, POSE_LANDMARKS,
+    FrameInput, HandObservation, Handedness, PoseObservation, TrackerFace, WristObservation,
+    HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS,
 };
 use crate::rig::{HandUse, Rig, SolveOutput};
 use crate::torso::{BodyJoint, BodyObservation, BODY_JOINT_COUNT, TORSO_BONES};
 
-/// Layout version: bumped whenever an offset or meaning below changes.
-pub const VERSION: u32 = 4;
+/// Layout version: bumped whenever an offset or meaning below changes. 4: the app's torso
+/// (`input.torso`) and body-tracker joints (`input.body`); 5: the tracker face input
+/// (`input.face`) and the per-side contact report (`output.side.contact*`, side stride 72).
+pub const VERSION: u32 = 5;
 
 /// Input offsets (indices into the input `f32` array).
 pub mod input {
@@ -105,8 +107,21 @@ pub mod input {
     pub const BODY: usize = BODY_PRESENT + 1;
     /// Floats per body joint.
     pub const BODY_STRIDE: usize = 4;
+    /// Face points from the body tracker that gives `WRISTS` (meters, the model's own frame):
+    /// nose, left eye, right eye, left ear, right ear, mouth (the avatar's sides); point `k`
+    /// starts at `FACE + k * FACE_STRIDE`. For self-contact with tracker wrists.
+    pub const FACE: usize = BODY + crate::torso::BODY_JOINT_COUNT * BODY_STRIDE;
+    /// Size of one face point.
+    pub const FACE_STRIDE: usize = 4;
+    /// Offsets inside a face point.
+    pub mod face_point {
+        /// `1` when this point is given.
+        pub const PRESENT: usize = 0;
+        /// Position `x y z`.
+        pub const POSITION: usize = 1;
+    }
     /// Length of the input array.
-    pub const LEN: usize = BODY + crate::torso::BODY_JOINT_COUNT * BODY_STRIDE;
+    pub const LEN: usize = FACE + crate::mediapipe::TrackerFace::POINTS * FACE_STRIDE;
 }
 
 /// Output offsets (indices into the output `f32` array).
@@ -125,7 +140,7 @@ pub mod output {
     /// Per-side reports, `[left, right]`; side `s` starts at `SIDES + s * SIDE_STRIDE`.
     pub const SIDES: usize = BONE_POSITIONS + 3 * BONE_COUNT;
     /// Size of one side's report.
-    pub const SIDE_STRIDE: usize = 64;
+    pub const SIDE_STRIDE: usize = 72;
     /// Offsets inside a side's report.
     pub mod side {
         /// The tracked hand driving this side: `0` none, `1` solved, `2` held (degenerate
@@ -174,6 +189,21 @@ pub mod output {
         pub const RETARGET_ITERATIONS: usize = 57;
         /// Weighted RMS fingertip-to-target distance (m).
         pub const RETARGET_RESIDUAL: usize = 58;
+        /// `1` when the contact report below is valid (`contact.enabled`, an IK target).
+        pub const CONTACT_PRESENT: usize = 59;
+        /// The face anchor nearest the user's fingertip: 0 nose, 1 chin, 2 mouth, 3 left
+        /// cheek, 4 right cheek, 5 left ear, 6 right ear, 7 forehead; `-1` none (no face for
+        /// this side's wrist source, or no hand).
+        pub const CONTACT_ANCHOR: usize = 60;
+        /// The face contact blend applied, 0 to 1.
+        pub const CONTACT_WEIGHT: usize = 61;
+        /// Distance (m) from the avatar's fingertip after IK to that avatar anchor; NaN
+        /// when unknown.
+        pub const CONTACT_DISTANCE: usize = 62;
+        /// The hand-to-hand contact blend applied, 0 to 1.
+        pub const CONTACT_HAND_WEIGHT: usize = 63;
+        /// How far the body colliders pushed the hand (m).
+        pub const CONTACT_PUSH: usize = 64;
     }
     /// What became of each input hand slot (4): `0` unused, `1` drove the left side, `2` the
     /// right side (see `side.handReassigned`), `3` ignored: score below `minHandScore`, `4`
@@ -188,7 +218,9 @@ pub mod output {
 const _: () = {
     assert!(input::hand::IMAGE + 3 * HAND_LANDMARKS <= input::HAND_STRIDE);
     assert!(input::wrist::ROTATION + 4 <= input::WRIST_STRIDE);
-    assert!(output::side::RETARGET_RESIDUAL < output::SIDE_STRIDE);
+    assert!(output::side::CONTACT_PUSH < output::SIDE_STRIDE);
+    assert!(output::side::RETARGET_RESIDUAL < output::side::CONTACT_PRESENT);
+    assert!(input::face_point::POSITION + 3 <= input::FACE_STRIDE);
     assert!(output::side::FINGERTIPS + 15 <= output::side::RETARGET_PRESENT);
     assert!(output::side::RETARGET_TARGETS + 15 <= output::side::RETARGET_SCALE);
     assert!(input::POSE_HAS_IMAGE < input::HANDS);
@@ -227,6 +259,10 @@ pub const FIELDS: &[(&str, usize)] = &[
     ("input.bodyPresent", input::BODY_PRESENT),
     ("input.body", input::BODY),
     ("input.bodyStride", input::BODY_STRIDE),
+    ("input.face", input::FACE),
+    ("input.faceStride", input::FACE_STRIDE),
+    ("input.facePoint.present", input::face_point::PRESENT),
+    ("input.facePoint.position", input::face_point::POSITION),
     ("output.length", output::LEN),
     ("output.boneRotations", output::BONE_ROTATIONS),
     ("output.boneFlags", output::BONE_FLAGS),
@@ -268,6 +304,18 @@ pub const FIELDS: &[(&str, usize)] = &[
         "output.side.retargetResidual",
         output::side::RETARGET_RESIDUAL,
     ),
+    ("output.side.contactPresent", output::side::CONTACT_PRESENT),
+    ("output.side.contactAnchor", output::side::CONTACT_ANCHOR),
+    ("output.side.contactWeight", output::side::CONTACT_WEIGHT),
+    (
+        "output.side.contactDistance",
+        output::side::CONTACT_DISTANCE,
+    ),
+    (
+        "output.side.contactHandWeight",
+        output::side::CONTACT_HAND_WEIGHT,
+    ),
+    ("output.side.contactPush", output::side::CONTACT_PUSH),
     ("output.handUse", output::HAND_USE),
 ];
 
@@ -495,6 +543,22 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
         }
         frame.body = Some(body);
     }
+    let mut face = TrackerFace::default();
+    for k in 0..TrackerFace::POINTS {
+        let at = input::FACE + k * input::FACE_STRIDE;
+        let name = || format!("frame.face.{}", TrackerFace::NAMES[k]);
+        if !flag(buf, at + input::face_point::PRESENT, name)? {
+            continue;
+        }
+        let p = vec3_at(buf, at + input::face_point::POSITION);
+        if !p.is_finite() {
+            return Err(Error::invalid(name(), "must be three finite numbers"));
+        }
+        face.set_point(k, Some(p));
+    }
+    if !face.is_empty() {
+        frame.face = Some(face);
+    }
     Ok(())
 }
 
@@ -614,6 +678,18 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
         buf[at + output::side::RETARGET_SCALE] = scale;
         buf[at + output::side::RETARGET_ITERATIONS] = iterations;
         buf[at + output::side::RETARGET_RESIDUAL] = residual;
+        let c = out.contact[s];
+        put_flag(buf, at + output::side::CONTACT_PRESENT, c.is_some());
+        let c = c.unwrap_or_default();
+        buf[at + output::side::CONTACT_ANCHOR] = c.anchor.map_or(-1.0, |a| a.index() as f32);
+        buf[at + output::side::CONTACT_WEIGHT] = c.weight;
+        buf[at + output::side::CONTACT_DISTANCE] = if c.distance.is_finite() {
+            c.distance
+        } else {
+            f32::NAN
+        };
+        buf[at + output::side::CONTACT_HAND_WEIGHT] = c.hand_weight;
+        buf[at + output::side::CONTACT_PUSH] = c.push;
     }
     for (slot, using) in out.hand_use.iter().enumerate() {
         buf[output::HAND_USE + slot] = match using {
@@ -692,6 +768,15 @@ pub fn write_input(frame: &FrameInput, buf: &mut [f32]) {
             let at = input::BODY + k * input::BODY_STRIDE;
             put_vec3(buf, at, body.position[k]);
             buf[at + 3] = body.confidence[k];
+        }
+    }
+    if let Some(face) = &frame.face {
+        for k in 0..TrackerFace::POINTS {
+            if let Some(p) = face.point(k) {
+                let at = input::FACE + k * input::FACE_STRIDE;
+                buf[at + input::face_point::PRESENT] = 1.0;
+                put_vec3(buf, at + input::face_point::POSITION, p);
+            }
         }
     }
 }
@@ -773,6 +858,11 @@ mod tests {
         body.position[3] = Vec3::new(0.2, 1.4, 0.05);
         body.confidence[3] = 0.6;
         frame.body = Some(body);
+        frame.face = Some(TrackerFace {
+            nose: Some(Vec3::new(0.0, 1.6, 0.1)),
+            ears: [Some(Vec3::new(0.07, 1.62, 0.0)), None],
+            ..TrackerFace::default()
+        });
         let mut buf = vec![0.0; input::LEN];
         write_input(&frame, &mut buf);
         let mut back = FrameInput::default();
@@ -815,5 +905,12 @@ mod tests {
         read_input(&buf, 0.0, &mut back).unwrap();
         assert_eq!(back.torso, frame.torso);
         assert_eq!(back.body, frame.body);
+        let ear = input::FACE + 3 * input::FACE_STRIDE + input::face_point::POSITION + 2;
+        buf[ear] = f32::INFINITY;
+        let e = read_input(&buf, 0.0, &mut back).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "frame.face.leftEar: must be three finite numbers"
+        );
     }
 }

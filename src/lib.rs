@@ -31,6 +31,7 @@
 //! * [`body`]: body mapping and calibration from pose landmarks.
 //! * [`torso`]: the upper body (hips, spine, chest, neck, head, shoulders) from the app or
 //!   from tracking.
+//! * [`contact`]: self-contact retargeting (finger on the face, hand on hand, body colliders).
 //! * [`kinematics`]: serial chains with fixed bone lengths and joint limits (hinge, cone).
 //! * [`ik`]: arm IK solvers (two-bone, FABRIK, CCD) with anatomical wrist limits
 //!   ([`ik::wrist`]), and the standalone [`ik::ChainSolver`].
@@ -45,6 +46,7 @@
 pub mod align;
 pub mod body;
 pub mod bones;
+pub mod contact;
 pub mod error;
 pub mod filter;
 pub mod flat;

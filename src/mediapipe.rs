@@ -54,14 +54,18 @@ pub mod hand_landmark {
 pub mod pose_landmark {
     /// Nose.
     pub const NOSE: usize = 0;
-    /// Left eye (center; the subject's left).
+    /// Left eye (the subject's left; the eye's center, between its inner and outer corner).
     pub const LEFT_EYE: usize = 2;
-    /// Right eye (center).
+    /// Right eye.
     pub const RIGHT_EYE: usize = 5;
     /// Left ear.
     pub const LEFT_EAR: usize = 7;
     /// Right ear.
     pub const RIGHT_EAR: usize = 8;
+    /// Left corner of the mouth.
+    pub const MOUTH_LEFT: usize = 9;
+    /// Right corner of the mouth.
+    pub const MOUTH_RIGHT: usize = 10;
     /// Left shoulder (the subject's left).
     pub const LEFT_SHOULDER: usize = 11;
     /// Right shoulder.
@@ -194,6 +198,66 @@ pub struct WristObservation {
     pub rotation: Option<glam::Quat>,
 }
 
+/// Face points from another body tracker (the head joints of Azure Kinect body tracking:
+/// `NOSE`, `EYE_*`, `EAR_*`), already in the avatar's frame like [`WristObservation`], sides
+/// by the avatar's sides (`eyes[0]` is the avatar's left eye). Each point is optional; the
+/// face frame needs both eyes or both ears, and the nose or the mouth (see
+/// [`crate::contact`]).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct TrackerFace {
+    /// Tip of the nose.
+    pub nose: Option<Vec3>,
+    /// Eye centers, `[left, right]`.
+    pub eyes: [Option<Vec3>; 2],
+    /// Ears, `[left, right]`.
+    pub ears: [Option<Vec3>; 2],
+    /// Center of the mouth.
+    pub mouth: Option<Vec3>,
+}
+
+impl TrackerFace {
+    /// Number of points, in the flat layout's order: nose, left eye, right eye, left ear,
+    /// right ear, mouth.
+    pub const POINTS: usize = 6;
+    /// Their names as `frame.face` spells them, in that order.
+    pub const NAMES: [&'static str; 6] = [
+        "nose", "leftEye", "rightEye", "leftEar", "rightEar", "mouth",
+    ];
+
+    /// The point at flat index `k` (see [`TrackerFace::POINTS`]).
+    #[must_use]
+    pub fn point(&self, k: usize) -> Option<Vec3> {
+        match k {
+            0 => self.nose,
+            1 => self.eyes[0],
+            2 => self.eyes[1],
+            3 => self.ears[0],
+            4 => self.ears[1],
+            5 => self.mouth,
+            _ => None,
+        }
+    }
+
+    /// Sets the point at flat index `k` (out-of-range indices are ignored).
+    pub fn set_point(&mut self, k: usize, p: Option<Vec3>) {
+        match k {
+            0 => self.nose = p,
+            1 => self.eyes[0] = p,
+            2 => self.eyes[1] = p,
+            3 => self.ears[0] = p,
+            4 => self.ears[1] = p,
+            5 => self.mouth = p,
+            _ => {}
+        }
+    }
+
+    /// Whether no point is given.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        (0..Self::POINTS).all(|k| self.point(k).is_none())
+    }
+}
+
 /// Everything one frame may carry. `Copy`-sized buffers so a caller can keep one and refill it
 /// every frame without allocating.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -218,6 +282,9 @@ pub struct FrameInput {
     /// Joints from a body tracker with spine joints, in the model's own frame (used by
     /// `torso: "pose"`). See [`crate::torso::BodyObservation`].
     pub body: Option<BodyObservation>,
+    /// Face points from the same body tracker (the model's own frame), for self-contact
+    /// retargeting of tracker wrists ([`crate::contact`]).
+    pub face: Option<TrackerFace>,
 }
 
 impl Default for FrameInput {
@@ -237,6 +304,7 @@ impl Default for FrameInput {
             wrists: [None, None],
             torso: [None; TORSO_BONE_COUNT],
             body: None,
+            face: None,
         }
     }
 }
@@ -257,6 +325,7 @@ impl FrameInput {
         self.wrists = [None, None];
         self.torso = [None; TORSO_BONE_COUNT];
         self.body = None;
+        self.face = None;
     }
 }
 

@@ -16,13 +16,18 @@
 //!    and filtered, then hand orientation and finger rotations ([`crate::hand`]);
 //! 5. per side, **wrist source** ([`Rig::wrist_source`]): the wrist from `wrists` (filtered) or
 //!    from the pose mapped relative to the torso ([`crate::body`]), with the elbow as pole;
-//! 6. per side, **target and IK** ([`Rig::reach_target`]): the wrist IK target by fingertip
-//!    alignment ([`crate::align`]) from forward kinematics of *this* frame's hand, reached by
-//!    the arm solver ([`crate::ik`]) from the posed torso;
-//! 7. **ease** ([`Rig::ease`]): groups whose tracking was lost hold, then ease to rest (a
+//! 6. **targets** ([`Rig::plan_target`] per side, then [`Rig::contact_targets`] for both
+//!    sides together): the wrist IK target by fingertip alignment ([`crate::align`]) from
+//!    forward kinematics of *this* frame's hand, then moved for self-contact
+//!    ([`crate::contact`]: a finger on the face lands on the avatar's face where the posed
+//!    torso put it, touching hands stay touching, hands stay out of the body); both sides'
+//!    targets exist before any IK;
+//! 7. per side, **IK** ([`Rig::reach_target`]): the arm solver ([`crate::ik`]) reaches the
+//!    target from the posed torso;
+//! 8. **ease** ([`Rig::ease`]): groups whose tracking was lost hold, then ease to rest (a
 //!    shoulder to the torso's rotation of it); returning ones blend in
 //!    ([`crate::filter::dropout`]); rotations keep their hemisphere;
-//! 8. **report** ([`Rig::report`]): forward kinematics of the whole avatar, its fingertips,
+//! 9. **report** ([`Rig::report`]): forward kinematics of the whole avatar, its fingertips,
 //!    the retargeting reports.
 //!
 //! [`Rig::reset`] clears the history of every stage.
@@ -34,13 +39,17 @@ use crate::align::{self, AlignmentOptions, AlignmentReport};
 use crate::body::{ArmAnchor, BodyMapper, CalibrationOptions};
 use crate::bones::Finger;
 use crate::bones::{HumanBone, Side, BONE_COUNT};
+use crate::contact::{
+    ContactOptions, ContactReport, ContactSolver, FaceAnchor, HandPoints, SideTarget, Source,
+    UserFace, UserFaces,
+};
 use crate::error::Result;
 use crate::filter::{Clock, DropoutOptions, FilterOptions, OneEuroQuat, PointFilters, Presence};
 use crate::hand::{HandSolver, HandStatus, HandStrategy, RetargetReport};
 use crate::ik::{ArmOptions, ArmSolver, ArmSolverState};
 use crate::mediapipe::{
-    hand_landmark, pose_landmark, CameraMapping, FrameInput, PoseObservation, HAND_LANDMARKS,
-    MAX_HANDS, POSE_LANDMARKS,
+    hand_landmark, pose_landmark, CameraMapping, FrameInput, PoseObservation, TrackerFace,
+    HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS,
 };
 use crate::skeleton::{Skeleton, WorldPose};
 use crate::torso::{
@@ -80,6 +89,8 @@ pub struct RigOptions {
     /// not given; not driven), `"pose"` (tracked from `body` joints or the pose; driven) or
     /// `"off"` (the rest torso). See [`crate::torso`].
     pub torso: TorsoSource,
+    /// Self-contact retargeting: face, hand-to-hand, body colliders.
+    pub contact: ContactOptions,
 }
 
 /// How a hand whose MediaPipe label contradicts the pose is treated (JS:
@@ -125,6 +136,7 @@ impl Default for RigOptions {
             filter: FilterOptions::default(),
             dropout: DropoutOptions::default(),
             torso: TorsoSource::default(),
+            contact: ContactOptions::default(),
         }
     }
 }
@@ -197,6 +209,9 @@ pub struct SolveOutput {
     pub retarget: [Option<RetargetReport>; 2],
     /// What became of each input hand (in the frame's order; `Unused` past its count).
     pub hand_use: [HandUse; MAX_HANDS],
+    /// What self-contact did per side (`[left, right]`): `Some` for every side with a wrist
+    /// IK target while `contact.enabled`.
+    pub contact: [Option<ContactReport>; 2],
 }
 
 /// What the rig did with one tracked hand of the frame.
@@ -242,6 +257,7 @@ impl Default for SolveOutput {
             hand_use: [HandUse::Unused; MAX_HANDS],
             fingertips: [[None; 5]; 2],
             retarget: [None, None],
+            contact: [None, None],
         }
     }
 }
@@ -255,6 +271,7 @@ pub struct Rig {
     hands: HandSolver,
     body: BodyMapper,
     arms: ArmSolverState,
+    contact: ContactSolver,
     landmarks: [Vec3; HAND_LANDMARKS],
     driven: [bool; BONE_COUNT],
     clock: Clock,
@@ -328,6 +345,25 @@ struct WristSource {
     pole: Option<Vec3>,
 }
 
+/// What a side's arm does this frame, decided by [`Rig::plan_target`] before any IK. Two per
+/// frame on the stack: the size difference between variants does not matter.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Plan {
+    /// Nothing drives the arm.
+    Rest,
+    /// Hands only: the arm stays at rest, the hand takes this world rotation.
+    HandOnly(Quat),
+    /// The arm reaches `target` (the hand with `hand_rotation`, when known).
+    Reach {
+        target: Vec3,
+        hand_rotation: Option<Quat>,
+        pole: Option<Vec3>,
+        /// The hand's contact points (a hand solved this frame, contact on).
+        points: Option<HandPoints>,
+    },
+}
+
 impl Rig {
     /// Creates a rig for `skeleton`.
     ///
@@ -344,7 +380,9 @@ impl Rig {
         }
         options.filter.validate()?;
         options.dropout.validate()?;
+        options.contact.validate()?;
         let hands = HandSolver::new(&skeleton, options.hand_strategy)?;
+        let contact = ContactSolver::new(&skeleton, &options.contact);
         let body = BodyMapper::new(&skeleton, &options.calibration);
         let arms = ArmSolverState::with_options(&skeleton, options.arm_solver, &options.arm)?;
         let mut driven = [false; BONE_COUNT];
@@ -373,6 +411,7 @@ impl Rig {
             hands,
             body,
             arms,
+            contact,
             landmarks: [Vec3::ZERO; HAND_LANDMARKS],
             driven,
             clock: Clock::default(),
@@ -454,6 +493,13 @@ impl Rig {
     }
 
     /// Restarts body-scale calibration (and the torso's neutral shoulder height).
+    /// The avatar's side of self-contact: its face (anchors) and body colliders.
+    #[must_use]
+    pub fn contact(&self) -> &ContactSolver {
+        &self.contact
+    }
+
+    /// Restarts body-scale calibration (and the torso's neutral shoulder height).
     pub fn reset_calibration(&mut self) {
         self.body.reset();
         self.torso.reset_calibration();
@@ -504,6 +550,7 @@ impl Rig {
         out.hands = [None, None];
         out.hand_use = [HandUse::Unused; MAX_HANDS];
         out.retarget = [None, None];
+        out.contact = [None, None];
         // Everything not solved this frame goes back to rest (then the easing stage decides).
         out.local = [Quat::IDENTITY; BONE_COUNT];
 
@@ -512,17 +559,22 @@ impl Rig {
         // The torso (from the app or tracking), and its forward kinematics: the world pose the
         // arms hang from, once per frame (arms and hands do not move it).
         self.torso_stage(frame, camera, dt, out);
+        let mut plans = [Plan::Rest; 2];
         for side in Side::BOTH {
             let hand_rotation = self.solve_hand(side, frame, picks[side.index()], dt, out);
             let source = self.wrist_source(side, frame, dt);
-            self.reach_target(side, hand_rotation, source, out);
+            plans[side.index()] = self.plan_target(side, frame, hand_rotation, source, out);
+        }
+        self.contact_targets(frame, &mut plans, out);
+        for side in Side::BOTH {
+            self.reach_target(side, plans[side.index()], out);
         }
         self.ease(frame.time_ms, out);
         self.report(out);
         Ok(())
     }
 
-    /// Stage 8: forward kinematics of what is shown, the avatar's fingertips, and the
+    /// Stage 9: forward kinematics of what is shown, the avatar's fingertips, and the
     /// retargeting reports placed on the avatar.
     fn report(&self, out: &mut SolveOutput) {
         self.skeleton.forward(&out.local, &mut out.world);
@@ -808,27 +860,32 @@ impl Rig {
         })
     }
 
-    /// Stage 6: the wrist IK target (fingertip alignment from this frame's hand) and the arm
-    /// reaching it from the posed torso.
-    fn reach_target(
+    /// Stage 6a: the side's wrist IK target by fingertip alignment from this frame's hand
+    /// (no IK yet), and the hand's contact points while its landmarks are at hand.
+    fn plan_target(
         &mut self,
         side: Side,
+        frame: &FrameInput,
         hand_rotation: Option<Quat>,
         source: Option<WristSource>,
         out: &mut SolveOutput,
-    ) {
+    ) -> Plan {
         let Some(hand_rot) = hand_rotation.or(source.and_then(|s| s.rotation)) else {
             // No hand and no wrist rotation: with a wrist the arm can still reach it.
-            if let Some(s) = source {
-                self.reach(side, s.position, None, s.pole, None, out);
-            }
-            return;
+            return match source {
+                Some(s) => Plan::Reach {
+                    target: s.position,
+                    hand_rotation: None,
+                    pole: s.pole,
+                    points: None,
+                },
+                None => Plan::Rest,
+            };
         };
 
         let Some(source) = source else {
             // Hands only: the arm stays at rest and the hand takes the solved world rotation.
-            set_hand_world_rotation(&self.skeleton, side, hand_rot, out);
-            return;
+            return Plan::HandOnly(hand_rot);
         };
 
         // A held hand (degenerate landmarks this frame) keeps its rotations but its
@@ -850,6 +907,205 @@ impl Rig {
         } else {
             source.position
         };
+        let hand_index = out.hands[side.index()].map(|h| h.index);
+        let points = (fresh && self.options.contact.enabled)
+            .then(|| self.hand_points(side, frame, hand_index, &source, hand_rot, &out.local))
+            .flatten();
+        Plan::Reach {
+            target,
+            hand_rotation: Some(hand_rot),
+            pole: source.pole,
+            points,
+        }
+    }
+
+    /// The hand's contact points ([`HandPoints`]): the user's from this side's landmarks
+    /// placed on the user's wrist (the tracker wrist, or the pose wrist landmark in user
+    /// space, whichever [`Rig::wrist_source`] used), the avatar's from forward kinematics of
+    /// this frame's hand rotation and finger rotations.
+    fn hand_points(
+        &self,
+        side: Side,
+        frame: &FrameInput,
+        out_hand: Option<usize>,
+        source: &WristSource,
+        hand_rotation: Quat,
+        local: &[Quat; BONE_COUNT],
+    ) -> Option<HandPoints> {
+        use crate::mediapipe::hand_landmark as hl;
+        let camera = self.options.camera();
+        let (kind, wrist) = if frame.wrists[side.index()].is_some() {
+            (Source::Tracker, source.position)
+        } else {
+            let k = match camera.pose_side_for(side) {
+                Side::Left => pose_landmark::LEFT_WRIST,
+                Side::Right => pose_landmark::RIGHT_WRIST,
+            };
+            (Source::Pose, camera.to_avatar(self.pose.as_ref()?.world[k]))
+        };
+        let lm = &self.landmarks;
+        let palm_center = (lm[hl::WRIST]
+            + lm[hl::INDEX_MCP]
+            + lm[hl::MIDDLE_MCP]
+            + lm[hl::RING_MCP]
+            + lm[hl::PINKY_MCP])
+            / 5.0;
+        let mut user = [Vec3::ZERO; crate::contact::POINTS];
+        user[0] = wrist + palm_center - lm[hl::WRIST];
+        let mut avatar = [None; crate::contact::POINTS];
+        // The avatar's palm center: its hand joint and the proximal joints it has.
+        let mut sum = Vec3::ZERO;
+        let mut n = 1.0;
+        for f in [Finger::Index, Finger::Middle, Finger::Ring, Finger::Little] {
+            let proximal = side.finger(f)[0];
+            if self.skeleton.has(proximal) {
+                sum += self.skeleton.rest_local(proximal);
+                n += 1.0;
+            }
+        }
+        avatar[0] = Some(hand_rotation * (sum / n));
+        let tip_options = align::AlignmentOptions {
+            point: align::AlignPoint::Tip,
+            ..self.options.alignment
+        };
+        for finger in Finger::ALL {
+            let k = 1 + finger.index();
+            user[k] = wrist + lm[finger.landmarks()[3]] - lm[hl::WRIST];
+            avatar[k] = align::avatar_offset(
+                &self.skeleton,
+                side,
+                &align::AlignmentOptions {
+                    finger,
+                    ..tip_options
+                },
+                hand_rotation,
+                local,
+            );
+        }
+        let middle = side.finger(Finger::Middle)[0];
+        let image_tip = out_hand
+            .and_then(|i| frame.hands().get(i))
+            .and_then(|h| h.image)
+            .map(|img| img[self.options.alignment.finger.landmarks()[3]]);
+        Some(HandPoints {
+            image_tip,
+            source: kind,
+            user,
+            avatar,
+            user_palm: (lm[hl::MIDDLE_MCP] - lm[hl::WRIST]).length(),
+            avatar_palm: if self.skeleton.has(middle) {
+                self.skeleton.rest_local(middle).length()
+            } else {
+                crate::contact::colliders::avatar_palm_length(&self.skeleton)
+            },
+        })
+    }
+
+    /// Stage 6b: self-contact for both sides together ([`crate::contact`]): the targets move
+    /// so that a finger on the user's face lands on the avatar's, touching hands stay
+    /// touching, and hands stay out of the avatar's body. Runs forward kinematics of this
+    /// frame's rotations first (the head and torso where they will be shown).
+    fn contact_targets(
+        &mut self,
+        frame: &FrameInput,
+        plans: &mut [Plan; 2],
+        out: &mut SolveOutput,
+    ) {
+        if !self.options.contact.enabled {
+            return;
+        }
+        let mut targets: [Option<SideTarget>; 2] = plans.map(|p| match p {
+            Plan::Reach { target, points, .. } => Some(SideTarget {
+                wrist: target,
+                hand: points,
+            }),
+            _ => None,
+        });
+        if targets.iter().all(Option::is_none) {
+            return;
+        }
+        self.skeleton.forward(&out.local, &mut out.world);
+        let needs = |source: Source| {
+            targets
+                .iter()
+                .flatten()
+                .any(|t| t.hand.is_some_and(|h| h.source == source))
+        };
+        let faces = UserFaces {
+            pose: if needs(Source::Pose) {
+                self.pose.as_ref().and_then(|p| {
+                    UserFace::from_pose(
+                        p,
+                        self.options.camera(),
+                        self.options.calibration.min_visibility,
+                    )
+                })
+            } else {
+                None
+            },
+            pose_image: match (&self.pose, &frame.pose_image) {
+                (Some(pose), Some(image)) if needs(Source::Pose) => {
+                    crate::contact::ImageFit::from_pose(
+                        pose,
+                        image,
+                        self.options.calibration.min_visibility,
+                    )
+                }
+                _ => None,
+            },
+            camera: self.options.camera(),
+            tracker: if needs(Source::Tracker) {
+                frame
+                    .face
+                    .as_ref()
+                    .and_then(|f| UserFace::from_tracker(f, self.skeleton.version()))
+            } else {
+                None
+            },
+        };
+        self.contact.solve(
+            self.options.alignment.finger,
+            &faces,
+            &out.world,
+            &mut targets,
+            &mut out.contact,
+        );
+        for (s, (plan, t)) in plans.iter_mut().zip(targets).enumerate() {
+            if let (Plan::Reach { target, .. }, Some(t)) = (plan, t) {
+                let delta = t.wrist - *target;
+                *target = t.wrist;
+                if let Some(a) = out.alignment[s].as_mut() {
+                    a.target_dip += delta;
+                    a.ik_wrist += delta;
+                }
+            }
+        }
+    }
+
+    /// Stage 7: the arm reaching the side's target, and the reports that need the result.
+    fn reach_target(&mut self, side: Side, plan: Plan, out: &mut SolveOutput) {
+        let (target, hand_rot, pole, points) = match plan {
+            Plan::Rest => return,
+            Plan::HandOnly(q) => {
+                set_hand_world_rotation(&self.skeleton, side, q, out);
+                return;
+            }
+            Plan::Reach {
+                target,
+                hand_rotation: None,
+                pole,
+                ..
+            } => {
+                self.reach(side, target, None, pole, None, out);
+                return;
+            }
+            Plan::Reach {
+                target,
+                hand_rotation: Some(q),
+                pole,
+                points,
+            } => (target, q, pole, points),
+        };
         out.ik_targets[side.index()] = Some(IkTarget {
             position: target,
             rotation: hand_rot,
@@ -861,7 +1117,25 @@ impl Rig {
         let finger = out.alignment[side.index()]
             .filter(|a| a.aligned && weight > 0.0)
             .map(|a| a.avatar_offset * weight);
-        let reach = self.reach(side, target, Some(hand_rot), source.pole, finger, out);
+        // In contact, the touching point is what must stay put, so the wrist limits turn the
+        // hand about it (as far as the blends go): the point touching the other hand, then a
+        // fingertip on the face (which wins).
+        let finger = match (out.contact[side.index()], points) {
+            (Some(c), Some(p)) => {
+                let mut pivot = finger;
+                let mut toward = |point: Option<Vec3>, weight: f32| {
+                    if let Some(point) = point.filter(|_| weight > 0.0) {
+                        pivot = Some(pivot.unwrap_or(Vec3::ZERO).lerp(point, weight));
+                    }
+                };
+                toward(c.hand_meet, c.hand_weight);
+                let tip = 1 + self.options.alignment.finger.index();
+                toward(p.avatar[tip], c.weight);
+                pivot
+            }
+            _ => finger,
+        };
+        let reach = self.reach(side, target, Some(hand_rot), pole, finger, out);
         if let Some(limited) = reach.wrist {
             // The wrist limits turned the hand: report the target and rotation reached.
             let turn = limited.hand_rotation * hand_rot.conjugate();
@@ -885,9 +1159,34 @@ impl Rig {
                 &mut out.world,
             );
         }
+        if let Some(c) = out.contact[side.index()].as_mut() {
+            if let Some(anchor) = c.anchor {
+                // Forward kinematics of the arm just solved (alignment_error ran it when
+                // there was a report; run it here otherwise).
+                if out.alignment[side.index()].is_none() {
+                    let [shoulder, upper, ..] = side.arm();
+                    let root = if self.skeleton.has(shoulder) {
+                        shoulder
+                    } else {
+                        upper
+                    };
+                    self.skeleton
+                        .forward_below(root, &out.local, &mut out.world);
+                }
+                c.distance = align::fingertip(
+                    &self.skeleton,
+                    &out.world,
+                    side,
+                    self.options.alignment.finger,
+                )
+                .map_or(f32::NAN, |tip| {
+                    (tip - self.contact.anchor_world(anchor, &out.world)).length()
+                });
+            }
+        }
     }
 
-    /// Stage 7: hold and ease the groups whose tracking was lost, blend in the returning ones
+    /// Stage 8: hold and ease the groups whose tracking was lost, blend in the returning ones
     /// (see [`crate::filter::dropout`]), and keep every driven rotation in the hemisphere of
     /// last frame's (so that apps interpolating output never go the long way round).
     fn ease(&mut self, now_ms: f64, out: &mut SolveOutput) {
@@ -1133,6 +1432,16 @@ fn validate_frame(frame: &FrameInput) -> Result<()> {
             }
         }
     }
+    if let Some(face) = &frame.face {
+        for k in 0..TrackerFace::POINTS {
+            if face.point(k).is_some_and(|p| !p.is_finite()) {
+                return Err(crate::Error::invalid(
+                    format!("frame.face.{}", TrackerFace::NAMES[k]),
+                    "must be three finite numbers",
+                ));
+            }
+        }
+    }
     let _ = hand_landmark::WRIST;
     Ok(())
 }
@@ -1162,6 +1471,12 @@ pub enum OptionKind {
         default: Option<f32>,
         /// Suggested UI step.
         step: f32,
+    },
+    /// An object of named points, `{ name: [x, y, z] }` (meters), each optional; no default
+    /// (derived values apply where a point is not given).
+    Points {
+        /// The accepted names.
+        names: Vec<&'static str>,
     },
 }
 
@@ -1403,6 +1718,78 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 step: 10.0,
             },
             description: "How long a returning hand or arm blends from the shown pose to the solved one (ms).",
+        },
+        OptionDescription {
+            path: "contact.enabled",
+            kind: Boolean { default: d.contact.enabled },
+            description: "Self-contact retargeting: a finger on the user's face lands on the avatar's face, touching hands stay touching, hands stay out of the avatar's body.",
+        },
+        OptionDescription {
+            path: "contact.radius",
+            kind: Number {
+                min: crate::contact::RADIUS_RANGE.0,
+                max: crate::contact::RADIUS_RANGE.1,
+                default: Some(d.contact.radius),
+                step: 0.05,
+            },
+            description: "Contact blend radius in head breadths (the user's ear-to-ear distance, about 0.145 m): full contact mapping within half of it, plain alignment beyond it.",
+        },
+        OptionDescription {
+            path: "contact.weight",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.contact.weight),
+                step: 0.05,
+            },
+            description: "Scale of the contact blend: 0 = plain alignment, 1 = full contact mapping near the face or the other hand.",
+        },
+        OptionDescription {
+            path: "contact.hands",
+            kind: Boolean { default: d.contact.hands },
+            description: "Hand-to-hand contact: when the user's hands touch, both avatar targets are solved together so its hands touch too.",
+        },
+        OptionDescription {
+            path: "contact.faceAnchors",
+            kind: Points {
+                names: FaceAnchor::ALL.iter().map(|a| a.as_str()).collect(),
+            },
+            description: "The avatar's face points, each [x, y, z] meters from the head bone at rest in the model's axes (e.g. raycast on its mesh); missing ones are derived from the rig (eye bones, look-at offset, an average face).",
+        },
+        OptionDescription {
+            path: "contact.colliders",
+            kind: Boolean { default: d.contact.colliders },
+            description: "Body colliders (torso and neck capsules, head sphere, derived from the rig) push hand targets out of the avatar's body.",
+        },
+        OptionDescription {
+            path: "contact.torsoRadius",
+            kind: Number {
+                min: 0.0,
+                max: crate::contact::MAX_COLLIDER_RADIUS,
+                default: d.contact.torso_radius,
+                step: 0.005,
+            },
+            description: "Torso capsule radius (m, hips to chest); unset = 0.6 x the shoulder half-width; 0 = no torso collider.",
+        },
+        OptionDescription {
+            path: "contact.headRadius",
+            kind: Number {
+                min: 0.0,
+                max: crate::contact::MAX_COLLIDER_RADIUS,
+                default: d.contact.head_radius,
+                step: 0.005,
+            },
+            description: "Head sphere radius (m); unset = half the head breadth; 0 = no head collider (never covers a face anchor).",
+        },
+        OptionDescription {
+            path: "contact.depthTrust",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.contact.depth_trust),
+                step: 0.05,
+            },
+            description: "MediaPipe pose input: how much the tracked depth between fingertip and face counts (monocular hand depth at the face is off by 15-35 cm); where on the face comes from the image. 1 = as tracked; tracker input always uses its depth.",
         },
     ]
 }

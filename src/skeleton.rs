@@ -86,6 +86,8 @@ pub struct Skeleton {
     rest_world: [Vec3; BONE_COUNT],
     rest_local: [Vec3; BONE_COUNT],
     version: VrmVersion,
+    /// The look-at point (between the eyes) relative to the head bone at rest, internal frame.
+    look_at: Option<Vec3>,
 }
 
 impl Skeleton {
@@ -156,7 +158,29 @@ impl Skeleton {
             rest_world,
             rest_local,
             version,
+            look_at: None,
         })
+    }
+
+    /// The same skeleton with a look-at point: `offset` from the head bone's rest position to
+    /// the point between the eyes, meters, **in the model's own frame** (what
+    /// [`crate::vrm::VrmHumanoid::look_at`] reads from `VRMC_vrm.lookAt.offsetFromHeadBone`
+    /// or VRM 0.x `firstPersonBoneOffset`). Self-contact uses it to place the avatar's face
+    /// when the avatar has no eye bones. A non-finite offset, or one beyond
+    /// [`MAX_REST_COORDINATE`], is ignored (it is a hint).
+    #[must_use]
+    pub fn with_look_at_offset(mut self, offset: Option<Vec3>) -> Self {
+        self.look_at = offset
+            .filter(|o| o.is_finite() && o.abs().max_element() <= MAX_REST_COORDINATE)
+            .map(|o| self.version.position_to_internal(o));
+        self
+    }
+
+    /// The look-at point relative to the head bone at rest (internal frame), if known.
+    #[inline]
+    #[must_use]
+    pub fn look_at_offset(&self) -> Option<Vec3> {
+        self.look_at
     }
 
     /// The VRM version (facing) of the model this skeleton came from.

@@ -33,6 +33,13 @@ pub struct VrmHumanoid {
     /// maps, in [`HumanBone::ALL`] order (parent-first). VRM 0.x thumbs are already renamed
     /// to their 1.0 names.
     pub bones: Vec<(HumanBone, Vec3)>,
+    /// The look-at point (between the eyes) relative to the head bone's rest position,
+    /// meters, the model's own frame: `VRMC_vrm.lookAt.offsetFromHeadBone` (VRM 1.0) or
+    /// `firstPerson.firstPersonBoneOffset` with z negated (VRM 0.x, as three-vrm reads it),
+    /// carried through the head node's rest world transform (three-vrm's
+    /// `getLookAtWorldPosition`). `None` when the file has none, or it is malformed (it is a
+    /// hint: a bad one does not reject the avatar).
+    pub look_at: Option<Vec3>,
 }
 
 /// Parses a `.vrm` file (the bytes of a GLB) into its humanoid rest pose.
@@ -60,6 +67,16 @@ pub fn parse(bytes: &[u8]) -> Result<VrmHumanoid> {
     let (version, map) = humanoid_map(root, nodes.len())?;
 
     let mut world = vec![None; nodes.len()];
+    let head_node = map
+        .iter()
+        .find(|(b, _, _)| *b == HumanBone::Head)
+        .map(|(_, n, _)| *n);
+    let look_at = head_node.and_then(|node| {
+        let offset = look_at_offset(root, version)?;
+        let [x, y, z] = nodes.world(node, &mut world).apply_linear(offset);
+        let v = Vec3::new(x as f32, y as f32, z as f32);
+        v.is_finite().then_some(v)
+    });
     let mut bones = Vec::with_capacity(map.len());
     for (bone, node, field) in map {
         let [x, y, z] = nodes.world(node, &mut world).t;
@@ -78,7 +95,36 @@ pub fn parse(bytes: &[u8]) -> Result<VrmHumanoid> {
         bones.push((bone, p));
     }
     bones.sort_by_key(|(b, _)| b.index());
-    Ok(VrmHumanoid { version, bones })
+    Ok(VrmHumanoid {
+        version,
+        bones,
+        look_at,
+    })
+}
+
+/// The look-at offset as written in the head node's local frame (VRM 0.x: z negated, as
+/// three-vrm reads it); `None` when absent or malformed.
+fn look_at_offset(root: &Map<String, Value>, version: VrmVersion) -> Option<[f64; 3]> {
+    let ext = root.get("extensions")?;
+    let v = match version {
+        VrmVersion::V1 => {
+            let a = ext
+                .get("VRMC_vrm")?
+                .get("lookAt")?
+                .get("offsetFromHeadBone")?;
+            let a = a.as_array().filter(|a| a.len() == 3)?;
+            [a[0].as_f64()?, a[1].as_f64()?, a[2].as_f64()?]
+        }
+        VrmVersion::V0 => {
+            let o = ext
+                .get("VRM")?
+                .get("firstPerson")?
+                .get("firstPersonBoneOffset")?;
+            let c = |k: &str| o.get(k).and_then(Value::as_f64);
+            [c("x")?, c("y")?, -c("z")?]
+        }
+    };
+    v.iter().all(|x| x.is_finite()).then_some(v)
 }
 
 /// Parses a `.vrm` file and builds its [`Skeleton`] (internal +Z-facing frame).
@@ -89,17 +135,19 @@ pub fn parse(bytes: &[u8]) -> Result<VrmHumanoid> {
 pub fn load_skeleton(bytes: &[u8]) -> Result<Skeleton> {
     let h = parse(bytes)?;
     // Name the file, not `restPose`, when the rest pose came from it.
-    Skeleton::new(&h.bones, h.version).map_err(|e| match e {
-        Error::MissingRequiredBones(names) => vrm_err(format!(
-            "humanoid lacks required bone(s) {}",
-            names.join(", ")
-        )),
-        Error::InvalidInput { field, problem } => vrm_err(format!(
-            "humanoid bone {}: {problem}",
-            field.strip_prefix("restPose.bones.").unwrap_or(&field)
-        )),
-        other => other,
-    })
+    Skeleton::new(&h.bones, h.version)
+        .map(|s| s.with_look_at_offset(h.look_at))
+        .map_err(|e| match e {
+            Error::MissingRequiredBones(names) => vrm_err(format!(
+                "humanoid lacks required bone(s) {}",
+                names.join(", ")
+            )),
+            Error::InvalidInput { field, problem } => vrm_err(format!(
+                "humanoid bone {}: {problem}",
+                field.strip_prefix("restPose.bones.").unwrap_or(&field)
+            )),
+            other => other,
+        })
 }
 
 /// Most nodes a `.vrm` may have (real avatars have hundreds to a few thousand). Bounds the
@@ -1042,6 +1090,48 @@ mod tests {
         assert!(parse(&vrm1(side, r#"{"hips":{"node":1}}"#)).is_ok());
         let spec = glb(r#"{"extensions":{"VRMC_vrm":{"specVersion":"2.0"}}}"#, None);
         assert!(msg(parse(&spec)).contains("specVersion: unsupported \"2.0\""));
+    }
+
+    #[test]
+    fn look_at_offsets_go_through_the_head_node() {
+        // The head node turned 90 degrees about +Y and scaled 2 (a Blender roll): its local
+        // +X offset points along world -Z, twice as long.
+        let (qy, c) = ((FRAC_PI_2 / 2.0).sin(), (FRAC_PI_2 / 2.0).cos());
+        let nodes = format!(
+            r#"[{{"children":[1],"translation":[0,1,0]}},
+               {{"translation":[0,0.5,0],"rotation":[0,{qy},0,{c}],"scale":[2,2,2]}}]"#
+        );
+        let with = |look_at: &str| {
+            glb(
+                &format!(
+                    r#"{{"nodes":{nodes},"extensions":{{"VRMC_vrm":{{"specVersion":"1.0",
+                    "humanoid":{{"humanBones":{{"hips":{{"node":0}},"head":{{"node":1}}}}}},
+                    "lookAt":{look_at}}}}}}}"#
+                ),
+                None,
+            )
+        };
+        let h = parse(&with(r#"{"offsetFromHeadBone":[0.03,0.06,0]}"#)).unwrap();
+        let o = h.look_at.unwrap();
+        assert!(o.abs_diff_eq(Vec3::new(0.0, 0.12, -0.06), 1e-6), "{o}");
+        // Malformed or absent: a hint, ignored.
+        for bad in [
+            r#"{"offsetFromHeadBone":[0,1]}"#,
+            r#"{"offsetFromHeadBone":"x"}"#,
+            "{}",
+        ] {
+            assert_eq!(parse(&with(bad)).unwrap().look_at, None, "{bad}");
+        }
+        // VRM 0.x: firstPersonBoneOffset with z negated, as three-vrm reads it.
+        let v0 = glb(
+            r#"{"nodes":[{"translation":[0,1,0]},{"translation":[0,1.5,0]}],
+               "extensions":{"VRM":{"humanoid":{"humanBones":[{"bone":"hips","node":0},
+               {"bone":"head","node":1}]},
+               "firstPerson":{"firstPersonBoneOffset":{"x":0,"y":0.06,"z":0.02}}}}}"#,
+            None,
+        );
+        let o = parse(&v0).unwrap().look_at.unwrap();
+        assert!(o.abs_diff_eq(Vec3::new(0.0, 0.06, -0.02), 1e-6), "{o}");
     }
 
     #[test]

@@ -277,3 +277,121 @@ fn chain_solves_allocate_nothing() {
         }
     }
 }
+
+/// Self-contact allocates nothing either: both hands on the face and on each other, with
+/// tracker wrists and face points, and with pose input carrying face landmarks.
+#[test]
+fn contact_allocates_nothing() {
+    use handrig::bones::Side;
+    use handrig::contact::face::{CANONICAL_ANCHORS, CANONICAL_EYES};
+    use handrig::mediapipe::{pose_landmark as pl, Handedness, TrackerFace, WristObservation};
+
+    let hands: Vec<_> = recordings::hand_video_first()
+        .iter()
+        .map(|h| h.world)
+        .collect();
+    check_counter();
+    let skel = recordings::vrm(recordings::ROBOT);
+    let mut rig = Rig::new(skel.clone(), RigOptions::default()).unwrap();
+    // A user face (canonical, 0.15 m) 5 cm in front of the avatar's, in the avatar's frame.
+    let origin = skel.rest_world(HumanBone::Head).unwrap()
+        + rig.contact().face().origin
+        + Vec3::new(0.0, 0.0, 0.05);
+    let at = |c: Vec3| origin + c * 0.15;
+    let face = TrackerFace {
+        nose: Some(at(CANONICAL_ANCHORS[0])),
+        eyes: CANONICAL_EYES.map(|e| Some(at(e))),
+        ears: [
+            Some(at(CANONICAL_ANCHORS[5])),
+            Some(at(CANONICAL_ANCHORS[6])),
+        ],
+        mouth: Some(at(CANONICAL_ANCHORS[2])),
+    };
+    let nose = at(CANONICAL_ANCHORS[0]);
+    // The same user as MediaPipe pose landmarks (user space 1 m below, camera axes).
+    let mut pose = recordings::plausible_pose();
+    let cam = |p: Vec3| {
+        let p = p - Vec3::new(0.0, 1.0, 0.0);
+        Vec3::new(p.x, -p.y, -p.z)
+    };
+    for (k, p) in [
+        (pl::NOSE, face.nose),
+        (pl::LEFT_EYE, face.eyes[0]),
+        (pl::RIGHT_EYE, face.eyes[1]),
+        (pl::LEFT_EAR, face.ears[0]),
+        (pl::RIGHT_EAR, face.ears[1]),
+        (pl::MOUTH_LEFT, face.mouth),
+        (pl::MOUTH_RIGHT, face.mouth),
+    ] {
+        pose.world[k] = cam(p.unwrap());
+    }
+    let mut out = SolveOutput::default();
+    let mut frame = FrameInput::default();
+    let mut decoded = FrameInput::default();
+    let mut input = vec![0.0f32; flat::input::LEN];
+    let mut output = vec![0.0f32; flat::output::LEN];
+    let mut face_contact = 0;
+    let mut hand_contact = 0;
+    let mut run = |rig: &mut Rig, i: usize, pose_input: bool| {
+        let right = hands[i % hands.len()];
+        let left = right.map(|p| Vec3::new(-p.x, p.y, p.z));
+        frame.clear();
+        frame.time_ms = i as f64 * 33.3;
+        frame.hands[0] = recordings::hand(Handedness::Left, 0.9, right);
+        frame.hands[1] = recordings::hand(Handedness::Right, 0.9, left);
+        frame.hand_count = 2;
+        // Camera axes to the avatar's: (x, -y, -z); the right index tip on the nose, the left
+        // index tip on the right one.
+        let tip = |lm: &[Vec3; 21]| {
+            let d = lm[8] - lm[0];
+            Vec3::new(d.x, -d.y, -d.z)
+        };
+        let wr = nose - tip(&right);
+        let wl = nose - tip(&left);
+        if pose_input {
+            let mut p = pose;
+            p.world[pl::RIGHT_WRIST] = cam(wr);
+            p.world[pl::LEFT_WRIST] = cam(wl);
+            frame.pose = Some(p);
+        } else {
+            for (side, w) in [(Side::Right, wr), (Side::Left, wl)] {
+                frame.wrists[side.index()] = Some(WristObservation {
+                    position: w,
+                    rotation: None,
+                });
+            }
+            frame.face = Some(face);
+        }
+        flat::write_input(&frame, &mut input);
+        flat::read_input(&input, frame.time_ms, &mut decoded).unwrap();
+        rig.solve(&decoded, &mut out).unwrap();
+        flat::write_output(rig, &out, &mut output);
+        for c in out.contact.iter().flatten() {
+            face_contact += usize::from(c.weight > 0.5);
+            hand_contact += usize::from(c.hand_weight > 0.5);
+        }
+    };
+    for mode in [false, true] {
+        run(&mut rig, 0, mode);
+    }
+    let before = allocations();
+    for i in 0..hands.len() {
+        run(&mut rig, i, i % 2 == 0);
+    }
+    let after = allocations();
+    assert_eq!(
+        after - before,
+        0,
+        "contact allocated {} times",
+        after - before
+    );
+    // Not vacuous: face and hand contact were active in most frames.
+    assert!(
+        face_contact > hands.len(),
+        "face contact in {face_contact} side-frames"
+    );
+    assert!(
+        hand_contact > hands.len(),
+        "hand contact in {hand_contact} side-frames"
+    );
+}

@@ -224,12 +224,13 @@ fn solves_a_real_frame_through_the_memory_views() {
     );
     assert!((side_field(&out, Side::Right, output::side::HAND_SCORE) - 0.9668).abs() < 1e-4);
     assert_eq!(side_field(&out, Side::Left, output::side::HAND_STATUS), 0.0);
-    // Finite everywhere but where NaN means "none": an unknown alignment error, and the
-    // retargeting targets of the analytic strategy.
+    // Finite everywhere but where NaN means "none": an unknown alignment error or contact
+    // distance, and the retargeting targets of the analytic strategy.
     let nan_ok = |i: usize| {
         i >= output::SIDES && i < output::HAND_USE && {
             let k = (i - output::SIDES) % output::SIDE_STRIDE;
             k == output::side::ALIGNMENT_ERROR
+                || k == output::side::CONTACT_DISTANCE
                 || (output::side::RETARGET_TARGETS..output::side::RETARGET_TARGETS + 15)
                     .contains(&k)
         }

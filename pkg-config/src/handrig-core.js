@@ -464,7 +464,7 @@ function createHandRigApi(raw, isReady) {
   }
 
   const KNOWN_FRAME_KEYS = [
-    "timeMs", "hands", "pose", "wrists", "torso", "body", "imageAspect", "landmarks", "worldLandmarks", "handedness",
+    "timeMs", "hands", "pose", "wrists", "torso", "body", "face", "imageAspect", "landmarks", "worldLandmarks", "handedness",
     "handednesses", "multiHandLandmarks", "multiHandWorldLandmarks", "multiHandedness",
     "leftHandLandmarks", "rightHandLandmarks", "poseWorldLandmarks", "poseLandmarks",
     "faceLandmarks", "image", "segmentationMask",
@@ -627,6 +627,31 @@ function createHandRigApi(raw, isReady) {
     input[LI.bodyPresent] = 1;
   }
 
+  // Face points from the body tracker that gives `wrists` (the model's own frame), for
+  // self-contact: `frame.face = { nose?, leftEye?, rightEye?, leftEar?, rightEar?, mouth? }`.
+  const FACE_POINTS = ["nose", "leftEye", "rightEye", "leftEar", "rightEar", "mouth"];
+  const FACE_FIELDS = FACE_POINTS.map((n) => `frame.face.${n}`);
+
+  function packFace(face, input) {
+    at("frame.face", -1, "");
+    if (!isObject(face) || Array.isArray(face)) {
+      fail("frame.face", `must be { nose?, leftEye?, rightEye?, leftEar?, rightEar?, mouth? } of [x, y, z], got ${describe(face)}`);
+    }
+    for (const key of Object.keys(face)) {
+      if (!FACE_POINTS.includes(key)) {
+        fail("frame.face", `unknown point ${JSON.stringify(key)} (expected ${FACE_POINTS.join(", ")})`);
+      }
+    }
+    for (let k = 0; k < FACE_POINTS.length; k++) {
+      at(FACE_FIELDS[k], -1, "");
+      const p = face[FACE_POINTS[k]];
+      if (p === undefined || p === null) continue;
+      const o = LI.face + k * LI.faceStride;
+      readVec3(p, FACE_FIELDS[k], input, o + LI.facePoint.position);
+      input[o + LI.facePoint.present] = 1;
+    }
+  }
+
   // The frame's timestamp, kept in a typed array rather than returned (a returned double is
   // boxed: an allocation per frame).
   const TIME = new Float64Array(1);
@@ -642,6 +667,7 @@ function createHandRigApi(raw, isReady) {
     for (let s = 0; s < 2; s++) input[LI.wrists + s * LI.wristStride + LI.wrist.present] = 0;
     for (let b = 0; b < TORSO_BONES.length; b++) input[LI.torso + b * LI.torsoStride + LI.torsoBone.present] = 0;
     input[LI.bodyPresent] = 0;
+    for (let k = 0; k < FACE_POINTS.length; k++) input[LI.face + k * LI.faceStride + LI.facePoint.present] = 0;
 
     const t = frame.timeMs;
     if (t === undefined || t === null) TIME[0] = 0;
@@ -700,6 +726,12 @@ function createHandRigApi(raw, isReady) {
     if (body !== undefined && body !== null) {
       found = true;
       packBody(body, input);
+    }
+
+    const face = frame.face;
+    if (face !== undefined && face !== null) {
+      found = true;
+      packFace(face, input);
     }
 
     if (!found) {
@@ -776,6 +808,16 @@ function createHandRigApi(raw, isReady) {
         a.error = Number.isNaN(err) ? null : err;
         a.reachable = out[at + S.reachable] === 1;
         a.aligned = out[at + S.aligned] === 1;
+        if (out[at + S.contactPresent] === 1) {
+          const c = cache.contact;
+          c.anchor = FACE_ANCHORS[out[at + S.contactAnchor]] ?? null;
+          c.weight = out[at + S.contactWeight];
+          const d = out[at + S.contactDistance];
+          c.distance = Number.isNaN(d) ? null : d;
+          c.handWeight = out[at + S.contactHandWeight];
+          c.push = out[at + S.contactPush];
+          a.contact = c;
+        } else a.contact = null;
         alignment[side] = a;
       } else if (side in alignment) delete alignment[side];
       const status = STATUS[out[at + S.handStatus]];
@@ -816,6 +858,7 @@ function createHandRigApi(raw, isReady) {
   }
 
   const HAND_USE = [null, "left", "right", "lowScore", "duplicate", "contradicted"];
+  const FACE_ANCHORS = ["nose", "chin", "mouth", "leftCheek", "rightCheek", "leftEar", "rightEar", "forehead"];
   const FINGERS = ["thumb", "index", "middle", "ring", "little"];
 
   // Five points (NaN for a finger the avatar lacks) into `dst.thumb` ... `dst.little`
@@ -885,7 +928,9 @@ function createHandRigApi(raw, isReady) {
           error: null,
           reachable: false,
           aligned: false,
+          contact: null,
         },
+        contact: { anchor: null, weight: 0, distance: null, handWeight: 0, push: 0 },
         hand: { status: "solved", score: 0, index: 0, reassigned: false },
         tips: fingerSet(),
         retarget: { targets: fingerSet(), scale: 0, iterations: 0, residual: 0 },
@@ -918,6 +963,24 @@ function createHandRigApi(raw, isReady) {
           fail(field, `must be one of ${d.values.map((v) => JSON.stringify(v)).join(", ")}, got ${describe(value)}`);
         }
         return value;
+      case "points": {
+        // { name: [x, y, z] | {x, y, z} } with names from d.names, normalized to arrays;
+        // null: none given (the default).
+        if (value === null) return null;
+        if (!isObject(value) || Array.isArray(value)) {
+          fail(field, `must be an object { ${d.names.join(", ")} } of [x, y, z] (meters), got ${describe(value)}`);
+        }
+        const out = {};
+        for (const key of Object.keys(value)) {
+          if (!d.names.includes(key)) {
+            fail(`${field}.${key}`, `unknown point (expected one of ${d.names.join(", ")})`);
+          }
+          const p = value[key];
+          if (p === undefined || p === null) continue;
+          out[key] = point3(p, `${field}.${key}`);
+        }
+        return out;
+      }
       case "number":
         if (value === null && d.default === null) return null;
         if (typeof value !== "number" || !Number.isFinite(value)) {
@@ -1185,6 +1248,28 @@ function createHandRigApi(raw, isReady) {
         throw new TypeError(`target: must be an object to fill with the result, got ${describe(result)}`);
       }
       return fillResult(result, this.#output, this.#input, this.#driven, this.#present);
+    }
+
+    /**
+     * The avatar's self-contact model at rest (meters, the model's own frame): `{ anchors: {
+     * nose, chin, mouth, leftCheek, rightCheek, leftEar, rightEar, forehead: [x, y, z] },
+     * headBreadth, colliders: { torso?, neck?: { a, b, radius }, head?: { center, radius } } }`
+     * (from `contact.faceAnchors` where given, derived from the rig elsewhere). Anchors
+     * relative to the head bone are `anchors[name] - restWorldPositions().head`.
+     */
+    contactModel() {
+      const v = this.#live("contactModel").contactModel();
+      const p = (k) => [v[k], v[k + 1], v[k + 2]];
+      const anchors = {};
+      FACE_ANCHORS.forEach((name, i) => (anchors[name] = p(3 * i)));
+      const colliders = {};
+      let k = 3 * FACE_ANCHORS.length + 1;
+      for (const name of ["torso", "neck"]) {
+        if (v[k] === 1) colliders[name] = { a: p(k + 1), b: p(k + 4), radius: v[k + 7] };
+        k += 8;
+      }
+      if (v[k] === 1) colliders.head = { center: p(k + 1), radius: v[k + 4] };
+      return { anchors, headBreadth: v[3 * FACE_ANCHORS.length], colliders };
     }
 
     /** `{ [boneName]: [x, y, z] }`: rest world positions, meters, the model's own frame. */

@@ -141,6 +141,17 @@ export type BodyJointInput =
 /** Joints from a body tracker with spine joints (used by `torso: "pose"`); left and right are the avatar's sides. */
 export type BodyInput = { [joint in BodyJointName]?: BodyJointInput | null };
 
+/** Face points from the body tracker that gives `wrists` (Azure Kinect: NOSE, EYE_*, EAR_*), meters, the model's own frame, sides by the avatar's sides. The face frame needs both eyes or both ears and a third point. */
+export interface FaceInput {
+  nose?: Vec3 | Landmark;
+  leftEye?: Vec3 | Landmark;
+  rightEye?: Vec3 | Landmark;
+  leftEar?: Vec3 | Landmark;
+  rightEar?: Vec3 | Landmark;
+  /** The middle of the mouth. */
+  mouth?: Vec3 | Landmark;
+}
+
 /** One frame of tracking. A MediaPipe result object may also be passed as the frame itself. */
 export interface Frame {
   /** Timestamp, milliseconds. Default 0. */
@@ -159,6 +170,8 @@ export interface Frame {
   torso?: TorsoInput;
   /** Body-tracker joints: the torso for `torso: "pose"` (preferred over the pose's). */
   body?: BodyInput;
+  /** Face points from the same tracker, for self-contact with tracker wrists (pose wrists use the pose's face landmarks). */
+  face?: FaceInput;
   /** Image width / height, used to scale image-only hand landmarks. Default 16/9. */
   imageAspect?: number;
 }
@@ -192,6 +205,47 @@ export interface AlignmentReport {
   reachable: boolean;
   /** Whether the avatar has the aligned finger (otherwise the IK wrist is the pose wrist). */
   aligned: boolean;
+  /** What self-contact did for this hand (null with `contact.enabled: false`); `targetDip` and `ikWrist` include it. */
+  contact: ContactReport | null;
+}
+
+/** A face anchor: a named place of the face contact maps between user and avatar. */
+export type FaceAnchorName =
+  | "nose"
+  | "chin"
+  | "mouth"
+  | "leftCheek"
+  | "rightCheek"
+  | "leftEar"
+  | "rightEar"
+  | "forehead";
+
+/** What self-contact retargeting did for one hand. */
+export interface ContactReport {
+  /** The face anchor nearest the user's fingertip (null: no face for this side's wrist source, or no hand). */
+  anchor: FaceAnchorName | null;
+  /** The face contact blend applied, 0 (plain alignment) to 1 (the fingertip mapped onto the avatar's face). */
+  weight: number;
+  /** Distance (m) from the avatar's fingertip (the aligned finger, after IK) to the avatar's anchor; null when unknown. */
+  distance: number | null;
+  /** The hand-to-hand contact blend applied, 0..1. */
+  handWeight: number;
+  /** How far the body colliders pushed the hand, meters. */
+  push: number;
+}
+
+/** The avatar's self-contact model at rest, meters, the model's own frame (`rig.contactModel()`). */
+export interface ContactModel {
+  /** The face anchors (from `contact.faceAnchors` where given, derived from the rig elsewhere). */
+  anchors: { [name in FaceAnchorName]: Vec3 };
+  /** Head breadth (ear to ear) the derived anchors assume, meters. */
+  headBreadth: number;
+  /** The body colliders (absent where dropped). */
+  colliders: {
+    torso?: { a: Vec3; b: Vec3; radius: number };
+    neck?: { a: Vec3; b: Vec3; radius: number };
+    head?: { center: Vec3; radius: number };
+  };
 }
 
 /** The tracked hand that drove one avatar side this frame. */
@@ -332,8 +386,37 @@ export interface HandRigOptions {
         /** How long a returning one blends in, ms. Default 250. */
         fadeInMs?: number;
       };
+  /** Self-contact retargeting: a finger on the face lands on the avatar's face, touching hands stay touching, hands stay out of the body. */
+  contact?:
+    | boolean
+    | {
+        /** Default true. */
+        enabled?: boolean;
+        /** Blend radius in head breadths (0.05..3): full contact mapping within half of it, plain alignment beyond it. Default 0.5. */
+        radius?: number;
+        /** Scale of the contact blend, 0..1. Default 1. */
+        weight?: number;
+        /** Hand-to-hand contact. Default true. */
+        hands?: boolean;
+        /** The avatar's face points, [x, y, z] meters from the head bone at rest in the model's axes (e.g. raycast on its mesh); missing ones are derived from the rig. */
+        faceAnchors?: { [name in FaceAnchorName]?: Vec3 | Landmark | null };
+        /** Body colliders push hand targets out of the avatar's torso, neck and head. Default true. */
+        colliders?: boolean;
+        /** Torso capsule radius, meters (0..2); unset = 0.6 x the shoulder half-width; 0 = none. */
+        torsoRadius?: number | null;
+        /** Head sphere radius, meters (0..2); unset = half the head breadth; 0 = none. */
+        headRadius?: number | null;
+        /** MediaPipe pose input: how much the tracked depth between fingertip and face counts (0..1); where on the face comes from the image. Default 0.1. */
+        depthTrust?: number;
+      };
   /** Dotted paths as `optionDescriptions()` spells them are accepted too: `{ "alignment.weight": 0.5 }`. */
-  [dottedPath: `${string}.${string}`]: boolean | number | string | null | undefined;
+  [dottedPath: `${string}.${string}`]:
+    | boolean
+    | number
+    | string
+    | null
+    | undefined
+    | { [name in FaceAnchorName]?: Vec3 | Landmark | null };
 }
 
 /** Offsets of the flat frame layout (`LAYOUT`): indices into the input and output Float32Arrays. See the README. */
@@ -376,6 +459,12 @@ export interface FlatLayout {
     readonly bodyPresent: number;
     readonly body: number;
     readonly bodyStride: number;
+    readonly face: number;
+    readonly faceStride: number;
+    readonly facePoint: {
+      readonly present: number;
+      readonly position: number;
+    };
   };
   readonly output: {
     readonly length: number;
@@ -405,6 +494,12 @@ export interface FlatLayout {
       readonly retargetScale: number;
       readonly retargetIterations: number;
       readonly retargetResidual: number;
+      readonly contactPresent: number;
+      readonly contactAnchor: number;
+      readonly contactWeight: number;
+      readonly contactDistance: number;
+      readonly contactHandWeight: number;
+      readonly contactPush: number;
     };
     readonly handUse: number;
   };
@@ -493,6 +588,14 @@ export type OptionDescription =
       default?: number | null;
       step: number;
       description: string;
+    }
+  | {
+      path: string;
+      /** An object of named points `{ name: [x, y, z] }`; no default (derived values apply). */
+      type: "points";
+      names: string[];
+      default: null;
+      description: string;
     };
 
 /** The solver for one avatar. Create once, `solve` every frame, `free()` when done. */
@@ -540,6 +643,8 @@ export declare class HandRig {
   calibrateHandScale(): { left: number | null; right: number | null };
   /** Rest world positions of the avatar's bones, meters, the model's own frame. */
   restWorldPositions(): BoneMap<Vec3>;
+  /** The avatar's self-contact model at rest: face anchors, head breadth, body colliders. */
+  contactModel(): ContactModel;
   /** The bones this avatar has, parent-first. */
   boneNames(): HumanBoneName[];
   /** "0" or "1": the VRM version the rig was built for. */

@@ -246,6 +246,12 @@ impl HandRig {
                         let dv = default.map_or(JsValue::NULL, |v| JsValue::from_f64(v as f64));
                         set(&o, "default", &dv);
                     }
+                    OptionKind::Points { names } => {
+                        set(&o, "type", &s("points"));
+                        let v: Array = names.iter().map(|v| s(v)).collect();
+                        set(&o, "names", &v);
+                        set(&o, "default", &JsValue::NULL);
+                    }
                 }
                 JsValue::from(o)
             })
@@ -301,6 +307,42 @@ impl HandRig {
                 },
             )
             .collect()
+    }
+
+    /// The avatar's self-contact model at rest (meters, the model's own frame), flat: the 8
+    /// face anchors `x y z` (nose, chin, mouth, leftCheek, rightCheek, leftEar, rightEar,
+    /// forehead), the head breadth, then the torso and neck capsules `[present, ax, ay, az,
+    /// bx, by, bz, radius]` and the head sphere `[present, cx, cy, cz, radius]`.
+    #[wasm_bindgen(js_name = contactModel)]
+    pub fn contact_model(&self) -> Vec<f32> {
+        use crate::contact::Shape;
+        let (anchors, shapes) = self.rig.contact().rest_model(self.rig.skeleton());
+        let mut v = Vec::with_capacity(8 * 3 + 1 + 8 + 8 + 5);
+        for a in anchors {
+            v.extend(self.rig.export_position(a).to_array());
+        }
+        v.push(self.rig.contact().face().size);
+        for (k, shape) in shapes.into_iter().enumerate() {
+            match shape {
+                Some(Shape::Capsule { a, b, radius }) => {
+                    v.push(1.0);
+                    v.extend(self.rig.export_position(a).to_array());
+                    v.extend(self.rig.export_position(b).to_array());
+                    v.push(radius);
+                }
+                Some(Shape::Sphere { center, radius }) => {
+                    v.push(1.0);
+                    v.extend(self.rig.export_position(center).to_array());
+                    v.push(radius);
+                }
+                None => {
+                    // Torso and neck (capsule slots) are 8 wide, the head sphere's 5.
+                    let width = if k < 2 { 8 } else { 5 };
+                    v.extend(std::iter::repeat_n(0.0, width));
+                }
+            }
+        }
+        v
     }
 
     /// Rest world positions, `3 * 55` numbers in `LAYOUT.bones` order (meters, the model's

@@ -235,10 +235,35 @@ export class Avatar {
     }
   }
 
+  /**
+   * Draws the rig's self-contact face anchors (`rig.contactModel()`): small spheres attached
+   * to the head bone, so they follow the head.
+   */
+  showContactModel(model) {
+    this.contactMarks?.removeFromParent();
+    const head = this.nodes.get("head");
+    const rest = this.rest.bones.head;
+    if (!model || !head || !rest) return;
+    const group = new THREE.Group();
+    group.name = "handrig-face-anchors";
+    const geo = new THREE.SphereGeometry(0.008 * this.armLength, 12, 8);
+    const mat = new THREE.MeshBasicMaterial({ color: 0x3bd5ff, depthTest: false, transparent: true, opacity: 0.85 });
+    for (const [name, p] of Object.entries(model.anchors)) {
+      const m = new THREE.Mesh(geo, mat);
+      m.name = name;
+      m.renderOrder = 10;
+      // Normalized bones have identity rest rotations: a rest offset is the local position.
+      m.position.set(p[0] - rest[0], p[1] - rest[1], p[2] - rest[2]);
+      group.add(m);
+    }
+    head.add(group);
+    this.contactMarks = group;
+  }
+
   /** Shows or hides the model's own meshes (the skeleton drawing stays). */
   setMeshesVisible(visible) {
     this.vrm.scene.traverse((o) => {
-      if (o.isMesh && !this.markers.children.includes(o)) o.visible = visible;
+      if (o.isMesh && !this.markers.children.includes(o) && o.parent !== this.contactMarks) o.visible = visible;
     });
   }
 

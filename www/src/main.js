@@ -255,7 +255,9 @@ function alignedFocus(result) {
 function optionsFor(key) {
   const o = structuredClone(demo.options ?? {});
   if (key === "without") {
+    // The plain view: no fingertip alignment and no self-contact.
     o.alignment = { ...(o.alignment ?? {}), enabled: false };
+    o.contact = { ...(o.contact ?? {}), enabled: false };
   }
   return o;
 }
@@ -274,8 +276,11 @@ function createRigs() {
   const rest = views.with.avatar.rest;
   for (const key of VIEW_KEYS) {
     views[key].rig = new HandRig(rest, optionsFor(key));
+    // The face anchors self-contact maps onto (with contact.faceAnchors where given).
+    views[key].avatar.showContactModel(views[key].rig.contactModel());
   }
   if (getPath(demo.options ?? {}, "torso") === "pose") torsoRig = new HandRig(rest, optionsFor("with"));
+  demo.contactModel = views.with.rig.contactModel();
   placement = recording?.placementFor(rest) ?? null;
 }
 

@@ -1,8 +1,9 @@
 // The options form, built from HandRig.optionDescriptions() rather than by hand, so options
 // the package gains (hand strategies, arm solvers, filters) appear without touching the page.
 //
-// A description is { path (or name): "alignment.weight", type: "boolean" | "enum" | "number",
-// values?, min?, max?, default, description }. Dotted paths become nested option objects:
+// A description is { path (or name): "alignment.weight", type: "boolean" | "enum" | "number" |
+// "points", values?, min?, max?, names?, default, description } ("points": an object of named
+// [x, y, z], edited as JSON text). Dotted paths become nested option objects:
 // "alignment.weight" -> { alignment: { weight } }. A number whose default is null (e.g. a preset
 // that is automatic unless set) gets an "auto" checkbox; while it is ticked the option is left
 // out so the package's own default applies.
@@ -158,6 +159,31 @@ export function buildOptionsPanel(form, descriptions, onChange) {
           out.textContent = v == null ? "auto" : fmt(v);
         },
       });
+    } else if (d.type === "points") {
+      // An object of named points { name: [x, y, z] } (d.names), typed as JSON; empty = unset.
+      const input = document.createElement("input");
+      input.type = "text";
+      input.name = path;
+      input.spellcheck = false;
+      input.placeholder = `{"${d.names?.[0] ?? "name"}": [0, 0.05, 0.1]}`;
+      input.title = `JSON: an object with any of ${(d.names ?? []).join(", ")}, each [x, y, z] in meters`;
+      input.addEventListener("change", () => {
+        const text = input.value.trim();
+        let v = null;
+        if (text !== "") {
+          try {
+            v = JSON.parse(text);
+          } catch {
+            input.classList.add("invalid");
+            return;
+          }
+        }
+        input.classList.remove("invalid");
+        values.set(path, v);
+        emit(path);
+      });
+      ctl.append(input);
+      controls.set(path, { set: (v) => (input.value = v == null ? "" : JSON.stringify(v)) });
     } else {
       // A type this page does not know yet: show it read-only rather than guess.
       const code = document.createElement("code");

@@ -48,6 +48,9 @@ describe("README options table", () => {
       } else if (d.type === "enum") {
         assert.equal(def, `\`"${d.default}"\``);
         assert.equal(values, d.values.map((v) => `\`"${v}"\``).join(", "));
+      } else if (d.type === "points") {
+        assert.equal(def, "unset");
+        assert.equal(values, d.names.map((v) => `\`${v}\``).join(", "));
       } else {
         assert.equal(def, d.default === null || d.default === undefined ? "unset" : `\`${num(d.default)}\``);
         assert.equal(values, `${num(d.min)} – ${num(d.max)}`);

@@ -50,6 +50,10 @@ function generatedSource() {
       ok(String(d.min));
       ok(String(d.max));
       bad('"0.5"', `${d.path} is a number`);
+    } else if (d.type === "points") {
+      ok("{}");
+      ok(`{ ${d.names.map((n) => `${n}: [0, 0.05, 0.1]`).join(", ")} }`);
+      bad('{ __not_a_name__: [0, 0, 0] }', `${d.path} takes only ${d.names.join(", ")}`);
     } else {
       throw new Error(`unknown option type ${d.type} for ${d.path}`);
     }

@@ -1,0 +1,485 @@
+//! Self-contact retargeting: a finger on the user's face lands on the avatar's face, touching
+//! hands stay touching, and hands stay out of the avatar's body.
+//!
+//! Fingertip alignment ([`crate::align`]) fixes the hand's length; seed 000 names the other
+//! cause of broken self-touch: "the distance from the neck to the front of the face", which
+//! is smaller on avatars (and face sizes differ). Plain alignment carries the user's finger
+//! relative to the shoulder; a finger on the user's nose then ends in front of, or inside,
+//! the avatar's face. Here the finger is carried relative to the **face** instead when it is
+//! near it:
+//!
+//! 1. **Face** ([`face`]): the user's fingertip (the aligned finger's tip: contact happens at
+//!    the tip, whatever `alignment.point` is) in the user's face frame, in head breadths; the
+//!    nearest face anchor at distance `e`; the tip warped onto the avatar's face frame
+//!    ([`face::warp`]: exact on the anchors). The avatar's fingertip target is
+//!    `plain + w (warped - plain)` with `w = contact.weight x blend(e, contact.radius)`
+//!    ([`face::blend`]: 1 within half the radius, 0 beyond it, smoothstep between), and the
+//!    hand (IK wrist and target DIP) moves by the same translation. The user's face frame is
+//!    built in the same space as the finger: pose face landmarks for pose wrists, the
+//!    tracker's face points (`frame.face`) for tracker wrists.
+//! 2. **Hands** ([`hands`]): both sides' targets together, after the face step.
+//! 3. **Body** ([`colliders`]): each hand pushed out of the torso, neck and head colliders,
+//!    times `1 - w` of its face contact (a finger on the face wins).
+//!
+//! Every step is continuous in the input and leaves the plain alignment target untouched
+//! beyond the radius. Nothing here keeps state between frames, and nothing allocates.
+//!
+//! ## Continuity bound
+//! Along a finger path, the target moves at most `1 + 3 g + 3 D / (r h)` times as far as the
+//! finger: the plain target moves with the finger (1), the warped one with the avatar's
+//! face size over the user's (`g`) times the warp's stretch (at most about 3: the anchor
+//! interpolation's gradient), and the blend adds its largest slope (3 / (r h): from 1 to 0
+//! over half the radius `r h` in meters) times the largest distance `D` between the warped
+//! and the plain target. `tests/contact.rs` checks it on approach paths to every anchor (the
+//! largest step measured is 0.8 of the bound).
+//!
+//! ## The avatar's head
+//! Face anchors and colliders are read from forward kinematics of the frame's rotations (the
+//! head and torso as they will be shown). Until the torso moves the head, the avatar's face
+//! stays at rest while the user's may turn: the mapping is relative to each face, so a finger
+//! on the user's turned cheek still lands on the avatar's cheek, but the hand keeps the
+//! user's world orientation and may then come at the avatar's face from an odd side.
+//!
+//! The avatar's face and colliders are attached to the head (and torso) bones and placed from
+//! forward kinematics of the frame's rotations, so they follow the head once it moves.
+
+pub mod colliders;
+pub mod face;
+pub mod hands;
+
+use glam::Vec3;
+use serde::Deserialize;
+
+use crate::bones::{Finger, HumanBone};
+use crate::error::{Error, Result};
+use crate::mediapipe::CameraMapping;
+use crate::skeleton::{Skeleton, WorldPose};
+
+pub use colliders::{BodyColliders, Shape};
+pub use face::{AvatarFace, FaceAnchor, FaceFrame, FacePoints, ImageFit, UserFace, ANCHORS};
+pub use hands::{HandPoints, Source, POINTS};
+
+/// Largest coordinate accepted in `contact.faceAnchors` (meters from the head bone).
+pub const MAX_ANCHOR_OFFSET: f32 = 10.0;
+
+/// Face anchors an app gives (JS: `contact.faceAnchors = { nose: [x, y, z], ... }`): meters,
+/// relative to the head bone at rest, in the model's own axes (VRM 0.x: its -Z-facing frame),
+/// e.g. found by raycasting the avatar's mesh. Each optional; missing ones are derived.
+///
+/// Read from JSON as an object whose keys are [`FaceAnchor`] names and whose values are
+/// `[x, y, z]` (or `null`); by hand through `serde_json::Value` rather than derived, which
+/// keeps the wasm smaller.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct FaceAnchorsOption {
+    points: [Option<[f32; 3]>; ANCHORS],
+}
+
+impl<'de> Deserialize<'de> for FaceAnchorsOption {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error as _;
+        let mut out = FaceAnchorsOption::default();
+        let map = match serde_json::Value::deserialize(d)? {
+            serde_json::Value::Null => return Ok(out),
+            serde_json::Value::Object(map) => map,
+            _ => {
+                return Err(D::Error::custom(
+                    "faceAnchors: expected an object of [x, y, z]",
+                ))
+            }
+        };
+        for (name, v) in &map {
+            let a = FaceAnchor::from_name(name).ok_or_else(|| {
+                D::Error::custom(format!("faceAnchors: unknown anchor \"{name}\""))
+            })?;
+            if v.is_null() {
+                continue;
+            }
+            let c = v
+                .as_array()
+                .filter(|c| c.len() == 3)
+                .and_then(|c| {
+                    let f = |k: usize| c[k].as_f64().map(|x| x as f32);
+                    Some([f(0)?, f(1)?, f(2)?])
+                })
+                .ok_or_else(|| {
+                    D::Error::custom(format!("faceAnchors.{name}: expected [x, y, z]"))
+                })?;
+            out.points[a.index()] = Some(c);
+        }
+        Ok(out)
+    }
+}
+
+impl FaceAnchorsOption {
+    /// The given anchor, as written (model axes).
+    #[must_use]
+    pub fn get(&self, a: FaceAnchor) -> Option<Vec3> {
+        self.points[a.index()].map(Vec3::from_array)
+    }
+
+    /// Sets an anchor (model axes).
+    pub fn set(&mut self, a: FaceAnchor, v: Option<Vec3>) {
+        self.points[a.index()] = v.map(|v| v.to_array());
+    }
+}
+
+/// Self-contact options (JS: `options.contact`).
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+pub struct ContactOptions {
+    /// Turn self-contact retargeting on (default) or off (plain alignment targets).
+    pub enabled: bool,
+    /// Blend radius in head breadths (the user's ear-to-ear distance, ~0.145 m): full
+    /// contact mapping within half of it, none beyond it. Default 0.5. Range 0.05..=3.
+    pub radius: f32,
+    /// 0..1 scale of the contact blend (0: plain alignment). Default 1.
+    pub weight: f32,
+    /// Hand-to-hand contact (touching hands stay touching). Default `true`.
+    pub hands: bool,
+    /// Face anchors of the avatar given by the app; missing ones derived from the rig
+    /// (`null` in JSON: none given).
+    pub face_anchors: FaceAnchorsOption,
+    /// Body colliders push hands out of the avatar's torso, neck and head. Default `true`.
+    pub colliders: bool,
+    /// Torso capsule radius (m); unset: derived from the shoulders; 0: no torso collider.
+    pub torso_radius: Option<f32>,
+    /// Head sphere radius (m); unset: half the head breadth; 0: no head collider.
+    pub head_radius: Option<f32>,
+    /// With MediaPipe pose input, how much the tracked depth between the fingertip and the
+    /// face counts (see [`face::pose_tip`]); 1 = as tracked. Tracker input always uses its
+    /// depth. Default 0.1.
+    pub depth_trust: f32,
+}
+
+impl Default for ContactOptions {
+    fn default() -> Self {
+        ContactOptions {
+            enabled: true,
+            radius: 0.5,
+            weight: 1.0,
+            hands: true,
+            face_anchors: FaceAnchorsOption::default(),
+            colliders: true,
+            torso_radius: None,
+            head_radius: None,
+            depth_trust: 0.1,
+        }
+    }
+}
+
+/// Range of `contact.radius` (head breadths).
+pub const RADIUS_RANGE: (f32, f32) = (0.05, 3.0);
+/// Largest `contact.torsoRadius` / `contact.headRadius` (m).
+pub const MAX_COLLIDER_RADIUS: f32 = 2.0;
+
+impl ContactOptions {
+    /// Checks ranges.
+    ///
+    /// # Errors
+    /// `radius` outside 0.05..=3, `weight` outside 0..=1, collider radii outside 0..=2 m,
+    /// anchor coordinates not finite or beyond 10 m (the field is named).
+    pub fn validate(&self) -> Result<()> {
+        if !(RADIUS_RANGE.0..=RADIUS_RANGE.1).contains(&self.radius) {
+            return Err(Error::invalid(
+                "options.contact.radius",
+                format!(
+                    "must be a number in {}..{} (head breadths)",
+                    RADIUS_RANGE.0, RADIUS_RANGE.1
+                ),
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.weight) {
+            return Err(Error::invalid(
+                "options.contact.weight",
+                "must be a number in 0..1",
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.depth_trust) {
+            return Err(Error::invalid(
+                "options.contact.depthTrust",
+                "must be a number in 0..1",
+            ));
+        }
+        for (name, r) in [
+            ("torsoRadius", self.torso_radius),
+            ("headRadius", self.head_radius),
+        ] {
+            if let Some(r) = r {
+                if !(0.0..=MAX_COLLIDER_RADIUS).contains(&r) {
+                    return Err(Error::invalid(
+                        format!("options.contact.{name}"),
+                        format!("must be a number in 0..{MAX_COLLIDER_RADIUS} (meters)"),
+                    ));
+                }
+            }
+        }
+        for a in FaceAnchor::ALL {
+            if let Some(p) = self.face_anchors.get(a) {
+                if !(p.is_finite() && p.abs().max_element() <= MAX_ANCHOR_OFFSET) {
+                    return Err(Error::invalid(
+                        format!("options.contact.faceAnchors.{}", a.as_str()),
+                        format!(
+                            "must be [x, y, z]: finite meters within {MAX_ANCHOR_OFFSET} of the head bone"
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What contact did for one side this frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactReport {
+    /// The face anchor nearest the user's fingertip (`None`: no face known for this side's
+    /// source, or no hand).
+    pub anchor: Option<FaceAnchor>,
+    /// The face blend applied, 0..1 (0: plain alignment).
+    pub weight: f32,
+    /// Distance (m) from the avatar's fingertip (the aligned finger, after IK) to the
+    /// avatar's `anchor`; NaN when unknown.
+    pub distance: f32,
+    /// The hand-to-hand blend applied, 0..1.
+    pub hand_weight: f32,
+    /// With hand-to-hand contact, where this hand meets the other, relative to its wrist
+    /// target (world axes; see [`hands::HandContact::meet`]).
+    pub hand_meet: Option<Vec3>,
+    /// How far the body colliders pushed the hand (m).
+    pub push: f32,
+}
+
+impl Default for ContactReport {
+    fn default() -> Self {
+        ContactReport {
+            anchor: None,
+            weight: 0.0,
+            distance: f32::NAN,
+            hand_weight: 0.0,
+            hand_meet: None,
+            push: 0.0,
+        }
+    }
+}
+
+/// One side's wrist target and contact points, as the rig's target stage hands them over.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SideTarget {
+    /// The wrist IK target; contact moves it.
+    pub wrist: Vec3,
+    /// The hand's points (a hand solved this frame), else only the wrist is pushed.
+    pub hand: Option<HandPoints>,
+}
+
+/// The user's face per source, built once per frame.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct UserFaces {
+    /// From pose landmarks (user space), for pose wrists.
+    pub pose: Option<UserFace>,
+    /// From the tracker's face points (internal frame), for tracker wrists.
+    pub tracker: Option<UserFace>,
+    /// The pose's image-to-space map, when the pose's image landmarks are given.
+    pub pose_image: Option<ImageFit>,
+    /// How MediaPipe input maps onto the avatar (for the pose's camera axes).
+    pub camera: CameraMapping,
+}
+
+impl UserFaces {
+    /// The face matching a wrist source.
+    #[must_use]
+    pub fn for_source(&self, source: Source) -> Option<&UserFace> {
+        match source {
+            Source::Pose => self.pose.as_ref(),
+            Source::Tracker => self.tracker.as_ref(),
+        }
+    }
+}
+
+/// The avatar's side of contact: its face and body colliders, derived once from the rig and
+/// the options.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactSolver {
+    options: ContactOptions,
+    face: AvatarFace,
+    colliders: BodyColliders,
+}
+
+impl ContactSolver {
+    /// The avatar's face ([`AvatarFace::from_rig`], with `options.faceAnchors`) and body
+    /// colliders ([`BodyColliders::from_rig`]). `options` should have passed
+    /// [`ContactOptions::validate`].
+    #[must_use]
+    pub fn new(skeleton: &Skeleton, options: &ContactOptions) -> Self {
+        let version = skeleton.version();
+        let given = FaceAnchor::ALL.map(|a| {
+            options
+                .face_anchors
+                .get(a)
+                .map(|p| version.position_to_internal(p))
+        });
+        let face = AvatarFace::from_rig(skeleton, &given);
+        let colliders =
+            BodyColliders::from_rig(skeleton, &face, options.torso_radius, options.head_radius);
+        ContactSolver {
+            options: *options,
+            face,
+            colliders,
+        }
+    }
+
+    /// The avatar's face (head-bone relative, internal frame).
+    #[must_use]
+    pub fn face(&self) -> &AvatarFace {
+        &self.face
+    }
+
+    /// The avatar's body colliders.
+    #[must_use]
+    pub fn colliders(&self) -> &BodyColliders {
+        &self.colliders
+    }
+
+    /// The options in force.
+    #[must_use]
+    pub fn options(&self) -> &ContactOptions {
+        &self.options
+    }
+
+    /// Anchor `a` of the avatar posed as `world` (internal frame).
+    #[must_use]
+    pub fn anchor_world(&self, a: FaceAnchor, world: &WorldPose) -> Vec3 {
+        let h = HumanBone::Head.index();
+        self.face
+            .anchor_world(a, world.position[h], world.rotation[h])
+    }
+
+    /// The avatar's anchors and colliders with the avatar at rest (internal frame): for
+    /// drawing them, and for apps checking the derived defaults.
+    #[must_use]
+    pub fn rest_model(&self, skeleton: &Skeleton) -> ([Vec3; ANCHORS], [Option<Shape>; 3]) {
+        let mut world = WorldPose::default();
+        skeleton.forward(
+            &[glam::Quat::IDENTITY; crate::bones::BONE_COUNT],
+            &mut world,
+        );
+        (
+            FaceAnchor::ALL.map(|a| self.anchor_world(a, &world)),
+            self.colliders.shapes(&world),
+        )
+    }
+
+    /// Moves both sides' wrist targets for contact (face, then hands, then body), filling
+    /// `reports` for every side with a target. `world` is the avatar posed by this frame's
+    /// rotations before the arms' IK (the head and torso as they will be shown); `finger`
+    /// the aligned finger, whose tip makes face contact. Allocates nothing.
+    pub fn solve(
+        &self,
+        finger: Finger,
+        faces: &UserFaces,
+        world: &WorldPose,
+        targets: &mut [Option<SideTarget>; 2],
+        reports: &mut [Option<ContactReport>; 2],
+    ) {
+        let o = &self.options;
+        let h = HumanBone::Head.index();
+        let avatar_frame = self.face.frame(world.position[h], world.rotation[h]);
+        let avatar_local = self.face.local_anchors();
+        let tip = 1 + finger.index();
+        for (target, report) in targets.iter_mut().zip(reports.iter_mut()) {
+            let Some(t) = target.as_mut() else {
+                *report = None;
+                continue;
+            };
+            let mut r = ContactReport::default();
+            if let Some(hand) = &t.hand {
+                if let (Some(user), Some(avatar_tip)) =
+                    (faces.for_source(hand.source), hand.avatar[tip])
+                {
+                    let user_tip = match hand.source {
+                        Source::Pose => face::pose_tip(
+                            user,
+                            hand.user[tip],
+                            hand.image_tip,
+                            faces.pose_image.as_ref(),
+                            faces.camera,
+                            o.depth_trust,
+                        ),
+                        Source::Tracker => hand.user[tip],
+                    };
+                    let local = user.frame.to_local(user_tip);
+                    let (anchor, e) = face::nearest(local, &user.anchors);
+                    let w = o.weight * face::blend(e, o.radius);
+                    r.anchor = Some(anchor);
+                    r.weight = w;
+                    if w > 0.0 {
+                        let warped = face::warp(local, &user.anchors, &avatar_local);
+                        let target_tip = avatar_frame.to_world(warped);
+                        let plain_tip = t.wrist + avatar_tip;
+                        let delta = w * (target_tip - plain_tip);
+                        if delta.is_finite() {
+                            t.wrist += delta;
+                        }
+                    }
+                }
+            }
+            *report = Some(r);
+        }
+
+        if o.hands {
+            if let [Some(l), Some(r)] = targets {
+                if let (Some(lh), Some(rh)) = (&l.hand, &r.hand) {
+                    let unit = faces
+                        .for_source(lh.source)
+                        .map_or(PALMS_PER_HEAD * 0.5 * (lh.user_palm + rh.user_palm), |f| {
+                            f.frame.size
+                        });
+                    if let Some(touch) =
+                        hands::solve(lh, l.wrist, rh, r.wrist, unit, o.radius, o.weight)
+                    {
+                        l.wrist += touch.shift[0];
+                        r.wrist += touch.shift[1];
+                        for (rep, meet) in reports.iter_mut().zip(touch.meet) {
+                            if let Some(rep) = rep {
+                                rep.hand_weight = touch.weight;
+                                rep.hand_meet = Some(meet);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+
+        if o.colliders {
+            let shapes = self.colliders.shapes(world);
+            for (target, report) in targets.iter_mut().zip(reports.iter_mut()) {
+                let Some(t) = target.as_mut() else { continue };
+                let c = &self.colliders;
+                let mut points = [(t.wrist, c.hand_margin); 3];
+                let mut n = 1;
+                if let Some(hand) = &t.hand {
+                    for (k, margin) in [(0, c.hand_margin), (tip, c.tip_margin)] {
+                        if let Some(a) = hand.avatar[k] {
+                            points[n] = (t.wrist + a, margin);
+                            n += 1;
+                        }
+                    }
+                }
+                // A finger on the face wins over the colliders: the push fades out as the
+                // face contact fades in (the hand's orientation comes from the user's, so
+                // while the avatar's head does not turn as the user's does, a hand touching
+                // the chin from below may graze the neck).
+                let face = report.as_ref().map_or(0.0, |r| r.weight);
+                let push = (1.0 - face) * self.colliders.push(&shapes, &points[..n]);
+                t.wrist += push;
+                if let Some(r) = report.as_mut() {
+                    r.push = push.length();
+                }
+            }
+        }
+    }
+}
+
+/// Head breadth over palm length on an adult (0.145 m / 0.09 m): the unit of the hand contact
+/// radius when no user face is known.
+pub const PALMS_PER_HEAD: f32 = HEAD_BREADTH_M / 0.09;
+const HEAD_BREADTH_M: f32 = face::HEAD_BREADTH;
