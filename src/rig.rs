@@ -447,8 +447,6 @@ impl Rig {
     /// hands, the elbow swivel, body-scale calibration): the next frame solves as if it were
     /// the first.
     pub fn reset(&mut self) {
-        self.hands.reset();
-        self.arms.reset();
         self.body.reset();
         self.torso.reset_calibration();
         self.restart_history();
@@ -457,6 +455,15 @@ impl Rig {
     /// The per-frame history of the filters and the easing (not calibration).
     fn restart_history(&mut self) {
         self.clock.reset();
+        self.new_session();
+    }
+
+    /// Everything carried from one frame to the next, but the clock (which already holds the
+    /// new session's first time) and calibration: a frame after a seek or a long gap solves
+    /// exactly as the first frame of a new rig.
+    fn new_session(&mut self) {
+        self.hands.reset();
+        self.arms.reset();
         self.hand_filters = [PointFilters::default(); 2];
         self.pose_filters.reset();
         self.wrist_filters = [WristFilter::default(); 2];
@@ -466,6 +473,9 @@ impl Rig {
         self.body_filters.reset();
         self.shoulder_turn_shown = [Quat::IDENTITY; 2];
         self.shoulder_turn_anchor = [Quat::IDENTITY; 2];
+        self.pose = None;
+        self.anchors = [None, None];
+        self.turn = None;
     }
 
     /// The avatar's skeleton.
@@ -540,9 +550,10 @@ impl Rig {
         let camera = self.options.camera();
         let dt = self.clock.advance(frame.time_ms);
         if dt.is_none() {
-            // A new session (first frame, time going back, a long gap): no blending across.
-            self.presence = [[Presence::default(); 3]; 2];
-            self.torso.restart();
+            // A new session (first frame, time going back, a long gap): no blending across,
+            // and no continuity either (the forearm's twist branch, the elbow swivel and the
+            // IK warm start are carried from the frame before, which is not this one's past).
+            self.new_session();
         }
         out.solved = [false; BONE_COUNT];
         out.ik_targets = [None, None];

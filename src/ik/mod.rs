@@ -458,6 +458,8 @@ impl ArmSolverState {
     /// branch, the warm start).
     pub fn reset(&mut self) {
         self.wrist = [None, None];
+        // The solvers start from what the last solve wrote (the shoulder turn among it).
+        self.pose = ArmPose::default();
         match &mut self.method {
             Method::TwoBone(s) => s.iter_mut().for_each(ArmIk::reset),
             Method::Fabrik(s) => s.iter_mut().for_each(ArmIk::reset),

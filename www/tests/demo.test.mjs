@@ -185,7 +185,12 @@ test("every control re-creates the rigs with its option, and the controls change
       const q = s.results.without.ikTargets.left.position;
       assert.ok(dist(q, [-p[0], p[1], p[2]]) < 1e-5, `mirrored wrist ${q} vs ${p}`);
     },
-    "alignment.enabled": (s) => assert.ok(Math.abs(s.errorMm.with.right - s.errorMm.without.right) < 1e-3, "with = without"),
+    // Alignment off: the finger misses its target as in the plain view (which has self-contact
+    // off too, so the two need not agree to the micrometer), far more than when aligned.
+    "alignment.enabled": (s) => {
+      const off = s.errorMm.with.right;
+      assert.ok(off > 1 && off > 20 * base.errorMm.with.right, `alignment off: ${off} mm, on: ${base.errorMm.with.right} mm`);
+    },
     "alignment.finger": (s) => assert.ok(dist(s.results.with.alignment.right.targetDip, base.results.with.alignment.right.targetDip) > 0.005, "another finger's target"),
     "alignment.point": (s) => assert.ok(dist(s.results.with.alignment.right.targetDip, base.results.with.alignment.right.targetDip) > 0.005, "tip target differs from DIP"),
     "alignment.weight": (s) => {

@@ -40,12 +40,13 @@ describe("the packed tarball", () => {
     const wasm = fs.readFileSync(path.join(installed, "wasm", "handrig_bg.wasm"));
     assert.ok(WebAssembly.validate(wasm));
     // Debug builds are several times larger; the release build is a few hundred KiB at most.
-    // Issue 10 budgeted 150 KiB gzipped; with chain IK, retargeting and filtering the release
-    // build measures 176 KiB at opt-level 3 (155 KiB at opt-level "s", 20-40% slower per
-    // frame, see the README): this ceiling catches growth beyond that.
+    // Issue 10 budgeted 150 KiB gzipped; with chain IK, retargeting, filtering, the torso and
+    // self-contact the release build measures 213.5 KiB at opt-level 3 (185 KiB at opt-level
+    // "s", 20-40% slower per frame; wasm-opt -Oz saves under 1 KiB; see the README): this
+    // ceiling catches growth beyond that.
     assert.ok(wasm.length < 1024 * 1024, `wasm is ${wasm.length} bytes`);
     const gzipped = zlib.gzipSync(wasm, { level: 9 }).length;
-    assert.ok(gzipped <= 200 * 1024, `wasm is ${(gzipped / 1024).toFixed(1)} KiB gzipped, over the 200 KiB ceiling`);
+    assert.ok(gzipped <= 224 * 1024, `wasm is ${(gzipped / 1024).toFixed(1)} KiB gzipped, over the 224 KiB ceiling`);
     const customSections = WebAssembly.Module.customSections(new WebAssembly.Module(wasm), "name");
     assert.equal(customSections.length, 0, "release wasm keeps no name section");
   });

@@ -79,10 +79,13 @@ describe("no garbage per frame", () => {
     });
     assert.ok(Number.isFinite(sink));
     // No objects or arrays per frame: the result and all its parts are reused. V8 still boxes
-    // a few numbers on the way (measured 100-165 bytes a frame: a handful of heap numbers,
-    // about one minor GC per 100,000 frames); a fresh result object would be over 10 KB.
+    // a few numbers on the way, how many depends on the JIT's state: 42-47 bytes a frame when
+    // this test runs alone, 263 after the flat test above has optimized the same packing and
+    // result code for frames without wrists (one "wrong map" deopt, then polymorphic code that
+    // inlines less; self-contact's report fields added ~100 of them). A fresh result object
+    // would be over 10 KB a frame.
     console.log(`# object API: ${perFrame.toFixed(0)} bytes allocated per frame (JS)`);
-    assert.ok(perFrame < 256, `the object API allocates ${perFrame.toFixed(0)} bytes a frame`);
+    assert.ok(perFrame < 320, `the object API allocates ${perFrame.toFixed(0)} bytes a frame`);
     rig.free();
   });
 

@@ -177,7 +177,7 @@ describe("bad torso input is an Error naming the field; the rig keeps working", 
 describe("the flat layout's torso and body sections", () => {
   it("LAYOUT names them, and writing them gives what the object API gives", () => {
     assert.deepEqual(LAYOUT.torsoBones, ["hips", "spine", "chest", "upperChest", "neck", "head", "leftShoulder", "rightShoulder"]);
-    assert.equal(LAYOUT.bodyJoints.length, (LAYOUT.input.length - LAYOUT.input.body) / LAYOUT.input.bodyStride);
+    assert.equal(LAYOUT.bodyJoints.length, (LAYOUT.input.face - LAYOUT.input.body) / LAYOUT.input.bodyStride);
     const bytes = readBytes(avatars.robot);
     const a = HandRig.fromVrm(bytes, { torso: "pose" });
     const b = HandRig.fromVrm(bytes, { torso: "pose" });

@@ -6,7 +6,9 @@
 //
 // Checked on the robot and the generated VRM 1.0 and 0.x fixtures: every wrist is finite and
 // within the avatar arm's reach of its upperArm (the scale maps the user's arm onto the
-// avatar's); the arms reach them (within the One Euro filter's lag); the avatar's left hand comes to its face around frames
+// avatar's); the arms reach them (within the One Euro filter's lag) where they are clear of
+// the avatar's body, and the hands stay out of its body colliders where they are not; the
+// avatar's left hand comes to its face around frames
 // 130-160 (the session's self-touch), nearer than the right hand and far nearer than in the
 // first 100 frames; each hand stays on its own side of the body; with `mirror` it is the right
 // hand that comes to the face.
@@ -23,6 +25,13 @@ import { avatars, fixtureVrms, shared } from "./support.mjs";
 const kinectPath = path.join(shared, "data", "pose", "kinect-upper-body.json");
 
 const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+/** The point of segment a-b nearest p. */
+function closestOnSegment(p, a, b) {
+  const ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+  const len2 = ab[0] ** 2 + ab[1] ** 2 + ab[2] ** 2;
+  const t = len2 > 0 ? Math.min(1, Math.max(0, ((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1] + (p[2] - a[2]) * ab[2]) / len2)) : 0;
+  return [a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]];
+}
 
 /** Runs the recipe for `vrmFile` (with `mirror` edited into the call when asked). */
 async function runRecipe(vrmFile, { mirror = false } = {}) {
@@ -75,12 +84,35 @@ describe("README: wrists from a body tracker, on the Kinect session", () => {
         }
       }
       // The arms reach their wrists: the hand joint where the recipe put it, but for the One
-      // Euro filter's lag on fast motion (default options).
+      // Euro filter's lag on fast motion (default options) and for self-contact's body
+      // colliders, which keep the hand out of the avatar's torso, neck and head (the avatar is
+      // at rest here, so the colliders are where `contactModel()` puts them). Where the user's
+      // wrist is clear of every collider by more than a hand, the hand reaches it; where it is
+      // near or inside one (the user's hand on their belly, at their face), the avatar's hand
+      // joint ends outside the colliders.
+      const { colliders } = rig.contactModel();
+      const shapes = Object.values(colliders);
+      assert.ok(shapes.length > 0, "the avatar has body colliders");
+      const clearance = (p) =>
+        Math.min(
+          ...shapes.map((c) => (c.center ? dist(p, c.center) : dist(p, closestOnSegment(p, c.a, c.b))) - c.radius),
+        );
+      const hand = 0.1 * arm("left");
       const misses = [];
+      let near = 0;
       for (const [i, f] of kinect.frames.entries()) {
         const w = wristsOf(f);
-        for (const side of ["left", "right"]) misses.push(dist(results[i].worldPositions[`${side}Hand`], w[side].position));
+        for (const side of ["left", "right"]) {
+          const got = results[i].worldPositions[`${side}Hand`];
+          if (clearance(w[side].position) > hand) misses.push(dist(got, w[side].position));
+          else {
+            near++;
+            assert.ok(clearance(got) > -0.005, `frame ${i} ${side}: the hand is ${-clearance(got)} m inside a collider`);
+          }
+        }
       }
+      // The session has both: hands away from the body, and hands on it (frames 120-170).
+      assert.ok(near > 20 && misses.length > 0.5 * kinect.frames.length, `${near} near the body, ${misses.length} clear`);
       misses.sort((a, b) => a - b);
       const [median, p95] = [misses[misses.length >> 1], misses[Math.floor(0.95 * misses.length)]];
       assert.ok(median < 0.005 && p95 < 0.1 * arm("left"), `hand to wrist: median ${median} m, p95 ${p95} m`);
