@@ -333,7 +333,7 @@ fn a_new_session_solves_like_a_new_rig() {
             // Every 7th frame, a seek: this frame again, five seconds on (then back in time
             // with the next frame: another new session).
             if i % 7 == 3 {
-                let mut seek = f.clone();
+                let mut seek = *f;
                 seek.time_ms = f.time_ms + 5000.0;
                 used.solve(&seek, &mut out).unwrap();
                 let mut fresh = rig(options.clone());
