@@ -233,6 +233,7 @@ fn synthetic(skel: &Skeleton, method: Synthetic, video: &[HandObservation]) -> E
         };
         let options = RigOptions {
             torso: source,
+            contact: no_contact(),
             ..RigOptions::per_frame()
         };
         let mut rig = Rig::new(skel.clone(), options).expect("rig");
@@ -359,6 +360,7 @@ fn noisy(skel: &Skeleton, amplitude: f32, video: &[HandObservation]) -> [Vec<f32
     for pose in torso_user::poses() {
         let options = RigOptions {
             torso: TorsoSource::Pose,
+            contact: no_contact(),
             ..RigOptions::default()
         };
         let mut rig = Rig::new(skel.clone(), options).expect("rig");
@@ -577,6 +579,7 @@ fn kinect_run(skel: &Skeleton, print_frames: bool) -> (Vec<TorsoRow>, Vec<f32>, 
         let options = RigOptions {
             torso: TorsoSource::Pose,
             mirror: side == Side::Left,
+            contact: no_contact(),
             ..RigOptions::default()
         };
         // A second rig with the same options and body input gives the torso alone: where the
@@ -637,6 +640,15 @@ fn kinect_run(skel: &Skeleton, print_frames: bool) -> (Vec<TorsoRow>, Vec<f32>, 
         }
     }
     (rows, errors, total)
+}
+
+/// Self-contact off: this measures alignment on the torso alone (self-contact moves the hand
+/// on purpose near the face and the body; `eval_contact` measures it).
+fn no_contact() -> handrig::contact::ContactOptions {
+    handrig::contact::ContactOptions {
+        enabled: false,
+        ..Default::default()
+    }
 }
 
 fn main() {
@@ -767,6 +779,7 @@ fn main() {
                 skel.clone(),
                 RigOptions {
                     torso: TorsoSource::Pose,
+                    contact: no_contact(),
                     ..RigOptions::default()
                 },
             )

@@ -125,6 +125,7 @@ struct Row {
     data: &'static str,
     avatar: &'static str,
     limits: bool,
+    contact: bool,
     m: Measure,
 }
 
@@ -154,9 +155,12 @@ fn main() {
     let mut rows = Vec::new();
     for (avatar, path) in avatars {
         let skel = recordings::vrm(path);
-        for limits in [false, true] {
+        for (limits, contact) in [(false, false), (true, false), (true, true)] {
             let mut options = RigOptions::default();
             options.arm.wrist_limits = limits;
+            // Self-contact off: this measures the limits and alignment alone (a hand in contact
+            // is turned about its touching point; `eval_contact` measures contact).
+            options.contact.enabled = contact;
             options.arm_solver = solver;
             // ASL: both sides of every clip.
             let mut m = Measure::default();
@@ -169,6 +173,7 @@ fn main() {
                 data: "asl (pose + hands, same person)",
                 avatar,
                 limits,
+                contact,
                 m,
             });
             // Kinect wrists + hand video, each side on its own rig.
@@ -188,6 +193,7 @@ fn main() {
                 data: "kinect wrists + hand video (mismatched)",
                 avatar,
                 limits,
+                contact,
                 m,
             });
         }
@@ -195,9 +201,9 @@ fn main() {
 
     let mut pass = true;
     println!();
-    println!("| data | avatar | wristLimits | hand-frames | bend median deg | p95 | max | beyond 90 deg | beyond the range | largest excess deg | hand turn per frame p99 / max deg | limited frames: arm re-solves mean / max | solve µs per frame | index distal to target DIP median / max mm |");
+    println!("| data | avatar | wristLimits | contact | hand-frames | bend median deg | p95 | max | beyond 90 deg | beyond the range | largest excess deg | hand turn per frame p99 / max deg | limited frames: arm re-solves mean / max | solve µs per frame | index distal to target DIP median / max mm |");
     println!(
-        "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+        "| --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
     );
     for r in &rows {
         let bends = stats::sorted(r.m.bends.clone());
@@ -224,14 +230,17 @@ fn main() {
             stats::percentile(&errors, 50.0),
             errors.last().copied().unwrap_or(f32::NAN),
         );
-        if r.limits && (beyond > 0 || !(err_med <= 1e-5 && err_max <= 2e-3)) {
+        // The acceptance is on the limits alone; with self-contact (on by default) a hand near
+        // the face or the other hand is moved on purpose, so alignment is not exact there.
+        if r.limits && !r.contact && (beyond > 0 || !(err_med <= 1e-5 && err_max <= 2e-3)) {
             pass = false;
         }
         println!(
-            "| {} | {} | `{}` | {} | {:.1} | {:.1} | {:.1} | {:.2}% ({}) | {:.2}% ({}) | {:.1} | {:.1} / {:.1} | {} | {:.1} | {:.4} / {:.4} |",
+            "| {} | {} | `{}` | `{}` | {} | {:.1} | {:.1} | {:.1} | {:.2}% ({}) | {:.2}% ({}) | {:.1} | {:.1} / {:.1} | {} | {:.1} | {:.4} / {:.4} |",
             r.data,
             r.avatar,
             r.limits,
+            r.contact,
             n,
             stats::percentile(&bends, 50.0).to_degrees(),
             stats::percentile(&bends, 95.0).to_degrees(),
