@@ -363,14 +363,17 @@ fn arm_frame(frame: usize, rig: &Rig, out: &SolveOutput, side: Side, target_dip:
     }
 }
 
-/// The arm options with the shoulder option off: the plain two-bone arm every solver
-/// shares, for comparing them given the same pole.
+/// The arm options with the shoulder option and the wrist limits off: the plain two-bone arm
+/// every solver shares, for comparing them given the same pole. (The wrist limits turn the
+/// hand against the forearm each solver ends on and solve again for the moved wrist, so with
+/// them the solvers' small differences of elbow swivel come back as different targets.)
 fn without_shoulder(solver: ArmSolver) -> RigOptions {
     let mut o = RigOptions {
         arm_solver: solver,
         ..RigOptions::per_frame()
     };
     o.arm.shoulder_angle = 0.0;
+    o.arm.wrist_limits = false;
     o
 }
 
