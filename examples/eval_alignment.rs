@@ -36,8 +36,9 @@
 //!   given to the rig as the wrist with alignment disabled. Frame 0 has no previous frame: it
 //!   only primes the vector and is not scored for this method (280 frames).
 //!
-//! Self-contact (`contact.enabled`) is off in every rig here: this eval measures alignment
-//! alone (`examples/eval_contact.rs` measures contact).
+//! Self-contact (`contact.enabled`) is off in every rig here, and so are the wrist limits in
+//! the method comparison: this eval measures alignment alone (`examples/eval_contact.rs`
+//! measures contact, `examples/eval_wrist.rs` the limits and alignment under them).
 //!
 //! Error: distance between the avatar's index distal joint by forward kinematics of the
 //! returned rotations and the target DIP `pose wrist + (hand DIP - hand wrist)` (MediaPipe
@@ -246,8 +247,13 @@ fn drive(
     options.mirror = side == Side::Left;
     options.alignment.enabled = method == Method::Aligned;
     // Alignment alone: self-contact's body colliders would move targets that come near the
-    // avatar's body (`examples/eval_contact.rs` measures contact).
+    // avatar's body (`examples/eval_contact.rs` measures contact), and the wrist limits turn
+    // the hand of this mismatched pairing (the hand video on the Kinect forearm, 97% of frames
+    // beyond the wrist's range) by up to 100 degrees, which moves the fingertip of the
+    // unaligned methods far from where they put it (`examples/eval_wrist.rs` measures the
+    // limits, and alignment under them).
     options.contact.enabled = false;
+    options.arm.wrist_limits = false;
     let cam = options.camera();
     let min_score = options.min_hand_score;
     let mut rig = Rig::new(skel.clone(), options).expect("rig");
