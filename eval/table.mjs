@@ -14,6 +14,9 @@
 // - cargo run --release --example eval_alignment: the avatar's index distal against the target
 //   DIP (Kinect wrists + the hand video, robot, right hand) per method and arm solver
 // - node eval/speed.mjs --json: time per frame in Node (wasm), Kalidokit in the same process
+// - cargo run --release --example eval_torso / eval_contact / eval_live / eval_wrist: the
+//   second table (the torso, self-contact, live tracking, the wrist limits), each figure with
+//   the same rig without the capability
 
 import { execFileSync } from "node:child_process";
 import { dirname, resolve } from "node:path";
@@ -93,3 +96,42 @@ for (const [name, dir, tip, pinch, limits, align, jitter, time] of rows) {
   console.log(`| ${name} | ${f(dir, 2)} | ${f(tip, 1)} | ${f(pinch, 2)} | ${limits ?? "–"} | ${f(align, 4)} | ${f(jitter, 2)} | ${f(time, 1)} |`);
 }
 console.log(`\nFull frame (ASL clips: pose and up to two hands) in Node: handrig object API ${f(us("handrig object API: full frame"))} µs, flat path ${f(us("handrig flat path: full frame"))} µs, Kalidokit Pose.solve + Hand.solve ${f(us("Kalidokit Pose.solve"))} µs (medians).`);
+
+// The capabilities that change more than the hand: each with and without it, from its own eval.
+const torsoOut = run("cargo", ["run", "--release", "--quiet", "--example", "eval_torso"]);
+const torsoRow = (avatar, prefix) =>
+  tableRows(torsoOut, ["avatar", "method", "median mm"]).find((r) => r.avatar === avatar && r.method.startsWith(prefix));
+const contactOut = run("cargo", ["run", "--release", "--quiet", "--example", "eval_contact"]);
+const contactRows = tableRows(contactOut, ["data", "avatar", "plain error median / p95 mm", "contact error median / p95 mm"]);
+const median = (xs) => [...xs].sort((a, b) => a - b)[xs.length >> 1];
+// Median over the ASL clips of each clip's median error (human-proportioned avatar).
+const contactMedian = (column) =>
+  median(
+    contactRows
+      .filter((r) => r.avatar === "human-proportions" && /^ASL \w+$/.test(r.data))
+      .map((r) => Number(r[`${column} median / p95 mm`].split("/")[0])),
+  );
+const liveOut = run("cargo", ["run", "--release", "--quiet", "--example", "eval_live"]);
+const jitter = tableRows(liveOut, ["data", "bones", "raw", "filtered"]).find((r) => r.data.startsWith("hand video"));
+const dropout = /(\d+(?:\.\d+)?) deg snapping[^,]*, (\d+(?:\.\d+)?) deg easing/.exec(liveOut);
+const handedness = tableRows(liveOut, ["labels", "handedness", "hands driven to the side the pose gives"]);
+const driven = (labels, policy) =>
+  handedness.find((r) => r.labels === labels && r.handedness === policy)?.["hands driven to the side the pose gives"];
+const wristOut = run("cargo", ["run", "--release", "--quiet", "--example", "eval_wrist"]);
+const wristRow = (limits) =>
+  tableRows(wristOut, ["data", "avatar", "wristLimits", "contact", "beyond the range"]).find(
+    (r) => r.data.startsWith("asl") && r.avatar === "debug-robot" && r.wristLimits === `\`${limits}\`` && r.contact === "`false`",
+  );
+
+const mm = (x) => (Number.isFinite(Number(x)) ? `${Number(x).toFixed(Number(x) < 1 ? 4 : 1)} mm` : "–");
+const capabilities = [
+  ["torso from the app (issue 12)", "index distal to target DIP, median: 12 leaning torsos x 8 frames, robot", mm(torsoRow("debug-robot", "app torso (frame.torso), tracker wrists")?.["median mm"]), `${mm(torsoRow("debug-robot", "same, torso not given")?.["median mm"])} (arms from a rest torso)`, "eval_torso"],
+  ["self-contact (issue 14)", "avatar fingertip to the expected face point, median over the ASL clips, human-proportioned", mm(contactMedian("contact error")), `${mm(contactMedian("plain error"))} (contact off)`, "eval_contact"],
+  ["One Euro filtering (issue 13)", "finger jitter, hand video, rad/s² (lag in frames)", `${jitter?.filtered} (lag ${jitter?.["lag (frames)"]})`, `${jitter?.raw} (filter off)`, "eval_live"],
+  ["dropout easing (issue 13)", "largest step of a hand bone over a 1 s loss, deg", dropout?.[2] ?? "–", `${dropout?.[1] ?? "–"} (snapping)`, "eval_live"],
+  ["handedness from the pose (issue 13)", "ASL hands driven to the pose's side, labels all swapped", driven("all swapped", "reassign") ?? "–", `${driven("all swapped", "trust") ?? "–"} (labels trusted)`, "eval_live"],
+  ["wrist limits (issue 15)", "ASL hand-frames beyond the wrist's range, robot", wristRow(true)?.["beyond the range"] ?? "–", `${wristRow(false)?.["beyond the range"] ?? "–"} (limits off)`, "eval_wrist"],
+];
+console.log("\n| capability | measure | handrig | without it | eval |");
+console.log("| --- | --- | ---: | ---: | --- |");
+for (const [name, measure, on, off, example] of capabilities) console.log(`| ${name} | ${measure} | ${on} | ${off} | \`${example}\` |`);
