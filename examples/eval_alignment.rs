@@ -136,14 +136,7 @@ fn kinect_to_avatar(j: [f32; 4]) -> Vec3 {
 
 /// Mean rest arm length (upper + lower) of the avatar's two arms.
 fn avatar_arm(skel: &Skeleton) -> f32 {
-    Side::BOTH
-        .iter()
-        .map(|s| {
-            let [_, _, lower, hand] = s.arm();
-            skel.rest_local(lower).length() + skel.rest_local(hand).length()
-        })
-        .sum::<f32>()
-        / 2.0
+    handrig::body::avatar_arm_length(skel)
 }
 
 /// Wrist-to-index-distal length over arm length: how big the avatar's hand is.

@@ -162,15 +162,9 @@ fn kinect_point(j: [f32; 4]) -> Vec3 {
     Vec3::new(-j[0], j[1], j[2])
 }
 
+/// Mean rest arm length (upper + lower) of the avatar's two arms.
 fn avatar_arm(skel: &Skeleton) -> f32 {
-    Side::BOTH
-        .iter()
-        .map(|s| {
-            let [_, _, lower, hand] = s.arm();
-            skel.rest_local(lower).length() + skel.rest_local(hand).length()
-        })
-        .sum::<f32>()
-        / 2.0
+    handrig::body::avatar_arm_length(skel)
 }
 
 fn kinect_samples(skel: &Skeleton) -> Vec<Sample> {

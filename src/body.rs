@@ -338,7 +338,8 @@ impl ArmAnchor {
 }
 
 /// Mean rest arm length (upper + lower) over the avatar's two arms, m (0 if it has none).
-fn avatar_arm_length(skeleton: &Skeleton) -> f32 {
+#[must_use]
+pub fn avatar_arm_length(skeleton: &Skeleton) -> f32 {
     let mut total = 0.0;
     let mut n = 0.0;
     for side in Side::BOTH {

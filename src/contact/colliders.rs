@@ -270,13 +270,5 @@ pub fn avatar_palm_length(skeleton: &Skeleton) -> f32 {
     if n > 0.0 && sum > 0.0 {
         return sum / n;
     }
-    let arm = Side::BOTH
-        .iter()
-        .map(|s| {
-            let [_, _, lower, hand] = s.arm();
-            skeleton.rest_local(lower).length() + skeleton.rest_local(hand).length()
-        })
-        .sum::<f32>()
-        / 2.0;
-    arm * 0.09 / 0.54
+    crate::body::avatar_arm_length(skeleton) * 0.09 / 0.54
 }

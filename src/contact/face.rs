@@ -494,14 +494,7 @@ impl AvatarFace {
     #[must_use]
     pub fn from_rig(skeleton: &Skeleton, given: &[Option<Vec3>; ANCHORS]) -> AvatarFace {
         let head = skeleton.rest_world(HumanBone::Head).unwrap_or(Vec3::ZERO);
-        let arm = Side::BOTH
-            .iter()
-            .map(|s| {
-                let [_, _, lower, hand] = s.arm();
-                skeleton.rest_local(lower).length() + skeleton.rest_local(hand).length()
-            })
-            .sum::<f32>()
-            / 2.0;
+        let arm = crate::body::avatar_arm_length(skeleton);
         let body = if arm.is_finite() && arm > 1e-4 {
             arm * HEAD_PER_ARM
         } else {
