@@ -1220,22 +1220,7 @@ impl Rig {
                     if !self.driven[i] {
                         return;
                     }
-                    if blend.capture {
-                        self.anchor[i] = self.shown[i];
-                    }
-                    let target = if blend.to_solved {
-                        out.local[i]
-                    } else {
-                        Quat::IDENTITY
-                    };
-                    let q = if blend.is_exact() {
-                        target
-                    } else if blend.weight <= 0.0 {
-                        self.anchor[i]
-                    } else {
-                        nlerp(self.anchor[i], target, blend.weight)
-                    };
-                    let q = if q.dot(self.shown[i]) < 0.0 { -q } else { q };
+                    let q = blend.show(out.local[i], &mut self.anchor[i], self.shown[i]);
                     out.local[i] = q;
                     self.shown[i] = q;
                 };

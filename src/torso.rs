@@ -820,22 +820,7 @@ impl TorsoSolver {
         let blend = self.presence[group as usize].update(now_ms, live, timing);
         for &(bone, target) in targets {
             let i = slot(bone);
-            if blend.capture {
-                self.anchor[i] = self.shown[i];
-            }
-            let target = if blend.to_solved {
-                target
-            } else {
-                Quat::IDENTITY
-            };
-            let q = if blend.is_exact() {
-                target
-            } else if blend.weight <= 0.0 {
-                self.anchor[i]
-            } else {
-                crate::rig::nlerp(self.anchor[i], target, blend.weight)
-            };
-            let q = if q.dot(self.shown[i]) < 0.0 { -q } else { q };
+            let q = blend.show(target, &mut self.anchor[i], self.shown[i]);
             self.shown[i] = if q.is_finite() { q } else { Quat::IDENTITY };
         }
     }

@@ -7,6 +7,7 @@
 //! caller captures it when told to), the target is this frame's solve while tracking is live
 //! and the rest pose (identity) while it is lost. Times are the frame's `timeMs`.
 
+use glam::Quat;
 use serde::Deserialize;
 
 use crate::error::{Error, Result};
@@ -96,6 +97,33 @@ impl Blend {
     #[must_use]
     pub fn is_exact(&self) -> bool {
         self.weight >= 1.0
+    }
+
+    /// The rotation to show for one bone of the group: `solved` (or rest, identity) eased in
+    /// from `anchor`, which is first set to `shown` (last frame's rotation) on a capture; in
+    /// the hemisphere of `shown`, so the rotation never takes the long way round.
+    #[must_use]
+    pub fn show(&self, solved: Quat, anchor: &mut Quat, shown: Quat) -> Quat {
+        if self.capture {
+            *anchor = shown;
+        }
+        let target = if self.to_solved {
+            solved
+        } else {
+            Quat::IDENTITY
+        };
+        let q = if self.is_exact() {
+            target
+        } else if self.weight <= 0.0 {
+            *anchor
+        } else {
+            crate::rig::nlerp(*anchor, target, self.weight)
+        };
+        if q.dot(shown) < 0.0 {
+            -q
+        } else {
+            q
+        }
     }
 }
 
