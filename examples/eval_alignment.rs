@@ -37,7 +37,7 @@
 //!   only primes the vector and is not scored for this method (280 frames).
 //!
 //! Self-contact (`contact.enabled`) is off in every rig here, and so are the wrist limits in
-//! the method comparison: this eval measures alignment alone (`examples/eval_contact.rs`
+//! the method comparison and in the solvers' agreement: this eval measures alignment alone (`examples/eval_contact.rs`
 //! measures contact, `examples/eval_wrist.rs` the limits and alignment under them).
 //!
 //! Error: distance between the avatar's index distal joint by forward kinematics of the
@@ -240,13 +240,8 @@ fn drive(
     options.mirror = side == Side::Left;
     options.alignment.enabled = method == Method::Aligned;
     // Alignment alone: self-contact's body colliders would move targets that come near the
-    // avatar's body (`examples/eval_contact.rs` measures contact), and the wrist limits turn
-    // the hand of this mismatched pairing (the hand video on the Kinect forearm, 97% of frames
-    // beyond the wrist's range) by up to 100 degrees, which moves the fingertip of the
-    // unaligned methods far from where they put it (`examples/eval_wrist.rs` measures the
-    // limits, and alignment under them).
+    // avatar's body (`examples/eval_contact.rs` measures contact).
     options.contact.enabled = false;
-    options.arm.wrist_limits = false;
     let cam = options.camera();
     let min_score = options.min_hand_score;
     let mut rig = Rig::new(skel.clone(), options).expect("rig");
@@ -301,12 +296,18 @@ fn run(skel: &Skeleton, session: &Session, side: Side, method: Method) -> (Vec<f
     let distal = side.finger(Finger::Index)[2];
     let mut errors = Vec::new();
     let mut total = 0;
+    // The wrist limits off: they turn the hand of this mismatched pairing (the hand video on
+    // the Kinect forearm, 97% of frames beyond the wrist's range) by up to 100 degrees, which
+    // moves the fingertip of the unaligned methods far from where they put it
+    // (`examples/eval_wrist.rs` measures the limits, and alignment under them).
+    let mut options = RigOptions::per_frame();
+    options.arm.wrist_limits = false;
     let held = drive(
         skel,
         session,
         side,
         method,
-        RigOptions::per_frame(),
+        options,
         |i, _, out, target_dip| {
             if method == Method::Late && i == 0 {
                 // No previous frame yet: frame 0 only primes the late vector (a live app has
