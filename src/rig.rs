@@ -1014,8 +1014,9 @@ impl Rig {
 
     /// Stage 6b: self-contact for both sides together ([`crate::contact`]): the targets move
     /// so that a finger on the user's face lands on the avatar's, touching hands stay
-    /// touching, and hands stay out of the avatar's body. Runs forward kinematics of this
-    /// frame's rotations first (the head and torso where they will be shown).
+    /// touching, and hands stay out of the avatar's body. Reads the head and torso where they
+    /// will be shown from the torso stage's forward kinematics (`out.world`; nothing between
+    /// moves them: the hands and arms are below).
     fn contact_targets(
         &mut self,
         frame: &FrameInput,
@@ -1035,7 +1036,6 @@ impl Rig {
         if targets.iter().all(Option::is_none) {
             return;
         }
-        self.skeleton.forward(&out.local, &mut out.world);
         let needs = |source: Source| {
             targets
                 .iter()
