@@ -53,6 +53,10 @@ before(async () => {
   env = await launch({ fakeCamera: camera });
   ({ page, errors } = await openDemo(env));
   armLength = await page.evaluate(() => window.__handrigDemo.avatar.armLength);
+  // One Euro filtering off: at the few frames a second MediaPipe delivers here, the filter
+  // smooths each step by a third or more, so the avatar would lag the frame it is checked on.
+  await page.locator('#options .opt[data-path="filter.enabled"] input[type=checkbox]').setChecked(false);
+  await page.waitForFunction(() => window.__handrigDemo.options?.filter?.enabled === false);
   await installWebcamLog(page, { width: WIDTH });
   await startWebcam(page, "holistic");
 });
@@ -124,8 +128,19 @@ test("holistic mode: the signer's right hand drives the avatar's right hand, and
   const r = pearson(pairs.map(([h]) => landmarkCurl(h.worldLandmarks)), pairs.map((p) => p[1]));
   console.log(`# holistic fingers (image landmarks only) vs the shared recording's world landmarks: r = ${r.toFixed(2)} over ${pairs.length} frames`);
   // Holistic's image-only hands through handrig's image path against another MediaPipe's world
-  // landmarks, over a narrow range of bends (about 25-60 degrees): a loose bound.
-  assert.ok(pairs.length >= 8 && r > 0.3, `the avatar's finger bend follows the recorded one: r = ${r.toFixed(2)} over ${pairs.length} frames`);
+  // landmarks, over a narrow range of bends (about 25-60 degrees), on the frames MediaPipe gets
+  // to in real time (they differ run to run): a loose bound. Measured 0.48-0.84 with filtering
+  // off; with the One Euro filter on, 0.17-0.41 (it smooths each of these sparse frames' steps
+  // by a third or more).
+  assert.ok(pairs.length >= 8 && r > 0.2, `the avatar's finger bend follows the recorded one: r = ${r.toFixed(2)} over ${pairs.length} frames`);
+  // And the hand handrig was given (Holistic's image landmarks of the same frame): measured
+  // 0.61-0.96 (the image landmarks' depth is coarse, and the sample small).
+  // Frames whose right hand was solved in the frame before as well: a hand that comes back
+  // blends in from the pose it was shown in (dropout easing) and lags its input on purpose.
+  const followed = log.filter((l, i) => l.right === "solved" && l.inputCurlRight != null && log[i - 1]?.right === "solved");
+  const rInput = pearson(followed.map((l) => l.inputCurlRight), followed.map((l) => l.curlRight));
+  console.log(`# holistic fingers: avatar vs its input hand, r = ${rInput.toFixed(2)} over ${followed.length} frames`);
+  assert.ok(followed.length >= 8 && rInput > 0.4, `the avatar's finger bend follows its input: r = ${rInput.toFixed(2)} over ${followed.length} frames`);
 });
 
 test("holistic mode: the arm follows the pose: the right hand rises to the face in `eat` and comes back down", async () => {

@@ -50,6 +50,26 @@ export async function installWebcamLog(page, { width }) {
         return s / (fingers.length * segments.length);
       };
       const pos = (r, bone) => (r.worldPositions[bone] ? [...r.worldPositions[bone]] : null);
+      // The bend of the input hand that drove `side` (image landmarks, x and z in the image's
+      // height units), as landmarkCurl measures it: what the avatar's fingers should follow.
+      const inputCurl = (frame, result, side) => {
+        const i = result?.hands?.[side]?.index;
+        const lm = Array.isArray(frame.hands) && i != null && i >= 0 ? frame.hands[i]?.landmarks : null;
+        if (!lm || lm.length !== 21) return null;
+        const a = frame.imageAspect ?? 1;
+        const p = (k) => (Array.isArray(lm[k]) ? [lm[k][0] * a, lm[k][1], lm[k][2] * a] : [lm[k].x * a, lm[k].y, lm[k].z * a]);
+        const sub = (u, v) => [u[0] - v[0], u[1] - v[1], u[2] - v[2]];
+        const between = (u, v) => {
+          const c = (u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (Math.hypot(...u) * Math.hypot(...v));
+          return (Math.acos(Math.max(-1, Math.min(1, c))) * 180) / Math.PI;
+        };
+        let s = 0;
+        for (const base of [5, 9, 13, 17]) {
+          const chain = [p(0), p(base), p(base + 1), p(base + 2), p(base + 3)];
+          for (let j = 1; j < 4; j++) s += between(sub(chain[j], chain[j - 1]), sub(chain[j + 1], chain[j]));
+        }
+        return s / 12;
+      };
       window.__freezeAt = null;
       window.__frozenTag = null;
       d.onWebcamFrame = (info, frame, result) => {
@@ -70,6 +90,7 @@ export async function installWebcamLog(page, { width }) {
           left: result?.hands?.left?.status ?? null,
           curlRight: result ? curl(result.bones, "right") : null,
           curlLeft: result ? curl(result.bones, "left") : null,
+          inputCurlRight: inputCurl(frame, result, "right"),
           rightHand: result ? pos(result, "rightHand") : null,
           rightIndexDistal: result ? pos(result, "rightIndexDistal") : null,
           leftHand: result ? pos(result, "leftHand") : null,
