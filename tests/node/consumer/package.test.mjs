@@ -41,7 +41,7 @@ describe("the packed tarball", () => {
     assert.ok(WebAssembly.validate(wasm));
     // Debug builds are several times larger; the release build is a few hundred KiB at most.
     // Issue 10 budgeted 150 KiB gzipped; with chain IK, retargeting, filtering, the torso and
-    // self-contact the release build measures 213.5 KiB at opt-level 3 (185 KiB at opt-level
+    // self-contact the release build measures 213.2 KiB at opt-level 3 (185 KiB at opt-level
     // "s", 20-40% slower per frame; wasm-opt -Oz saves under 1 KiB; see the README): this
     // ceiling catches growth beyond that.
     assert.ok(wasm.length < 1024 * 1024, `wasm is ${wasm.length} bytes`);
