@@ -168,6 +168,29 @@ fn side_field(out: &[f32], side: Side, field: usize) -> f32 {
     out[output::SIDES + side.index() * output::SIDE_STRIDE + field]
 }
 
+/// The wasm memory's size (bytes) and the allocation count: what a per-frame loop must leave
+/// unchanged.
+fn heap_mark() -> (u32, usize) {
+    let memory: WebAssembly::Memory = HandRig::memory().unchecked_into();
+    let bytes = memory
+        .buffer()
+        .unchecked_into::<js_sys::ArrayBuffer>()
+        .byte_length();
+    (bytes, ALLOCATIONS.load(Ordering::SeqCst))
+}
+
+/// Asserts that nothing was allocated and wasm memory did not grow since `mark`.
+fn assert_no_allocation_since(mark: (u32, usize)) {
+    let (bytes, allocations) = heap_mark();
+    assert_eq!(
+        allocations - mark.1,
+        0,
+        "solveFlat allocated {} times",
+        allocations - mark.1
+    );
+    assert_eq!(bytes, mark.0, "wasm memory grew");
+}
+
 #[wasm_bindgen_test]
 fn constructs_from_flat_rest_positions_in_the_model_frame() {
     for version in [0u8, 1] {
@@ -423,7 +446,6 @@ fn degenerate_hands_are_reported_held_or_skipped() {
 fn the_flat_path_allocates_nothing_per_frame() {
     let frames: Vec<FrameInput> = (0..60).map(|i| recording_frame(i * 10)).collect();
     let mut rig = HandRig::from_vrm(ROBOT, None).unwrap();
-    let memory: WebAssembly::Memory = HandRig::memory().unchecked_into();
     let mut bufs: Vec<Vec<f32>> = frames
         .iter()
         .map(|f| {
@@ -441,30 +463,16 @@ fn the_flat_path_allocates_nothing_per_frame() {
         input_view.copy_from(b);
         assert_eq!(rig.solve_flat(0.0), 0);
     }
-    let bytes = memory
-        .buffer()
-        .unchecked_into::<js_sys::ArrayBuffer>()
-        .byte_length();
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    let mark = heap_mark();
     for (i, b) in bufs.iter().cycle().take(600).enumerate() {
         input_view.copy_from(b);
         assert_eq!(rig.solve_flat(i as f64 * 33.3), 0);
     }
-    let after = ALLOCATIONS.load(Ordering::SeqCst);
-    assert_eq!(
-        after - before,
-        0,
-        "solveFlat allocated {} times",
-        after - before
-    );
-    let now = memory
-        .buffer()
-        .unchecked_into::<js_sys::ArrayBuffer>()
-        .byte_length();
-    assert_eq!(now, bytes, "wasm memory grew");
+    assert_no_allocation_since(mark);
     // The frames were solved (the count is not vacuous): the last one moved the fingers.
     assert_eq!(flag(&read_output(&rig), HumanBone::RightIndexDistal), 1.0);
     // The counter sees allocations at all.
+    let after = ALLOCATIONS.load(Ordering::SeqCst);
     let probe = std::hint::black_box(vec![0u8; 64]);
     assert!(ALLOCATIONS.load(Ordering::SeqCst) > after && probe.len() == 64);
 }
@@ -475,7 +483,6 @@ fn the_flat_path_allocates_nothing_per_frame() {
 fn the_torso_sections_drive_the_torso_without_allocating() {
     use handrig::torso::{BodyJoint, TORSO_BONES};
     let mut rig = HandRig::from_vrm(ROBOT, Some(r#"{"torso":"pose"}"#.into())).unwrap();
-    let memory: WebAssembly::Memory = HandRig::memory().unchecked_into();
     let joints = [
         (BodyJoint::Hips, [0.0, 1.0, 0.0]),
         (BodyJoint::LeftUpperLeg, [0.09, 1.0, 0.02]),
@@ -517,11 +524,7 @@ fn the_torso_sections_drive_the_torso_without_allocating() {
     }
     assert!(rotation(&out, HumanBone::Spine).abs_diff_eq(Quat::from_rotation_x(0.2), 1e-6));
     assert!(rotation(&out, HumanBone::Chest).angle_between(Quat::IDENTITY) > 0.05);
-    let bytes = memory
-        .buffer()
-        .unchecked_into::<js_sys::ArrayBuffer>()
-        .byte_length();
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    let mark = heap_mark();
     for i in 0..300 {
         // Every third frame the shoulders are lost (held, then eased).
         let c = if i % 3 == 0 { 0.0 } else { 0.9 };
@@ -531,16 +534,5 @@ fn the_torso_sections_drive_the_torso_without_allocating() {
         input_view.copy_from(&buf);
         assert_eq!(rig.solve_flat(i as f64 * 33.3), 0);
     }
-    let after = ALLOCATIONS.load(Ordering::SeqCst);
-    assert_eq!(
-        after - before,
-        0,
-        "solveFlat allocated {} times",
-        after - before
-    );
-    let now = memory
-        .buffer()
-        .unchecked_into::<js_sys::ArrayBuffer>()
-        .byte_length();
-    assert_eq!(now, bytes, "wasm memory grew");
+    assert_no_allocation_since(mark);
 }
