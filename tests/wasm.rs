@@ -250,7 +250,7 @@ fn solves_a_real_frame_through_the_memory_views() {
     // Finite everywhere but where NaN means "none": an unknown alignment error or contact
     // distance, and the retargeting targets of the analytic strategy.
     let nan_ok = |i: usize| {
-        i >= output::SIDES && i < output::HAND_USE && {
+        (output::SIDES..output::HAND_USE).contains(&i) && {
             let k = (i - output::SIDES) % output::SIDE_STRIDE;
             k == output::side::ALIGNMENT_ERROR
                 || k == output::side::CONTACT_DISTANCE
