@@ -22,8 +22,6 @@
 
 use glam::Vec3;
 
-use crate::solve::least_squares::{minimize, Model, Objective, Settings};
-
 /// An orthonormal basis; `z` is the pole.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Basis {
@@ -161,50 +159,85 @@ fn residuals(
     (r, j)
 }
 
-/// [`fit`]'s objective: the residuals of [`residuals`], unweighted.
-struct BaseFit<'a> {
-    basis: &'a Basis,
-    kind: Kind,
-    targets: &'a Targets,
+/// Half the sum of squared residuals at `(lon, colat)`, with the Gauss-Newton normal
+/// equations `J'J` (symmetric: `[a, b, c]` for `[[a, b], [b, c]]`) and `J'r` when `normal`.
+fn cost(basis: &Basis, kind: Kind, t: &Targets, x: [f32; 2]) -> (f32, [f32; 3], [f32; 2]) {
+    let (r, j) = residuals(basis, kind, t, x[0], x[1]);
+    let mut jtj = [0.0_f32; 3];
+    let mut jtr = [0.0_f32; 2];
+    let mut sum = 0.0_f32;
+    for (r, j) in r.iter().zip(&j) {
+        sum += r * r;
+        jtj[0] += j[0] * j[0];
+        jtj[1] += j[0] * j[1];
+        jtj[2] += j[1] * j[1];
+        jtr[0] += j[0] * r;
+        jtr[1] += j[1] * r;
+    }
+    (0.5 * sum, jtj, jtr)
 }
 
-impl Objective<2> for BaseFit<'_> {
-    fn evaluate(&mut self, x: &[f32; 2], model: Option<&mut Model<2>>) -> f32 {
-        let (r, j) = residuals(self.basis, self.kind, self.targets, x[0], x[1]);
-        match model {
-            Some(m) => r
-                .iter()
-                .zip(&j)
-                .map(|(r, j)| m.add_scalar(1.0, *r, j))
-                .sum(),
-            None => 0.5 * r.iter().map(|x| x * x).sum::<f32>(),
-        }
-    }
-}
+/// Largest Gauss-Newton iterations of [`fit`].
+const FIT_ITERATIONS: u32 = 20;
+/// [`fit`] stops when a step moves neither angle by more than this (radians).
+const FIT_TOLERANCE: f32 = 1e-4;
+/// Step halvings [`fit`]'s line search tries before it stops.
+const FIT_BACKTRACKS: u32 = 12;
+/// Sufficient decrease (Armijo) of [`fit`]'s line search.
+const FIT_ARMIJO: f32 = 1e-4;
 
 /// Least-squares base angles: the base direction and hinge plane that best explain all
 /// segments (base segment direction, hinge segments' distance from the hinge plane).
-/// Gauss-Newton ([`crate::solve::least_squares`], unbounded) from the base segment's own
-/// direction; where the data cannot fix both angles (a singular model) that start is kept.
+/// Gauss-Newton with an Armijo line search on the two angles (unbounded: the angles are
+/// clamped to anatomical limits afterwards), from the base segment's own direction; where the
+/// data cannot fix both angles (a singular model) that start is kept. A step below
+/// [`FIT_TOLERANCE`] is taken without a further evaluation. The general bounded solver
+/// ([`crate::solve::least_squares`], which the retargeting uses) reaches the same angles; this
+/// closed-form 2 x 2 one costs a fraction of it every frame.
 pub fn fit(basis: &Basis, kind: Kind, t: &Targets) -> (f32, f32) {
     let (lon, colat) = basis.spherical(t.dir[0]);
     let mut x = [lon, colat];
-    let mut objective = BaseFit {
-        basis,
-        kind,
-        targets: t,
-    };
-    let settings = Settings {
-        max_iterations: 20,
-        step_tolerance: 1e-4,
-    };
-    minimize(
-        &mut objective,
-        &mut x,
-        &[f32::NEG_INFINITY; 2],
-        &[f32::INFINITY; 2],
-        &settings,
-    );
+    let (mut cost_x, mut jtj, mut jtr) = cost(basis, kind, t, x);
+    if !cost_x.is_finite() {
+        return (lon, colat);
+    }
+    for _ in 0..FIT_ITERATIONS {
+        // Solve J'J s = -J'r (Cramer's rule in f64: the 2 x 2 system can be ill-conditioned).
+        let [a, b, c] = jtj.map(f64::from);
+        let det = a * c - b * b;
+        if !(det > 1e-12 * (a + c) * (a + c)) {
+            break;
+        }
+        let (g0, g1) = (f64::from(jtr[0]), f64::from(jtr[1]));
+        let step = [
+            ((-c * g0 + b * g1) / det) as f32,
+            ((b * g0 - a * g1) / det) as f32,
+        ];
+        let size = step[0].abs().max(step[1].abs());
+        if !size.is_finite() {
+            break;
+        }
+        if size <= FIT_TOLERANCE {
+            x = [x[0] + step[0], x[1] + step[1]];
+            break;
+        }
+        let slope = jtr[0] * step[0] + jtr[1] * step[1];
+        let mut alpha = 1.0_f32;
+        let mut accepted = false;
+        for _ in 0..FIT_BACKTRACKS {
+            let trial = [x[0] + alpha * step[0], x[1] + alpha * step[1]];
+            let (c, m, g) = cost(basis, kind, t, trial);
+            if c.is_finite() && c <= cost_x + FIT_ARMIJO * alpha * slope {
+                (x, cost_x, jtj, jtr) = (trial, c, m, g);
+                accepted = true;
+                break;
+            }
+            alpha *= 0.5;
+        }
+        if !accepted || alpha * size <= FIT_TOLERANCE {
+            break;
+        }
+    }
     (x[0], x[1])
 }
 
