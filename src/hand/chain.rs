@@ -205,7 +205,7 @@ pub fn fit(basis: &Basis, kind: Kind, t: &Targets) -> (f32, f32) {
         // Solve J'J s = -J'r (Cramer's rule in f64: the 2 x 2 system can be ill-conditioned).
         let [a, b, c] = jtj.map(f64::from);
         let det = a * c - b * b;
-        if !(det > 1e-12 * (a + c) * (a + c)) {
+        if det.is_nan() || det <= 1e-12 * (a + c) * (a + c) {
             break;
         }
         let (g0, g1) = (f64::from(jtr[0]), f64::from(jtr[1]));
