@@ -155,12 +155,12 @@ impl<const N: usize> PointFilters<N> {
             }
             _ => 0.0,
         };
-        let fresh = dt == 0.0;
+        let step = one_euro::Step::new(dt, o);
         for (p, f) in points.iter_mut().zip(self.points.iter_mut()) {
-            if fresh {
+            if step.is_none() {
                 f.reset();
             }
-            *p = f.filter(*p, dt, o);
+            *p = f.filter_step(*p, step.as_ref(), o);
         }
     }
 

@@ -72,6 +72,37 @@ pub fn alpha(dt: f32, cutoff: f32) -> f32 {
     1.0 / (1.0 + tau / dt)
 }
 
+/// What every point filtered over one time step shares: the step and the speed estimate's
+/// smoothing factor, computed once for a set of points instead of once per point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Step {
+    inv_dt: f32,
+    /// `alpha(dt, d_cutoff)`.
+    alpha_d: f32,
+    /// `2 pi dt`: `alpha(dt, cutoff) = c / (1 + c)` with `c = 2 pi dt cutoff`.
+    two_pi_dt: f32,
+}
+
+impl Step {
+    /// The step of `dt` seconds under options `o`; `None` when `dt` is not a positive number
+    /// (the filters restart).
+    #[must_use]
+    pub fn new(dt: f32, o: &OneEuroOptions) -> Option<Step> {
+        (dt > 0.0).then(|| Step {
+            inv_dt: 1.0 / dt,
+            alpha_d: alpha(dt, o.d_cutoff),
+            two_pi_dt: 2.0 * PI * dt,
+        })
+    }
+
+    /// `alpha(dt, cutoff)` for this step.
+    #[inline]
+    fn alpha(&self, cutoff: f32) -> f32 {
+        let c = self.two_pi_dt * cutoff;
+        c / (1.0 + c)
+    }
+}
+
 /// A One Euro filter on a point (or any 3-vector). Starts empty: the first sample passes
 /// through unchanged.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -86,13 +117,19 @@ impl OneEuroVec3 {
     /// filtered value. A non-finite result (which finite inputs cannot give) restarts the
     /// filter at the sample.
     pub fn filter(&mut self, value: Vec3, dt: f32, o: &OneEuroOptions) -> Vec3 {
-        if !self.primed || dt.is_nan() || dt <= 0.0 {
+        self.filter_step(value, Step::new(dt, o).as_ref(), o)
+    }
+
+    /// [`OneEuroVec3::filter`] with the step's shared factors computed once (`None`: restart).
+    #[inline]
+    pub fn filter_step(&mut self, value: Vec3, step: Option<&Step>, o: &OneEuroOptions) -> Vec3 {
+        let Some(step) = step.filter(|_| self.primed) else {
             return self.restart(value);
-        }
-        let speed = (value - self.x) / dt;
-        self.dx += alpha(dt, o.d_cutoff) * (speed - self.dx);
+        };
+        let speed = (value - self.x) * step.inv_dt;
+        self.dx += step.alpha_d * (speed - self.dx);
         let cutoff = o.min_cutoff + o.beta * self.dx.length();
-        self.x += alpha(dt, cutoff) * (value - self.x);
+        self.x += step.alpha(cutoff) * (value - self.x);
         if !self.x.is_finite() || !self.dx.is_finite() {
             return self.restart(value);
         }

@@ -245,7 +245,17 @@ pub fn fit(basis: &Basis, kind: Kind, t: &Targets) -> (f32, f32) {
 #[inline]
 pub fn wrap(a: f32) -> f32 {
     use core::f32::consts::{PI, TAU};
-    let w = (a + PI).rem_euclid(TAU) - PI;
+    // The angles met here are within a turn or two of the range: add or subtract a turn
+    // before falling back on the remainder (a libm call in wasm).
+    let w = if a > PI && a <= PI + TAU {
+        a - TAU
+    } else if a <= -PI && a > -PI - TAU {
+        a + TAU
+    } else if a.abs() <= PI {
+        a
+    } else {
+        (a + PI).rem_euclid(TAU) - PI
+    };
     if w <= -PI {
         w + TAU
     } else {
@@ -372,6 +382,17 @@ mod tests {
         use core::f32::consts::PI;
         assert!((wrap(3.0 * PI) - PI).abs() < 1e-5);
         assert!((wrap(-0.5) + 0.5).abs() < 1e-6);
+        assert_eq!(wrap(PI), PI);
+        assert_eq!(wrap(-PI), PI);
+        // Every branch (within a turn, one turn out, several turns out) agrees with the
+        // remainder, in (-pi, pi].
+        for k in -3000..=3000 {
+            let a = k as f32 * 0.0123;
+            let w = wrap(a);
+            assert!(w > -PI && w <= PI, "{a} -> {w}");
+            let turns = (a - w) / (2.0 * PI);
+            assert!((turns - turns.round()).abs() < 1e-4, "{a} -> {w}");
+        }
         assert_eq!(clamp_angle(0.2, -0.1, 1.0), 0.2);
         assert_eq!(clamp_angle(1.5, -0.1, 1.0), 1.0);
         assert_eq!(clamp_angle(-0.5, -0.1, 1.0), -0.1);

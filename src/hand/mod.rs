@@ -703,6 +703,29 @@ fn frame_rotation(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Option<Quat> {
     q.is_finite().then_some(q)
 }
 
+/// The rotation about the unit `axis` by `atan2(y, x)`, without trigonometry: the half-angle
+/// quaternion is `(axis y, r + x)` normalized, `r = |(x, y)|` (exact for every angle; at a
+/// half turn, `r + x = 0`, it is `(axis, 0)` signed like `y`). Identity for `x = y = 0`, NaN
+/// for NaN.
+fn hinge_rotation(axis: Vec3, x: f32, y: f32) -> Quat {
+    // x and y are components of a unit vector: no overflow to guard against.
+    let r = (x * x + y * y).sqrt();
+    if r.is_nan() {
+        // Like atan2: the caller's finiteness check rejects the finger.
+        return Quat::NAN;
+    }
+    if r <= 0.0 {
+        return Quat::IDENTITY;
+    }
+    let w = r + x;
+    if w <= r * 1e-12 {
+        let a = axis * 1.0_f32.copysign(y);
+        return Quat::from_xyzw(a.x, a.y, a.z, 0.0);
+    }
+    let v = axis * y;
+    Quat::from_xyzw(v.x, v.y, v.z, w).normalize()
+}
+
 /// Solves one side into `out` (15 finger locals, `finger * 3 + slot`) and `report`; returns
 /// the hand world rotation, or `None` if degenerate (then `out` is unusable).
 fn solve_side(
@@ -882,8 +905,7 @@ fn solve_finger(
             frame_rotation(b.dir, b.hinge, span, hinge)?
         } else {
             let w = chain_rot.inverse() * span;
-            let angle = w.dot(b.flex).atan2(w.dot(b.dir));
-            Quat::from_axis_angle(b.hinge, angle)
+            hinge_rotation(b.hinge, w.dot(b.dir), w.dot(b.flex))
         };
         chain_rot = (chain_rot * q).normalize();
         out[fi * 3 + b.slot] = q;
@@ -897,6 +919,29 @@ fn solve_finger(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn hinge_rotation_turns_by_atan2_without_trigonometry() {
+        let axis = Vec3::new(1.0, 2.0, -0.5).normalize();
+        for k in -400..=400 {
+            let a = k as f32 * (core::f32::consts::PI / 400.0);
+            for r in [1e-3_f32, 0.7, 1.0] {
+                let (x, y) = (r * a.cos(), r * a.sin());
+                let q = hinge_rotation(axis, x, y);
+                let want = Quat::from_axis_angle(axis, y.atan2(x));
+                assert!(
+                    q.dot(want).abs() > 1.0 - 1e-6,
+                    "angle {a}: {q} vs {want}"
+                );
+            }
+        }
+        // A half turn either way, and no direction at all.
+        let half = Quat::from_axis_angle(axis, core::f32::consts::PI);
+        assert!(hinge_rotation(axis, -1.0, 0.0).dot(half).abs() > 1.0 - 1e-6);
+        assert!(hinge_rotation(axis, -1.0, -0.0).dot(half).abs() > 1.0 - 1e-6);
+        assert_eq!(hinge_rotation(axis, 0.0, 0.0), Quat::IDENTITY);
+        assert!(hinge_rotation(axis, f32::NAN, 1.0).is_nan());
+    }
 
     #[test]
     fn palm_frame_is_right_handed_per_side_and_rejects_degenerate() {
