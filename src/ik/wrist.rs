@@ -57,11 +57,12 @@
 //! point by `t` times the turn that would bring it within the range of the *first* forearm (`t = 0`
 //! is the tracked rotation, `t = 1` that turn), each `t` with its own arm solve, for the least `t`
 //! at which the hand is within the range of the forearm it gets. It scans outward in steps of at
-//! most 30 degrees of hand rotation, then narrows the bracket by regula falsi (Illinois) on the
+//! most 30 degrees of hand rotation (the first step straight to `t = 1` when that turn is within
+//! 30 degrees: the first forearm's answer is usually close), then narrows the bracket by regula falsi (Illinois) on the
 //! signed distance from the range's boundary ([`WristFrame::margin`]), to [`SETTLE_TOLERANCE`],
 //! keeping the end within the range. The re-solves keep the first solve's elbow swivel (pole), so
-//! the path is continuous. On the shared recordings it takes 4-7 arm re-solves per limited hand (at
-//! most 9), and every shown hand ends within the range (`examples/eval_wrist.rs`). Where no `t` up
+//! the path is continuous. On the shared recordings it takes 3-7 arm re-solves per limited hand on
+//! average (at most 10), and every shown hand ends within the range (`examples/eval_wrist.rs`). Where no `t` up
 //! to a half turn (or 4) works, the hand with the least excess found is kept and the excess
 //! reported ([`WristLimited::residual`]).
 
@@ -349,7 +350,7 @@ pub(crate) fn settle(
     // Scan outward for a t whose hand is within the range of the forearm it gets (margin <=
     // 0), then narrow the bracket down to the boundary by regula falsi (Illinois), keeping the
     // side within the range.
-    let dt = (SCAN_STEP / theta).min(0.5);
+    let dt = (SCAN_STEP / theta).min(1.0);
     let (mut lo, mut g_lo) = (0.0f32, excess);
     let mut hi: Option<(f32, f32)> = None;
     let (mut best_t, mut best_g) = (0.0f32, excess);
