@@ -768,8 +768,9 @@ impl Rig {
         for side in Side::BOTH {
             self.shoulder_base[side.index()] = out.local[side.arm()[0].index()];
         }
-        // Anchors: forward kinematics of the torso alone (arms at rest).
-        self.skeleton.forward(&out.local, &mut out.world);
+        // Anchors: forward kinematics of the torso alone (arms at rest). The fingers are posed
+        // with their arm (`align::alignment_error`, the contact stage) or in the report.
+        self.skeleton.forward_body(&out.local, &mut out.world);
         let top = self.torso.top();
         let avatar_frame = out.world.rotation[top.index()] * self.torso.rest_upper();
         self.turn = pose_measure

@@ -235,6 +235,17 @@ impl Skeleton {
         }
     }
 
+    /// [`Skeleton::forward`] of every bone but the 30 finger bones (the torso, head, legs,
+    /// arms and hands); the finger entries of `out` are left as they were. What the arm
+    /// solvers and self-contact read before the arms are posed, at half the cost.
+    pub fn forward_body(&self, local: &[Quat; BONE_COUNT], out: &mut WorldPose) {
+        for bone in HumanBone::ALL.iter().take_while(|b| !b.is_finger()) {
+            if self.present[bone.index()] {
+                self.pose_bone(bone.index(), local, out);
+            }
+        }
+    }
+
     /// World position and rotation of bone `i` from its parent's (already in `out`).
     #[inline]
     fn pose_bone(&self, i: usize, local: &[Quat; BONE_COUNT], out: &mut WorldPose) {

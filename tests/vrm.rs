@@ -697,3 +697,33 @@ proptest! {
         let _ = load_skeleton(&b);
     }
 }
+
+#[test]
+fn body_forward_kinematics_matches_the_full_pass_and_leaves_the_fingers() {
+    let skeleton = load_skeleton(&read(ROBOT)).expect("robot");
+    // Every bone turned a little, differently.
+    let local: [glam::Quat; handrig::BONE_COUNT] = core::array::from_fn(|i| {
+        glam::Quat::from_axis_angle(Vec3::new(1.0, i as f32, 0.5).normalize(), 0.05 * i as f32)
+    });
+    let mut full = handrig::WorldPose::default();
+    skeleton.forward(&local, &mut full);
+    let mut body = handrig::WorldPose::default();
+    let marker = Vec3::splat(123.0);
+    body.position = [marker; handrig::BONE_COUNT];
+    skeleton.forward_body(&local, &mut body);
+    let mut fingers = 0;
+    for bone in B::ALL {
+        if !skeleton.has(bone) {
+            continue;
+        }
+        let i = bone.index();
+        if bone.is_finger() {
+            fingers += 1;
+            assert_eq!(body.position[i], marker, "{bone} was posed");
+        } else {
+            assert_eq!(body.position[i], full.position[i], "{bone}");
+            assert_eq!(body.rotation[i], full.rotation[i], "{bone}");
+        }
+    }
+    assert!(fingers >= 15, "the robot has fingers ({fingers})");
+}
