@@ -533,3 +533,33 @@ fn classic_projection_would_flip_here() {
     let after = bend(axis * 0.3 + across_dir * 0.01);
     assert!(before.dot(after) < -0.99);
 }
+
+#[test]
+fn swing_is_exact_at_every_angle() {
+    // Against the axis-angle construction (cross product, atan2), from tiny turns to nearly
+    // half a turn.
+    let axis = Vec3::new(0.2, -0.9, 0.4).normalize();
+    let a = axis.any_orthonormal_vector();
+    for k in 1..=2000 {
+        let angle = PI * (k as f32 / 2000.0).powi(2) * 0.99999;
+        let b = Quat::from_axis_angle(axis, angle) * a;
+        let q = swing(a, b, Vec3::Y);
+        let cross = a.cross(b);
+        let reference = match cross.try_normalize() {
+            Some(n) => Quat::from_axis_angle(n, cross.length().atan2(a.dot(b))),
+            None => Quat::IDENTITY,
+        };
+        assert!(q.is_normalized(), "{angle}: {q}");
+        assert!(
+            q.dot(reference).abs() > 1.0 - 1e-6,
+            "{angle}: {q} vs {reference}"
+        );
+        if angle < PI - 1e-3 {
+            assert!(
+                (q * a - b).length() < 2e-6,
+                "{angle}: {}",
+                (q * a - b).length()
+            );
+        }
+    }
+}

@@ -81,6 +81,11 @@ impl Basis {
         }
     }
 
+    /// Longitude of a direction (the first of [`Basis::spherical`], one `atan2` fewer).
+    pub fn longitude(&self, v: Vec3) -> f32 {
+        v.dot(self.y).atan2(v.dot(self.x))
+    }
+
     /// Longitude and colatitude of a unit direction (colatitude in `0..=pi`).
     pub fn spherical(&self, v: Vec3) -> (f32, f32) {
         let (a, b, c) = (v.dot(self.x), v.dot(self.y), v.dot(self.z));

@@ -804,7 +804,7 @@ fn solve_finger(
     let mut targets = Targets {
         dir: [metacarpal; 3],
         weight: [0.0; 3],
-        lon_prior: basis.spherical(metacarpal).0,
+        lon_prior: basis.longitude(metacarpal),
     };
     let mut prev = metacarpal;
     for k in 0..3 {
@@ -929,10 +929,7 @@ mod tests {
                 let (x, y) = (r * a.cos(), r * a.sin());
                 let q = hinge_rotation(axis, x, y);
                 let want = Quat::from_axis_angle(axis, y.atan2(x));
-                assert!(
-                    q.dot(want).abs() > 1.0 - 1e-6,
-                    "angle {a}: {q} vs {want}"
-                );
+                assert!(q.dot(want).abs() > 1.0 - 1e-6, "angle {a}: {q} vs {want}");
             }
         }
         // A half turn either way, and no direction at all.

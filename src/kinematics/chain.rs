@@ -336,13 +336,15 @@ impl Chain {
 /// that fails). Always a finite unit quaternion; accurate to f32 rounding at every angle.
 #[must_use]
 pub fn swing(from: Vec3, to: Vec3, fallback_axis: Vec3) -> Quat {
-    // Axis-angle from the cross product and atan2: unlike the half-vector form it keeps full
-    // precision near a half turn, where the cross product is still exact.
+    // The half-angle quaternion `(from x to, 1 + cos) / |from + to|` without trigonometry,
+    // with `1 + cos = |from + to|^2 / 2` (unit vectors): that keeps full precision near a half
+    // turn, where `1 + from.to` would cancel and `from + to` (like the cross product) does not.
     let cross = from.cross(to);
     let sin = cross.length();
     let cos = from.dot(to);
     if sin > 1e-7 && sin.is_finite() && cos.is_finite() {
-        return Quat::from_axis_angle(cross / sin, sin.atan2(cos));
+        let sum = (from + to).length_squared();
+        return Quat::from_xyzw(cross.x, cross.y, cross.z, 0.5 * sum).normalize();
     }
     if cos.is_nan() || cos >= 0.0 {
         return Quat::IDENTITY;
