@@ -104,7 +104,8 @@ pub const WRIST_RANGE: WristRange = WristRange {
 pub const SETTLE_ITERATIONS: usize = 24;
 
 /// How precisely (radians of hand rotation) the wrist search finds the least turn that brings the
-/// hand within the range: 0.5 degree (it errs on the side within the range; 0.2 took 0.4 more arm solves a limited hand).
+/// hand within the range: 0.5 degree (it errs on the side within the range; 0.2 degree took
+/// 0.4 more arm solves per limited hand on the shared recordings).
 pub const SETTLE_TOLERANCE: f32 = 0.5 * PI / 180.0;
 
 /// The turn the wrist search scans outward by: 30 degrees of hand rotation per step.
