@@ -165,7 +165,10 @@ fn residuals(
 }
 
 /// Half the sum of squared residuals at `(lon, colat)`, with the Gauss-Newton normal
-/// equations `J'J` (symmetric: `[a, b, c]` for `[[a, b], [b, c]]`) and `J'r` when `normal`.
+/// equations `J'J` (symmetric: `[a, b, c]` for `[[a, b], [b, c]]`) and `J'r`.
+// Out of line, like `fit` and `hand::solve_finger`: the WebAssembly build runs a full frame
+// about 5% faster in V8 than with them inlined (`node eval/speed.mjs`).
+#[inline(never)]
 fn cost(basis: &Basis, kind: Kind, t: &Targets, x: [f32; 2]) -> (f32, [f32; 3], [f32; 2]) {
     let (r, j) = residuals(basis, kind, t, x[0], x[1]);
     let mut jtj = [0.0_f32; 3];
@@ -201,6 +204,7 @@ const FIT_ARMIJO: f32 = 1e-4;
 /// [`FIT_TOLERANCE`] is taken without a further evaluation. The general bounded solver
 /// ([`crate::solve::least_squares`], which the retargeting uses) reaches the same angles; this
 /// closed-form 2 x 2 one costs a fraction of it every frame.
+#[inline(never)] // See `cost`.
 pub fn fit(basis: &Basis, kind: Kind, t: &Targets) -> (f32, f32) {
     let (lon, colat) = basis.spherical(t.dir[0]);
     let mut x = [lon, colat];

@@ -753,6 +753,7 @@ fn solve_side(
     Some(rotation)
 }
 
+#[inline(never)] // See `chain::cost`: faster in wasm out of line.
 fn solve_finger(
     rest: &SideRest,
     finger: Finger,
