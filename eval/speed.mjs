@@ -5,7 +5,7 @@
 // `Hand.solve` for every tracked hand.
 //
 //   make pkg && npm ci --prefix eval     # once
-//   node eval/speed.mjs [--passes N] [--json] [--pkg DIR]   (DIR: a built package, default pkg/)
+//   node eval/speed.mjs [--passes N] [--warmup W] [--json] [--pkg DIR]   (DIR: a built package, default pkg/)
 //
 // Frames:
 // - full frame: the four sign-language clips ../shared/data/asl/*.json (250 frames, pose and
@@ -15,7 +15,9 @@
 // - hands only: ../shared/data/hands/right-hand-video-mediapipe.json (621 frames, one hand),
 //   against one Kalidokit Hand.solve.
 // Avatar: ../shared/avatars/debug-robot.vrm. Each call timed with process.hrtime over N passes
-// (default 5) after one warm-up pass; median and p95 microseconds, and the ratio of Kalidokit's
+// (default 5) after W warm-up passes (default 20: the steady state an app reaches within its
+// first second or two, once V8 has optimized both the WebAssembly and Kalidokit's JavaScript;
+// with one warm-up pass part of the wasm still runs in V8's baseline compiler); median and p95 microseconds, and the ratio of Kalidokit's
 // median to handrig's (> 1: handrig is faster). Also: rigs solved per millisecond with 100 rigs
 // (one avatar each) solving the same full frames, as a page driving 100 avatars would.
 
@@ -50,6 +52,7 @@ const arg = (name, dflt) => {
   return i > 0 ? process.argv[i + 1] : dflt;
 };
 const passes = Number(arg("--passes", 5));
+const warmup = Number(arg("--warmup", 20));
 const json = process.argv.includes("--json");
 
 const robot = readFileSync(`${shared}/avatars/debug-robot.vrm`);
@@ -69,7 +72,7 @@ const kalidokitFull = aslFrames.map((f) => ({
 const kalidokitHands = handFrames.map((f) => f.hands[0].landmarks.map(xyz));
 
 function time(label, n, fn) {
-  for (let i = 0; i < n; i++) fn(i); // warm-up
+  for (let w = 0; w < warmup; w++) for (let i = 0; i < n; i++) fn(i); // warm-up
   const samples = [];
   for (let p = 0; p < passes; p++) {
     for (let i = 0; i < n; i++) {
@@ -158,7 +161,7 @@ const chainRows = ["fabrik", "ccd"].map((method) => {
 // Many avatars: 100 rigs, each solving every full frame once per pass.
 const many = HandRig.fromVrm(robot);
 const rigs = Array.from({ length: 100 }, () => HandRig.fromVrm(robot));
-for (const r of rigs) for (const f of aslFrames) r.solve(f); // warm-up
+for (let w = 0; w < Math.min(warmup, 3); w++) for (const r of rigs) for (const f of aslFrames) r.solve(f); // warm-up
 let manyBest = Infinity;
 for (let p = 0; p < passes; p++) {
   const t0 = process.hrtime.bigint();
@@ -177,10 +180,10 @@ const rows = [
   { ...kdHand, vs: kdHand },
 ];
 if (json) {
-  console.log(JSON.stringify({ node: process.version, passes, rows, rigsPerMs, chainRows }, null, 2));
+  console.log(JSON.stringify({ node: process.version, passes, warmup, rows, rigsPerMs, chainRows }, null, 2));
 } else {
   console.log(
-    `Per-frame cost, Node ${process.version}, ${passes} passes; full frame: ${aslFrames.length} ASL frames ` +
+    `Per-frame cost, Node ${process.version}, ${passes} passes after ${warmup} warm-up passes; full frame: ${aslFrames.length} ASL frames ` +
       `(pose + 0-2 hands), one hand: ${handFrames.length} frames (sink ${sink > 0})`,
   );
   console.log("method                                                        median us    p95 us   Kalidokit / this (median)");
