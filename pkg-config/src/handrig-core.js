@@ -1540,5 +1540,11 @@ function createHandRigApi(raw, isReady) {
     }
   }
 
-  return { HandRig, ChainSolver, LAYOUT: L };
+  /** `"simd128"` or `"baseline"`: which of the package's two WebAssembly builds is running. */
+  function wasmBuild() {
+    ensureReady("wasmBuild()");
+    return raw.wasmBuild();
+  }
+
+  return { HandRig, ChainSolver, LAYOUT: L, wasmBuild };
 }

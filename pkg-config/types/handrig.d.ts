@@ -679,11 +679,18 @@ export type InitInput =
 
 /**
  * Instantiates the WebAssembly module. Required once in browsers and bundlers before any other
- * call (`await init()` fetches `handrig_bg.wasm` next to the module); a resolved no-op in Node.
+ * call (`await init()` fetches `handrig_simd_bg.wasm` next to the module where the engine has
+ * WebAssembly SIMD, `handrig_bg.wasm` elsewhere; or pass either's URL or bytes); a resolved
+ * no-op in Node.
  */
 export declare function init(input?: InitInput | { module_or_path: InitInput }): Promise<void>;
 /** Synchronous `init` from the .wasm bytes or a compiled module (workers); a no-op in Node. */
 export declare function initSync(module?: ArrayBuffer | ArrayBufferView | object): void;
 /** The package version. */
 export declare const version: string;
+/**
+ * Which of the package's two WebAssembly builds is running: `"simd128"` (WebAssembly SIMD,
+ * chosen where the engine supports it) or `"baseline"`. Throws before `init()` in browsers.
+ */
+export declare function wasmBuild(): "simd128" | "baseline";
 export default init;

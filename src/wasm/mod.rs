@@ -37,6 +37,19 @@ fn set(o: &Object, k: &str, v: &JsValue) {
     let _ = Reflect::set(o, &JsValue::from_str(k), v);
 }
 
+/// Which WebAssembly build this is: `"simd128"` (compiled with `-C target-feature=+simd128`,
+/// loaded where the engine has WebAssembly SIMD) or `"baseline"` (the fallback). The package
+/// ships both and its loader picks one (see `pkg-config/build.mjs`).
+#[wasm_bindgen(js_name = wasmBuild)]
+#[must_use]
+pub fn wasm_build() -> String {
+    if cfg!(target_feature = "simd128") {
+        "simd128".into()
+    } else {
+        "baseline".into()
+    }
+}
+
 /// The solver for one avatar with its flat input and output buffers. Create it once, write
 /// the input, call `solveFlat` every frame, read the output; `free()` when done.
 #[wasm_bindgen]

@@ -6,7 +6,7 @@
 
 import * as THREE from "three";
 import { OrbitControls } from "three/addons/controls/OrbitControls.js";
-import init, { HandRig } from "handrig";
+import init, { HandRig, wasmBuild } from "handrig";
 
 import { Avatar, parseVrm } from "./avatar.js";
 import { loadRecordings } from "./recording.js";
@@ -21,6 +21,8 @@ const SOLVE_WINDOW = 60;
 const demo = {
   state: "loading",
   error: null,
+  // "simd128" or "baseline": the WebAssembly build the package loaded.
+  wasmBuild: null,
   source: "recording",
   frame: 0,
   frameCount: 0,
@@ -457,7 +459,8 @@ async function loadAvatar(bytes, name) {
   demo.avatar = { name, vrmVersion: a.version, boneCount: a.boneCount, armLength: a.armLength, parser };
   demo.avatarLoads++;
   $("avatar-info").textContent =
-    `${name}: VRM ${a.version === "0" ? "0.x" : "1.0"}, ${a.boneCount} humanoid bones, arm ${(a.armLength * 100).toFixed(1)} cm. ` +
+    `${name}: VRM ${a.version === "0" ? "0.x" : "1.0"}, ${a.boneCount} humanoid bones, arm ${(a.armLength * 100).toFixed(1)} cm ` +
+    `(handrig's ${demo.wasmBuild} WebAssembly build). ` +
     (parser.error
       ? `handrig's own parser (HandRig.fromVrm) refused it: ${parser.error}`
       : `HandRig.fromVrm reads the same rest pose as three-vrm to ${(parser.maxDiff * 1e6).toFixed(1)} µm (${parser.bones} bones).`);
@@ -814,6 +817,8 @@ function nextRender() {
 async function main() {
   wireUi();
   await init();
+  // Which WebAssembly build the loader picked: "simd128" where the browser has WebAssembly SIMD.
+  demo.wasmBuild = wasmBuild();
   demo.optionDescriptions = HandRig.optionDescriptions();
   panel = buildOptionsPanel($("options"), demo.optionDescriptions, onOptionsChanged);
   demo.options = panel.values();

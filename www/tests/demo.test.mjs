@@ -26,6 +26,7 @@ const demoState = () =>
       error: d.error,
       frame: d.frame,
       frameCount: d.frameCount,
+      wasmBuild: d.wasmBuild,
       avatar: d.avatar,
       options: d.options,
       errorMm: d.errorMm,
@@ -50,6 +51,8 @@ test("the page loads with no console errors and builds the panel from optionDesc
   assert.equal(s.avatar.vrmVersion, "1");
   assert.equal(s.avatar.boneCount, 53);
   assert.equal(s.frameCount, 281, "281 paired frames (the Kinect session is the shorter recording)");
+  // Chromium has WebAssembly SIMD: the loader fetched the SIMD build.
+  assert.equal(s.wasmBuild, "simd128");
 
   const descriptions = await page.evaluate(() => window.__handrigDemo.optionDescriptions);
   assert.ok(descriptions.length >= 6, "the package describes its options");

@@ -30,14 +30,15 @@ describe("the packed tarball", () => {
       "three-vrm.d.ts",
       "three-vrm.js",
       "wasm/handrig_bg.wasm",
+      "wasm/handrig_simd_bg.wasm",
       "wasm/handrig_wasm.cjs",
       "wasm/handrig_wasm.d.ts",
       "wasm/handrig_wasm.js",
     ]);
   });
 
-  it("ships an optimized wasm (wasm-opt ran) that Node can compile", () => {
-    const wasm = fs.readFileSync(path.join(installed, "wasm", "handrig_bg.wasm"));
+  for (const file of ["handrig_bg.wasm", "handrig_simd_bg.wasm"]) it(`ships an optimized ${file} (wasm-opt ran) that Node can compile`, () => {
+    const wasm = fs.readFileSync(path.join(installed, "wasm", file));
     assert.ok(WebAssembly.validate(wasm));
     // Debug builds are several times larger; the release build is a few hundred KiB at most.
     // Issue 10 budgeted 150 KiB gzipped; with chain IK, retargeting, filtering, the torso and
@@ -77,7 +78,13 @@ describe("package.json", () => {
     };
     walk(manifest.exports);
     for (const t of targets) assert.ok(fs.existsSync(path.join(installed, t)), `${t} missing`);
-    assert.deepEqual(Object.keys(manifest.exports), [".", "./three-vrm", "./handrig_bg.wasm", "./package.json"]);
+    assert.deepEqual(Object.keys(manifest.exports), [
+      ".",
+      "./three-vrm",
+      "./handrig_bg.wasm",
+      "./handrig_simd_bg.wasm",
+      "./package.json",
+    ]);
   });
 
   it("resolves to the Node builds under Node's conditions", () => {

@@ -64,9 +64,11 @@ describe("no garbage per frame", () => {
       sink += output[0];
     });
     assert.ok(Number.isFinite(sink));
-    // One allocation per frame would be at least 16 bytes a frame.
+    // One allocation per frame would be at least 16 bytes a frame. Measured 0.29-0.38, once
+    // 1.69 (in one of six runs: one-off allocations of V8 while it re-optimizes, a few hundred
+    // KiB over the 100,000 frames), hence the margin.
     console.log(`# flat path: ${perFrame.toFixed(2)} bytes allocated per frame (JS)`);
-    assert.ok(perFrame < 1, `the flat path allocates ${perFrame.toFixed(2)} bytes a frame`);
+    assert.ok(perFrame < 4, `the flat path allocates ${perFrame.toFixed(2)} bytes a frame`);
     rig.free();
   });
 
