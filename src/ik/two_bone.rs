@@ -205,12 +205,10 @@ impl TwoBoneIk {
             // keep a defined start.
             .or_else(|| across(parent * Vec3::NEG_Z))
             .unwrap_or_else(|| dir.any_orthonormal_vector());
-        let default_pole = (parent * self.options.default_pole).normalize();
+        let Memory {
+            default_pole, pole, ..
+        } = self.memory(goal, dir, bend);
         let moved = last.map(|m| angle_between(m.dir, dir));
-        let pole = goal
-            .pole
-            .and_then(|p| (p - goal.shoulder).try_normalize())
-            .filter(|p| p.is_finite());
         match pole {
             // The pose elbow decides; near-collinear, the last swivel is kept (or, on a first
             // solve, the default pole's side).
@@ -230,15 +228,20 @@ impl TwoBoneIk {
                 bend = self.steer(bend, dir, default_pole, motion);
             }
         }
-        (
+        (bend, self.memory(goal, dir, bend))
+    }
+
+    /// What to remember of a solve toward `dir` with elbow bend `bend`.
+    fn memory(&self, goal: &ArmGoal, dir: Vec3, bend: Vec3) -> Memory {
+        Memory {
             bend,
-            Memory {
-                bend,
-                dir,
-                default_pole,
-                pole,
-            },
-        )
+            dir,
+            default_pole: (goal.parent_rotation * self.options.default_pole).normalize(),
+            pole: goal
+                .pole
+                .and_then(|p| (p - goal.shoulder).try_normalize())
+                .filter(|p| p.is_finite()),
+        }
     }
 
     /// Turns `bend` about `dir` toward the side the unit vector `toward` lies on: fully
@@ -366,12 +369,12 @@ impl TwoBoneIk {
         // max/min rather than clamp: total even when a bound is NaN or they cross.
         let r = dist.max(reach_min).min(reach_max);
 
-        let (bend, memory) = match (self.bend_direction(chain, &goal, dir), bend) {
-            (computed, None) => computed,
-            ((computed, memory), Some(b)) => {
-                let bend = (b - dir * dir.dot(b)).try_normalize().unwrap_or(computed);
-                (bend, Memory { bend, ..memory })
-            }
+        // A given bend (the wrist search's re-solves) made perpendicular to this target line;
+        // the computed one where it is along the line.
+        let given = bend.and_then(|b| (b - dir * dir.dot(b)).try_normalize());
+        let (bend, memory) = match given {
+            Some(bend) => (bend, self.memory(&goal, dir, bend)),
+            None => self.bend_direction(chain, &goal, dir),
         };
         // The elbow's offset along the target line (`along`) and away from it (`height`).
         // Heron's form with the reach-limit factors written out keeps `height` exact (0) at
