@@ -17,7 +17,7 @@
 use glam::{Quat, Vec3};
 use serde::Deserialize;
 
-use crate::bones::{Finger, HumanBone, Side, BONE_COUNT};
+use crate::bones::{Finger, Side, BONE_COUNT};
 use crate::error::{Error, Result};
 use crate::mediapipe::HAND_LANDMARKS;
 use crate::skeleton::{Skeleton, WorldPose};
@@ -135,15 +135,36 @@ pub fn avatar_offset(
     hand_rotation: Quat,
     local: &[Quat; BONE_COUNT],
 ) -> Option<Vec3> {
-    let [_, _, distal] = side.finger(options.finger);
-    let dip = skeleton.chain_tip(side.hand(), Vec3::ZERO, hand_rotation, distal, local)?;
+    let (dip, rot) = distal_pose(skeleton, side, options.finger, hand_rotation, local)?;
     match options.point {
         AlignPoint::Dip => Some(dip),
-        AlignPoint::Tip => {
-            let rot = distal_world_rotation(skeleton, side.hand(), hand_rotation, distal, local);
-            Some(dip + rot * tip_offset(skeleton, side, options.finger)?)
-        }
+        AlignPoint::Tip => Some(dip + rot * tip_offset(skeleton, side, options.finger)?),
     }
+}
+
+/// The finger's distal joint relative to the hand joint and the distal bone's world rotation,
+/// for a hand with world rotation `hand_rotation` and finger rotations `local`: forward
+/// kinematics down the finger's present bones (each one's parent is the one before it, or the
+/// hand). `None` when the avatar lacks the distal bone.
+fn distal_pose(
+    skeleton: &Skeleton,
+    side: Side,
+    finger: Finger,
+    hand_rotation: Quat,
+    local: &[Quat; BONE_COUNT],
+) -> Option<(Vec3, Quat)> {
+    let bones = side.finger(finger);
+    let distal = bones[2];
+    if !skeleton.has(distal) {
+        return None;
+    }
+    let mut position = Vec3::ZERO;
+    let mut rotation = hand_rotation;
+    for bone in bones.into_iter().filter(|b| skeleton.has(*b)) {
+        position += rotation * skeleton.rest_local(bone);
+        rotation *= local[bone.index()];
+    }
+    Some((position, rotation))
 }
 
 /// The avatar's fingertip model ([`AlignPoint::Tip`]): the tip relative to the distal bone's
@@ -170,31 +191,6 @@ pub fn fingertip(
 ) -> Option<Vec3> {
     let distal = side.finger(finger)[2].index();
     Some(world.position[distal] + world.rotation[distal] * tip_offset(skeleton, side, finger)?)
-}
-
-fn distal_world_rotation(
-    skeleton: &Skeleton,
-    hand: HumanBone,
-    hand_rotation: Quat,
-    distal: HumanBone,
-    local: &[Quat; BONE_COUNT],
-) -> Quat {
-    // distal's world rotation = hand * (links between) * distal.
-    let mut chain = [HumanBone::Hips; 4];
-    let mut n = 0;
-    let mut b = distal;
-    while b != hand && n < chain.len() {
-        chain[n] = b;
-        n += 1;
-        match skeleton.parent(b) {
-            Some(p) => b = p,
-            None => break,
-        }
-    }
-    chain[..n]
-        .iter()
-        .rev()
-        .fold(hand_rotation, |r, l| r * local[l.index()])
 }
 
 /// Places the wrist IK target for one hand.
