@@ -57,8 +57,9 @@
 //! point by `t` times the turn that would bring it within the range of the *first* forearm (`t = 0`
 //! is the tracked rotation, `t = 1` that turn), each `t` with its own arm solve, for the least `t`
 //! at which the hand is within the range of the forearm it gets. It scans outward in steps of at
-//! most 30 degrees of hand rotation (the first step straight to `t = 1` when that turn is within
-//! 30 degrees: the first forearm's answer is usually close), then narrows the bracket by regula falsi (Illinois) on the
+//! most 30 degrees of hand rotation and at most half the turn (a first probe straight at `t = 1`
+//! saves 0.4 re-solves a limited hand but finds later roots: ASL arm jitter 274 -> 294
+//! rad/s^2), then narrows the bracket by regula falsi (Illinois) on the
 //! signed distance from the range's boundary ([`WristFrame::margin`]), to [`SETTLE_TOLERANCE`],
 //! keeping the end within the range. The re-solves keep the first solve's elbow swivel (pole), so
 //! the path is continuous. On the shared recordings it takes 3-7 arm re-solves per limited hand on
@@ -105,7 +106,7 @@ pub const SETTLE_ITERATIONS: usize = 24;
 
 /// How precisely (radians of hand rotation) the wrist search finds the least turn that brings the
 /// hand within the range: 0.5 degree (it errs on the side within the range; 0.2 degree took
-/// 0.4 more arm solves per limited hand on the shared recordings).
+/// 0.5 more arm solves per limited hand on the shared recordings).
 pub const SETTLE_TOLERANCE: f32 = 0.5 * PI / 180.0;
 
 /// The turn the wrist search scans outward by: 30 degrees of hand rotation per step.
@@ -351,7 +352,7 @@ pub(crate) fn settle(
     // Scan outward for a t whose hand is within the range of the forearm it gets (margin <=
     // 0), then narrow the bracket down to the boundary by regula falsi (Illinois), keeping the
     // side within the range.
-    let dt = (SCAN_STEP / theta).min(1.0);
+    let dt = (SCAN_STEP / theta).min(0.5);
     let (mut lo, mut g_lo) = (0.0f32, excess);
     let mut hi: Option<(f32, f32)> = None;
     let (mut best_t, mut best_g) = (0.0f32, excess);
