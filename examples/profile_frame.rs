@@ -1,14 +1,25 @@
-//! Native profile driver: the speed eval's full frames (ASL clips, robot, defaults) solved in a
-//! loop, each clip with its own timestamps as `eval/speed.mjs` replays them. `cargo run --release --example profile_frame [-- SECONDS]`; under `perf record` for a
-//! profile. Prints microseconds per frame.
+//! Native profile driver: the speed eval's full frames (the four ASL clips, the robot, default
+//! options) solved in a loop, each clip with its own timestamps as `eval/speed.mjs` replays
+//! them. Prints microseconds per frame.
+//!
+//! ```text
+//! cargo run --release --example profile_frame [-- SECONDS]      (default 3 s)
+//! cargo run --release --example profile_frame -- --passes N      (N passes over the 250 frames)
+//! ```
+//!
+//! Under `perf record` for a profile; `--passes` under `valgrind --tool=callgrind` for an
+//! instruction count that does not depend on how busy the machine is.
 #[path = "../tests/support/recordings.rs"]
 mod recordings;
 use handrig::{FrameInput, Rig, RigOptions, SolveOutput};
+
 fn main() {
-    let secs: f64 = std::env::args()
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(3.0);
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let (secs, passes) = match args.as_slice() {
+        [flag, n] if flag == "--passes" => (f64::INFINITY, n.parse().expect("--passes N")),
+        [s] => (s.parse().expect("SECONDS"), usize::MAX),
+        _ => (3.0, usize::MAX),
+    };
     let skeleton = recordings::vrm(recordings::ROBOT);
     let frames: Vec<FrameInput> = recordings::ASL
         .iter()
@@ -18,13 +29,14 @@ fn main() {
     let mut out = SolveOutput::default();
     let start = std::time::Instant::now();
     let mut n = 0usize;
-    while start.elapsed().as_secs_f64() < secs {
+    let mut pass = 0;
+    while pass < passes && start.elapsed().as_secs_f64() < secs {
         for f in &frames {
             rig.solve(f, &mut out).expect("solve");
             n += 1;
         }
+        pass += 1;
     }
-
     println!(
         "{:.2} us per frame over {n} frames",
         start.elapsed().as_secs_f64() * 1e6 / n as f64

@@ -243,13 +243,7 @@ pub fn alignment_error(
     local: &[Quat; BONE_COUNT],
     world: &mut WorldPose,
 ) -> f32 {
-    let [shoulder, upper, ..] = side.arm();
-    let root = if skeleton.has(shoulder) {
-        shoulder
-    } else {
-        upper
-    };
-    skeleton.forward_below(root, local, world);
+    skeleton.forward_arm(side, local, world);
     let hand = side.hand().index();
     match avatar_offset(skeleton, side, options, world.rotation[hand], local) {
         Some(a) => (world.position[hand] + a - report.target_dip).length(),

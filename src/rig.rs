@@ -588,7 +588,11 @@ impl Rig {
     /// Stage 9: forward kinematics of what is shown, the avatar's fingertips, and the
     /// retargeting reports placed on the avatar.
     fn report(&self, out: &mut SolveOutput) {
-        self.skeleton.forward(&out.local, &mut out.world);
+        // The torso stage posed the body, which nothing has turned since (the later stages turn
+        // the arms, hands and fingers, the easing also the shoulders): the arms from their roots.
+        for side in Side::BOTH {
+            self.skeleton.forward_arm(side, &out.local, &mut out.world);
+        }
         for side in Side::BOTH {
             let s = side.index();
             for finger in Finger::ALL {
@@ -1176,14 +1180,7 @@ impl Rig {
                 // Forward kinematics of the arm just solved (alignment_error ran it when
                 // there was a report; run it here otherwise).
                 if out.alignment[side.index()].is_none() {
-                    let [shoulder, upper, ..] = side.arm();
-                    let root = if self.skeleton.has(shoulder) {
-                        shoulder
-                    } else {
-                        upper
-                    };
-                    self.skeleton
-                        .forward_below(root, &out.local, &mut out.world);
+                    self.skeleton.forward_arm(side, &out.local, &mut out.world);
                 }
                 c.distance = align::fingertip(
                     &self.skeleton,

@@ -8,7 +8,7 @@
 
 use glam::{Quat, Vec3};
 
-use crate::bones::{HumanBone, BONE_COUNT};
+use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::{Error, Result};
 
 /// Which VRM specification the avatar follows; decides its facing.
@@ -244,6 +244,15 @@ impl Skeleton {
                 self.pose_bone(bone.index(), local, out);
             }
         }
+    }
+
+    /// [`Skeleton::forward_below`] the side's arm root: its shoulder, or its upper arm on an
+    /// avatar without shoulder bones. The arm, hand and fingers after they were turned, the
+    /// rest of `out` being current.
+    pub fn forward_arm(&self, side: Side, local: &[Quat; BONE_COUNT], out: &mut WorldPose) {
+        let [shoulder, upper, ..] = side.arm();
+        let root = if self.has(shoulder) { shoulder } else { upper };
+        self.forward_below(root, local, out);
     }
 
     /// World position and rotation of bone `i` from its parent's (already in `out`).

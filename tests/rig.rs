@@ -189,3 +189,37 @@ fn duplicate_hands_pick_the_higher_score_and_low_scores_are_ignored() {
     rig.solve(&weak, &mut out).unwrap();
     assert!(!out.solved[HumanBone::RightHand.index()]);
 }
+
+/// The reported world pose is the forward kinematics of the reported rotations, every bone of
+/// every frame: the report poses only the arms (the torso stage posed the rest), so nothing
+/// may turn a bone outside the arms after the torso stage.
+#[test]
+fn the_reported_world_pose_is_the_forward_kinematics_of_the_rotations() {
+    let frames: Vec<_> = recordings::ASL
+        .iter()
+        .flat_map(|c| recordings::asl(c))
+        .collect();
+    for avatar in recordings::real_avatars() {
+        for torso in ["off", "pose"] {
+            let options: RigOptions =
+                serde_json::from_str(&format!(r#"{{ "torso": "{torso}" }}"#)).expect("options");
+            let mut rig = Rig::new(avatar.clone(), options).expect("rig");
+            let mut out = SolveOutput::default();
+            let mut full = handrig::WorldPose::default();
+            for (i, f) in frames.iter().enumerate() {
+                rig.solve(f, &mut out).expect("solve");
+                avatar.forward(&out.local, &mut full);
+                for bone in HumanBone::ALL.iter().filter(|b| avatar.has(**b)) {
+                    let k = bone.index();
+                    assert!(
+                        (out.world.position[k] - full.position[k]).length() < 1e-5
+                            && (out.world.rotation[k] - full.rotation[k]).length() < 1e-5,
+                        "torso {torso}, frame {i}: {bone} at {} vs {}",
+                        out.world.position[k],
+                        full.position[k]
+                    );
+                }
+            }
+        }
+    }
+}
