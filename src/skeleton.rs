@@ -88,7 +88,13 @@ pub struct Skeleton {
     version: VrmVersion,
     /// The look-at point (between the eyes) relative to the head bone at rest, internal frame.
     look_at: Option<Vec3>,
+    /// Per side, the present bones of the arm from its root (shoulder, else upper arm) down
+    /// to the fingers, parent first, and how many: [`Skeleton::forward_arm`]'s walk.
+    arm_order: [([HumanBone; ARM_BONES], usize); 2],
 }
+
+/// Shoulder, upper arm, lower arm, hand and 15 finger bones.
+const ARM_BONES: usize = 19;
 
 impl Skeleton {
     /// Builds a skeleton from rest world positions given **in the model's own frame** (for VRM
@@ -152,6 +158,27 @@ impl Skeleton {
                 None => rest_world[bone.index()],
             };
         }
+        let arm_order = Side::BOTH.map(|side| {
+            let [shoulder, upper, ..] = side.arm();
+            let root = if present[shoulder.index()] {
+                shoulder
+            } else {
+                upper
+            };
+            let mut order = ([HumanBone::Hips; ARM_BONES], 0);
+            for bone in HumanBone::ALL.iter().filter(|b| present[b.index()]) {
+                // Below the root: the root itself or a bone whose chain of parents meets it.
+                let mut b = Some(*bone);
+                while let Some(x) = b.filter(|x| *x != root) {
+                    b = parent[x.index()];
+                }
+                if b.is_some() && order.1 < ARM_BONES {
+                    order.0[order.1] = *bone;
+                    order.1 += 1;
+                }
+            }
+            order
+        });
         Ok(Skeleton {
             present,
             parent,
@@ -159,6 +186,7 @@ impl Skeleton {
             rest_local,
             version,
             look_at: None,
+            arm_order,
         })
     }
 
@@ -250,9 +278,10 @@ impl Skeleton {
     /// avatar without shoulder bones. The arm, hand and fingers after they were turned, the
     /// rest of `out` being current.
     pub fn forward_arm(&self, side: Side, local: &[Quat; BONE_COUNT], out: &mut WorldPose) {
-        let [shoulder, upper, ..] = side.arm();
-        let root = if self.has(shoulder) { shoulder } else { upper };
-        self.forward_below(root, local, out);
+        let (bones, n) = &self.arm_order[side.index()];
+        for bone in &bones[..*n] {
+            self.pose_bone(bone.index(), local, out);
+        }
     }
 
     /// World position and rotation of bone `i` from its parent's (already in `out`).
