@@ -15,7 +15,8 @@
 // - hands only: ../shared/data/hands/right-hand-video-mediapipe.json (621 frames, one hand),
 //   against one Kalidokit Hand.solve.
 // Avatar: ../shared/avatars/debug-robot.vrm. Each call timed with process.hrtime over N passes
-// (default 5) after W warm-up passes (default 20: the steady state an app reaches within its
+// (default 5; at least 10 for the rows compared with Kalidokit, whose passes alternate so a
+// busy machine slows them alike) after W warm-up passes (default 20: the steady state an app reaches within its
 // first second or two, once V8 has optimized both the WebAssembly and Kalidokit's JavaScript;
 // with one warm-up pass part of the wasm still runs in V8's baseline compiler); median and p95 microseconds, and the ratio of Kalidokit's
 // median to handrig's (> 1: handrig is faster). Also: rigs solved per millisecond with 100 rigs
@@ -86,42 +87,74 @@ function time(label, n, fn) {
   return { label, median: q(0.5), p95: q(0.95), count: samples.length };
 }
 
+/**
+ * Times several methods on the same frames, pass by pass in turn: a pass of each method over
+ * all frames, then the next round of passes, so that all of them see the machine in the same
+ * states (their ratios hold when it is busy) while each pass runs with its own code and data
+ * warm, as a tight loop of one method would. Rows as `time` gives them.
+ */
+function timeTogether(n, methods) {
+  for (let w = 0; w < warmup; w++) for (const [, fn] of methods) for (let i = 0; i < n; i++) fn(i);
+  const samples = methods.map(() => []);
+  const rounds = Math.max(passes, 10);
+  for (let p = 0; p < rounds; p++) {
+    for (let m = 0; m < methods.length; m++) {
+      const fn = methods[m][1];
+      for (let i = 0; i < n; i++) {
+        const t0 = process.hrtime.bigint();
+        fn(i);
+        samples[m].push(Number(process.hrtime.bigint() - t0) / 1000);
+      }
+    }
+  }
+  return methods.map(([label], m) => {
+    const s = samples[m].sort((a, b) => a - b);
+    const q = (p) => s[Math.min(s.length - 1, Math.floor(p * s.length))];
+    return { label, median: q(0.5), p95: q(0.95), count: s.length };
+  });
+}
+
 let sink = 0;
 
-// Full frames.
+// Full frames: the object API, the flat path and Kalidokit, interleaved. The flat path gets
+// each frame packed once beforehand (by the object API) and copies it into the input view:
+// what a caller that fills the Float32Array itself pays.
 const rig = HandRig.fromVrm(robot);
-const full = time("handrig object API: full frame", aslFrames.length, (i) => {
-  sink += rig.solve(aslFrames[i]).timeMs;
-});
-// The flat path: each frame packed once (by the object API), then copied into the input view
-// and solved; what a caller that fills the Float32Array itself pays.
+const packer = HandRig.fromVrm(robot);
 const packed = aslFrames.map((f) => {
-  rig.solve(f);
-  return Float32Array.from(rig.input);
+  packer.solve(f);
+  return Float32Array.from(packer.input);
 });
 const flatRig = HandRig.fromVrm(robot);
 const input = flatRig.input;
 const output = flatRig.output;
-const flat = time("handrig flat path: full frame", aslFrames.length, (i) => {
-  input.set(packed[i]);
-  flatRig.solveFlat(aslFrames[i].timeMs);
-  sink += output[0];
-});
-const kdFull = time("Kalidokit Pose.solve + Hand.solve per hand", aslFrames.length, (i) => {
-  const k = kalidokitFull[i];
-  const pose = Kalidokit.Pose.solve(k.world, k.image, { runtime: "mediapipe", imageSize: { width: 640, height: 480 } });
-  sink += pose ? 1 : 0;
-  for (const h of k.hands) sink += Kalidokit.Hand.solve(h.points, h.side) ? 1 : 0;
-});
+const [full, flat, kdFull] = timeTogether(aslFrames.length, [
+  ["handrig object API: full frame", (i) => (sink += rig.solve(aslFrames[i]).timeMs)],
+  [
+    "handrig flat path: full frame",
+    (i) => {
+      input.set(packed[i]);
+      flatRig.solveFlat(aslFrames[i].timeMs);
+      sink += output[0];
+    },
+  ],
+  [
+    "Kalidokit Pose.solve + Hand.solve per hand",
+    (i) => {
+      const k = kalidokitFull[i];
+      const pose = Kalidokit.Pose.solve(k.world, k.image, { runtime: "mediapipe", imageSize: { width: 640, height: 480 } });
+      sink += pose ? 1 : 0;
+      for (const h of k.hands) sink += Kalidokit.Hand.solve(h.points, h.side) ? 1 : 0;
+    },
+  ],
+]);
 
-// Hands only.
+// Hands only, interleaved likewise.
 const handRig = HandRig.fromVrm(robot);
-const hands = time("handrig object API: one hand", handFrames.length, (i) => {
-  sink += handRig.solve(handFrames[i]).timeMs;
-});
-const kdHand = time("Kalidokit Hand.solve", handFrames.length, (i) => {
-  sink += Kalidokit.Hand.solve(kalidokitHands[i], "Right") ? 1 : 0;
-});
+const [hands, kdHand] = timeTogether(handFrames.length, [
+  ["handrig object API: one hand", (i) => (sink += handRig.solve(handFrames[i]).timeMs)],
+  ["Kalidokit Hand.solve", (i) => (sink += Kalidokit.Hand.solve(kalidokitHands[i], "Right") ? 1 : 0)],
+]);
 
 // Arm solvers and the handStrategy, through the object API on the full frames, and the
 // standalone ChainSolver (a 6-bone chain chasing a moving target).
@@ -169,7 +202,7 @@ for (let p = 0; p < passes; p++) {
   manyBest = Math.min(manyBest, Number(process.hrtime.bigint() - t0) / 1e6);
 }
 const rigsPerMs = (rigs.length * aslFrames.length) / manyBest;
-for (const r of [rig, flatRig, handRig, many, ...rigs]) r.free();
+for (const r of [rig, packer, flatRig, handRig, many, ...rigs]) r.free();
 
 const rows = [
   { ...full, vs: kdFull },
