@@ -5,6 +5,7 @@
 //! ```text
 //! cargo run --release --example profile_frame [-- SECONDS]      (default 3 s)
 //! cargo run --release --example profile_frame -- --passes N      (N passes over the 250 frames)
+//! HANDRIG_OPTIONS='{"contact":{"enabled":false}}' cargo run ...    (options as the JS API takes them)
 //! ```
 //!
 //! Under `perf record` for a profile; `--passes` under `valgrind --tool=callgrind` for an
@@ -25,7 +26,11 @@ fn main() {
         .iter()
         .flat_map(|c| recordings::asl(c))
         .collect();
-    let mut rig = Rig::new(skeleton, RigOptions::default()).expect("rig");
+    let options: RigOptions = match std::env::var("HANDRIG_OPTIONS") {
+        Ok(json) => serde_json::from_str(&json).expect("HANDRIG_OPTIONS: rig options as JSON"),
+        Err(_) => RigOptions::default(),
+    };
+    let mut rig = Rig::new(skeleton, options).expect("rig");
     let mut out = SolveOutput::default();
     let start = std::time::Instant::now();
     let mut n = 0usize;
