@@ -206,6 +206,10 @@ export function initSync(module) {
 export const HandRig = api.HandRig;
 export const ChainSolver = api.ChainSolver;
 export const wasmBuild = api.wasmBuild;
+/** The file in \`wasm/\` that \`init()\` loads in this engine (no init needed): what a worker fetches. */
+export function wasmFile() {
+  return raw.__handrigSimd() ? ${JSON.stringify(WASM_SIMD_NAME)} : ${JSON.stringify(WASM_NAME)};
+}
 export { LAYOUT };
 export const version = ${JSON.stringify(version)};
 export default init;
@@ -232,6 +236,8 @@ function initSync() {}
 exports.HandRig = api.HandRig;
 exports.ChainSolver = api.ChainSolver;
 exports.wasmBuild = api.wasmBuild;
+/** The file in \`wasm/\` this process loaded (HANDRIG_WASM, else by the engine's SIMD support). */
+exports.wasmFile = () => raw.__handrigWasmFile();
 exports.LAYOUT = LAYOUT;
 exports.init = init;
 exports.initSync = initSync;
@@ -249,6 +255,7 @@ const cjs = createRequire(import.meta.url)("./index.cjs");
 export const HandRig = cjs.HandRig;
 export const ChainSolver = cjs.ChainSolver;
 export const wasmBuild = cjs.wasmBuild;
+export const wasmFile = cjs.wasmFile;
 export const LAYOUT = cjs.LAYOUT;
 export const init = cjs.init;
 export const initSync = cjs.initSync;
@@ -346,6 +353,7 @@ function main() {
   };
   let nodeGlue =
     NODE_CHOOSER +
+    "exports.__handrigWasmFile = handrigWasmFile;\n" +
     renameWasm(
       fs.readFileSync(path.join(node, "handrig_wasm.js"), "utf8"),
       "nodejs",
@@ -355,6 +363,7 @@ function main() {
   // Two literal `new URL(..., import.meta.url)`s, so bundlers that copy such assets copy both.
   const webGlue =
     SIMD_PROBE +
+    "export { handrigSimd as __handrigSimd };\n" +
     renameWasm(
       fs.readFileSync(path.join(web, "handrig_wasm.js"), "utf8"),
       "web",

@@ -693,4 +693,10 @@ export declare const version: string;
  * chosen where the engine supports it) or `"baseline"`. Throws before `init()` in browsers.
  */
 export declare function wasmBuild(): "simd128" | "baseline";
+/**
+ * The file in the package's `wasm/` folder that `init()` loads in this engine:
+ * `"handrig_simd_bg.wasm"` where it has WebAssembly SIMD, else `"handrig_bg.wasm"`. Needs no
+ * `init()`: what a page fetches for a worker's `initSync`.
+ */
+export declare function wasmFile(): "handrig_simd_bg.wasm" | "handrig_bg.wasm";
 export default init;

@@ -175,8 +175,8 @@ test("the browser quick start runs as written: the hands of the recording drive 
   const dot = Math.abs(state.raw.reduce((s, v, k) => s + v * state.rawRest[k], 0));
   assert.ok(dot < 0.9999, `raw leftIndexProximal still at rest: ${state.raw} vs ${state.rawRest}`);
   assert.equal(state.canvas.length, 1);
-  // The page fetched what the README says it needs, and the package's wasm by its one name.
-  for (const want of ["index.html", "main.js", "avatar.vrm", "node_modules/handrig/index.js", "node_modules/handrig/wasm/handrig_bg.wasm"]) {
+  // The page fetched what the README says it needs, and the SIMD build (Chromium has WebAssembly SIMD).
+  for (const want of ["index.html", "main.js", "avatar.vrm", "node_modules/handrig/index.js", "node_modules/handrig/wasm/handrig_simd_bg.wasm"]) {
     assert.ok(served.includes(want), `not requested: ${want} (requested: ${served.join(", ")})`);
   }
   const png = await page.screenshot({ path: shot("quickstart.png") });

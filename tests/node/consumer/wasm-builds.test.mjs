@@ -57,3 +57,16 @@ describe("WebAssembly builds", () => {
     assert.match(res.stderr, /HANDRIG_WASM must be "baseline" or "simd128", got "sse4"/);
   });
 });
+
+describe("wasmFile()", () => {
+  it("names the file the process loaded, before and without init", async () => {
+    const { wasmFile } = await import("handrig");
+    assert.equal(wasmFile(), "handrig_simd_bg.wasm");
+    const res = spawnSync(process.execPath, ["-e", 'console.log(require("handrig").wasmFile())'], {
+      encoding: "utf8",
+      env: { ...process.env, HANDRIG_WASM: "baseline" },
+    });
+    assert.equal(res.status, 0, res.stderr);
+    assert.equal(res.stdout.trim(), "handrig_bg.wasm");
+  });
+});
