@@ -274,9 +274,10 @@ impl Skeleton {
         }
     }
 
-    /// [`Skeleton::forward_below`] the side's arm root: its shoulder, or its upper arm on an
-    /// avatar without shoulder bones. The arm, hand and fingers after they were turned, the
-    /// rest of `out` being current.
+    /// Forward kinematics of the side's arm from its root (its shoulder, or its upper arm on an
+    /// avatar without shoulder bones) down to the fingers, assuming the rest of `out` is
+    /// current (the root's parent in particular): an arm after its IK, without recomputing the
+    /// torso, the legs and the other arm. Allocates nothing.
     pub fn forward_arm(&self, side: Side, local: &[Quat; BONE_COUNT], out: &mut WorldPose) {
         let (bones, n) = &self.arm_order[side.index()];
         for bone in &bones[..*n] {
@@ -298,64 +299,6 @@ impl Skeleton {
                 out.rotation[i] = local[i];
             }
         }
-    }
-
-    /// Forward kinematics of `root` and everything below it, from `local`, assuming the rest of
-    /// `out` is current (the root's parent in particular). A side's arm after its IK, without
-    /// recomputing the torso, the legs and the other arm. Allocates nothing.
-    pub fn forward_below(&self, root: HumanBone, local: &[Quat; BONE_COUNT], out: &mut WorldPose) {
-        let mut posed = [false; BONE_COUNT];
-        // Parent-first order: a bone's parent comes before it, so one pass from the root
-        // reaches every descendant after its parent.
-        for bone in &HumanBone::ALL[root.index()..] {
-            let i = bone.index();
-            if !self.present[i] {
-                continue;
-            }
-            let parent = self.parent[i];
-            if *bone != root && !parent.is_some_and(|p| posed[p.index()]) {
-                continue;
-            }
-            posed[i] = true;
-            self.pose_bone(i, local, out);
-        }
-    }
-
-    /// Forward kinematics of one chain below an already-posed bone: the world position of
-    /// `tip` when `from` sits at `from_position` with world rotation `from_rotation` and the
-    /// bones between take their rotations from `local`. Returns `None` when `tip` is absent or
-    /// not below `from`. Allocates nothing; cost is proportional to the chain length.
-    #[must_use]
-    pub fn chain_tip(
-        &self,
-        from: HumanBone,
-        from_position: Vec3,
-        from_rotation: Quat,
-        tip: HumanBone,
-        local: &[Quat; BONE_COUNT],
-    ) -> Option<Vec3> {
-        if !self.has(tip) || !self.has(from) {
-            return None;
-        }
-        // Walk up from the tip collecting the chain (at most 4 links below a hand).
-        let mut chain = [HumanBone::Hips; 8];
-        let mut n = 0;
-        let mut b = tip;
-        while b != from {
-            if n == chain.len() {
-                return None;
-            }
-            chain[n] = b;
-            n += 1;
-            b = self.parent(b)?;
-        }
-        let mut pos = from_position;
-        let mut rot = from_rotation;
-        for &link in chain[..n].iter().rev() {
-            pos += rot * self.rest_local(link);
-            rot *= local[link.index()];
-        }
-        Some(pos)
     }
 }
 
@@ -439,14 +382,15 @@ mod tests {
             (hand - Vec3::new(0.45, 1.4, -0.25)).length() < 1e-6,
             "{hand}"
         );
-        let tip = s.chain_tip(
-            B::LeftLowerArm,
-            w.position[B::LeftLowerArm.index()],
-            w.rotation[B::LeftLowerArm.index()],
-            B::LeftHand,
-            &local,
+        // The arm alone, on a body posed at rest: the same hand, the other arm untouched.
+        let mut arm = WorldPose::default();
+        s.forward(&[Quat::IDENTITY; BONE_COUNT], &mut arm);
+        s.forward_arm(Side::Left, &local, &mut arm);
+        assert!((arm.position[B::LeftHand.index()] - hand).length() < 1e-6);
+        assert_eq!(
+            arm.position[B::RightHand.index()],
+            s.rest_world(B::RightHand).unwrap()
         );
-        assert!((tip.unwrap() - hand).length() < 1e-6);
     }
 
     #[test]

@@ -205,9 +205,8 @@ impl TwoBoneIk {
             // keep a defined start.
             .or_else(|| across(parent * Vec3::NEG_Z))
             .unwrap_or_else(|| dir.any_orthonormal_vector());
-        let Memory {
-            default_pole, pole, ..
-        } = self.memory(goal, dir, bend);
+        let memory = self.memory(goal, dir, bend);
+        let (default_pole, pole) = (memory.default_pole, memory.pole);
         let moved = last.map(|m| angle_between(m.dir, dir));
         match pole {
             // The pose elbow decides; near-collinear, the last swivel is kept (or, on a first
@@ -228,7 +227,7 @@ impl TwoBoneIk {
                 bend = self.steer(bend, dir, default_pole, motion);
             }
         }
-        (bend, self.memory(goal, dir, bend))
+        (bend, Memory { bend, ..memory })
     }
 
     /// What to remember of a solve toward `dir` with elbow bend `bend`.
