@@ -82,6 +82,11 @@ function time(label, n, fn) {
       samples.push(Number(process.hrtime.bigint() - t0) / 1000);
     }
   }
+  return summary(label, samples);
+}
+
+/** Median and p95 of per-call microseconds. */
+function summary(label, samples) {
   samples.sort((a, b) => a - b);
   const q = (p) => samples[Math.min(samples.length - 1, Math.floor(p * samples.length))];
   return { label, median: q(0.5), p95: q(0.95), count: samples.length };
@@ -107,11 +112,7 @@ function timeTogether(n, methods) {
       }
     }
   }
-  return methods.map(([label], m) => {
-    const s = samples[m].sort((a, b) => a - b);
-    const q = (p) => s[Math.min(s.length - 1, Math.floor(p * s.length))];
-    return { label, median: q(0.5), p95: q(0.95), count: s.length };
-  });
+  return methods.map(([label], m) => summary(label, samples[m]));
 }
 
 let sink = 0;
