@@ -115,11 +115,65 @@ function createHandRigApi(raw, isReady) {
     return v;
   }
 
+  // The common shapes without naming fields: `n` points, every one {x, y, z(, visibility)} or
+  // every one [x, y, z(, visibility)], all finite (visibility in 0..1). Returns false at the
+  // first point that is anything else, and packPoints' checking loop then reads the list again
+  // and names the field (what was written so far is overwritten or the frame is rejected).
+  function packPlain(list, out, o, n, stride, withVisibility) {
+    const first = list[0];
+    if (Array.isArray(first)) {
+      for (let k = 0; k < n; k++) {
+        const p = list[k];
+        if (!Array.isArray(p)) return false;
+        const m = p.length;
+        const x = p[0];
+        const y = p[1];
+        const z = p[2];
+        if (!(isFiniteNumber(x) && isFiniteNumber(y) && isFiniteNumber(z))) return false;
+        const d = o + k * stride;
+        out[d] = x;
+        out[d + 1] = y;
+        out[d + 2] = z;
+        if (m === 3) {
+          if (stride === 4) out[d + 3] = 1;
+        } else if (m === 4 && withVisibility) {
+          if (stride === 4) {
+            const v = p[3];
+            if (!(isFiniteNumber(v) && v >= 0 && v <= 1)) return false;
+            out[d + 3] = v;
+          }
+        } else return false;
+      }
+      return true;
+    }
+    if (first === null || typeof first !== "object" || ArrayBuffer.isView(first)) return false;
+    for (let k = 0; k < n; k++) {
+      const p = list[k];
+      if (p === null || typeof p !== "object" || Array.isArray(p) || ArrayBuffer.isView(p)) return false;
+      const x = p.x;
+      const y = p.y;
+      const z = p.z;
+      if (!(isFiniteNumber(x) && isFiniteNumber(y) && isFiniteNumber(z))) return false;
+      const d = o + k * stride;
+      out[d] = x;
+      out[d + 1] = y;
+      out[d + 2] = z;
+      if (stride === 4) {
+        const v = p.visibility;
+        if (v === undefined || v === null) out[d + 3] = 1;
+        else if (isFiniteNumber(v) && v >= 0 && v <= 1) out[d + 3] = v;
+        else return false;
+      }
+    }
+    return true;
+  }
+
   // Writes `n` points of `stride` floats from `list` at `out[o..]` (x y z, then visibility
   // when `stride` is 4). Accepts arrays of {x, y, z} or [x, y, z] (pose landmarks also
   // [x, y, z, visibility], `withVisibility`) and flat typed arrays / number arrays of n * 3.
-  // Each element is read once.
+  // Each element is read once (twice when packPlain turns the list down).
   function packPoints(list, out, o, n, stride, fa, fi, fb, withVisibility = stride === 4) {
+    if (Array.isArray(list) && list.length === n && packPlain(list, out, o, n, stride, withVisibility)) return;
     const flatLength = n * 3;
     if (ArrayBuffer.isView(list) || (Array.isArray(list) && list.length === flatLength && typeof list[0] === "number")) {
       const len = list.length;
@@ -177,9 +231,11 @@ function createHandRigApi(raw, isReady) {
       if (stride === 4) {
         if (visibility === undefined || visibility === null) out[d + 3] = 1;
         else {
-          const field = () => `${path(fa, fi, fb)}[${k}]${array ? "[3]" : ".visibility"}`;
-          if (!isFiniteNumber(visibility)) notFinite(visibility, field());
-          if (visibility < 0 || visibility > 1) fail(field(), `must be in 0..1, got ${visibility}`);
+          if (!isFiniteNumber(visibility) || visibility < 0 || visibility > 1) {
+            const field = `${path(fa, fi, fb)}[${k}]${array ? "[3]" : ".visibility"}`;
+            if (!isFiniteNumber(visibility)) notFinite(visibility, field);
+            fail(field, `must be in 0..1, got ${visibility}`);
+          }
           out[d + 3] = visibility;
         }
       }

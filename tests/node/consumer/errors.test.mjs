@@ -42,6 +42,20 @@ describe("solve() rejects bad frames by field, and the rig keeps working", () =>
     "a wrist position with NaN": [{ timeMs: 1, wrists: { right: { position: [0, Number.NaN, 0] } } }, /frame\.wrists\.right\.position/],
     "a non-unit wrist rotation": [{ timeMs: 1, wrists: { left: { position: [0.3, 1.2, 0], rotation: [0, 0, 0, 2] } } }, /frame\.wrists\.left\.rotation/],
     "5 hands": [{ timeMs: 1, hands: [hand, hand, hand, hand, hand] }, /frame\.hands/],
+    // Past the first points of a list of the common shapes (objects, or arrays with
+    // visibility): the fast packing gives up there and the checking pass names the point.
+    "a NaN .y in an object landmark": [
+      withHand({ worldLandmarks: hand.worldLandmarks.map(([x, y, z], i) => ({ x, y: i === 12 ? Number.NaN : y, z })) }),
+      /^frame\.hands\[0\]\.worldLandmarks\[12\]\.y: must be a finite number/,
+    ],
+    "a pose visibility of 1.5": [
+      { timeMs: 1, pose: { worldLandmarks: Array.from({ length: 33 }, (_, i) => [0, 0, 0, i === 20 ? 1.5 : 0.9]) } },
+      /^frame\.pose\.worldLandmarks\[20\]\[3\]: must be in 0\.\.1/,
+    ],
+    "a string visibility on an object": [
+      { timeMs: 1, pose: { worldLandmarks: Array.from({ length: 33 }, (_, i) => ({ x: 0, y: 0, z: 0, visibility: i === 32 ? "1" : 1 })) } },
+      /^frame\.pose\.worldLandmarks\[32\]\.visibility: must be a number/,
+    ],
     "32 pose landmarks": [{ timeMs: 1, pose: { worldLandmarks: Array.from({ length: 32 }, () => ({ x: 0, y: 0, z: 0 })) } }, /frame\.pose\.worldLandmarks/],
   };
   for (const [name, [frame, pattern]] of Object.entries(cases)) {
@@ -50,6 +64,22 @@ describe("solve() rejects bad frames by field, and the rig keeps working", () =>
       assert.deepEqual(rig.solve(good, {}), expected, "the rig gives the same answer after the error");
     });
   }
+});
+
+describe("landmark lists of mixed shapes", () => {
+  it("objects, arrays and typed arrays in one list solve like the recording's arrays", () => {
+    const rig = HandRig.fromVrm(robotBytes);
+    const expected = rig.solve(good, {});
+    const mixed = (list) =>
+      list.map((p, i) => (i % 3 === 0 ? { x: p[0], y: p[1], z: p[2] } : i % 3 === 1 ? Float32Array.from(p) : p));
+    const frame = { ...good, hands: good.hands.map((h) => ({ ...h, worldLandmarks: mixed(h.worldLandmarks), landmarks: mixed(h.landmarks) })) };
+    const fresh = HandRig.fromVrm(robotBytes);
+    const got = fresh.solve(frame, {});
+    // Exactly equal: the rig reads f32s either way (a Float32Array point only rounds earlier).
+    assert.deepEqual(got.bones, expected.bones);
+    rig.free();
+    fresh.free();
+  });
 });
 
 describe("constructors reject bad rest poses, options and files by field", () => {
