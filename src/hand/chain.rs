@@ -199,14 +199,64 @@ const FIT_ARMIJO: f32 = 1e-4;
 /// Least-squares base angles: the base direction and hinge plane that best explain all
 /// segments (base segment direction, hinge segments' distance from the hinge plane).
 /// Gauss-Newton with an Armijo line search on the two angles (unbounded: the angles are
-/// clamped to anatomical limits afterwards), from the base segment's own direction; where the
-/// data cannot fix both angles (a singular model) that start is kept. A step below
+/// clamped to anatomical limits afterwards), for fingers from their closed-form optimum without
+/// the prior ([`finger_optimum`]), for the thumb (whose hinge axis turns with both angles) and
+/// where that does not apply from the base segment's own direction; where the data cannot fix
+/// both angles (a singular model) that start is kept. A step below
 /// [`FIT_TOLERANCE`] is taken without a further evaluation. The general bounded solver
 /// ([`crate::solve::least_squares`], which the retargeting uses) reaches the same angles; this
 /// closed-form 2 x 2 one costs a fraction of it every frame.
 #[inline(never)] // See `cost`.
 pub fn fit(basis: &Basis, kind: Kind, t: &Targets) -> (f32, f32) {
-    let (lon, colat) = basis.spherical(t.dir[0]);
+    let start = match kind {
+        Kind::Finger => finger_optimum(basis, t),
+        Kind::Thumb => None,
+    };
+    fit_from(
+        basis,
+        kind,
+        t,
+        start.unwrap_or_else(|| basis.spherical(t.dir[0])),
+    )
+}
+
+/// A finger's least-squares base angles without the longitude prior, in closed form. Its hinge
+/// axis `g x z` is perpendicular to the pole, and at the best colatitude for a longitude the
+/// base segment's residual is its component along that axis too, so the cost is
+/// `sum w_i^2 (t_i . h(lon))^2`: least where `h` is the minor principal axis of the segments'
+/// projections on the `x`-`y` plane (`lon` half the angle of `(Sxx - Syy, 2 Sxy)`), and the
+/// colatitude then points the base along the base segment's projection on the finger's plane.
+/// Of the two longitudes half a turn apart (the same plane) the one nearer the prior. `None`
+/// where the projections do not fix a plane (the finger along the pole, or no data): the
+/// Gauss-Newton then starts from the base segment as for the thumb. [`fit`] refines it (the
+/// prior), typically in one evaluation instead of three to five from the base segment.
+fn finger_optimum(basis: &Basis, t: &Targets) -> Option<(f32, f32)> {
+    use core::f32::consts::{FRAC_PI_2, PI};
+    let (mut sxx, mut syy, mut sxy) = (0.0_f32, 0.0_f32, 0.0_f32);
+    for (d, w) in t.dir.iter().zip(t.weight) {
+        let (a, b, w2) = (d.dot(basis.x), d.dot(basis.y), w * w);
+        sxx += w2 * a * a;
+        syy += w2 * b * b;
+        sxy += w2 * a * b;
+    }
+    let half_difference = 0.5 * (sxx - syy);
+    // Below this the plane is fixed by the prior more than by the data.
+    let spread = half_difference.hypot(sxy);
+    if spread.is_nan() || spread <= 1e-4 || t.weight[0] == 0.0 {
+        return None;
+    }
+    let mut lon = 0.5 * sxy.atan2(half_difference);
+    if wrap(lon - t.lon_prior).abs() > FRAC_PI_2 {
+        lon = wrap(lon + PI);
+    }
+    let (s, c) = lon.sin_cos();
+    let g = c * basis.x + s * basis.y;
+    let t0 = t.dir[0];
+    Some((lon, t0.dot(g).atan2(t0.dot(basis.z))))
+}
+
+/// [`fit`]'s Gauss-Newton from `(lon, colat)`.
+fn fit_from(basis: &Basis, kind: Kind, t: &Targets, (lon, colat): (f32, f32)) -> (f32, f32) {
     let mut x = [lon, colat];
     let (mut cost_x, mut jtj, mut jtr) = cost(basis, kind, t, x);
     if !cost_x.is_finite() {
@@ -386,6 +436,70 @@ mod tests {
         let before = t.dir[2].dot(f.hinge).abs();
         let after = t.dir[2].dot(g.hinge).abs();
         assert!(after < before);
+    }
+
+    #[test]
+    fn the_closed_form_finger_start_reaches_the_fit_from_the_base_segment() {
+        // Noisy, out-of-plane fingers on bases of both handedness: the fit from the closed-form
+        // optimum and the plain Gauss-Newton from the base segment's direction find the same
+        // base direction and hinge plane.
+        let right = Basis::from_hints(Vec3::Y, Vec3::Z, Vec3::X).unwrap();
+        let mut seed = 0x2545_f491_u32;
+        let mut next = move || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
+        };
+        let mut closed_form = 0;
+        for b in [basis(), right] {
+            for _ in 0..500 {
+                let (lon, colat) = (next() * 1.2, 0.9 + 0.7 * next());
+                let f = b.frame(Kind::Finger, lon, colat);
+                let (h1, h2) = (0.8 + 0.8 * next(), 0.6 + 0.6 * next());
+                let noise = 0.15;
+                let mut jitter =
+                    |v: Vec3| (v + noise * Vec3::new(next(), next(), next())).normalize();
+                let t = Targets {
+                    dir: [
+                        jitter(f.dir),
+                        jitter(bend(f.dir, f.flex, h1)),
+                        jitter(bend(f.dir, f.flex, h1 + h2)),
+                    ],
+                    weight: [1.0; 3],
+                    lon_prior: lon + 0.4 * next(),
+                };
+                let start = finger_optimum(&b, &t);
+                closed_form += usize::from(start.is_some());
+                let (l1, c1) = fit(&b, Kind::Finger, &t);
+                let (l2, c2) = fit_from(&b, Kind::Finger, &t, b.spherical(t.dir[0]));
+                // Never a worse fit (both stop within the tolerance of a minimum).
+                let (e1, e2) = (
+                    cost(&b, Kind::Finger, &t, [l1, c1]).0,
+                    cost(&b, Kind::Finger, &t, [l2, c2]).0,
+                );
+                assert!(e1 <= e2 + 1e-6, "{t:?}: cost {e1} vs {e2}");
+                // The same finger where the data fix its plane well (the base well off the
+                // pole; along the pole the plane is loosely determined and both stop within
+                // the tolerance's reach of the optimum, up to 0.01 rad apart).
+                let (g1, g2) = (b.frame(Kind::Finger, l1, c1), b.frame(Kind::Finger, l2, c2));
+                assert!(
+                    g1.dir.angle_between(g2.dir) < 3e-3,
+                    "{t:?}: {l1} {c1} vs {l2} {c2}"
+                );
+                let planes = g1.hinge.normalize().dot(g2.hinge.normalize()).abs();
+                let tolerance = if c1.abs() > 0.3 { 3e-3_f32 } else { 2e-2 };
+                assert!(planes > tolerance.cos(), "{t:?}: {l1} {c1} vs {l2} {c2}");
+                // The closed form is the optimum already; the refinement only adds the prior.
+                if let (Some((ls, cs)), true) = (start, c1.abs() > 0.3) {
+                    let g = b.frame(Kind::Finger, ls, cs);
+                    assert!(g.dir.angle_between(g1.dir) < 3e-3, "{t:?}: start {ls} {cs}");
+                    assert!(g.hinge.normalize().dot(g1.hinge.normalize()).abs() > 0.9999);
+                }
+            }
+        }
+        assert_eq!(
+            closed_form, 1000,
+            "the closed form applies to every one of these"
+        );
     }
 
     #[test]
