@@ -70,7 +70,6 @@
 use core::f32::consts::PI;
 
 use glam::{Mat3, Quat, Vec3};
-use serde::Deserialize;
 
 use crate::body::robust_mean;
 use crate::bones::{HumanBone, Side, BONE_COUNT};
@@ -79,8 +78,7 @@ use crate::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation};
 use crate::skeleton::{Skeleton, VrmVersion};
 
 /// Where the torso comes from (JS: `options.torso`). See the module docs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
-#[serde(rename_all = "camelCase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum TorsoSource {
     /// `"off"`: the rest torso; `frame.torso` and the pose's torso are ignored.
     Off,
@@ -90,6 +88,12 @@ pub enum TorsoSource {
     /// `"pose"`: tracked from `body` joints or the MediaPipe pose; driven.
     Pose,
 }
+
+crate::json::decode_enum!(TorsoSource {
+    "off" => Off,
+    "frame" => Frame,
+    "pose" => Pose,
+});
 
 impl TorsoSource {
     /// Every value, in the order the option lists them.

@@ -48,10 +48,10 @@ pub mod face;
 pub mod hands;
 
 use glam::Vec3;
-use serde::Deserialize;
 
 use crate::bones::{Finger, HumanBone};
 use crate::error::{Error, Result};
+use crate::json::{self, Decode, Json};
 use crate::mediapipe::CameraMapping;
 use crate::skeleton::{Skeleton, WorldPose};
 
@@ -67,44 +67,27 @@ pub const MAX_ANCHOR_OFFSET: f32 = 10.0;
 /// e.g. found by raycasting the avatar's mesh. Each optional; missing ones are derived.
 ///
 /// Read from JSON as an object whose keys are [`FaceAnchor`] names and whose values are
-/// `[x, y, z]` (or `null`); by hand through `serde_json::Value` rather than derived, which
-/// keeps the wasm smaller.
+/// `[x, y, z]` (or `null`).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct FaceAnchorsOption {
     points: [Option<[f32; 3]>; ANCHORS],
 }
 
-impl<'de> Deserialize<'de> for FaceAnchorsOption {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        use serde::de::Error as _;
+/// `null` (none given) or an object of anchor names to `[x, y, z]` or `null`.
+impl Decode for FaceAnchorsOption {
+    fn decode(j: &Json, path: &str) -> Result<Self> {
         let mut out = FaceAnchorsOption::default();
-        let map = match serde_json::Value::deserialize(d)? {
-            serde_json::Value::Null => return Ok(out),
-            serde_json::Value::Object(map) => map,
-            _ => {
-                return Err(D::Error::custom(
-                    "faceAnchors: expected an object of [x, y, z]",
-                ))
-            }
-        };
-        for (name, v) in &map {
-            let a = FaceAnchor::from_name(name).ok_or_else(|| {
-                D::Error::custom(format!("faceAnchors: unknown anchor \"{name}\""))
-            })?;
-            if v.is_null() {
-                continue;
-            }
-            let c = v
-                .as_array()
-                .filter(|c| c.len() == 3)
-                .and_then(|c| {
-                    let f = |k: usize| c[k].as_f64().map(|x| x as f32);
-                    Some([f(0)?, f(1)?, f(2)?])
-                })
-                .ok_or_else(|| {
-                    D::Error::custom(format!("faceAnchors.{name}: expected [x, y, z]"))
-                })?;
-            out.points[a.index()] = Some(c);
+        if j.is_null() {
+            return Ok(out);
+        }
+        let members = j
+            .as_object()
+            .ok_or_else(|| json::expected(path, "an object of [x, y, z]", j))?;
+        for (name, v) in members {
+            let at = json::join(path, name);
+            let a =
+                FaceAnchor::from_name(name).ok_or_else(|| Error::invalid(&at, "unknown anchor"))?;
+            out.points[a.index()] = Option::<Vec3>::decode(v, &at)?.map(|v| v.to_array());
         }
         Ok(out)
     }
@@ -124,8 +107,7 @@ impl FaceAnchorsOption {
 }
 
 /// Self-contact options (JS: `options.contact`).
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
-#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactOptions {
     /// Turn self-contact retargeting on (default) or off (plain alignment targets).
     pub enabled: bool,
@@ -166,6 +148,18 @@ impl Default for ContactOptions {
         }
     }
 }
+
+json::decode_struct!(ContactOptions {
+    "enabled" => enabled,
+    "radius" => radius,
+    "weight" => weight,
+    "hands" => hands,
+    "faceAnchors" => face_anchors,
+    "colliders" => colliders,
+    "torsoRadius" => torso_radius,
+    "headRadius" => head_radius,
+    "depthTrust" => depth_trust,
+});
 
 /// Range of `contact.radius` (head breadths).
 pub const RADIUS_RANGE: (f32, f32) = (0.05, 3.0);
