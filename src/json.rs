@@ -283,6 +283,7 @@ pub fn decode_fields(
 }
 
 impl Decode for bool {
+    #[inline(never)]
     fn decode(json: &Json, path: &str) -> Result<Self> {
         json.as_bool()
             .ok_or_else(|| expected(path, "true or false", json))
@@ -290,6 +291,7 @@ impl Decode for bool {
 }
 
 impl Decode for f32 {
+    #[inline(never)]
     fn decode(json: &Json, path: &str) -> Result<Self> {
         json.as_f64()
             .map(|x| x as f32)
@@ -338,20 +340,22 @@ impl<T: Decode> Decode for Option<T> {
 
 /// An array; items are named `path[i]`.
 impl<T: Decode> Decode for Vec<T> {
+    #[inline(never)]
     fn decode(json: &Json, path: &str) -> Result<Self> {
         let items = json
             .as_array()
             .ok_or_else(|| expected(path, "an array", json))?;
-        items
-            .iter()
-            .enumerate()
-            .map(|(i, v)| T::decode(v, &format!("{path}[{i}]")))
-            .collect()
+        let mut out = Vec::with_capacity(items.len());
+        for (i, v) in items.iter().enumerate() {
+            out.push(T::decode(v, &format!("{path}[{i}]"))?);
+        }
+        Ok(out)
     }
 }
 
 /// `[x, y, z]`.
 impl Decode for Vec3 {
+    #[inline(never)]
     fn decode(json: &Json, path: &str) -> Result<Self> {
         let bad = || expected(path, "[x, y, z]", json);
         let a = json.as_array().filter(|a| a.len() == 3).ok_or_else(bad)?;
@@ -366,6 +370,7 @@ macro_rules! decode_struct {
     ($ty:ty { $($name:literal => $field:ident),* $(,)? }) => {
         impl $crate::json::Decode for $ty {
             #[allow(unused_assignments)]
+            #[inline(never)]
             fn decode(json: &$crate::json::Json, path: &str) -> $crate::error::Result<Self> {
                 let mut out = <$ty as Default>::default();
                 $crate::json::decode_fields(json, path, &[$($name),*], &mut |i, value, at| {
