@@ -828,6 +828,42 @@ mod tests {
     }
 
     #[test]
+    fn joint_limits_are_read_by_their_type_tag() {
+        use crate::kinematics::JointLimit;
+        let limit = |text: &str| JointLimit::decode(&Json::parse(text).unwrap(), "c[1]");
+        assert_eq!(
+            limit(r#"{"type": "hinge", "axis": [0, 0, 2], "min": -1, "max": 0.5}"#).unwrap(),
+            JointLimit::Hinge {
+                axis: Vec3::new(0.0, 0.0, 2.0),
+                min: -1.0,
+                max: 0.5
+            }
+        );
+        assert_eq!(
+            limit(r#"{"maxAngle": 0.25, "type": "cone"}"#).unwrap(),
+            JointLimit::Cone { max_angle: 0.25 }
+        );
+        for (text, message) in [
+            (r#"{"type": "cone"}"#, "c[1].maxAngle: missing (required)"),
+            (
+                r#"{"type": "hinge", "min": 0, "max": 1}"#,
+                "c[1].axis: missing (required)",
+            ),
+            (
+                r#"{"type": "cone", "maxAngle": 1, "min": 0}"#,
+                "c[1].min: unknown field (expected one of type, maxAngle)",
+            ),
+            (
+                r#"{"type": 3}"#,
+                r#"c[1].type: expected one of "cone", "hinge", got 3"#,
+            ),
+            (r#"[]"#, "c[1]: expected an object, got an array"),
+        ] {
+            assert_eq!(limit(text).unwrap_err().to_string(), message, "{text}");
+        }
+    }
+
+    #[test]
     fn members_are_selected_and_bounded() {
         let text = r#"{"skip": [1, 2, 3, {"deep": [[[]]]}], "keep": [1, 2], "obj": {"a": 1}}"#;
         let m = Json::parse_members(text, &["keep", "obj"], 2)

@@ -10,7 +10,7 @@
 //! No user JS code runs while Rust is on the stack: the constructor takes rest positions as a
 //! typed array and options as JSON text (both copied in before Rust runs), so a throwing getter
 //! or a lying `length` in user input throws in JavaScript, before wasm is entered, and cannot
-//! leave a rig half-borrowed. JSON text is parsed by the engine's `JSON.parse` ([`json`]),
+//! leave a rig half-borrowed. JSON text is parsed by the engine's `JSON.parse` ([`crate::json`]),
 //! which runs no user code.
 
 mod chain;
