@@ -166,6 +166,12 @@ pub const RADIUS_RANGE: (f32, f32) = (0.05, 3.0);
 /// Largest `contact.torsoRadius` / `contact.headRadius` (m).
 pub const MAX_COLLIDER_RADIUS: f32 = 2.0;
 
+// The range messages spell the constants out: formatting an `f32` would bring Rust's float
+// formatting into the `.wasm` (over 10 KiB gzipped). A test checks them against the constants.
+const RADIUS_MESSAGE: &str = "must be a number in 0.05..3 (head breadths)";
+const COLLIDER_RADIUS_MESSAGE: &str = "must be a number in 0..2 (meters)";
+const ANCHOR_MESSAGE: &str = "must be [x, y, z]: finite meters within 10 of the head bone";
+
 impl ContactOptions {
     /// Checks ranges.
     ///
@@ -174,13 +180,7 @@ impl ContactOptions {
     /// anchor coordinates not finite or beyond 10 m (the field is named).
     pub fn validate(&self) -> Result<()> {
         if !(RADIUS_RANGE.0..=RADIUS_RANGE.1).contains(&self.radius) {
-            return Err(Error::invalid(
-                "options.contact.radius",
-                format!(
-                    "must be a number in {}..{} (head breadths)",
-                    RADIUS_RANGE.0, RADIUS_RANGE.1
-                ),
-            ));
+            return Err(Error::invalid("options.contact.radius", RADIUS_MESSAGE));
         }
         if !(0.0..=1.0).contains(&self.weight) {
             return Err(Error::invalid(
@@ -202,7 +202,7 @@ impl ContactOptions {
                 if !(0.0..=MAX_COLLIDER_RADIUS).contains(&r) {
                     return Err(Error::invalid(
                         format!("options.contact.{name}"),
-                        format!("must be a number in 0..{MAX_COLLIDER_RADIUS} (meters)"),
+                        COLLIDER_RADIUS_MESSAGE,
                     ));
                 }
             }
@@ -212,9 +212,7 @@ impl ContactOptions {
                 if !(p.is_finite() && p.abs().max_element() <= MAX_ANCHOR_OFFSET) {
                     return Err(Error::invalid(
                         format!("options.contact.faceAnchors.{}", a.as_str()),
-                        format!(
-                            "must be [x, y, z]: finite meters within {MAX_ANCHOR_OFFSET} of the head bone"
-                        ),
+                        ANCHOR_MESSAGE,
                     ));
                 }
             }
@@ -477,3 +475,27 @@ impl ContactSolver {
 /// radius when no user face is known.
 pub const PALMS_PER_HEAD: f32 = HEAD_BREADTH_M / 0.09;
 const HEAD_BREADTH_M: f32 = face::HEAD_BREADTH;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn range_messages_agree_with_the_constants() {
+        assert_eq!(
+            RADIUS_MESSAGE,
+            format!(
+                "must be a number in {}..{} (head breadths)",
+                RADIUS_RANGE.0, RADIUS_RANGE.1
+            )
+        );
+        assert_eq!(
+            COLLIDER_RADIUS_MESSAGE,
+            format!("must be a number in 0..{MAX_COLLIDER_RADIUS} (meters)")
+        );
+        assert_eq!(
+            ANCHOR_MESSAGE,
+            format!("must be [x, y, z]: finite meters within {MAX_ANCHOR_OFFSET} of the head bone")
+        );
+    }
+}
