@@ -27,7 +27,7 @@ fn main() {
         .flat_map(|c| recordings::asl(c))
         .collect();
     let options: RigOptions = match std::env::var("HANDRIG_OPTIONS") {
-        Ok(json) => serde_json::from_str(&json).expect("HANDRIG_OPTIONS: rig options as JSON"),
+        Ok(json) => RigOptions::from_json(&json).expect("HANDRIG_OPTIONS: rig options as JSON"),
         Err(_) => RigOptions::default(),
     };
     let mut rig = Rig::new(skeleton, options).expect("rig");

@@ -15,16 +15,15 @@
 //! frame late). With `weight` w the IK wrist is `pose wrist + w * (user offset - avatar offset)`.
 
 use glam::{Quat, Vec3};
-use serde::Deserialize;
 
 use crate::bones::{Finger, Side, BONE_COUNT};
 use crate::error::{Error, Result};
+use crate::json::{decode_enum, decode_struct, Decode, Json};
 use crate::mediapipe::HAND_LANDMARKS;
 use crate::skeleton::{Skeleton, WorldPose};
 
 /// Which point of the finger is aligned.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
-#[serde(rename_all = "camelCase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum AlignPoint {
     /// The DIP joint (thumb: IP), i.e. the avatar's distal bone origin. The seed's choice:
     /// avatars have no tip bone, so this is the most distal point known exactly.
@@ -43,13 +42,11 @@ pub enum AlignPoint {
 pub const TIP_RATIO: [f32; 5] = [0.70, 0.71, 0.66, 0.67, 0.88];
 
 /// Fingertip-alignment options (JS: `options.alignment`).
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
-#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AlignmentOptions {
     /// Turn alignment on (default) or off (IK wrist = pose wrist).
     pub enabled: bool,
     /// Which finger to align. Default `"index"`.
-    #[serde(deserialize_with = "finger_from_name")]
     pub finger: Finger,
     /// Which point of the finger. Default `"dip"`.
     pub point: AlignPoint,
@@ -94,13 +91,31 @@ impl AlignmentOptions {
     }
 }
 
-fn finger_from_name<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Finger, D::Error> {
-    let name = String::deserialize(d)?;
-    Finger::from_name(&name).ok_or_else(|| {
-        serde::de::Error::custom(format!(
-            "unknown finger \"{name}\" (expected thumb, index, middle, ring or little)"
-        ))
-    })
+decode_enum!(AlignPoint { "dip" => Dip, "tip" => Tip });
+
+decode_struct!(AlignmentOptions {
+    "enabled" => enabled,
+    "finger" => finger,
+    "point" => point,
+    "weight" => weight,
+});
+
+/// A finger by its name (`alignment.finger`).
+impl Decode for Finger {
+    fn decode(json: &Json, path: &str) -> Result<Self> {
+        let name = json
+            .as_str()
+            .ok_or_else(|| crate::json::expected(path, "a finger name", json))?;
+        Finger::from_name(name).ok_or_else(|| {
+            Error::invalid(
+                path,
+                format!(
+                    "unknown finger {} (expected thumb, index, middle, ring or little)",
+                    json.describe()
+                ),
+            )
+        })
+    }
 }
 
 /// What alignment did for one hand, in the internal frame.

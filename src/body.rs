@@ -65,10 +65,10 @@
 //!   forearm (nothing to align).
 
 use glam::{Quat, Vec3};
-use serde::Deserialize;
 
 use crate::bones::Side;
 use crate::error::{Error, Result};
+use crate::json::decode_struct;
 use crate::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation};
 use crate::skeleton::Skeleton;
 
@@ -83,8 +83,7 @@ pub const REFERENCE_USER_ARM: f32 = 0.52;
 const MIN_USER_ARM: f32 = 0.05;
 
 /// Calibration options (JS: `options.calibration`).
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
-#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CalibrationOptions {
     /// A preset body scale (avatar arm / user arm), positive; `None` (default) calibrates
     /// automatically from pose landmarks.
@@ -105,6 +104,12 @@ impl Default for CalibrationOptions {
         }
     }
 }
+
+decode_struct!(CalibrationOptions {
+    "bodyScale" => body_scale,
+    "frames" => frames,
+    "minVisibility" => min_visibility,
+});
 
 impl CalibrationOptions {
     /// Checks ranges.

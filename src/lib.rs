@@ -25,6 +25,8 @@
 //! * [`bones`]: the 55 humanoid bones, parent map, sides and fingers.
 //! * [`skeleton`]: rest pose and forward kinematics over normalized bones.
 //! * [`vrm`]: reading `.vrm` (glTF binary) files, VRM 1.0 and 0.x.
+//! * [`json`]: JSON documents and the decoding of options from them (the engine's
+//!   `JSON.parse` in WebAssembly).
 //! * [`mediapipe`]: input types and the camera-to-avatar conversion.
 //! * [`hand`]: wrist and finger rotations from 21 hand landmarks.
 //! * [`align`]: fingertip alignment (the wrist IK target).
@@ -52,6 +54,7 @@ pub mod filter;
 pub mod flat;
 pub mod hand;
 pub mod ik;
+pub mod json;
 pub mod kinematics;
 pub mod mediapipe;
 pub mod rig;

@@ -33,7 +33,6 @@
 //! [`Rig::reset`] clears the history of every stage.
 
 use glam::{Quat, Vec3};
-use serde::Deserialize;
 
 use crate::align::{self, AlignmentOptions, AlignmentReport};
 use crate::body::{ArmAnchor, BodyMapper, CalibrationOptions};
@@ -43,10 +42,11 @@ use crate::contact::{
     ContactOptions, ContactReport, ContactSolver, FaceAnchor, HandPoints, SideTarget, Source,
     UserFace, UserFaces,
 };
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::filter::{Clock, DropoutOptions, FilterOptions, OneEuroQuat, PointFilters, Presence};
 use crate::hand::{HandSolver, HandStatus, HandStrategy, RetargetReport};
 use crate::ik::{ArmOptions, ArmSolver, ArmSolverState};
+use crate::json::{decode_enum, decode_struct, Decode, Json};
 use crate::mediapipe::{
     hand_landmark, pose_landmark, CameraMapping, FrameInput, PoseObservation, TrackerFace,
     HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS,
@@ -58,8 +58,10 @@ use crate::torso::{
 
 /// Options of a [`Rig`], set at construction (JS: the `options` argument of `new HandRig`).
 /// Every field has a documented default; JS names are the camelCase field names.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+///
+/// From JSON: [`RigOptions::from_json`] (an object of those names, each optional, nested
+/// groups as objects; unknown names are errors).
+#[derive(Clone, Debug, PartialEq)]
 pub struct RigOptions {
     /// The image given to MediaPipe was flipped horizontally (selfie view). Default `false`.
     pub input_mirrored: bool,
@@ -97,8 +99,7 @@ pub struct RigOptions {
 /// `options.handedness`). A label contradicts the pose when the hand's wrist, in the image,
 /// is nearer the other side's pose wrist than half its distance to its own side's (both pose
 /// wrists visible; needs the hands' and the pose's image landmarks of the same image).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
-#[serde(rename_all = "camelCase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum HandednessPolicy {
     /// `"reassign"`: the hand drives the side the pose says (read as that hand).
     #[default]
@@ -141,7 +142,42 @@ impl Default for RigOptions {
     }
 }
 
+decode_enum!(HandednessPolicy {
+    "reassign" => Reassign,
+    "drop" => Drop,
+    "trust" => Trust,
+});
+
+decode_struct!(RigOptions {
+    "inputMirrored" => input_mirrored,
+    "mirror" => mirror,
+    "handStrategy" => hand_strategy,
+    "alignment" => alignment,
+    "armSolver" => arm_solver,
+    "arm" => arm,
+    "calibration" => calibration,
+    "minHandScore" => min_hand_score,
+    "handedness" => handedness,
+    "filter" => filter,
+    "dropout" => dropout,
+    "torso" => torso,
+    "contact" => contact,
+});
+
 impl RigOptions {
+    /// Reads options from JSON text: an object of the camelCase field names (JS:
+    /// `{ mirror: true, arm: { shoulderAngle: 0.3 } }`), each optional (missing ones keep
+    /// their defaults), enums as their JS strings, `null` for an unset optional number. The
+    /// ranges are checked later, by [`Rig::new`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming the field (`options.arm.shoulderAngle`): text that is
+    /// not JSON, a wrong type, an unknown name, an unknown enum value.
+    pub fn from_json(text: &str) -> Result<RigOptions> {
+        let json = Json::parse(text).map_err(|e| Error::invalid("options", e.to_string()))?;
+        RigOptions::decode(&json, "options")
+    }
+
     /// The defaults with no filtering and no dropout easing: every frame is solved on its own,
     /// exactly from its input (offline processing, evaluations, tests with exact answers).
     #[must_use]

@@ -78,6 +78,12 @@ impl Default for WorldPose {
 /// 1e20 m arm overflows `f32` arithmetic in the solvers (squared lengths become infinite).
 pub const MAX_REST_COORDINATE: f32 = 1000.0;
 
+/// The message of a rest position beyond [`MAX_REST_COORDINATE`], the number spelled out:
+/// formatting an `f32` would bring Rust's float formatting into the `.wasm` (over 10 KiB
+/// gzipped). A test checks it against the constant.
+const OUT_OF_RANGE: &str = "position out of range: every coordinate must be within 1000 m of \
+                            the origin (an avatar, not a planet)";
+
 /// An avatar's humanoid skeleton in handrig's internal frame (+Z facing, see the crate docs).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Skeleton {
@@ -116,10 +122,7 @@ impl Skeleton {
             if p.abs().max_element() > MAX_REST_COORDINATE {
                 return Err(Error::invalid(
                     format!("restPose.bones.{bone}"),
-                    format!(
-                        "position out of range: every coordinate must be within \
-                         {MAX_REST_COORDINATE} m of the origin (an avatar, not a planet)"
-                    ),
+                    OUT_OF_RANGE,
                 ));
             }
             if present[bone.index()] {
@@ -304,6 +307,18 @@ impl Skeleton {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn the_range_message_spells_the_constant() {
+        assert_eq!(
+            OUT_OF_RANGE,
+            format!(
+                "position out of range: every coordinate must be within \
+                 {MAX_REST_COORDINATE} m of the origin (an avatar, not a planet)"
+            )
+        );
+    }
+
     use super::*;
     use crate::bones::HumanBone as B;
 

@@ -70,17 +70,16 @@
 use core::f32::consts::PI;
 
 use glam::{Mat3, Quat, Vec3};
-use serde::Deserialize;
 
 use crate::body::robust_mean;
 use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::filter::{DropoutOptions, Presence};
+use crate::kinematics::clamp;
 use crate::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation};
 use crate::skeleton::{Skeleton, VrmVersion};
 
 /// Where the torso comes from (JS: `options.torso`). See the module docs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
-#[serde(rename_all = "camelCase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum TorsoSource {
     /// `"off"`: the rest torso; `frame.torso` and the pose's torso are ignored.
     Off,
@@ -90,6 +89,12 @@ pub enum TorsoSource {
     /// `"pose"`: tracked from `body` joints or the MediaPipe pose; driven.
     Pose,
 }
+
+crate::json::decode_enum!(TorsoSource {
+    "off" => Off,
+    "frame" => Frame,
+    "pose" => Pose,
+});
 
 impl TorsoSource {
     /// Every value, in the order the option lists them.
@@ -467,8 +472,12 @@ fn measure_head(p: &TorsoPoints) -> Option<Quat> {
 pub fn clamp_swing_twist(q: Quat, forward: f32, back: f32, lateral: f32, twist: f32) -> Quat {
     let (swing, tw) = crate::kinematics::swing_twist(q, Vec3::Y);
     let s = swing.to_scaled_axis();
-    let s = Vec3::new(s.x.clamp(-back, forward), 0.0, s.z.clamp(-lateral, lateral));
-    let t = crate::kinematics::twist_angle(tw, Vec3::Y).clamp(-twist, twist);
+    let s = Vec3::new(
+        clamp(s.x, -back, forward),
+        0.0,
+        clamp(s.z, -lateral, lateral),
+    );
+    let t = clamp(crate::kinematics::twist_angle(tw, Vec3::Y), -twist, twist);
     let out = Quat::from_scaled_axis(s) * Quat::from_rotation_y(t);
     if out.is_finite() {
         out.normalize()
@@ -706,7 +715,7 @@ impl TorsoSolver {
 
         // Hips: the yaw relative to the avatar's rest hip line.
         let hips_target = m.hips_yaw.map(|yaw| {
-            let d = wrap_angle(yaw - a.rest_hips_yaw).clamp(-l.hips_yaw, l.hips_yaw);
+            let d = clamp(wrap_angle(yaw - a.rest_hips_yaw), -l.hips_yaw, l.hips_yaw);
             Quat::from_rotation_y(d)
         });
         self.blend(
@@ -746,8 +755,11 @@ impl TorsoSolver {
         for side in Side::BOTH {
             if let Some((axis, lever)) = a.shrug[side.index()] {
                 let s = (shrug / (m.half_width * lever)).clamp(-1.0, 1.0);
-                let angle = if s.is_finite() { s.asin() } else { 0.0 }
-                    .clamp(-l.shoulder_depression, l.shoulder_elevation);
+                let angle = clamp(
+                    if s.is_finite() { s.asin() } else { 0.0 },
+                    -l.shoulder_depression,
+                    l.shoulder_elevation,
+                );
                 spine_targets[n] = (side.arm()[0], Quat::from_axis_angle(axis, angle));
                 n += 1;
             }

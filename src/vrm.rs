@@ -17,8 +17,8 @@
 //! Every malformed input is an [`Error::Vrm`] naming the part of the file and the problem;
 //! nothing here panics or indexes out of bounds, whatever the bytes.
 
+use crate::json::{Json, JsonError};
 use glam::Vec3;
-use serde_json::{Map, Value};
 
 use crate::bones::{HumanBone, BONE_COUNT};
 use crate::error::{Error, Result};
@@ -104,7 +104,7 @@ pub fn parse(bytes: &[u8]) -> Result<VrmHumanoid> {
 
 /// The look-at offset as written in the head node's local frame (VRM 0.x: z negated, as
 /// three-vrm reads it); `None` when absent or malformed.
-fn look_at_offset(root: &Map<String, Value>, version: VrmVersion) -> Option<[f64; 3]> {
+fn look_at_offset(root: &Json, version: VrmVersion) -> Option<[f64; 3]> {
     let ext = root.get("extensions")?;
     let v = match version {
         VrmVersion::V1 => {
@@ -120,7 +120,7 @@ fn look_at_offset(root: &Map<String, Value>, version: VrmVersion) -> Option<[f64
                 .get("VRM")?
                 .get("firstPerson")?
                 .get("firstPersonBoneOffset")?;
-            let c = |k: &str| o.get(k).and_then(Value::as_f64);
+            let c = |k: &str| o.get(k).and_then(Json::as_f64);
             [c("x")?, c("y")?, -c("z")?]
         }
     };
@@ -160,139 +160,21 @@ pub const MAX_DEPTH: usize = 1_024;
 /// Largest JSON chunk read (real avatars: a few MB).
 pub const MAX_JSON_BYTES: usize = 64 << 20;
 
-/// The two top-level members handrig reads (`nodes`, `extensions`), streamed out of the JSON
-/// chunk: every other member (meshes, accessors, materials, animations, extras...) is skipped
-/// without being built, and `nodes` stops at [`MAX_NODES`] + 1 entries, so a hostile file with
-/// millions of nodes or of other objects costs a scan of its text, not a document tree.
-fn read_top_level(json: &[u8]) -> Result<Map<String, Value>> {
-    use serde::de::{self, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
-
-    struct Top;
-    impl<'de> Visitor<'de> for Top {
-        type Value = Map<String, Value>;
-        fn expecting(&self, f: &mut core::fmt::Formatter) -> core::fmt::Result {
-            f.write_str("a glTF JSON object")
-        }
-        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
-            let mut out = Map::new();
-            while let Some(key) = map.next_key::<String>()? {
-                match key.as_str() {
-                    "nodes" => {
-                        let v = map.next_value_seed(BoundedNodes)?;
-                        out.insert(key, v);
-                    }
-                    "extensions" => {
-                        let v = map.next_value::<Value>()?;
-                        out.insert(key, v);
-                    }
-                    _ => {
-                        map.next_value::<IgnoredAny>()?;
-                    }
-                }
-            }
-            Ok(out)
-        }
-    }
-
-    /// `nodes` as a JSON array of at most [`MAX_NODES`] values (anything else is kept as is
-    /// for [`NodeTree::parse`] to name).
-    struct BoundedNodes;
-    impl<'de> de::DeserializeSeed<'de> for BoundedNodes {
-        type Value = Value;
-        fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Value, D::Error> {
-            d.deserialize_any(self)
-        }
-    }
-    impl<'de> Visitor<'de> for BoundedNodes {
-        type Value = Value;
-        fn expecting(&self, f: &mut core::fmt::Formatter) -> core::fmt::Result {
-            f.write_str("the nodes array")
-        }
-        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
-            let mut nodes = Vec::new();
-            while let Some(node) = seq.next_element::<Value>()? {
-                if nodes.len() == MAX_NODES {
-                    return Err(de::Error::custom(TOO_MANY_NODES));
-                }
-                nodes.push(node);
-            }
-            Ok(Value::Array(nodes))
-        }
-        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
-            while map.next_entry::<IgnoredAny, IgnoredAny>()?.is_some() {}
-            Ok(Value::Object(Map::new()))
-        }
-        fn visit_bool<E>(self, _: bool) -> Result<Value, E> {
-            Ok(Value::Null)
-        }
-        fn visit_i64<E>(self, _: i64) -> Result<Value, E> {
-            Ok(Value::Null)
-        }
-        fn visit_u64<E>(self, _: u64) -> Result<Value, E> {
-            Ok(Value::Null)
-        }
-        fn visit_f64<E>(self, _: f64) -> Result<Value, E> {
-            Ok(Value::Null)
-        }
-        fn visit_str<E>(self, _: &str) -> Result<Value, E> {
-            Ok(Value::Null)
-        }
-        fn visit_unit<E>(self) -> Result<Value, E> {
-            Ok(Value::Null)
-        }
-    }
-
-    const TOO_MANY_NODES: &str = "too many nodes";
-    // Skipped members are not decoded, so check the encoding of the whole chunk up front.
+/// The two top-level members handrig reads (`nodes`, `extensions`), as an object. Every other
+/// member (meshes, accessors, materials, animations, extras...) is checked but not kept, and
+/// `nodes` is refused beyond [`MAX_NODES`] entries before it is converted, so a hostile file
+/// with millions of nodes or of other objects costs a scan of its text, not a document tree.
+fn read_top_level(json: &[u8]) -> Result<Json> {
+    // Check the encoding of the whole chunk up front (skipped members are not decoded).
     let json = std::str::from_utf8(json)
         .map_err(|e| vrm_err(format!("JSON chunk is not valid JSON: not UTF-8 ({e})")))?;
-    let mut de = serde_json::Deserializer::from_str(json);
-    let top = (&mut de).deserialize_any(TopOrOther).and_then(|t| {
-        de.end()?;
-        Ok(t)
-    });
-
-    /// The top level: an object, or anything else (named below).
-    struct TopOrOther;
-    impl<'de> Visitor<'de> for TopOrOther {
-        type Value = Option<Map<String, Value>>;
-        fn expecting(&self, f: &mut core::fmt::Formatter) -> core::fmt::Result {
-            f.write_str("a glTF JSON object")
-        }
-        fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
-            Top.visit_map(map).map(Some)
-        }
-        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
-            while seq.next_element::<IgnoredAny>()?.is_some() {}
-            Ok(None)
-        }
-        fn visit_bool<E>(self, _: bool) -> Result<Self::Value, E> {
-            Ok(None)
-        }
-        fn visit_i64<E>(self, _: i64) -> Result<Self::Value, E> {
-            Ok(None)
-        }
-        fn visit_u64<E>(self, _: u64) -> Result<Self::Value, E> {
-            Ok(None)
-        }
-        fn visit_f64<E>(self, _: f64) -> Result<Self::Value, E> {
-            Ok(None)
-        }
-        fn visit_str<E>(self, _: &str) -> Result<Self::Value, E> {
-            Ok(None)
-        }
-        fn visit_unit<E>(self) -> Result<Self::Value, E> {
-            Ok(None)
-        }
-    }
-
-    match top {
-        Ok(Some(root)) => Ok(root),
+    match Json::parse_members(json, &["nodes", "extensions"], MAX_NODES) {
+        Ok(Some(members)) => Ok(Json::Object(members)),
         Ok(None) => Err(vrm_err("JSON chunk: the top level must be an object")),
-        Err(e) if e.is_data() && e.to_string().starts_with(TOO_MANY_NODES) => Err(vrm_err(
-            format!("nodes: more than the {MAX_NODES} nodes handrig reads"),
-        )),
-        Err(e) => Err(vrm_err(format!("JSON chunk is not valid JSON: {e}"))),
+        Err(JsonError::TooLong(_)) => Err(vrm_err(format!(
+            "nodes: more than the {MAX_NODES} nodes handrig reads"
+        ))),
+        Err(JsonError::Invalid(e)) => Err(vrm_err(format!("JSON chunk is not valid JSON: {e}"))),
     }
 }
 
@@ -458,11 +340,10 @@ struct NodeTree {
 }
 
 impl NodeTree {
-    fn parse(root: &Map<String, Value>) -> Result<Self> {
-        let empty = Vec::new();
+    fn parse(root: &Json) -> Result<Self> {
         let nodes = match root.get("nodes") {
-            None => &empty,
-            Some(Value::Array(a)) => a,
+            None => &[],
+            Some(Json::Array(a)) => a.as_slice(),
             Some(_) => return Err(vrm_err("nodes: must be an array")),
         };
         let n = nodes.len();
@@ -474,9 +355,9 @@ impl NodeTree {
         let mut local = Vec::with_capacity(n);
         let mut parent: Vec<Option<usize>> = vec![None; n];
         for (i, node) in nodes.iter().enumerate() {
-            let node = node
-                .as_object()
-                .ok_or_else(|| vrm_err(format!("nodes[{i}]: must be an object")))?;
+            if node.as_object().is_none() {
+                return Err(vrm_err(format!("nodes[{i}]: must be an object")));
+            }
             local.push(local_matrix(i, node)?);
             let Some(children) = node.get("children") else {
                 continue;
@@ -614,28 +495,17 @@ impl NodeTree {
 }
 
 /// A non-negative integer index below `n` (JSON numbers such as `3.0` count as integers).
-fn index_value(v: &Value, n: usize, field: &str) -> Result<usize> {
-    let i = if let Some(u) = v.as_u64() {
-        Some(u)
-    } else {
-        v.as_f64()
-            .filter(|f| f.fract() == 0.0 && *f >= 0.0 && *f < 9.0e15)
-            .map(|f| f as u64)
-    };
+fn index_value(v: &Json, n: usize, field: &str) -> Result<usize> {
+    let i = v
+        .as_f64()
+        .filter(|f| f.fract() == 0.0 && *f >= 0.0 && *f < 9.0e15)
+        .map(|f| f as u64);
     let Some(i) = i else {
-        // Numbers and short strings are quoted back; anything else by kind only, so a huge
+        // Integers and short strings are quoted back; anything else by kind only, so a huge
         // value cannot blow up the message.
-        let got = match v {
-            Value::Number(n) => n.to_string(),
-            Value::String(s) if s.len() <= 32 => format!("\"{s}\""),
-            Value::String(_) => "a string".into(),
-            Value::Null => "null".into(),
-            Value::Bool(b) => b.to_string(),
-            Value::Array(_) => "an array".into(),
-            Value::Object(_) => "an object".into(),
-        };
         return Err(vrm_err(format!(
-            "{field}: node index must be a non-negative integer, got {got}"
+            "{field}: node index must be a non-negative integer, got {}",
+            v.describe()
         )));
     };
     usize::try_from(i).ok().filter(|&i| i < n).ok_or_else(|| {
@@ -647,7 +517,7 @@ fn index_value(v: &Value, n: usize, field: &str) -> Result<usize> {
 
 /// `N` finite numbers from a JSON array field, or `default` when absent.
 fn numbers<const N: usize>(
-    node: &Map<String, Value>,
+    node: &Json,
     i: usize,
     key: &str,
     default: [f64; N],
@@ -713,8 +583,8 @@ fn length(v: [f64; 3]) -> f64 {
 }
 
 /// The node's local transform, as three.js builds it.
-fn local_matrix(i: usize, node: &Map<String, Value>) -> Result<Affine> {
-    if node.contains_key("matrix") {
+fn local_matrix(i: usize, node: &Json) -> Result<Affine> {
+    if node.get("matrix").is_some() {
         let a = numbers::<16>(node, i, "matrix", [0.0; 16])?;
         // Column-major; the last row of an affine glTF matrix is 0, 0, 0, 1.
         if [a[3], a[7], a[11], a[15]] != [0.0, 0.0, 0.0, 1.0] {
@@ -802,8 +672,8 @@ fn quat_from_rotation_columns(c0: [f64; 3], c1: [f64; 3], c2: [f64; 3]) -> [f64;
 type BoneEntry = (HumanBone, usize, String);
 
 /// Reads the humanoid bone map of `VRMC_vrm` (preferred) or `VRM`.
-fn humanoid_map(root: &Map<String, Value>, n: usize) -> Result<(VrmVersion, Vec<BoneEntry>)> {
-    let ext = root.get("extensions").and_then(Value::as_object);
+fn humanoid_map(root: &Json, n: usize) -> Result<(VrmVersion, Vec<BoneEntry>)> {
+    let ext = root.get("extensions");
     let v1 = ext.and_then(|e| e.get("VRMC_vrm"));
     let v0 = ext.and_then(|e| e.get("VRM"));
     let (version, entries) = match (v1, v0) {
@@ -828,12 +698,12 @@ fn humanoid_map(root: &Map<String, Value>, n: usize) -> Result<(VrmVersion, Vec<
     Ok((version, entries))
 }
 
-fn vrm1_bones(ext: &Value, n: usize) -> Result<Vec<BoneEntry>> {
+fn vrm1_bones(ext: &Json, n: usize) -> Result<Vec<BoneEntry>> {
     const BASE: &str = "extensions.VRMC_vrm";
-    let ext = ext
-        .as_object()
-        .ok_or_else(|| vrm_err(format!("{BASE}: must be an object")))?;
-    match ext.get("specVersion").and_then(Value::as_str) {
+    if ext.as_object().is_none() {
+        return Err(vrm_err(format!("{BASE}: must be an object")));
+    }
+    match ext.get("specVersion").and_then(Json::as_str) {
         Some(v) if v == "1.0" || v.starts_with("1.0-") => {}
         Some(v) => {
             return Err(vrm_err(format!(
@@ -853,9 +723,14 @@ fn vrm1_bones(ext: &Value, n: usize) -> Result<Vec<BoneEntry>> {
         .ok_or_else(|| vrm_err(format!("{BASE}.humanoid.humanBones: missing")))?
         .as_object()
         .ok_or_else(|| vrm_err(format!("{BASE}.humanoid.humanBones: must be an object")))?;
+    // In name order, so that which of two clashing entries an error names does not depend
+    // on the file's member order.
+    let mut bones: Vec<&(String, Json)> = bones.iter().collect();
+    bones.sort_by(|a, b| a.0.cmp(&b.0));
     // 1.0-beta files kept the 0.x thumb names; three-vrm renames them when it sees one.
-    let beta_thumbs =
-        bones.contains_key("leftThumbIntermediate") || bones.contains_key("rightThumbIntermediate");
+    let beta_thumbs = bones
+        .iter()
+        .any(|(k, _)| k == "leftThumbIntermediate" || k == "rightThumbIntermediate");
     let mut out = Vec::with_capacity(bones.len().min(BONE_COUNT));
     for (name, entry) in bones {
         let field = format!("{BASE}.humanoid.humanBones.{name}");
@@ -881,7 +756,7 @@ fn vrm1_bones(ext: &Value, n: usize) -> Result<Vec<BoneEntry>> {
     Ok(out)
 }
 
-fn vrm0_bones(ext: &Value, n: usize) -> Result<Vec<BoneEntry>> {
+fn vrm0_bones(ext: &Json, n: usize) -> Result<Vec<BoneEntry>> {
     const BASE: &str = "extensions.VRM";
     let bones = ext
         .get("humanoid")
@@ -895,7 +770,7 @@ fn vrm0_bones(ext: &Value, n: usize) -> Result<Vec<BoneEntry>> {
         let at = format!("{BASE}.humanoid.humanBones[{k}]");
         let name = entry
             .get("bone")
-            .and_then(Value::as_str)
+            .and_then(Json::as_str)
             .ok_or_else(|| vrm_err(format!("{at}.bone: missing or not a string")))?;
         let bone = HumanBone::from_vrm0_name(name).ok_or_else(|| {
             vrm_err(format!(
@@ -907,7 +782,7 @@ fn vrm0_bones(ext: &Value, n: usize) -> Result<Vec<BoneEntry>> {
             .get("node")
             .ok_or_else(|| vrm_err(format!("{at}.node: missing")))?;
         // 0.x exporters write -1 for "not assigned"; three-vrm skips those bones.
-        if node.as_i64().is_some_and(|i| i < 0) {
+        if node.as_f64().is_some_and(|i| i < 0.0 && i.fract() == 0.0) {
             continue;
         }
         let field = format!("{at} ({name})");

@@ -105,7 +105,7 @@ fn frame(skel: &Skeleton, side: Side, rotation: Quat, wrist_model: Vec3) -> Fram
 }
 
 fn options(json: &str) -> RigOptions {
-    serde_json::from_str(json).unwrap()
+    RigOptions::from_json(json).unwrap()
 }
 
 /// A reachable pose wrist in front of the avatar (model frame), for `side`.

@@ -252,15 +252,20 @@ fn options_are_validated_and_named() {
             "options.calibration.bodyScale",
         ),
     ] {
-        let options: RigOptions = serde_json::from_str(json).unwrap();
+        let options = RigOptions::from_json(json).unwrap();
         let err = Rig::new(skeleton(0.25, 0.25), options).unwrap_err();
         assert!(err.to_string().contains(field), "{json}: {err}");
     }
-    let ok: RigOptions =
-        serde_json::from_str(r#"{"calibration": {"frames": 10, "minVisibility": 0.7}}"#).unwrap();
+    let ok =
+        RigOptions::from_json(r#"{"calibration": {"frames": 10, "minVisibility": 0.7}}"#).unwrap();
     assert_eq!(ok.calibration.frames, 10);
     assert!(Rig::new(skeleton(0.25, 0.25), ok).is_ok());
-    assert!(serde_json::from_str::<RigOptions>(r#"{"calibration": {"frame": 10}}"#).is_err());
+    let e = RigOptions::from_json(r#"{"calibration": {"frame": 10}}"#).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("options.calibration.frame: unknown field"),
+        "{e}"
+    );
 }
 
 fn finite(out: &SolveOutput) -> bool {

@@ -15,6 +15,7 @@ use glam::{Quat, Vec3};
 use handrig::ik::{
     Ccd, CcdOptions, ChainGoal, ChainMethod, ChainSolver, ChainSolverOptions, Effector,
 };
+use handrig::json::{Decode, Json};
 use handrig::kinematics::{angle_between, Chain, JointLimit};
 use proptest::prelude::*;
 
@@ -558,7 +559,7 @@ fn options_deserialize_from_the_js_shape() {
         "iterations": 12,
         "tolerance": 0.001
     }"#;
-    let o: ChainSolverOptions = serde_json::from_str(json).unwrap();
+    let o = ChainSolverOptions::from_json(json).unwrap();
     assert_eq!(o.method, ChainMethod::Ccd);
     assert_eq!(o.joints[2], Vec3::new(0.0, 2.0, 0.0));
     assert_eq!(
@@ -571,10 +572,55 @@ fn options_deserialize_from_the_js_shape() {
     );
     let s = ChainSolver::new(&o).unwrap();
     assert_eq!(s.method(), ChainMethod::Ccd);
-    let cone: JointLimit = serde_json::from_str(r#"{ "type": "cone", "maxAngle": 0.5 }"#).unwrap();
+    let limit = |text: &str| JointLimit::decode(&Json::parse(text).unwrap(), "limit");
+    let cone = limit(r#"{ "type": "cone", "maxAngle": 0.5 }"#).unwrap();
     assert_eq!(cone, JointLimit::Cone { max_angle: 0.5 });
-    assert!(serde_json::from_str::<JointLimit>(r#"{ "type": "ball" }"#).is_err());
-    assert!(serde_json::from_str::<ChainSolverOptions>(r#"{ "joints": [], "extra": 1 }"#).is_err());
+    for (text, message) in [
+        (
+            r#"{ "type": "ball" }"#,
+            r#"limit.type: must be one of "cone", "hinge", got "ball""#,
+        ),
+        (r#"{ "maxAngle": 0.5 }"#, "limit.type: missing (required)"),
+        (
+            r#"{ "type": "cone", "maxAngle": 0.5, "axis": [0, 0, 1] }"#,
+            "limit.axis: unknown field (expected one of type, maxAngle)",
+        ),
+        (
+            r#"{ "type": "hinge", "axis": [0, 0, 1], "min": -1 }"#,
+            "limit.max: missing (required)",
+        ),
+        (
+            r#"{ "type": "hinge", "axis": [0, 1], "min": -1, "max": 1 }"#,
+            "limit.axis: expected [x, y, z], got an array",
+        ),
+    ] {
+        assert_eq!(limit(text).unwrap_err().to_string(), message, "{text}");
+    }
+    for (text, message) in [
+        (
+            r#"{ "joints": [], "extra": 1 }"#,
+            "options.extra: unknown field (expected one of method, joints, constraints, \
+             iterations, tolerance, maxStepAngle)",
+        ),
+        (
+            r#"{ "method": "ccd" }"#,
+            "options.joints: missing (required)",
+        ),
+        (
+            r#"{ "joints": [], "constraints": [{ "type": "cone", "maxAngle": "1" }] }"#,
+            r#"options.constraints[0].maxAngle: expected a number, got "1""#,
+        ),
+        (
+            r#"{ "joints": [], "iterations": 1.5 }"#,
+            "options.iterations: expected an integer in 0..=4294967295, got a number",
+        ),
+    ] {
+        let e = ChainSolverOptions::from_json(text).unwrap_err();
+        assert_eq!(e.to_string(), message, "{text}");
+    }
+    // null for an optional number: unset.
+    let o = ChainSolverOptions::from_json(r#"{ "joints": [], "tolerance": null }"#).unwrap();
+    assert_eq!(o.tolerance, None);
 }
 
 #[test]

@@ -966,21 +966,35 @@ fn contact_options_are_checked_and_named() {
         ),
     ];
     for (json, field) in bad {
-        let o: RigOptions = serde_json::from_str(json).unwrap();
+        let o = RigOptions::from_json(json).unwrap();
         let e = Rig::new(skel.clone(), o).unwrap_err().to_string();
         assert!(e.starts_with(field), "{json}: {e}");
     }
-    for json in [
-        r#"{"contact": {"faceAnchors": {"nose": [0, 0]}}}"#,
-        r#"{"contact": {"faceAnchors": {"nostril": [0, 0, 0]}}}"#,
+    for (json, message) in [
+        (
+            r#"{"contact": {"faceAnchors": {"nose": [0, 0]}}}"#,
+            "options.contact.faceAnchors.nose: expected [x, y, z], got an array",
+        ),
+        (
+            r#"{"contact": {"faceAnchors": {"nostril": [0, 0, 0]}}}"#,
+            "options.contact.faceAnchors.nostril: unknown anchor",
+        ),
+        (
+            r#"{"contact": {"faceAnchors": [0, 0, 0]}}"#,
+            "options.contact.faceAnchors: expected an object of [x, y, z], got an array",
+        ),
     ] {
-        assert!(serde_json::from_str::<RigOptions>(json).is_err(), "{json}");
+        let e = RigOptions::from_json(json).unwrap_err();
+        assert_eq!(e.to_string(), message, "{json}");
     }
+    // A `null` anchor: not given.
+    let o = RigOptions::from_json(r#"{"contact": {"faceAnchors": {"nose": null}}}"#).unwrap();
+    assert_eq!(o.contact, ContactOptions::default());
     // `null` anchors: none given.
-    let o: RigOptions = serde_json::from_str(r#"{"contact": {"faceAnchors": null}}"#).unwrap();
+    let o = RigOptions::from_json(r#"{"contact": {"faceAnchors": null}}"#).unwrap();
     assert_eq!(o.contact, ContactOptions::default());
     // Disabled: no reports, plain targets.
-    let o: RigOptions = serde_json::from_str(r#"{"contact": {"enabled": false}}"#).unwrap();
+    let o = RigOptions::from_json(r#"{"contact": {"enabled": false}}"#).unwrap();
     let mut rig = Rig::new(skel.clone(), o).unwrap();
     let head = user_heads(Vec3::new(0.0, 1.62, 0.09))[0];
     let lm = pointing(

@@ -304,7 +304,7 @@ fn mediapipe_frame(lm: &[Vec3; 21], wrist: Option<Vec3>) -> FrameInput {
 }
 
 fn rig_options(json: &str) -> RigOptions {
-    serde_json::from_str(json).unwrap()
+    RigOptions::from_json(json).unwrap()
 }
 
 #[test]

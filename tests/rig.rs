@@ -201,8 +201,8 @@ fn the_reported_world_pose_is_the_forward_kinematics_of_the_rotations() {
         .collect();
     for avatar in recordings::real_avatars() {
         for torso in ["off", "pose"] {
-            let options: RigOptions =
-                serde_json::from_str(&format!(r#"{{ "torso": "{torso}" }}"#)).expect("options");
+            let options =
+                RigOptions::from_json(&format!(r#"{{ "torso": "{torso}" }}"#)).expect("options");
             let mut rig = Rig::new(avatar.clone(), options).expect("rig");
             let mut out = SolveOutput::default();
             let mut full = handrig::WorldPose::default();

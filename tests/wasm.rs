@@ -314,7 +314,22 @@ fn options_are_checked_and_every_described_default_is_accepted() {
         1,
         Some(json!({"mirorr": true}).to_string()),
     ));
-    assert!(m.starts_with("options:") && m.contains("mirorr"), "{m}");
+    assert!(m.starts_with("options.mirorr: unknown field"), "{m}");
+    let m = failure(HandRig::new(
+        &rest_pose(1),
+        1,
+        Some("{\"mirror\": tru}".into()),
+    ));
+    assert!(m.starts_with("options: not valid JSON: "), "{m}");
+    let m = failure(HandRig::new(
+        &rest_pose(1),
+        1,
+        Some(json!({"arm": {"shoulderAngle": "0.3"}}).to_string()),
+    ));
+    assert_eq!(
+        m,
+        "options.arm.shoulderAngle: expected a number, got \"0.3\""
+    );
     let e = HandRig::new(
         &rest_pose(1),
         1,
@@ -535,4 +550,60 @@ fn the_torso_sections_drive_the_torso_without_allocating() {
         assert_eq!(rig.solve_flat(i as f64 * 33.3), 0);
     }
     assert_no_allocation_since(mark);
+}
+
+/// `Json::parse` through the engine's `JSON.parse`: the same documents as the native reader.
+#[wasm_bindgen_test]
+fn json_is_parsed_by_the_engine() {
+    use handrig::json::{Json, JsonError, MAX_DEPTH};
+    let j = Json::parse(r#" {"a": [1, -2.5e3, true, false, null, "x\u00e9"], "b": {}, "a2": 0} "#)
+        .unwrap();
+    assert_eq!(
+        j.get("a"),
+        Some(&Json::Array(vec![
+            Json::Number(1.0),
+            Json::Number(-2500.0),
+            Json::Bool(true),
+            Json::Bool(false),
+            Json::Null,
+            Json::String("x\u{e9}".into()),
+        ]))
+    );
+    let keys: Vec<&str> = j
+        .as_object()
+        .unwrap()
+        .iter()
+        .map(|(k, _)| k.as_str())
+        .collect();
+    assert_eq!(keys, ["a", "b", "a2"]);
+    // A repeated key: its first place, its last value.
+    assert_eq!(
+        Json::parse(r#"{"a": 1, "b": 2, "a": 3}"#).unwrap(),
+        Json::Object(vec![
+            ("a".into(), Json::Number(3.0)),
+            ("b".into(), Json::Number(2.0)),
+        ])
+    );
+    for text in ["", "{", "[1,]", "nul", "1 2", "[1e999]", "'a'"] {
+        assert!(
+            matches!(Json::parse(text), Err(JsonError::Invalid(_))),
+            "{text:?}"
+        );
+    }
+    let nested = |n: usize| format!("{}{}", "[".repeat(n), "]".repeat(n));
+    assert!(Json::parse(&nested(MAX_DEPTH)).is_ok());
+    assert!(Json::parse(&nested(MAX_DEPTH + 1)).is_err());
+    assert!(Json::parse(&nested(100_000)).is_err());
+    let text = r#"{"skip": [1, 2, 3], "keep": [1, 2], "obj": {"a": 1}}"#;
+    let m = Json::parse_members(text, &["obj", "keep"], 2)
+        .unwrap()
+        .unwrap();
+    assert_eq!(m[0].0, "keep");
+    assert_eq!(m[1].1.get("a"), Some(&Json::Number(1.0)));
+    assert_eq!(
+        Json::parse_members(text, &["keep"], 1),
+        Err(JsonError::TooLong("keep".into()))
+    );
+    assert_eq!(Json::parse_members("[1]", &["keep"], 2), Ok(None));
+    assert_eq!(Json::parse_members("null", &["keep"], 2), Ok(None));
 }

@@ -28,6 +28,7 @@
 use glam::{Mat3, Quat, Vec3};
 
 use crate::bones::{HumanBone, Side};
+use crate::kinematics::clamp;
 use crate::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation, TrackerFace};
 use crate::skeleton::{Skeleton, VrmVersion};
 
@@ -506,14 +507,18 @@ impl AvatarFace {
             .filter(|(l, r)| (*l - *r).length() > 1e-4);
         let look_at = skeleton.look_at_offset().filter(|o| o.length() > 1e-3);
         let canon_eye_breadth = (CANONICAL_EYES[0] - CANONICAL_EYES[1]).length();
-        let breadth = eyes
-            .map_or(body, |(l, r)| (l - r).length() / canon_eye_breadth)
-            .clamp(0.5 * body, 5.0 * body);
+        let breadth = clamp(
+            eyes.map_or(body, |(l, r)| (l - r).length() / canon_eye_breadth),
+            0.5 * body,
+            5.0 * body,
+        );
         // The eyes' center relative to the head bone, if known.
         let eye_center = eyes.map(|(l, r)| 0.5 * (l + r) - head).or(look_at);
-        let height = eye_center
-            .map_or(breadth, |e| e.y / EYES_FROM_HEAD.y)
-            .clamp(0.5 * breadth, 2.0 * breadth);
+        let height = clamp(
+            eye_center.map_or(breadth, |e| e.y / EYES_FROM_HEAD.y),
+            0.5 * breadth,
+            2.0 * breadth,
+        );
         let origin = match (eyes, look_at) {
             (Some((l, r)), _) => 0.5 * (l + r) - head + Vec3::Z * (EYEBALL * height),
             (None, Some(o)) => {

@@ -48,10 +48,10 @@ pub mod face;
 pub mod hands;
 
 use glam::Vec3;
-use serde::Deserialize;
 
 use crate::bones::{Finger, HumanBone};
 use crate::error::{Error, Result};
+use crate::json::{self, Decode, Json};
 use crate::mediapipe::CameraMapping;
 use crate::skeleton::{Skeleton, WorldPose};
 
@@ -67,44 +67,27 @@ pub const MAX_ANCHOR_OFFSET: f32 = 10.0;
 /// e.g. found by raycasting the avatar's mesh. Each optional; missing ones are derived.
 ///
 /// Read from JSON as an object whose keys are [`FaceAnchor`] names and whose values are
-/// `[x, y, z]` (or `null`); by hand through `serde_json::Value` rather than derived, which
-/// keeps the wasm smaller.
+/// `[x, y, z]` (or `null`).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct FaceAnchorsOption {
     points: [Option<[f32; 3]>; ANCHORS],
 }
 
-impl<'de> Deserialize<'de> for FaceAnchorsOption {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        use serde::de::Error as _;
+/// `null` (none given) or an object of anchor names to `[x, y, z]` or `null`.
+impl Decode for FaceAnchorsOption {
+    fn decode(j: &Json, path: &str) -> Result<Self> {
         let mut out = FaceAnchorsOption::default();
-        let map = match serde_json::Value::deserialize(d)? {
-            serde_json::Value::Null => return Ok(out),
-            serde_json::Value::Object(map) => map,
-            _ => {
-                return Err(D::Error::custom(
-                    "faceAnchors: expected an object of [x, y, z]",
-                ))
-            }
-        };
-        for (name, v) in &map {
-            let a = FaceAnchor::from_name(name).ok_or_else(|| {
-                D::Error::custom(format!("faceAnchors: unknown anchor \"{name}\""))
-            })?;
-            if v.is_null() {
-                continue;
-            }
-            let c = v
-                .as_array()
-                .filter(|c| c.len() == 3)
-                .and_then(|c| {
-                    let f = |k: usize| c[k].as_f64().map(|x| x as f32);
-                    Some([f(0)?, f(1)?, f(2)?])
-                })
-                .ok_or_else(|| {
-                    D::Error::custom(format!("faceAnchors.{name}: expected [x, y, z]"))
-                })?;
-            out.points[a.index()] = Some(c);
+        if j.is_null() {
+            return Ok(out);
+        }
+        let members = j
+            .as_object()
+            .ok_or_else(|| json::expected(path, "an object of [x, y, z]", j))?;
+        for (name, v) in members {
+            let at = json::join(path, name);
+            let a =
+                FaceAnchor::from_name(name).ok_or_else(|| Error::invalid(&at, "unknown anchor"))?;
+            out.points[a.index()] = Option::<Vec3>::decode(v, &at)?.map(|v| v.to_array());
         }
         Ok(out)
     }
@@ -124,8 +107,7 @@ impl FaceAnchorsOption {
 }
 
 /// Self-contact options (JS: `options.contact`).
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
-#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactOptions {
     /// Turn self-contact retargeting on (default) or off (plain alignment targets).
     pub enabled: bool,
@@ -167,10 +149,28 @@ impl Default for ContactOptions {
     }
 }
 
+json::decode_struct!(ContactOptions {
+    "enabled" => enabled,
+    "radius" => radius,
+    "weight" => weight,
+    "hands" => hands,
+    "faceAnchors" => face_anchors,
+    "colliders" => colliders,
+    "torsoRadius" => torso_radius,
+    "headRadius" => head_radius,
+    "depthTrust" => depth_trust,
+});
+
 /// Range of `contact.radius` (head breadths).
 pub const RADIUS_RANGE: (f32, f32) = (0.05, 3.0);
 /// Largest `contact.torsoRadius` / `contact.headRadius` (m).
 pub const MAX_COLLIDER_RADIUS: f32 = 2.0;
+
+// The range messages spell the constants out: formatting an `f32` would bring Rust's float
+// formatting into the `.wasm` (over 10 KiB gzipped). A test checks them against the constants.
+const RADIUS_MESSAGE: &str = "must be a number in 0.05..3 (head breadths)";
+const COLLIDER_RADIUS_MESSAGE: &str = "must be a number in 0..2 (meters)";
+const ANCHOR_MESSAGE: &str = "must be [x, y, z]: finite meters within 10 of the head bone";
 
 impl ContactOptions {
     /// Checks ranges.
@@ -180,13 +180,7 @@ impl ContactOptions {
     /// anchor coordinates not finite or beyond 10 m (the field is named).
     pub fn validate(&self) -> Result<()> {
         if !(RADIUS_RANGE.0..=RADIUS_RANGE.1).contains(&self.radius) {
-            return Err(Error::invalid(
-                "options.contact.radius",
-                format!(
-                    "must be a number in {}..{} (head breadths)",
-                    RADIUS_RANGE.0, RADIUS_RANGE.1
-                ),
-            ));
+            return Err(Error::invalid("options.contact.radius", RADIUS_MESSAGE));
         }
         if !(0.0..=1.0).contains(&self.weight) {
             return Err(Error::invalid(
@@ -208,7 +202,7 @@ impl ContactOptions {
                 if !(0.0..=MAX_COLLIDER_RADIUS).contains(&r) {
                     return Err(Error::invalid(
                         format!("options.contact.{name}"),
-                        format!("must be a number in 0..{MAX_COLLIDER_RADIUS} (meters)"),
+                        COLLIDER_RADIUS_MESSAGE,
                     ));
                 }
             }
@@ -218,9 +212,7 @@ impl ContactOptions {
                 if !(p.is_finite() && p.abs().max_element() <= MAX_ANCHOR_OFFSET) {
                     return Err(Error::invalid(
                         format!("options.contact.faceAnchors.{}", a.as_str()),
-                        format!(
-                            "must be [x, y, z]: finite meters within {MAX_ANCHOR_OFFSET} of the head bone"
-                        ),
+                        ANCHOR_MESSAGE,
                     ));
                 }
             }
@@ -483,3 +475,27 @@ impl ContactSolver {
 /// radius when no user face is known.
 pub const PALMS_PER_HEAD: f32 = HEAD_BREADTH_M / 0.09;
 const HEAD_BREADTH_M: f32 = face::HEAD_BREADTH;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn range_messages_agree_with_the_constants() {
+        assert_eq!(
+            RADIUS_MESSAGE,
+            format!(
+                "must be a number in {}..{} (head breadths)",
+                RADIUS_RANGE.0, RADIUS_RANGE.1
+            )
+        );
+        assert_eq!(
+            COLLIDER_RADIUS_MESSAGE,
+            format!("must be a number in 0..{MAX_COLLIDER_RADIUS} (meters)")
+        );
+        assert_eq!(
+            ANCHOR_MESSAGE,
+            format!("must be [x, y, z]: finite meters within {MAX_ANCHOR_OFFSET} of the head bone")
+        );
+    }
+}

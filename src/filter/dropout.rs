@@ -8,15 +8,13 @@
 //! and the rest pose (identity) while it is lost. Times are the frame's `timeMs`.
 
 use glam::Quat;
-use serde::Deserialize;
 
 use crate::error::{Error, Result};
 
 /// Timings of the hold and the easing (JS: `options.dropout`). XR Animator uses 250 ms in and
 /// 500 ms out; handrig holds a lost group 250 ms first, which bridges MediaPipe's short
 /// dropouts (a few frames) without any motion.
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
-#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DropoutOptions {
     /// Whether lost groups hold and ease (`false`: they snap to rest, and returning ones snap
     /// in). Default `true`.
@@ -39,6 +37,13 @@ impl Default for DropoutOptions {
         }
     }
 }
+
+crate::json::decode_struct!(DropoutOptions {
+    "enabled" => enabled,
+    "holdMs" => hold_ms,
+    "fadeOutMs" => fade_out_ms,
+    "fadeInMs" => fade_in_ms,
+});
 
 impl DropoutOptions {
     /// No hold, no easing: lost groups snap to rest and returning ones snap in (handrig

@@ -28,7 +28,6 @@ pub mod dropout;
 pub mod one_euro;
 
 use glam::Vec3;
-use serde::Deserialize;
 
 use crate::error::Result;
 
@@ -36,8 +35,7 @@ pub use dropout::{Blend, DropoutOptions, Presence};
 pub use one_euro::{OneEuroOptions, OneEuroQuat, OneEuroVec3};
 
 /// Landmark smoothing (JS: `options.filter`; `filter: false` turns it off).
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
-#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FilterOptions {
     /// Whether landmarks are filtered. Default `true`.
     pub enabled: bool,
@@ -59,6 +57,13 @@ impl Default for FilterOptions {
         }
     }
 }
+
+crate::json::decode_struct!(FilterOptions {
+    "enabled" => enabled,
+    "minCutoff" => min_cutoff,
+    "beta" => beta,
+    "dCutoff" => d_cutoff,
+});
 
 impl FilterOptions {
     /// The One Euro parameters.

@@ -19,14 +19,15 @@
 use core::f32::consts::PI;
 
 use glam::{Quat, Vec3};
-use serde::Deserialize;
 
 use crate::error::{Error, Result};
+use crate::json::{self, Decode, Json};
 
 /// Parameters of a One Euro filter. Units: `min_cutoff` and `d_cutoff` in Hz, `beta` in Hz per
 /// unit of speed (per m/s for points, per rad/s for rotations).
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
-#[serde(rename_all = "camelCase", deny_unknown_fields)]
+///
+/// From JSON ([`Decode`]): `{ minCutoff, beta, dCutoff }`, all three required.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OneEuroOptions {
     /// Cutoff frequency at rest (Hz): lower is smoother and slower.
     pub min_cutoff: f32,
@@ -34,6 +35,23 @@ pub struct OneEuroOptions {
     pub beta: f32,
     /// Cutoff of the speed estimate (Hz). The paper uses 1.
     pub d_cutoff: f32,
+}
+
+impl Decode for OneEuroOptions {
+    fn decode(j: &Json, path: &str) -> Result<Self> {
+        const KNOWN: [&str; 3] = ["minCutoff", "beta", "dCutoff"];
+        let mut values = [None; 3];
+        json::decode_fields(j, path, &KNOWN, &mut |k, value, at| {
+            values[k] = Some(f32::decode(value, at)?);
+            Ok(())
+        })?;
+        let get = |k: usize| values[k].ok_or_else(|| json::missing(path, KNOWN[k]));
+        Ok(OneEuroOptions {
+            min_cutoff: get(0)?,
+            beta: get(1)?,
+            d_cutoff: get(2)?,
+        })
+    }
 }
 
 impl OneEuroOptions {

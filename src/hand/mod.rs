@@ -51,7 +51,6 @@
 //! bone cover several phalanges (the span direction uses the tracked phalanx lengths).
 
 use glam::{Mat3, Quat, Vec3};
-use serde::Deserialize;
 
 use crate::bones::{Finger, HumanBone, Side, BONE_COUNT};
 use crate::error::Result;
@@ -68,8 +67,7 @@ pub use retarget::{RetargetOptions, RetargetReport};
 use chain::{bend, clamp_angle, hinge_angle, wrap, Basis, Kind, Targets};
 
 /// How hands are solved (JS: `options.handStrategy`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
-#[serde(rename_all = "camelCase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum HandStrategy {
     /// Closed-form palm frame for the hand; per finger a least-squares fit of an anatomical
     /// joint model with literature joint limits (see the module docs).
@@ -80,6 +78,11 @@ pub enum HandStrategy {
     /// avatar's hand, within the same joint limits (see [`retarget`]).
     Retarget,
 }
+
+crate::json::decode_enum!(HandStrategy {
+    "analytic" => Analytic,
+    "retarget" => Retarget,
+});
 
 /// What the last [`HandSolver::solve`] did for one side.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

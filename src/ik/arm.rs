@@ -31,7 +31,6 @@
 use core::f32::consts::PI;
 
 use glam::{Quat, Vec3};
-use serde::Deserialize;
 
 use crate::error::{Error, Result};
 use crate::kinematics::{angle_between, twist_angle, Chain, JointLimit, RootFrame};
@@ -49,8 +48,7 @@ pub(crate) const REACH_TOLERANCE: f32 = 1e-5;
 pub const TWIST_HYSTERESIS: f32 = PI / 3.0;
 
 /// Options every arm solver shares (JS: `options.arm`).
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
-#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArmOptions {
     /// Largest angle (radians, `0..=pi/2`) the shoulder bone turns from rest to help a far
     /// reach; 0 keeps the shoulders at rest. Needs the avatar's shoulder bones. Default 0.26
@@ -84,6 +82,13 @@ impl Default for ArmOptions {
         }
     }
 }
+
+crate::json::decode_struct!(ArmOptions {
+    "shoulderAngle" => shoulder_angle,
+    "shoulderReach" => shoulder_reach,
+    "forearmTwist" => forearm_twist,
+    "wristLimits" => wrist_limits,
+});
 
 impl ArmOptions {
     /// Checks ranges.

@@ -318,7 +318,8 @@ impl Ccd {
                 (axis, angle_between(f, t))
             }
         };
-        let angle = angle.clamp(-self.options.max_step_angle, self.options.max_step_angle);
+        let step = self.options.max_step_angle;
+        let angle = crate::kinematics::clamp(angle, -step, step);
         (angle.abs() > 0.0 && angle.is_finite() && axis.is_finite())
             .then(|| Quat::from_axis_angle(axis, angle))
     }

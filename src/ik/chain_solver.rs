@@ -28,9 +28,9 @@
 //! target or pole is an error naming the field.
 
 use glam::{Quat, Vec3};
-use serde::Deserialize;
 
 use crate::error::{Error, Result};
+use crate::json::{self, Decode, Json};
 use crate::kinematics::{Chain, JointLimit};
 
 use super::ccd::{Ccd, CcdOptions, Effector};
@@ -128,8 +128,7 @@ impl ChainReport {
 }
 
 /// Which method a [`ChainSolver`] uses (JS: `method`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
-#[serde(rename_all = "camelCase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[non_exhaustive]
 pub enum ChainMethod {
     /// `"fabrik"`: FABRIK ([`Fabrik`], seed 002).
@@ -139,28 +138,25 @@ pub enum ChainMethod {
     Ccd,
 }
 
-/// Setup of a [`ChainSolver`] (JS: the constructor's argument, same camelCase names).
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(rename_all = "camelCase", deny_unknown_fields)]
+crate::json::decode_enum!(ChainMethod { "fabrik" => Fabrik, "ccd" => Ccd });
+
+/// Setup of a [`ChainSolver`] (JS: the constructor's argument, same camelCase names; from
+/// JSON: [`ChainSolverOptions::from_json`]).
+#[derive(Clone, Debug, PartialEq)]
 pub struct ChainSolverOptions {
     /// The method. Default `"fabrik"`.
-    #[serde(default)]
     pub method: ChainMethod,
     /// Rest joint positions (m), root first; at least 3, no two consecutive ones equal.
     pub joints: Vec<Vec3>,
     /// One limit per bone (`None`/`null` for a free bone), or empty for none. Default none.
-    #[serde(default)]
     pub constraints: Vec<Option<JointLimit>>,
     /// Most iterations per solve; `None` for the method's default (FABRIK 100, CCD 200).
-    #[serde(default)]
     pub iterations: Option<u32>,
     /// End-to-target distance (m) that counts as reached; `None` for 1e-5 of the chain's
     /// length.
-    #[serde(default)]
     pub tolerance: Option<f32>,
     /// CCD's damping: the largest angle (radians) one joint turns per step; `None` for the
     /// default 0.5. Ignored by FABRIK.
-    #[serde(default)]
     pub max_step_angle: Option<f32>,
 }
 
@@ -176,6 +172,55 @@ impl Default for ChainSolverOptions {
             tolerance: None,
             max_step_angle: None,
         }
+    }
+}
+
+/// `joints` required, every other field optional (`null` for an unset optional number).
+impl Decode for ChainSolverOptions {
+    fn decode(j: &Json, path: &str) -> Result<Self> {
+        let mut out = ChainSolverOptions::default();
+        let mut joints = false;
+        let names = [
+            "method",
+            "joints",
+            "constraints",
+            "iterations",
+            "tolerance",
+            "maxStepAngle",
+        ];
+        json::decode_fields(j, path, &names, &mut |i, value, at| {
+            match i {
+                0 => out.method = Decode::decode(value, at)?,
+                1 => {
+                    out.joints = Decode::decode(value, at)?;
+                    joints = true;
+                }
+                2 => out.constraints = Decode::decode(value, at)?,
+                3 => out.iterations = Decode::decode(value, at)?,
+                4 => out.tolerance = Decode::decode(value, at)?,
+                _ => out.max_step_angle = Decode::decode(value, at)?,
+            }
+            Ok(())
+        })?;
+        if !joints {
+            return Err(json::missing(path, "joints"));
+        }
+        Ok(out)
+    }
+}
+
+impl ChainSolverOptions {
+    /// Reads the options from JSON text: `{ method, joints, constraints, iterations,
+    /// tolerance, maxStepAngle }` (see the fields; `joints` is required, as `[x, y, z]`
+    /// arrays; constraints as [`JointLimit`]'s JSON form). The values are checked later, by
+    /// [`ChainSolver::new`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming the field (`options.constraints[1].maxAngle`): text
+    /// that is not JSON, a wrong type, an unknown or missing name.
+    pub fn from_json(text: &str) -> Result<ChainSolverOptions> {
+        let j = Json::parse(text).map_err(|e| Error::invalid("options", e.to_string()))?;
+        ChainSolverOptions::decode(&j, "options")
     }
 }
 

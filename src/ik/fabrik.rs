@@ -230,7 +230,7 @@ fn limit_backward(limit: &JointLimit, wanted: Vec3, child: Vec3, frame: Quat) ->
             };
             // The child's signed angle about the axis from the parent.
             let angle = p.map_or(0.0, |p| w.dot(p.cross(c)).atan2(p.dot(c)));
-            let clamped = angle.clamp(min, max);
+            let clamped = crate::kinematics::clamp(angle, min, max);
             Quat::from_axis_angle(w, -clamped) * c
         }
     }

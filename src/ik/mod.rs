@@ -51,7 +51,6 @@ pub mod wrist;
 use core::fmt;
 
 use glam::{Quat, Vec3};
-use serde::Deserialize;
 
 use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::Result;
@@ -69,8 +68,7 @@ pub use two_bone::{TwoBoneIk, TwoBoneOptions};
 pub use wrist::{WristAngles, WristFrame, WristLimited, WristRange, WRIST_RANGE};
 
 /// Which solver reaches the wrist target (JS: `options.armSolver`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
-#[serde(rename_all = "camelCase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[non_exhaustive]
 pub enum ArmSolver {
     /// `"twoBone"`: analytic two-bone IK with the elbow swivel from a pole ([`TwoBoneIk`]).
@@ -81,6 +79,12 @@ pub enum ArmSolver {
     /// `"ccd"`: CCD with priority effectors ([`CcdArm`], seed 004).
     Ccd,
 }
+
+crate::json::decode_enum!(ArmSolver {
+    "twoBone" => TwoBone,
+    "fabrik" => Fabrik,
+    "ccd" => Ccd,
+});
 
 impl ArmSolver {
     /// Every solver, in the order of [`ArmSolver::as_str`]'s values in the options.

@@ -72,7 +72,7 @@ use core::f32::consts::PI;
 use glam::{Quat, Vec3};
 
 use crate::bones::{Finger, Side};
-use crate::kinematics::swing_twist;
+use crate::kinematics::{clamp, swing_twist};
 use crate::skeleton::Skeleton;
 
 use super::ArmGoal;
@@ -384,7 +384,7 @@ pub(crate) fn settle(
             {
                 // The secant's root, kept off the bracket's ends.
                 let w = b - lo;
-                let c = (b - g_b * w / (g_b - g_lo)).clamp(lo + 0.05 * w, b - 0.05 * w);
+                let c = clamp(b - g_b * w / (g_b - g_lo), lo + 0.05 * w, b - 0.05 * w);
                 let g = at(c, goal, &mut place);
                 result.iterations += 1;
                 last_t = c;

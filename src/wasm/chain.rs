@@ -27,10 +27,8 @@ impl RawChainSolver {
     /// constraints, iterations, tolerance, maxStepAngle }`.
     #[wasm_bindgen(constructor)]
     pub fn new(options: &str) -> Result<RawChainSolver, JsError> {
-        // Through a JSON value: the same code path as the `.vrm` reader (smaller wasm).
-        let options: ChainSolverOptions = serde_json::from_str::<serde_json::Value>(options)
-            .and_then(serde_json::from_value)
-            .map_err(|e| JsError::new(&format!("options: {e}")))?;
+        let options =
+            ChainSolverOptions::from_json(options).map_err(|e| JsError::new(&e.to_string()))?;
         let solver = ChainSolver::new(&options).map_err(|e| JsError::new(&e.to_string()))?;
         let n = solver.joint_count();
         Ok(RawChainSolver {

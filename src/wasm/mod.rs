@@ -7,11 +7,14 @@
 //! (`pkg-config/src/handrig-core.js`) packs MediaPipe's result shapes into the input and builds
 //! result objects from the output.
 //!
-//! No JS code runs while Rust is on the stack: the constructor takes rest positions as a typed
-//! array and options as JSON text (both copied in before Rust runs), so a throwing getter or a lying `length` in user input throws in JavaScript,
-//! before wasm is entered, and cannot leave a rig half-borrowed.
+//! No user JS code runs while Rust is on the stack: the constructor takes rest positions as a
+//! typed array and options as JSON text (both copied in before Rust runs), so a throwing getter
+//! or a lying `length` in user input throws in JavaScript, before wasm is entered, and cannot
+//! leave a rig half-borrowed. JSON text is parsed by the engine's `JSON.parse` ([`crate::json`]),
+//! which runs no user code.
 
 mod chain;
+pub(crate) mod json;
 
 pub use chain::RawChainSolver;
 
@@ -112,11 +115,9 @@ impl HandRig {
         let options: RigOptions = match options {
             None => RigOptions::default(),
             // The JS layer has checked every name, type and range against
-            // `optionDescriptions()` (naming the field); serde_json is the backstop.
-            // Through a JSON value: the same code path as the `.vrm` reader (smaller wasm).
-            Some(json) => serde_json::from_str::<serde_json::Value>(&json)
-                .and_then(serde_json::from_value)
-                .map_err(|e| js_err(Error::invalid("options", e.to_string())))?,
+            // `optionDescriptions()` (naming the field); `RigOptions::from_json` is the
+            // backstop.
+            Some(json) => RigOptions::from_json(&json).map_err(js_err)?,
         };
         let rig = Rig::new(skeleton, options).map_err(js_err)?;
         Ok(HandRig {
