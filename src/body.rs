@@ -158,13 +158,11 @@ pub struct BodyMapper {
     /// Mean rest arm length (upper + lower) of the avatar, m.
     avatar_arm: f32,
     scale: f32,
-    /// User arm length samples (m), `count` valid.
+    /// User arm length samples (m), `count` valid, in ascending order ([`insert_sorted`]).
     samples: [f32; 2 * MAX_CALIBRATION_FRAMES],
     count: usize,
     /// Pose frames that contributed at least one sample.
     frames_seen: usize,
-    /// Scratch for the median (sorted copy), kept here so observing never allocates.
-    scratch: [f32; 2 * MAX_CALIBRATION_FRAMES],
 }
 
 impl BodyMapper {
@@ -182,7 +180,6 @@ impl BodyMapper {
             samples: [0.0; 2 * MAX_CALIBRATION_FRAMES],
             count: 0,
             frames_seen: 0,
-            scratch: [0.0; 2 * MAX_CALIBRATION_FRAMES],
         };
         m.reset();
         m
@@ -251,14 +248,14 @@ impl BodyMapper {
             let len = (pose.world[el] - pose.world[sh]).length()
                 + (pose.world[wr] - pose.world[el]).length();
             if len.is_finite() && len >= MIN_USER_ARM && self.count < self.samples.len() {
-                self.samples[self.count] = len;
+                insert_sorted(&mut self.samples, self.count, len);
                 self.count += 1;
                 added = true;
             }
         }
         if added {
             self.frames_seen += 1;
-            if let Some(user_arm) = robust_mean(&self.samples[..self.count], &mut self.scratch) {
+            if let Some(user_arm) = robust_mean_sorted(&self.samples[..self.count]) {
                 if self.avatar_arm > 0.0 {
                     self.scale = self.avatar_arm / user_arm;
                 }
@@ -366,12 +363,34 @@ pub fn avatar_arm_length(skeleton: &Skeleton) -> f32 {
 #[must_use]
 pub fn robust_mean(samples: &[f32], scratch: &mut [f32]) -> Option<f32> {
     let n = samples.len().min(scratch.len());
-    if n == 0 {
-        return None;
-    }
     let sorted = &mut scratch[..n];
     sorted.copy_from_slice(&samples[..n]);
     sorted.sort_unstable_by(f32::total_cmp);
+    robust_mean_sorted(sorted)
+}
+
+/// Inserts `x` into the ascending `buf[..count]` (which becomes `buf[..count + 1]`); does
+/// nothing when `buf` is full. The calibrations collect their samples so, one per frame, and
+/// need no sort (O(n) a sample; and no copy of the standard library's sort in the `.wasm`).
+pub fn insert_sorted(buf: &mut [f32], count: usize, x: f32) {
+    if count >= buf.len() {
+        return;
+    }
+    let mut k = count;
+    while k > 0 && buf[k - 1].total_cmp(&x).is_gt() {
+        buf[k] = buf[k - 1];
+        k -= 1;
+    }
+    buf[k] = x;
+}
+
+/// [`robust_mean`] of samples already in ascending order (as [`insert_sorted`] keeps them).
+#[must_use]
+pub fn robust_mean_sorted(sorted: &[f32]) -> Option<f32> {
+    let n = sorted.len();
+    if n == 0 {
+        return None;
+    }
     let median = if n % 2 == 1 {
         sorted[n / 2]
     } else {

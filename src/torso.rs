@@ -71,7 +71,7 @@ use core::f32::consts::PI;
 
 use glam::{Mat3, Quat, Vec3};
 
-use crate::body::robust_mean;
+use crate::body::{insert_sorted, robust_mean_sorted};
 use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::filter::{DropoutOptions, Presence};
 use crate::kinematics::clamp;
@@ -595,8 +595,8 @@ impl AvatarTorso {
 /// like the body scale. Fixed storage: observing allocates nothing.
 #[derive(Clone, Debug)]
 struct Neutral {
+    /// Ascending ([`crate::body::insert_sorted`]), `count` valid.
     samples: [f32; crate::body::MAX_CALIBRATION_FRAMES],
-    scratch: [f32; crate::body::MAX_CALIBRATION_FRAMES],
     count: usize,
     frames: usize,
     value: Option<f32>,
@@ -606,7 +606,6 @@ impl Neutral {
     fn new(frames: usize) -> Self {
         Neutral {
             samples: [0.0; crate::body::MAX_CALIBRATION_FRAMES],
-            scratch: [0.0; crate::body::MAX_CALIBRATION_FRAMES],
             count: 0,
             frames: frames.clamp(1, crate::body::MAX_CALIBRATION_FRAMES),
             value: None,
@@ -617,9 +616,9 @@ impl Neutral {
         if self.count >= self.frames || !height.is_finite() {
             return;
         }
-        self.samples[self.count] = height;
+        insert_sorted(&mut self.samples, self.count, height);
         self.count += 1;
-        self.value = robust_mean(&self.samples[..self.count], &mut self.scratch);
+        self.value = robust_mean_sorted(&self.samples[..self.count]);
     }
 
     fn reset(&mut self) {

@@ -77,7 +77,9 @@ pub fn parse(bytes: &[u8]) -> Result<VrmHumanoid> {
         let v = Vec3::new(x as f32, y as f32, z as f32);
         v.is_finite().then_some(v)
     });
-    let mut bones = Vec::with_capacity(map.len());
+    // In bone order, by each bone's slot (the map has every bone once): no sort, whose code
+    // would be one more copy of the standard library's sort in the `.wasm`.
+    let mut positions = [None; BONE_COUNT];
     for (bone, node, field) in map {
         let [x, y, z] = nodes.world(node, &mut world).t;
         if !(x.is_finite() && y.is_finite() && z.is_finite()) {
@@ -92,9 +94,13 @@ pub fn parse(bytes: &[u8]) -> Result<VrmHumanoid> {
                 "{field}: the world position of node {node} is too large for 32-bit floats"
             )));
         }
-        bones.push((bone, p));
+        positions[bone.index()] = Some(p);
     }
-    bones.sort_by_key(|(b, _)| b.index());
+    let bones = HumanBone::ALL
+        .iter()
+        .zip(positions)
+        .filter_map(|(b, p)| Some((*b, p?)))
+        .collect();
     Ok(VrmHumanoid {
         version,
         bones,
@@ -723,10 +729,25 @@ fn vrm1_bones(ext: &Json, n: usize) -> Result<Vec<BoneEntry>> {
         .ok_or_else(|| vrm_err(format!("{BASE}.humanoid.humanBones: missing")))?
         .as_object()
         .ok_or_else(|| vrm_err(format!("{BASE}.humanoid.humanBones: must be an object")))?;
+    // Every entry must be a different bone: more entries than bones is an error whatever they
+    // are (and bounds the sort below).
+    if bones.len() > BONE_COUNT {
+        return Err(vrm_err(format!(
+            "{BASE}.humanoid.humanBones: {} entries, more than the {BONE_COUNT} humanoid bones",
+            bones.len()
+        )));
+    }
     // In name order, so that which of two clashing entries an error names does not depend
-    // on the file's member order.
+    // on the file's member order. An insertion sort: at most 55 short names, and no copy of
+    // the standard library's sort in the `.wasm` for them.
     let mut bones: Vec<&(String, Json)> = bones.iter().collect();
-    bones.sort_by(|a, b| a.0.cmp(&b.0));
+    for i in 1..bones.len() {
+        let mut j = i;
+        while j > 0 && bones[j - 1].0 > bones[j].0 {
+            bones.swap(j - 1, j);
+            j -= 1;
+        }
+    }
     // 1.0-beta files kept the 0.x thumb names; three-vrm renames them when it sees one.
     let beta_thumbs = bones
         .iter()
@@ -881,6 +902,44 @@ mod tests {
             ),
             Some(&[0; 8]),
         )
+    }
+
+    #[test]
+    fn humanoid_bones_come_in_bone_order_and_clashes_in_name_order() {
+        // Members in an order that is neither the bones' nor the names'.
+        let nodes = r#"[{"children":[1]},{"children":[2]},{"children":[3]},{}]"#;
+        let h = parse(&vrm1(
+            nodes,
+            r#"{"spine":{"node":1},"head":{"node":3},"hips":{"node":0},"chest":{"node":2}}"#,
+        ))
+        .unwrap();
+        let order: Vec<HumanBone> = h.bones.iter().map(|(b, _)| *b).collect();
+        let by_index = [
+            HumanBone::Hips,
+            HumanBone::Spine,
+            HumanBone::Chest,
+            HumanBone::Head,
+        ];
+        let mut want = by_index.to_vec();
+        want.sort_by_key(|b| b.index());
+        assert_eq!(order, want);
+        // Two unknown names: the error names the first by name, whatever the member order.
+        for bones in [
+            r#"{"zeta":{"node":0},"hips":{"node":1},"alpha":{"node":2}}"#,
+            r#"{"alpha":{"node":2},"hips":{"node":1},"zeta":{"node":0}}"#,
+        ] {
+            let m = msg(parse(&vrm1(nodes, bones)));
+            assert!(m.contains("unknown bone name \"alpha\""), "{m}");
+        }
+        // More entries than there are bones: refused before any is read.
+        let many: Vec<String> = (0..=BONE_COUNT)
+            .map(|k| format!(r#""b{k}":{{"node":0}}"#))
+            .collect();
+        let m = msg(parse(&vrm1(nodes, &format!("{{{}}}", many.join(",")))));
+        assert!(
+            m.contains("56 entries, more than the 55 humanoid bones"),
+            "{m}"
+        );
     }
 
     #[test]

@@ -8,7 +8,10 @@
 mod rigs;
 
 use glam::{Quat, Vec3};
-use handrig::body::{robust_mean, BodyMapper, CalibrationOptions, REFERENCE_USER_ARM};
+use handrig::body::{
+    insert_sorted, robust_mean, robust_mean_sorted, BodyMapper, CalibrationOptions,
+    REFERENCE_USER_ARM,
+};
 use handrig::bones::{HumanBone as B, Side, BONE_COUNT};
 use handrig::mediapipe::{
     pose_landmark as pl, CameraMapping, FrameInput, PoseObservation, POSE_LANDMARKS,
@@ -125,6 +128,33 @@ fn robust_mean_known_answers() {
     // Median 1.0; 1.3 and 0.5 are beyond 20%; 1.19 and 0.81 are within.
     let m = robust_mean(&[1.0, 1.3, 0.5, 1.19, 0.81, 1.0], &mut scratch).unwrap();
     assert!((m - 1.0).abs() < 1e-6, "{m}");
+}
+
+#[test]
+fn samples_inserted_in_order_give_the_robust_mean_of_the_samples() {
+    // The calibrations keep their samples sorted as they come instead of sorting each frame.
+    let mut buf = [0.0_f32; 64];
+    let mut scratch = [0.0_f32; 64];
+    let mut seen = Vec::new();
+    let mut seed = 12_345_u32;
+    for count in 0..64 {
+        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        let x = 0.5 + (seed >> 8) as f32 / (1u32 << 24) as f32;
+        insert_sorted(&mut buf, count, x);
+        seen.push(x);
+        assert!(
+            buf[..=count].windows(2).all(|w| w[0] <= w[1]),
+            "not sorted at {count}"
+        );
+        assert_eq!(
+            robust_mean_sorted(&buf[..=count]),
+            robust_mean(&seen, &mut scratch)
+        );
+    }
+    // A full buffer is left as it is.
+    let before = buf;
+    insert_sorted(&mut buf, 64, 0.0);
+    assert_eq!(buf, before);
 }
 
 #[test]
