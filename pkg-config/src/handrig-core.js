@@ -119,6 +119,8 @@ function createHandRigApi(raw, isReady) {
   // every one [x, y, z(, visibility)], all finite (visibility in 0..1). Returns false at the
   // first point that is anything else, and packPoints' checking loop then reads the list again
   // and names the field (what was written so far is overwritten or the frame is rejected).
+  // One loop per shape, so that each loop's property reads see one kind of element and V8
+  // keeps them monomorphic (a loop branching per point is the checking pass's).
   function packPlain(list, out, o, n, stride, withVisibility) {
     const first = list[0];
     if (Array.isArray(first)) {
