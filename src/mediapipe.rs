@@ -86,6 +86,26 @@ pub mod pose_landmark {
     pub const LEFT_HIP: usize = 23;
     /// Right hip.
     pub const RIGHT_HIP: usize = 24;
+
+    /// The pose landmarks a [`crate::Rig`] reads (face, arms, shoulders and hips); the others
+    /// (the pose's hands and legs) change nothing, and the rig does not filter them.
+    pub const READ: [usize; 15] = [
+        NOSE,
+        LEFT_EYE,
+        RIGHT_EYE,
+        LEFT_EAR,
+        RIGHT_EAR,
+        MOUTH_LEFT,
+        MOUTH_RIGHT,
+        LEFT_SHOULDER,
+        RIGHT_SHOULDER,
+        LEFT_ELBOW,
+        RIGHT_ELBOW,
+        LEFT_WRIST,
+        RIGHT_WRIST,
+        LEFT_HIP,
+        RIGHT_HIP,
+    ];
 }
 
 /// MediaPipe's handedness label as given (it assumes a mirrored image; see the module docs).

@@ -743,8 +743,14 @@ impl Rig {
         if let Some(pose) = self.pose.as_mut() {
             if self.options.filter.enabled {
                 let o = self.options.filter.one_euro();
-                self.pose_filters
-                    .apply(&mut pose.world, frame.time_ms, dt, &o);
+                // Only the landmarks the rig reads: the pose's hands and legs are not used.
+                self.pose_filters.apply_to(
+                    &mut pose.world,
+                    &pose_landmark::READ,
+                    frame.time_ms,
+                    dt,
+                    &o,
+                );
             }
             self.body.observe(&self.skeleton, pose, camera);
         }

@@ -223,3 +223,61 @@ fn the_reported_world_pose_is_the_forward_kinematics_of_the_rotations() {
         }
     }
 }
+
+/// The rig reads the pose landmarks in `pose_landmark::READ` only (and filters only those):
+/// moving every other landmark, with its visibility and image point, changes no output. A
+/// stage that starts reading another landmark fails this until the list names it.
+#[test]
+fn pose_landmarks_outside_the_read_list_change_nothing() {
+    use handrig::mediapipe::pose_landmark::READ;
+    let frames: Vec<_> = recordings::ASL
+        .iter()
+        .flat_map(|c| recordings::asl(c))
+        .collect();
+    let moved: Vec<FrameInput> = frames
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let mut f = *f;
+            let wobble = |k: usize| {
+                let t = (i * 7 + k * 13) as f32;
+                Vec3::new(t.sin(), t.cos(), (0.3 * t).sin()) * 0.4
+            };
+            if let Some(pose) = f.pose.as_mut() {
+                for k in (0..pose.world.len()).filter(|k| !READ.contains(k)) {
+                    pose.world[k] += wobble(k);
+                    pose.visibility[k] = ((i + k) % 2) as f32;
+                }
+            }
+            if let Some(image) = f.pose_image.as_mut() {
+                for k in (0..image.len()).filter(|k| !READ.contains(k)) {
+                    image[k] += wobble(k + 40);
+                }
+            }
+            f
+        })
+        .collect();
+    assert_ne!(frames, moved, "the frames were moved");
+    for avatar in recordings::real_avatars() {
+        for options in [
+            "{}",
+            r#"{ "torso": "pose", "mirror": true }"#,
+            r#"{ "inputMirrored": true, "handedness": "drop" }"#,
+        ] {
+            let options = RigOptions::from_json(options).expect("options");
+            let mut a = Rig::new(avatar.clone(), options.clone()).expect("rig");
+            let mut b = Rig::new(avatar.clone(), options).expect("rig");
+            let (mut out_a, mut out_b) = (SolveOutput::default(), SolveOutput::default());
+            for (i, (fa, fb)) in frames.iter().zip(&moved).enumerate() {
+                a.solve(fa, &mut out_a).expect("solve");
+                b.solve(fb, &mut out_b).expect("solve");
+                assert!(same(&out_a, &out_b), "frame {i}: the output changed");
+            }
+        }
+    }
+}
+
+/// Equal outputs, NaN fields included (an absent alignment error is NaN).
+fn same(a: &SolveOutput, b: &SolveOutput) -> bool {
+    format!("{a:?}") == format!("{b:?}")
+}

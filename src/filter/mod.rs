@@ -146,6 +146,38 @@ impl<const N: usize> PointFilters<N> {
         dt: Option<f32>,
         o: &OneEuroOptions,
     ) {
+        let step = self.step(time_ms, dt, o);
+        for (p, f) in points.iter_mut().zip(self.points.iter_mut()) {
+            *p = f.filter_step(*p, step.as_ref(), o);
+        }
+    }
+
+    /// [`PointFilters::apply`] on the points at `only` (indices below `N`; others are left as
+    /// given and their filters untouched): for a set of which a caller reads a few points.
+    pub fn apply_to(
+        &mut self,
+        points: &mut [Vec3; N],
+        only: &[usize],
+        time_ms: f64,
+        dt: Option<f32>,
+        o: &OneEuroOptions,
+    ) {
+        let step = self.step(time_ms, dt, o);
+        for &k in only {
+            if let (Some(p), Some(f)) = (points.get_mut(k), self.points.get_mut(k)) {
+                *p = f.filter_step(*p, step.as_ref(), o);
+            }
+        }
+    }
+
+    /// The step to filter this sighting across; `None` restarts the filters (each restarts
+    /// at its next sample: [`OneEuroVec3::filter_step`] with no step).
+    fn step(
+        &mut self,
+        time_ms: f64,
+        dt: Option<f32>,
+        o: &OneEuroOptions,
+    ) -> Option<one_euro::Step> {
         let previous = self.seen.replace(time_ms);
         let dt = match (dt, previous) {
             (Some(dt), Some(seen)) if time_ms >= seen && time_ms - seen <= MAX_STEP_MS => {
@@ -160,13 +192,7 @@ impl<const N: usize> PointFilters<N> {
             }
             _ => 0.0,
         };
-        let step = one_euro::Step::new(dt, o);
-        for (p, f) in points.iter_mut().zip(self.points.iter_mut()) {
-            if step.is_none() {
-                f.reset();
-            }
-            *p = f.filter_step(*p, step.as_ref(), o);
-        }
+        one_euro::Step::new(dt, o)
     }
 
     /// Forgets the history.
@@ -210,5 +236,23 @@ mod tests {
         let mut r = [Vec3::Y, Vec3::ONE];
         f.apply(&mut r, 2033.0, Some(0.033), &o);
         assert_eq!(r[0], Vec3::Y);
+    }
+
+    #[test]
+    fn a_subset_filters_like_the_whole_set_and_leaves_the_rest() {
+        let o = FilterOptions::default().one_euro();
+        let (mut all, mut some) = (PointFilters::<3>::default(), PointFilters::<3>::default());
+        let only = [0, 2, 7]; // 7: out of range, ignored
+        for (t, x) in [(0.0, 0.0), (33.0, 1.0), (66.0, 0.5), (3000.0, 2.0), (3033.0, 1.0)] {
+            let frame = [Vec3::splat(x), Vec3::splat(-x), Vec3::splat(2.0 * x)];
+            let (mut a, mut b) = (frame, frame);
+            let dt = (t > 0.0 && t != 3000.0).then_some(0.033);
+            all.apply(&mut a, t, dt, &o);
+            some.apply_to(&mut b, &only, t, dt, &o);
+            assert_eq!([b[0], b[2]], [a[0], a[2]], "t = {t}: the listed points as filtered");
+            assert_eq!(b[1], frame[1], "t = {t}: the unlisted point as given");
+            // Smoothed between samples, restarted after the gap.
+            assert_eq!(b[0] == frame[0], t == 0.0 || t == 3000.0, "t = {t}: {}", b[0]);
+        }
     }
 }
