@@ -243,16 +243,31 @@ mod tests {
         let o = FilterOptions::default().one_euro();
         let (mut all, mut some) = (PointFilters::<3>::default(), PointFilters::<3>::default());
         let only = [0, 2, 7]; // 7: out of range, ignored
-        for (t, x) in [(0.0, 0.0), (33.0, 1.0), (66.0, 0.5), (3000.0, 2.0), (3033.0, 1.0)] {
+        for (t, x) in [
+            (0.0, 0.0),
+            (33.0, 1.0),
+            (66.0, 0.5),
+            (3000.0, 2.0),
+            (3033.0, 1.0),
+        ] {
             let frame = [Vec3::splat(x), Vec3::splat(-x), Vec3::splat(2.0 * x)];
             let (mut a, mut b) = (frame, frame);
             let dt = (t > 0.0 && t != 3000.0).then_some(0.033);
             all.apply(&mut a, t, dt, &o);
             some.apply_to(&mut b, &only, t, dt, &o);
-            assert_eq!([b[0], b[2]], [a[0], a[2]], "t = {t}: the listed points as filtered");
+            assert_eq!(
+                [b[0], b[2]],
+                [a[0], a[2]],
+                "t = {t}: the listed points as filtered"
+            );
             assert_eq!(b[1], frame[1], "t = {t}: the unlisted point as given");
             // Smoothed between samples, restarted after the gap.
-            assert_eq!(b[0] == frame[0], t == 0.0 || t == 3000.0, "t = {t}: {}", b[0]);
+            assert_eq!(
+                b[0] == frame[0],
+                t == 0.0 || t == 3000.0,
+                "t = {t}: {}",
+                b[0]
+            );
         }
     }
 }
