@@ -26,6 +26,7 @@ import { readFileSync } from "node:fs";
 import { createRequire } from "node:module";
 import { dirname, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
+import { KALIDOKIT_SCOPE } from "./kalidokit-scope.mjs";
 
 const here = dirname(fileURLToPath(import.meta.url));
 const self = fileURLToPath(import.meta.url);
@@ -38,14 +39,6 @@ const arg = (name, dflt) => {
 };
 
 const CASES = ["kalidokit", "object", "scope", "flat", "flatScope"];
-const KALIDOKIT_SCOPE = {
-  filter: { enabled: false },
-  alignment: { enabled: false },
-  contact: { enabled: false },
-  arm: { wristLimits: false },
-  dropout: { enabled: false },
-  torso: "off",
-};
 const WARMUP = 30;
 
 if (process.argv.includes("--child")) child();

@@ -28,6 +28,7 @@ import { readFileSync } from "node:fs";
 import { createRequire } from "node:module";
 import { dirname, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
+import { KALIDOKIT_SCOPE } from "./kalidokit-scope.mjs";
 
 const here = dirname(fileURLToPath(import.meta.url));
 const root = resolve(here, "..");
@@ -129,18 +130,8 @@ const packed = aslFrames.map((f) => {
   return Float32Array.from(packer.input);
 });
 const flatRig = HandRig.fromVrm(robot);
-// Kalidokit's scope: the same calls with what Kalidokit does not do turned off (landmark
-// filtering, fingertip alignment, self-contact, wrist limits, dropout easing, the torso), so
-// both turn the same frames into finger and arm rotations: what the JS boundary and the core
-// solvers cost for equal work.
-const KALIDOKIT_SCOPE = {
-  filter: { enabled: false },
-  alignment: { enabled: false },
-  contact: { enabled: false },
-  arm: { wristLimits: false },
-  dropout: { enabled: false },
-  torso: "off",
-};
+// Kalidokit's scope (eval/kalidokit-scope.mjs): what the JS boundary and the core solvers cost
+// for equal work.
 const scopeRig = HandRig.fromVrm(robot, KALIDOKIT_SCOPE);
 // The flat path in Kalidokit's scope: the wasm's share of the equal-work row (the same packed
 // frames: packing does not depend on the options).
