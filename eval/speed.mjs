@@ -136,28 +136,21 @@ const scopeRig = HandRig.fromVrm(robot, KALIDOKIT_SCOPE);
 // The flat path in Kalidokit's scope: the wasm's share of the equal-work row (the same packed
 // frames: packing does not depend on the options).
 const scopeFlatRig = HandRig.fromVrm(robot, KALIDOKIT_SCOPE);
-// Views into wasm memory, taken once every rig exists (a new rig may grow the memory).
-const { input, output } = flatRig;
-const { input: scopeInput, output: scopeOutput } = scopeFlatRig;
+// One flat-path call: the packed frame copied into the rig's input view, solved, read. The views
+// are taken once every rig exists (a new rig may grow the wasm memory and detach older views).
+const flatCall = (r) => {
+  const { input, output } = r;
+  return (i) => {
+    input.set(packed[i]);
+    r.solveFlat(aslFrames[i].timeMs);
+    sink += output[0];
+  };
+};
 const [full, flat, scoped, scopedFlat, kdFull] = timeTogether(aslFrames.length, [
   ["handrig object API: full frame", (i) => (sink += rig.solve(aslFrames[i]).timeMs)],
-  [
-    "handrig flat path: full frame",
-    (i) => {
-      input.set(packed[i]);
-      flatRig.solveFlat(aslFrames[i].timeMs);
-      sink += output[0];
-    },
-  ],
+  ["handrig flat path: full frame", flatCall(flatRig)],
   ["handrig object API: full frame, Kalidokit's scope", (i) => (sink += scopeRig.solve(aslFrames[i]).timeMs)],
-  [
-    "handrig flat path: full frame, Kalidokit's scope",
-    (i) => {
-      scopeInput.set(packed[i]);
-      scopeFlatRig.solveFlat(aslFrames[i].timeMs);
-      sink += scopeOutput[0];
-    },
-  ],
+  ["handrig flat path: full frame, Kalidokit's scope", flatCall(scopeFlatRig)],
   [
     "Kalidokit Pose.solve + Hand.solve per hand",
     (i) => {
