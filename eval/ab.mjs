@@ -16,6 +16,7 @@ import { readFileSync } from "node:fs";
 import { createRequire } from "node:module";
 import { dirname, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
+import { aslFrames } from "./full-frame.mjs";
 
 const here = dirname(fileURLToPath(import.meta.url));
 const shared = process.env.HANDRIG_SHARED ?? resolve(here, "../../shared");
@@ -35,9 +36,7 @@ const warm = Math.min(10, Math.floor(rounds / 4));
 const [A, B] = dirs.map((d) => require(resolve(d)).HandRig);
 
 const robot = readFileSync(`${shared}/avatars/debug-robot.vrm`);
-const frames = ["eat", "thanks", "brother", "sister"].flatMap(
-  (n) => JSON.parse(readFileSync(`${shared}/data/asl/${n}.json`, "utf8")).frames,
-);
+const frames = aslFrames(shared);
 const asObject = ([x, y, z, visibility]) => (visibility === undefined ? { x, y, z } : { x, y, z, visibility });
 const objectFrames = frames.map((f) => ({
   ...f,

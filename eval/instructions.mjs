@@ -26,7 +26,7 @@ import { readFileSync } from "node:fs";
 import { createRequire } from "node:module";
 import { dirname, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
-import { KALIDOKIT_SCOPE } from "./kalidokit-scope.mjs";
+import { aslFrames, KALIDOKIT_SCOPE, kalidokitFrame, kalidokitSolve } from "./full-frame.mjs";
 
 const here = dirname(fileURLToPath(import.meta.url));
 const self = fileURLToPath(import.meta.url);
@@ -47,25 +47,14 @@ else driver();
 // One case: the warm-up passes, then `--passes` more.
 function child() {
   const [kind, passes, pkg] = [arg("--case"), Number(arg("--passes")), arg("--pkg")];
-  const frames = ["eat", "thanks", "brother", "sister"].flatMap(
-    (n) => JSON.parse(readFileSync(`${shared}/data/asl/${n}.json`, "utf8")).frames,
-  );
+  const frames = aslFrames(shared);
   let sink = 0;
   let pass;
   if (kind === "kalidokit") {
     const Kalidokit = require("kalidokit/dist/kalidokit.umd.js");
-    const xyz = ([x, y, z, visibility]) => ({ x, y, z, visibility });
-    const kd = frames.map((f) => ({
-      world: f.pose.worldLandmarks.map(xyz),
-      image: f.pose.landmarks.map(xyz),
-      hands: f.hands.map((h) => ({ points: h.landmarks.map(xyz), side: h.handedness === "Left" ? "Right" : "Left" })),
-    }));
-    const size = { runtime: "mediapipe", imageSize: { width: 640, height: 480 } };
+    const kd = frames.map(kalidokitFrame);
     pass = () => {
-      for (const k of kd) {
-        sink += Kalidokit.Pose.solve(k.world, k.image, size) ? 1 : 0;
-        for (const h of k.hands) sink += Kalidokit.Hand.solve(h.points, h.side) ? 1 : 0;
-      }
+      for (const k of kd) sink += kalidokitSolve(Kalidokit, k);
     };
   } else {
     const { HandRig } = require(resolve(pkg));

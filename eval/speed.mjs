@@ -28,7 +28,7 @@ import { readFileSync } from "node:fs";
 import { createRequire } from "node:module";
 import { dirname, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
-import { KALIDOKIT_SCOPE } from "./kalidokit-scope.mjs";
+import { aslFrames as readAslFrames, KALIDOKIT_SCOPE, kalidokitFrame, kalidokitSolve, xyz } from "./full-frame.mjs";
 
 const here = dirname(fileURLToPath(import.meta.url));
 const root = resolve(here, "..");
@@ -61,18 +61,9 @@ const json = process.argv.includes("--json");
 
 const robot = readFileSync(`${shared}/avatars/debug-robot.vrm`);
 const handFrames = JSON.parse(readFileSync(`${shared}/data/hands/right-hand-video-mediapipe.json`, "utf8"));
-const aslFrames = ["eat", "thanks", "brother", "sister"].flatMap(
-  (n) => JSON.parse(readFileSync(`${shared}/data/asl/${n}.json`, "utf8")).frames,
-);
-
-const xyz = ([x, y, z, visibility]) => ({ x, y, z, visibility });
+const aslFrames = readAslFrames(shared);
 // Kalidokit's inputs: {x, y, z(, visibility)} objects, converted once (not timed).
-const kalidokitFull = aslFrames.map((f) => ({
-  world: f.pose.worldLandmarks.map(xyz),
-  image: f.pose.landmarks.map(xyz),
-  // Kalidokit's side argument is the avatar side; MediaPipe's label is the mirrored one.
-  hands: f.hands.map((h) => ({ points: h.landmarks.map(xyz), side: h.handedness === "Left" ? "Right" : "Left" })),
-}));
+const kalidokitFull = aslFrames.map(kalidokitFrame);
 const kalidokitHands = handFrames.map((f) => f.hands[0].landmarks.map(xyz));
 
 function time(label, n, fn) {
@@ -130,7 +121,7 @@ const packed = aslFrames.map((f) => {
   return Float32Array.from(packer.input);
 });
 const flatRig = HandRig.fromVrm(robot);
-// Kalidokit's scope (eval/kalidokit-scope.mjs): what the JS boundary and the core solvers cost
+// Kalidokit's scope (eval/full-frame.mjs): what the JS boundary and the core solvers cost
 // for equal work.
 const scopeRig = HandRig.fromVrm(robot, KALIDOKIT_SCOPE);
 // The flat path in Kalidokit's scope: the wasm's share of the equal-work row (the same packed
@@ -151,15 +142,7 @@ const [full, flat, scoped, scopedFlat, kdFull] = timeTogether(aslFrames.length, 
   ["handrig flat path: full frame", flatCall(flatRig)],
   ["handrig object API: full frame, Kalidokit's scope", (i) => (sink += scopeRig.solve(aslFrames[i]).timeMs)],
   ["handrig flat path: full frame, Kalidokit's scope", flatCall(scopeFlatRig)],
-  [
-    "Kalidokit Pose.solve + Hand.solve per hand",
-    (i) => {
-      const k = kalidokitFull[i];
-      const pose = Kalidokit.Pose.solve(k.world, k.image, { runtime: "mediapipe", imageSize: { width: 640, height: 480 } });
-      sink += pose ? 1 : 0;
-      for (const h of k.hands) sink += Kalidokit.Hand.solve(h.points, h.side) ? 1 : 0;
-    },
-  ],
+  ["Kalidokit Pose.solve + Hand.solve per hand", (i) => (sink += kalidokitSolve(Kalidokit, kalidokitFull[i]))],
 ]);
 
 // Hands only, interleaved likewise.

@@ -770,61 +770,74 @@ mod tests {
         assert_eq!(o.inner.scale, None);
     }
 
+    /// Each `(input, message)`: decoding the input fails with exactly that message.
+    fn assert_messages(cases: &[(&str, &str)]) {
+        for (input, expected) in cases {
+            assert_eq!(message(input), *expected, "{input}");
+        }
+    }
+
     #[test]
     fn an_unknown_field_is_named_with_its_path() {
-        assert_eq!(
-            message(r#"{"inner": {"angle": 1}}"#),
-            "options.inner.angle: unknown field (expected one of angleRad, on, count, scale)"
-        );
-        assert_eq!(
-            message(r#"{"extra": 1}"#),
-            "options.extra: unknown field (expected one of inner, mode, points)"
-        );
+        assert_messages(&[
+            (
+                r#"{"inner": {"angle": 1}}"#,
+                "options.inner.angle: unknown field (expected one of angleRad, on, count, scale)",
+            ),
+            (
+                r#"{"extra": 1}"#,
+                "options.extra: unknown field (expected one of inner, mode, points)",
+            ),
+        ]);
     }
 
     #[test]
     fn a_wrong_type_is_named_with_its_path() {
-        assert_eq!(
-            message(r#"{"inner": {"angleRad": "0.5"}}"#),
-            "options.inner.angleRad: expected a number, got \"0.5\""
-        );
-        assert_eq!(
-            message(r#"{"inner": {"on": 1}}"#),
-            "options.inner.on: expected true or false, got 1"
-        );
-        assert_eq!(
-            message(r#"{"inner": {"count": 2.5}}"#),
-            "options.inner.count: expected an integer in 0..=4294967295, got a number"
-        );
-        assert_eq!(
-            message(r#"{"inner": {"count": -1}}"#),
-            "options.inner.count: expected an integer in 0..=4294967295, got -1"
-        );
-        assert_eq!(
-            message(r#"{"inner": [1]}"#),
-            "options.inner: expected an object, got an array"
-        );
-        assert_eq!(
-            message(r#"{"points": [[1, 2, 3], [1, 2]]}"#),
-            "options.points[1]: expected [x, y, z], got an array"
-        );
-        assert_eq!(message("null"), "options: expected an object, got null");
-        assert_eq!(
-            message(r#"{"inner": {"scale": {}}}"#),
-            "options.inner.scale: expected a number, got an object"
-        );
+        assert_messages(&[
+            (
+                r#"{"inner": {"angleRad": "0.5"}}"#,
+                "options.inner.angleRad: expected a number, got \"0.5\"",
+            ),
+            (
+                r#"{"inner": {"on": 1}}"#,
+                "options.inner.on: expected true or false, got 1",
+            ),
+            (
+                r#"{"inner": {"count": 2.5}}"#,
+                "options.inner.count: expected an integer in 0..=4294967295, got a number",
+            ),
+            (
+                r#"{"inner": {"count": -1}}"#,
+                "options.inner.count: expected an integer in 0..=4294967295, got -1",
+            ),
+            (
+                r#"{"inner": [1]}"#,
+                "options.inner: expected an object, got an array",
+            ),
+            (
+                r#"{"points": [[1, 2, 3], [1, 2]]}"#,
+                "options.points[1]: expected [x, y, z], got an array",
+            ),
+            ("null", "options: expected an object, got null"),
+            (
+                r#"{"inner": {"scale": {}}}"#,
+                "options.inner.scale: expected a number, got an object",
+            ),
+        ]);
     }
 
     #[test]
     fn enums_are_read_by_name() {
-        assert_eq!(
-            message(r#"{"mode": "slow"}"#),
-            "options.mode: must be one of \"fast\", \"slowMode\", got \"slow\""
-        );
-        assert_eq!(
-            message(r#"{"mode": 1}"#),
-            "options.mode: expected one of \"fast\", \"slowMode\", got 1"
-        );
+        assert_messages(&[
+            (
+                r#"{"mode": "slow"}"#,
+                "options.mode: must be one of \"fast\", \"slowMode\", got \"slow\"",
+            ),
+            (
+                r#"{"mode": 1}"#,
+                "options.mode: expected one of \"fast\", \"slowMode\", got 1",
+            ),
+        ]);
     }
 
     #[test]
