@@ -1003,10 +1003,34 @@ function createHandRigApi(raw, isReady) {
   // Options: nested objects or dotted paths (as optionDescriptions() spells them), checked
   // against the descriptions, normalized into a plain nested object for the Rust side.
 
+  // The shortest decimal that is the same f32 as `v`. Option ranges and defaults are f32 in
+  // Rust, so 0.05 reaches JavaScript as 0.05000000074505806: compared as it arrives, the
+  // documented bound 0.05 itself would be out of range. Any decimal between the two rounds to
+  // the same f32, so the range accepted here is the one Rust checks.
+  function f32Decimal(v) {
+    if (typeof v !== "number" || !Number.isFinite(v)) return v;
+    const f = Math.fround(v);
+    for (let digits = 1; digits < 9; digits++) {
+      const d = Number(f.toPrecision(digits));
+      if (Math.fround(d) === f) return d;
+    }
+    return f;
+  }
+
+  // The raw descriptions with their numbers as f32Decimal spells them (a fresh array each call:
+  // a caller may change what it gets).
+  function cleanDescriptions() {
+    return RawHandRig.optionDescriptions().map((d) =>
+      d.type === "number"
+        ? { ...d, min: f32Decimal(d.min), max: f32Decimal(d.max), step: f32Decimal(d.step), default: f32Decimal(d.default) }
+        : d,
+    );
+  }
+
   let descriptionsCache;
   function descriptions() {
     if (descriptionsCache === undefined) {
-      descriptionsCache = new Map(RawHandRig.optionDescriptions().map((d) => [d.path, d]));
+      descriptionsCache = new Map(cleanDescriptions().map((d) => [d.path, d]));
     }
     return descriptionsCache;
   }
@@ -1212,10 +1236,14 @@ function createHandRigApi(raw, isReady) {
       return new HandRig(ADOPT, r);
     }
 
-    /** Every option: `{ path, type, default, values?, min?, max?, step?, description }`. */
+    /**
+     * Every option: `{ path, type, default, values?, min?, max?, step?, description }`. Numbers
+     * are the shortest decimals of the f32 values Rust holds (0.05, not 0.05000000074505806);
+     * `min` and `max` are accepted.
+     */
     static optionDescriptions() {
       ensureReady("HandRig.optionDescriptions()");
-      return RawHandRig.optionDescriptions();
+      return cleanDescriptions();
     }
 
     /** The flat frame layout (offsets of the input and output arrays); see the README. */

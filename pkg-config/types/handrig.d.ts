@@ -613,7 +613,11 @@ export declare class HandRig {
     bytes: Uint8Array | ArrayBuffer | ArrayBufferView,
     options?: HandRigOptions,
   ): HandRig;
-  /** Every option with its path, type, range, default and description. */
+  /**
+   * Every option with its path, type, range, default and description. Numbers are the shortest
+   * decimals of the f32 values Rust holds (`0.05`, not `0.05000000074505806`); `min` and `max`
+   * are accepted.
+   */
   static optionDescriptions(): OptionDescription[];
   /** The flat frame layout (same as the `LAYOUT` export). */
   static readonly layout: FlatLayout;

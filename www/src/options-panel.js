@@ -25,9 +25,12 @@ export function getPath(obj, path) {
   return path.split(".").reduce((o, k) => (o == null ? undefined : o[k]), obj);
 }
 
-// The package describes ranges with f32 values (0.05 arrives as 0.05000000074505806); a range
-// input snaps to multiples of its step, so such steps would leak float noise into the options.
+// A range input snaps to min + k * step in doubles (0.05 + 2 * 0.05 is 0.15000000000000002):
+// its values are rounded to 6 digits, and kept within the package's range (which it gives as
+// the shortest decimals of Rust's f32 values: pi/2 is 1.5707964, which rounds up to 1.5708,
+// outside the range).
 const clean = (x) => (Number.isFinite(x) ? Number(Number(x).toPrecision(6)) : x);
+const within = (x, d) => (Number.isFinite(x) ? Math.min(d.max ?? Infinity, Math.max(d.min ?? -Infinity, clean(x))) : x);
 
 const fmt = (v) => (Number.isInteger(v) ? String(v) : Number(v).toFixed(3).replace(/0+$/, "").replace(/\.$/, ""));
 
@@ -101,7 +104,6 @@ export function buildOptionsPanel(form, descriptions, onChange) {
       ctl.append(sel);
       controls.set(path, { set: (v) => (sel.value = String(v)) });
     } else if (d.type === "number") {
-      d = { ...d, min: clean(d.min), max: clean(d.max), step: clean(d.step), default: clean(d.default) };
       values.set(path, d.default ?? null);
       const ranged = Number.isFinite(d.min) && Number.isFinite(d.max);
       const input = document.createElement("input");
@@ -122,7 +124,7 @@ export function buildOptionsPanel(form, descriptions, onChange) {
       input.value = String(start);
       out.textContent = optional ? "auto" : fmt(start);
       const commit = () => {
-        const v = clean(Number(input.value));
+        const v = within(Number(input.value), d);
         if (auto?.checked) {
           values.set(path, null);
           out.textContent = "auto";

@@ -269,6 +269,31 @@ test("every control re-creates the rigs with its option, and the controls change
   assert.deepEqual(errors, []);
 });
 
+test("every number control accepts the ends of its range (the package's bounds, e.g. 0.05, not 0.0500000007)", async () => {
+  await setFrame(140);
+  const base = await demoState();
+  const descriptions = await page.evaluate(() => window.__handrigDemo.optionDescriptions);
+  const get = (o, path) => path.split(".").reduce((x, k) => x?.[k], o);
+  let checked = 0;
+  for (const d of descriptions) {
+    if (d.type !== "number" || !Number.isFinite(d.min) || !Number.isFinite(d.max)) continue;
+    for (const end of [d.min, d.max]) {
+      await setControl(d, end);
+      const s = await demoState();
+      const v = get(s.options, d.path);
+      assert.doesNotMatch(await page.textContent("#status"), /rejected|failed/, `${d.path}=${end} accepted`);
+      assert.ok(s.results.with, `${d.path}=${end}: the new rig solves`);
+      // A range input snaps to min + k * step: the far end may land a step fraction short.
+      assert.ok(v >= d.min && v <= d.max && Math.abs(v - end) <= (d.step ?? 0), `${d.path}: ${v} for ${end}`);
+      checked++;
+    }
+    await setControl(d, d.default);
+  }
+  assert.deepEqual((await demoState()).options, base.options, "restored");
+  assert.ok(checked >= 30, `${checked} range ends`);
+  assert.deepEqual(errors, []);
+});
+
 test("the jitter readout: playing the recording with the One Euro filter on shows less jitter than with it off", async () => {
   const play = async () => {
     for (let i = 60; i < 120; i++) await setFrame(i);

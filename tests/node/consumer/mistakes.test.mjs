@@ -37,6 +37,37 @@ describe("options: dotted paths, and every error names the field", () => {
     }
   });
 
+  it("number options: the described numbers are short decimals, and both ends of each range are accepted", () => {
+    const described = new Map(HandRig.optionDescriptions().map((d) => [d.path, d]));
+    // Rust holds these as f32: the description gives the decimal, not the f32 widened.
+    assert.equal(described.get("filter.minCutoff").min, 0.05);
+    assert.equal(described.get("calibration.bodyScale").min, 0.1);
+    assert.equal(described.get("arm.shoulderAngle").default, 0.26);
+    assert.equal(described.get("arm.shoulderAngle").max, 1.5707964); // pi / 2 as an f32
+    assert.equal(described.get("contact.depthTrust").default, 0.1);
+    let checked = 0;
+    for (const d of described.values()) {
+      if (d.type !== "number") continue;
+      for (const x of [d.min, d.max, d.default, d.step]) {
+        if (x === null) continue;
+        assert.ok(String(x).replace(/^-|\.|e.*$/g, "").replace(/^0+/, "").length <= 9, `${d.path}: ${x}`);
+      }
+      for (const end of [d.min, d.max]) HandRig.fromVrm(robotBytes, { [d.path]: end }).free();
+      // Just outside either end: rejected, the message giving the range as described.
+      const below = d.min - Math.max(1e-6, Math.abs(d.min) * 1e-4);
+      const above = d.max + Math.max(1e-6, Math.abs(d.max) * 1e-4);
+      for (const out of [below, above]) {
+        assert.throws(() => HandRig.fromVrm(robotBytes, { [d.path]: out }), (e) => {
+          assert.match(e.message, new RegExp(`^options\\.${d.path.replace(/\./g, "\\.")}: must be`));
+          if (Number.isInteger(out) || !/integer/.test(e.message)) assert.ok(e.message.includes(`${d.min}..${d.max}`), e.message);
+          return true;
+        });
+      }
+      checked++;
+    }
+    assert.ok(checked >= 15, `${checked} number options`);
+  });
+
   it("a group with an `enabled` switch takes a boolean: filter: false", () => {
     const frame = frames[200];
     const off = HandRig.fromVrm(robotBytes, { filter: false, dropout: false });
