@@ -394,11 +394,12 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
     }
     let aspect = match buf[input::IMAGE_ASPECT] {
         0.0 => 16.0 / 9.0,
-        a if a.is_finite() && a > 0.0 => a,
+        // Image landmarks are scaled by it: a frame is not 100 times wider than high.
+        a if (0.01..=100.0).contains(&a) => a,
         _ => {
             return Err(Error::invalid(
                 "frame.imageAspect",
-                "must be a positive number (width / height)",
+                "must be a number in 0.01..100 (width / height)",
             ))
         }
     };
@@ -917,5 +918,21 @@ mod tests {
             e.to_string(),
             "frame.face.leftEar: must be three finite numbers"
         );
+        buf[ear] = 0.0;
+
+        // The image aspect scales image landmarks: 0.01..100. (Points beyond
+        // `COORDINATE_LIMIT` pass this read and are rejected by `Rig::solve`: tests/rig.rs.)
+        let aspect = input::IMAGE_ASPECT;
+        for (value, ok) in [(0.01, true), (100.0, true), (0.009, false), (101.0, false)] {
+            buf[aspect] = value;
+            let r = read_input(&buf, 0.0, &mut back);
+            assert_eq!(r.is_ok(), ok, "aspect {value}: {r:?}");
+            if let Err(e) = r {
+                assert_eq!(
+                    e.to_string(),
+                    "frame.imageAspect: must be a number in 0.01..100 (width / height)"
+                );
+            }
+        }
     }
 }

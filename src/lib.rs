@@ -69,5 +69,5 @@ pub mod wasm;
 pub use bones::{Finger, HumanBone, Side, BONE_COUNT};
 pub use error::{Error, Result};
 pub use mediapipe::{CameraMapping, FrameInput, HandObservation, Handedness, PoseObservation};
-pub use rig::{Rig, RigOptions, SolveOutput};
+pub use rig::{Rig, RigOptions, SolveOutput, COORDINATE_LIMIT};
 pub use skeleton::{Skeleton, VrmVersion, WorldPose};

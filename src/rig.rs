@@ -579,8 +579,9 @@ impl Rig {
     /// [`Rig::export_position`] for the model frame). Allocates nothing.
     ///
     /// # Errors
-    /// Invalid input (non-finite numbers are rejected before any state changes). Degenerate
-    /// hands are not errors: that hand is skipped and its previous rotations are kept.
+    /// Invalid input (non-finite numbers, and points beyond [`COORDINATE_LIMIT`], are rejected
+    /// before any state changes). Degenerate hands are not errors: that hand is skipped and
+    /// its previous rotations are kept.
     pub fn solve(&mut self, frame: &FrameInput, out: &mut SolveOutput) -> Result<()> {
         validate_frame(frame)?;
         let camera = self.options.camera();
@@ -1394,6 +1395,40 @@ fn set_hand_world_rotation(
     out.local[hand.index()] = (parent_world.inverse() * hand_world).normalize();
 }
 
+/// Largest magnitude of any coordinate of a frame's points: meters for world points, wrists,
+/// body joints and face points, image units for image landmarks. A body is not 1 km across, and
+/// far larger (finite) numbers overflow the solvers' squares into infinities.
+pub const COORDINATE_LIMIT: f32 = 1000.0;
+
+/// What is wrong with a point of a frame, if anything.
+fn point_problem(p: Vec3) -> Option<&'static str> {
+    // One test for the common case: NaN fails every comparison, infinities the bound.
+    let a = p.abs();
+    if a.x <= COORDINATE_LIMIT && a.y <= COORDINATE_LIMIT && a.z <= COORDINATE_LIMIT {
+        None
+    } else if !p.is_finite() {
+        Some("must be three finite numbers")
+    } else {
+        Some("must be three numbers within -1000..1000 (meters; image landmarks in image units)")
+    }
+}
+
+/// The first point of `points` with a problem: its index and the problem.
+fn points_problem(points: &[Vec3]) -> Option<(usize, &'static str)> {
+    // A pass without branches first (every frame's ~150 points; NaN fails the comparisons).
+    let within = points.iter().fold(true, |ok, p| {
+        let a = p.abs();
+        ok & (a.x <= COORDINATE_LIMIT) & (a.y <= COORDINATE_LIMIT) & (a.z <= COORDINATE_LIMIT)
+    });
+    if within {
+        return None;
+    }
+    points
+        .iter()
+        .enumerate()
+        .find_map(|(k, p)| point_problem(*p).map(|e| (k, e)))
+}
+
 fn validate_frame(frame: &FrameInput) -> Result<()> {
     if !frame.time_ms.is_finite() {
         return Err(crate::Error::invalid(
@@ -1402,10 +1437,16 @@ fn validate_frame(frame: &FrameInput) -> Result<()> {
         ));
     }
     for (i, h) in frame.hands().iter().enumerate() {
-        if let Some(k) = h.world.iter().position(|p| !p.is_finite()) {
+        if let Some((k, e)) = points_problem(&h.world) {
             return Err(crate::Error::invalid(
                 format!("frame.hands[{i}].worldLandmarks[{k}]"),
-                "must be three finite numbers",
+                e,
+            ));
+        }
+        if let Some((k, e)) = h.image.as_ref().and_then(|p| points_problem(p)) {
+            return Err(crate::Error::invalid(
+                format!("frame.hands[{i}].landmarks[{k}]"),
+                e,
             ));
         }
         if !h.score.is_finite() {
@@ -1416,19 +1457,25 @@ fn validate_frame(frame: &FrameInput) -> Result<()> {
         }
     }
     if let Some(p) = &frame.pose {
-        if let Some(k) = p.world.iter().position(|p| !p.is_finite()) {
+        if let Some((k, e)) = points_problem(&p.world) {
             return Err(crate::Error::invalid(
                 format!("frame.pose.worldLandmarks[{k}]"),
-                "must be three finite numbers",
+                e,
             ));
         }
     }
+    if let Some((k, e)) = frame.pose_image.as_ref().and_then(|p| points_problem(p)) {
+        return Err(crate::Error::invalid(
+            format!("frame.pose.landmarks[{k}]"),
+            e,
+        ));
+    }
     for side in Side::BOTH {
         if let Some(w) = &frame.wrists[side.index()] {
-            if !w.position.is_finite() {
+            if let Some(e) = point_problem(w.position) {
                 return Err(crate::Error::invalid(
                     format!("frame.wrists.{}.position", side.as_str()),
-                    "must be three finite numbers",
+                    e,
                 ));
             }
             if let Some(q) = w.rotation {
@@ -1454,10 +1501,10 @@ fn validate_frame(frame: &FrameInput) -> Result<()> {
     if let Some(body) = &frame.body {
         for j in BodyJoint::ALL {
             let k = j.index();
-            if !body.position[k].is_finite() {
+            if let Some(e) = point_problem(body.position[k]) {
                 return Err(crate::Error::invalid(
                     format!("frame.body.{}", j.as_str()),
-                    "must be three finite numbers",
+                    e,
                 ));
             }
             if !(0.0..=1.0).contains(&body.confidence[k]) {
@@ -1470,10 +1517,10 @@ fn validate_frame(frame: &FrameInput) -> Result<()> {
     }
     if let Some(face) = &frame.face {
         for k in 0..TrackerFace::POINTS {
-            if face.point(k).is_some_and(|p| !p.is_finite()) {
+            if let Some(e) = face.point(k).and_then(point_problem) {
                 return Err(crate::Error::invalid(
                     format!("frame.face.{}", TrackerFace::NAMES[k]),
-                    "must be three finite numbers",
+                    e,
                 ));
             }
         }
@@ -1507,6 +1554,8 @@ pub enum OptionKind {
         default: Option<f32>,
         /// Suggested UI step.
         step: f32,
+        /// Only whole numbers are accepted.
+        integer: bool,
     },
     /// An object of named points, `{ name: [x, y, z] }` (meters), each optional; no default
     /// (derived values apply where a point is not given).
@@ -1568,6 +1617,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: core::f32::consts::FRAC_PI_2,
                 default: Some(d.arm.shoulder_angle),
                 step: 0.01,
+                integer: false,
             },
             description: "Largest angle (radians) the shoulder turns to help a far reach; 0 keeps shoulders at rest.",
         },
@@ -1578,6 +1628,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: 1.0,
                 default: Some(d.arm.shoulder_reach),
                 step: 0.01,
+                integer: false,
             },
             description: "Fraction of the arm's length beyond which the shoulder starts to turn toward the target.",
         },
@@ -1588,6 +1639,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: 1.0,
                 default: Some(d.arm.forearm_twist),
                 step: 0.05,
+                integer: false,
             },
             description: "Share of the hand's twist about the forearm that the forearm takes (the rest stays at the wrist).",
         },
@@ -1626,6 +1678,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: 1.0,
                 default: Some(d.alignment.weight),
                 step: 0.05,
+                integer: false,
             },
             description: "Blend between the plain pose wrist (0) and the fully aligned wrist (1).",
         },
@@ -1636,6 +1689,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: 10.0,
                 default: d.calibration.body_scale,
                 step: 0.01,
+                integer: false,
             },
             description: "Preset body scale (avatar arm / user arm) for pose input; unset = calibrate automatically.",
         },
@@ -1646,6 +1700,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: crate::body::MAX_CALIBRATION_FRAMES as f32,
                 default: Some(d.calibration.frames as f32),
                 step: 1.0,
+                integer: true,
             },
             description: "Pose frames with a visible arm that automatic body-scale calibration averages (outliers beyond 20% of the median dropped).",
         },
@@ -1656,6 +1711,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: 1.0,
                 default: Some(d.calibration.min_visibility),
                 step: 0.05,
+                integer: false,
             },
             description: "Pose landmarks below this visibility are ignored (arm at rest without a visible wrist; default elbow pole without a visible elbow).",
         },
@@ -1666,6 +1722,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: 1.0,
                 default: Some(d.min_hand_score),
                 step: 0.05,
+                integer: false,
             },
             description: "Hands whose handedness score is below this are ignored.",
         },
@@ -1689,6 +1746,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: 1000.0,
                 default: Some(d.filter.min_cutoff),
                 step: 0.05,
+                integer: false,
             },
             description: "One Euro cutoff at rest (Hz): lower is smoother, with more lag.",
         },
@@ -1699,6 +1757,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: 10000.0,
                 default: Some(d.filter.beta),
                 step: 0.1,
+                integer: false,
             },
             description: "One Euro speed coefficient (Hz per m/s): higher follows fast motion with less lag.",
         },
@@ -1709,6 +1768,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: 1000.0,
                 default: Some(d.filter.d_cutoff),
                 step: 0.05,
+                integer: false,
             },
             description: "One Euro cutoff of the speed estimate (Hz).",
         },
@@ -1732,6 +1792,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: 10000.0,
                 default: Some(d.dropout.hold_ms),
                 step: 10.0,
+                integer: false,
             },
             description: "How long a lost hand or arm keeps its last pose (ms).",
         },
@@ -1742,6 +1803,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: 10000.0,
                 default: Some(d.dropout.fade_out_ms),
                 step: 10.0,
+                integer: false,
             },
             description: "How long it then takes to ease to rest (ms).",
         },
@@ -1752,6 +1814,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: 10000.0,
                 default: Some(d.dropout.fade_in_ms),
                 step: 10.0,
+                integer: false,
             },
             description: "How long a returning hand or arm blends from the shown pose to the solved one (ms).",
         },
@@ -1767,6 +1830,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: crate::contact::RADIUS_RANGE.1,
                 default: Some(d.contact.radius),
                 step: 0.05,
+                integer: false,
             },
             description: "Contact blend radius in head breadths (the user's ear-to-ear distance, about 0.145 m): full contact mapping within half of it, plain alignment beyond it.",
         },
@@ -1777,6 +1841,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: 1.0,
                 default: Some(d.contact.weight),
                 step: 0.05,
+                integer: false,
             },
             description: "Scale of the contact blend: 0 = plain alignment, 1 = full contact mapping near the face or the other hand.",
         },
@@ -1804,6 +1869,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: crate::contact::MAX_COLLIDER_RADIUS,
                 default: d.contact.torso_radius,
                 step: 0.005,
+                integer: false,
             },
             description: "Torso capsule radius (m, hips to chest); unset = 0.6 x the shoulder half-width; 0 = no torso collider.",
         },
@@ -1814,6 +1880,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: crate::contact::MAX_COLLIDER_RADIUS,
                 default: d.contact.head_radius,
                 step: 0.005,
+                integer: false,
             },
             description: "Head sphere radius (m); unset = half the head breadth; 0 = no head collider (never covers a face anchor).",
         },
@@ -1824,6 +1891,7 @@ pub fn option_descriptions() -> Vec<OptionDescription> {
                 max: 1.0,
                 default: Some(d.contact.depth_trust),
                 step: 0.05,
+                integer: false,
             },
             description: "MediaPipe pose input: how much the tracked depth between fingertip and face counts (monocular hand depth at the face is off by 15-35 cm); where on the face comes from the image. 1 = as tracked; tracker input always uses its depth.",
         },

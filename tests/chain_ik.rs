@@ -420,13 +420,38 @@ fn degenerate_setups_are_errors_naming_the_field() {
     nan[1].y = f32::NAN;
     let e = make(nan, vec![]);
     assert!(e.starts_with("joints[1]:"), "{e}");
+    // Finite but beyond the coordinate limit (a bone that long overflows f32's squares).
     let mut huge = ok.clone();
     huge[2] = Vec3::splat(3e19);
     let e = make(huge, vec![]);
     assert!(
-        e.starts_with("joints[2]:") && e.contains("overflows"),
+        e.starts_with("joints[2]:") && e.contains("within -1e9..1e9"),
         "{e}"
     );
+    let mut far = ok.clone();
+    far[3].x = 1.01e9;
+    assert!(make(far, vec![]).starts_with("joints[3]:"));
+    let mut at_limit = ok.clone();
+    at_limit[3].x = 1e9;
+    let mut solver = ChainSolver::new(&ChainSolverOptions {
+        joints: at_limit,
+        ..ChainSolverOptions::default()
+    })
+    .expect("a joint at the limit");
+    let sol = solver
+        .solve(Vec3::new(1e9, 0.0, 0.0), None)
+        .expect("a target at the limit");
+    assert!(sol.joints.iter().all(|p| p.is_finite()) && sol.status.error.is_finite());
+    for bad in [Vec3::new(1.01e9, 0.0, 0.0), Vec3::new(0.0, -2e19, 0.0)] {
+        let e = solver.solve(bad, None).map(|_| ()).unwrap_err().to_string();
+        assert_eq!(e, "target: must be three numbers within -1e9..1e9");
+        let e = solver
+            .solve(Vec3::Y, Some(bad))
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "pole: must be three numbers within -1e9..1e9");
+    }
     let e = make(ok.clone(), vec![None]);
     assert!(e.starts_with("constraints:"), "{e}");
     let e = make(

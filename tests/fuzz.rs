@@ -196,6 +196,19 @@ fn assert_sane(out: &SolveOutput, what: &str) {
     for (i, p) in out.world.position.iter().enumerate() {
         assert!(p.is_finite(), "{what}: bone {i} position {p}");
     }
+    // The second fuzz round (2026-12-02) found infinite IK targets with finite bones.
+    for t in out.ik_targets.iter().flatten() {
+        assert!(
+            t.position.is_finite() && t.rotation.is_finite(),
+            "{what}: IK target {t:?}"
+        );
+    }
+    for a in out.alignment.iter().flatten() {
+        assert!(
+            a.target_dip.is_finite() && a.ik_wrist.is_finite(),
+            "{what}: alignment {a:?}"
+        );
+    }
 }
 
 #[test]
@@ -254,11 +267,18 @@ fn seeded_mutations_of_vrm_files_and_flat_frames() {
                     rejected += 1;
                     assert!(e.to_string().starts_with("frame"), "{e}");
                 }
-                Ok(()) => {
-                    rig.solve(&decoded, &mut out)
-                        .expect("a decoded frame solves");
-                    assert_sane(&out, name);
-                }
+                // Decoded, but a point beyond `COORDINATE_LIMIT` is for `Rig::solve` to refuse.
+                Ok(()) => match rig.solve(&decoded, &mut out) {
+                    Err(e) => {
+                        rejected += 1;
+                        let e = e.to_string();
+                        assert!(
+                            e.starts_with("frame") && e.contains("within -1000..1000"),
+                            "{e}"
+                        );
+                    }
+                    Ok(()) => assert_sane(&out, name),
+                },
             }
         }
         // The rig still solves a good frame afterwards.

@@ -281,3 +281,86 @@ fn pose_landmarks_outside_the_read_list_change_nothing() {
 fn same(a: &SolveOutput, b: &SolveOutput) -> bool {
     format!("{a:?}") == format!("{b:?}")
 }
+
+/// Fuzzing found a finite but huge landmark (3e38 at the aligned finger's DIP) accepted and
+/// turned into infinite IK targets. Points beyond `COORDINATE_LIMIT` are rejected naming the
+/// field, the rig stays usable, and points at the limit give finite output: on the ASL clips,
+/// one coordinate of one hand landmark (world or image), pose landmark (world or image) or tracker
+/// wrist per frame set to the limit, on four avatars (the odd-armature one included), with the
+/// largest body scale and with the torso tracked.
+#[test]
+fn points_beyond_the_coordinate_limit_are_rejected_and_points_at_it_give_finite_output() {
+    use handrig::COORDINATE_LIMIT;
+    let frames: Vec<_> = recordings::ASL
+        .iter()
+        .flat_map(|c| recordings::asl(c))
+        .collect();
+    let finite = |out: &SolveOutput| !format!("{out:?}").contains("inf");
+    // What each probe moves in frame `i` to `value` (None: the frame has no such part).
+    type Probe = fn(&mut FrameInput, usize, f32) -> Option<&'static str>;
+    let probes: [Probe; 5] = [
+        |f, i, v| {
+            let h = f.hands.get_mut(0).filter(|_| f.hand_count > 0)?;
+            h.world[if i % 2 == 0 { 7 } else { i % 21 }][i % 3] = v;
+            Some("frame.hands[0].worldLandmarks[")
+        },
+        |f, i, v| {
+            let image = f.hands[0].image.as_mut().filter(|_| f.hand_count > 0)?;
+            image[i % 21][i % 3] = v;
+            Some("frame.hands[0].landmarks[")
+        },
+        |f, i, v| {
+            f.pose.as_mut()?.world[i % 33][i % 3] = v;
+            Some("frame.pose.worldLandmarks[")
+        },
+        |f, i, v| {
+            f.pose_image.as_mut()?[i % 33][i % 3] = v;
+            Some("frame.pose.landmarks[")
+        },
+        |f, i, v| {
+            f.wrists[i % 2] = Some(WristObservation {
+                position: Vec3::new(v, 1.0, 0.3),
+                rotation: None,
+            });
+            Some(["frame.wrists.left.position", "frame.wrists.right.position"][i % 2])
+        },
+    ];
+    let mut avatars = recordings::real_avatars().to_vec();
+    avatars.push(recordings::vrm("../shared/avatars/odd-armature-vrm0.vrm"));
+    let mut at_limit = 0;
+    for avatar in &avatars {
+        for options in [
+            "{}",
+            r#"{ "calibration": { "bodyScale": 10 } }"#,
+            r#"{ "torso": "pose", "alignment": { "point": "tip" } }"#,
+        ] {
+            let options = RigOptions::from_json(options).expect("options");
+            let mut rig = Rig::new(avatar.clone(), options).expect("rig");
+            let mut out = SolveOutput::default();
+            for (i, frame) in frames.iter().enumerate() {
+                let probe = probes[i % probes.len()];
+                let sign = if i % 4 < 2 { 1.0 } else { -1.0 };
+                let mut beyond = *frame;
+                if let Some(field) = probe(&mut beyond, i, sign * COORDINATE_LIMIT * 1.001) {
+                    let e = rig.solve(&beyond, &mut out).unwrap_err().to_string();
+                    assert!(
+                        e.starts_with(field) && e.contains("within -1000..1000"),
+                        "frame {i}: {e}"
+                    );
+                }
+                let mut at = *frame;
+                if probe(&mut at, i, sign * COORDINATE_LIMIT).is_some() {
+                    rig.solve(&at, &mut out).expect("a point at the limit");
+                    assert!(finite(&out), "frame {i}: {out:?}");
+                    at_limit += 1;
+                }
+                rig.solve(frame, &mut out).expect("the real frame");
+                assert!(finite(&out), "frame {i}, unchanged");
+            }
+        }
+    }
+    assert!(
+        at_limit > 2000,
+        "{at_limit} frames with a point at the limit"
+    );
+}

@@ -633,6 +633,9 @@ fn limits_hold_and_odd_input_is_finite() {
         rig.solve(&f, &mut out).unwrap();
         let mut f = user_frame(&TorsoPose::REST, 3, &video);
         f.pose.as_mut().unwrap().world[11] = Vec3::splat(1e30);
+        let e = rig.solve(&f, &mut out).unwrap_err().to_string();
+        assert!(e.starts_with("frame.pose.worldLandmarks[11]:"), "{e}");
+        f.pose.as_mut().unwrap().world[11] = Vec3::splat(handrig::COORDINATE_LIMIT);
         rig.solve(&f, &mut out).unwrap();
         for q in out.local.iter().chain(out.world.rotation.iter()) {
             assert!(q.is_finite(), "{path}");

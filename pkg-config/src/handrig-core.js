@@ -105,6 +105,11 @@ function createHandRigApi(raw, isReady) {
     return typeof v === "number" && v - v === 0;
   }
 
+  // A frame's points (meters; image landmarks in image units) lie within this of the origin,
+  // as Rust checks (rig.rs COORDINATE_LIMIT): larger finite numbers overflow the solvers.
+  const COORDINATE_LIMIT = 1000;
+  const RANGE_MESSAGE = `must be within -${COORDINATE_LIMIT}..${COORDINATE_LIMIT} (meters; image landmarks in image units)`;
+
   function notFinite(v, field) {
     fail(field, typeof v === "number" ? "must be a finite number" : `must be a number, got ${describe(v)}`);
   }
@@ -131,7 +136,7 @@ function createHandRigApi(raw, isReady) {
         const x = p[0];
         const y = p[1];
         const z = p[2];
-        if (!(isFiniteNumber(x) && isFiniteNumber(y) && isFiniteNumber(z))) return false;
+        if (!(within(x, COORDINATE_LIMIT) && within(y, COORDINATE_LIMIT) && within(z, COORDINATE_LIMIT))) return false;
         const d = o + k * stride;
         out[d] = x;
         out[d + 1] = y;
@@ -155,7 +160,7 @@ function createHandRigApi(raw, isReady) {
       const x = p.x;
       const y = p.y;
       const z = p.z;
-      if (!(isFiniteNumber(x) && isFiniteNumber(y) && isFiniteNumber(z))) return false;
+      if (!(within(x, COORDINATE_LIMIT) && within(y, COORDINATE_LIMIT) && within(z, COORDINATE_LIMIT))) return false;
       const d = o + k * stride;
       out[d] = x;
       out[d + 1] = y;
@@ -186,7 +191,7 @@ function createHandRigApi(raw, isReady) {
         const d = o + k * stride;
         for (let c = 0; c < 3; c++) {
           const v = list[k * 3 + c];
-          if (!isFiniteNumber(v)) notFinite(v, `${path(fa, fi, fb)}[${k * 3 + c}]`);
+          if (!within(v, COORDINATE_LIMIT)) outOfBounds(v, COORDINATE_LIMIT, `${path(fa, fi, fb)}[${k * 3 + c}]`);
           out[d + c] = v;
         }
         if (stride === 4) out[d + 3] = 1;
@@ -224,9 +229,9 @@ function createHandRigApi(raw, isReady) {
       } else {
         fail(`${path(fa, fi, fb)}[${k}]`, `must be [x, y, z] or {x, y, z} (three finite numbers), got ${describe(p)}`);
       }
-      if (!isFiniteNumber(x)) notFinite(x, `${path(fa, fi, fb)}[${k}]${array ? "[0]" : ".x"}`);
-      if (!isFiniteNumber(y)) notFinite(y, `${path(fa, fi, fb)}[${k}]${array ? "[1]" : ".y"}`);
-      if (!isFiniteNumber(z)) notFinite(z, `${path(fa, fi, fb)}[${k}]${array ? "[2]" : ".z"}`);
+      if (!within(x, COORDINATE_LIMIT)) outOfBounds(x, COORDINATE_LIMIT, `${path(fa, fi, fb)}[${k}]${array ? "[0]" : ".x"}`);
+      if (!within(y, COORDINATE_LIMIT)) outOfBounds(y, COORDINATE_LIMIT, `${path(fa, fi, fb)}[${k}]${array ? "[1]" : ".y"}`);
+      if (!within(z, COORDINATE_LIMIT)) outOfBounds(z, COORDINATE_LIMIT, `${path(fa, fi, fb)}[${k}]${array ? "[2]" : ".z"}`);
       out[d] = x;
       out[d + 1] = y;
       out[d + 2] = z;
@@ -244,20 +249,36 @@ function createHandRigApi(raw, isReady) {
     }
   }
 
-  function readVec3(v, field, out, o) {
+  // Whether `v` is a number within -limit..limit (the frame's points: COORDINATE_LIMIT;
+  // ChainSolver's: CHAIN_LIMIT, 1e9). NaN fails the comparison.
+  function within(v, limit) {
+    return typeof v === "number" && Math.abs(v) <= limit;
+  }
+
+  // Throws the error for a `v` that is not `within(v, limit)`. Callers build `field` only then:
+  // a template string per good number would be garbage every frame.
+  function outOfBounds(v, limit, field) {
+    if (!isFiniteNumber(v)) notFinite(v, field);
+    fail(field, limit === COORDINATE_LIMIT ? `${RANGE_MESSAGE}, got ${v}` : `must be within -1e9..1e9, got ${v}`);
+  }
+
+  // [x, y, z] or {x, y, z} into out[o..o + 3], every number finite and within -limit..limit
+  // (by default any finite number: Infinity is beyond Number.MAX_VALUE).
+  function readVec3(v, field, out, o, limit = Number.MAX_VALUE) {
     if (Array.isArray(v) || ArrayBuffer.isView(v)) {
       if (v.length !== 3) fail(field, `must have 3 numbers [x, y, z], got ${v.length}`);
       for (let c = 0; c < 3; c++) {
-        if (!isFiniteNumber(v[c])) notFinite(v[c], `${field}[${c}]`);
-        out[o + c] = v[c];
+        const x = v[c];
+        if (!within(x, limit)) outOfBounds(x, limit, `${field}[${c}]`);
+        out[o + c] = x;
       }
     } else if (isObject(v)) {
       const x = v.x;
       const y = v.y;
       const z = v.z;
-      if (!isFiniteNumber(x)) notFinite(x, `${field}.x`);
-      if (!isFiniteNumber(y)) notFinite(y, `${field}.y`);
-      if (!isFiniteNumber(z)) notFinite(z, `${field}.z`);
+      if (!within(x, limit)) outOfBounds(x, limit, `${field}.x`);
+      if (!within(y, limit)) outOfBounds(y, limit, `${field}.y`);
+      if (!within(z, limit)) outOfBounds(z, limit, `${field}.z`);
       out[o] = x;
       out[o + 1] = y;
       out[o + 2] = z;
@@ -607,7 +628,7 @@ function createHandRigApi(raw, isReady) {
       if (!isObject(w)) fail(F.side, `must be { position: [x, y, z], rotation?: [x, y, z, w] }, got ${describe(w)}`);
       const position = w.position;
       if (position === undefined || position === null) fail(F.position, "is missing (expected [x, y, z])");
-      readVec3(position, F.position, input, o + LI.wrist.position);
+      readVec3(position, F.position, input, o + LI.wrist.position, COORDINATE_LIMIT);
       const rotation = w.rotation;
       const hasRotation = rotation !== undefined && rotation !== null;
       if (hasRotation) readQuat(rotation, F.rotation, input, o + LI.wrist.rotation);
@@ -664,7 +685,7 @@ function createHandRigApi(raw, isReady) {
         if (m !== 3 && m !== 4) fail(F.joint, `must be [x, y, z] or [x, y, z, confidence], got ${m} numbers`);
         for (let c = 0; c < 3; c++) {
           const x = v[c];
-          if (!isFiniteNumber(x)) notFinite(x, `${F.joint}[${c}]`);
+          if (!within(x, COORDINATE_LIMIT)) outOfBounds(x, COORDINATE_LIMIT, `${F.joint}[${c}]`);
           input[o + c] = x;
         }
         if (m === 4) {
@@ -672,7 +693,7 @@ function createHandRigApi(raw, isReady) {
           confidenceField = F.confidenceAt;
         }
       } else if (isObject(v)) {
-        readVec3(v, F.joint, input, o);
+        readVec3(v, F.joint, input, o, COORDINATE_LIMIT);
         const c = v.confidence;
         if (c !== undefined && c !== null) confidence = c;
       } else {
@@ -705,7 +726,7 @@ function createHandRigApi(raw, isReady) {
       const p = face[FACE_POINTS[k]];
       if (p === undefined || p === null) continue;
       const o = LI.face + k * LI.faceStride;
-      readVec3(p, FACE_FIELDS[k], input, o + LI.facePoint.position);
+      readVec3(p, FACE_FIELDS[k], input, o + LI.facePoint.position, COORDINATE_LIMIT);
       input[o + LI.facePoint.present] = 1;
     }
   }
@@ -803,10 +824,41 @@ function createHandRigApi(raw, isReady) {
   // A user getter or Proxy threw while the frame was read: name the part being read.
   function readError(e) {
     if (e instanceof FieldError) return e;
-    const msg = e !== null && typeof e === "object" && typeof e.message === "string" ? e.message : String(e);
-    const err = new Error(`${path(where.a, where.i, where.b)}: reading it threw: ${msg}`);
+    const err = new Error(`${path(where.a, where.i, where.b)}: reading it threw: ${thrownMessage(e)}`);
     err.cause = e;
     return err;
+  }
+
+  // What a user getter threw, as text (whatever it threw: a value whose toString throws too).
+  function thrownMessage(e) {
+    try {
+      return e !== null && typeof e === "object" && typeof e.message === "string" ? e.message : String(e);
+    } catch {
+      return "a value that cannot be shown";
+    }
+  }
+
+  // The part of the options, a rest pose or a ChainSolver argument being read (setup-time
+  // reads; frames have `where`), to name it when a user getter or Proxy throws.
+  let reading = "";
+
+  // The same as readError for those reads.
+  function readingError(e) {
+    if (e instanceof FieldError) return e;
+    const err = new Error(`${reading}: reading it threw: ${thrownMessage(e)}`);
+    err.cause = e;
+    return err;
+  }
+
+  // Runs `read` (which reads user objects and reports bad values with `fail`), turning what a
+  // user getter throws into an Error naming the part being read.
+  function readUser(what, read) {
+    reading = what;
+    try {
+      return read();
+    } catch (e) {
+      throw readingError(e);
+    }
   }
 
   // ---------------------------------------------------------------------------------------
@@ -1069,6 +1121,7 @@ function createHandRigApi(raw, isReady) {
           fail(field, `must be a number in ${d.min}..${d.max}, got ${describe(value)}`);
         }
         if (value < d.min || value > d.max) fail(field, `must be in ${d.min}..${d.max}, got ${value}`);
+        if (d.integer && !Number.isInteger(value)) fail(field, `must be a whole number in ${d.min}..${d.max}, got ${value}`);
         return value;
       default:
         return value;
@@ -1084,9 +1137,11 @@ function createHandRigApi(raw, isReady) {
     const out = {};
     const seen = new Set();
     const walk = (obj, prefix) => {
+      reading = prefix === "" ? "options" : `options.${prefix}`;
       for (const key of Object.keys(obj)) {
         const path = prefix === "" ? key : `${prefix}.${key}`;
         const field = `options.${path}`;
+        reading = field;
         const value = obj[key];
         if (value === undefined) continue;
         const d = known.get(path);
@@ -1127,7 +1182,7 @@ function createHandRigApi(raw, isReady) {
 
   /** Options as the JSON text the raw constructors take (undefined for the defaults). */
   function optionsJson(options) {
-    const normalized = normalizeOptions(options);
+    const normalized = readUser("options", () => normalizeOptions(options));
     return normalized === undefined ? undefined : JSON.stringify(normalized);
   }
 
@@ -1135,6 +1190,10 @@ function createHandRigApi(raw, isReady) {
   // Rest poses.
 
   function restPoseToFlat(restPose) {
+    return readUser("restPose", () => readRestPose(restPose));
+  }
+
+  function readRestPose(restPose) {
     if (!isObject(restPose) || Array.isArray(restPose)) {
       fail("restPose", 'must be an object { bones: { [boneName]: [x, y, z] }, vrmVersion?: "0" | "1" }');
     }
@@ -1144,6 +1203,7 @@ function createHandRigApi(raw, isReady) {
       if (v === "0" || v === 0) version = 0;
       else if (v !== "1" && v !== 1) fail("restPose.vrmVersion", `must be "0" or "1", got ${describe(v)}`);
     }
+    reading = "restPose.bones";
     const bones = restPose.bones;
     if (!isObject(bones) || Array.isArray(bones)) {
       fail("restPose.bones", "must be an object { [boneName]: [x, y, z] }");
@@ -1155,7 +1215,8 @@ function createHandRigApi(raw, isReady) {
         fail("restPose.bones", `unknown bone name ${JSON.stringify(name)} (expected a VRM 1.0 humanoid bone name such as "leftHand")`);
       }
       rest[4 * i] = 1;
-      readVec3(bones[name], `restPose.bones.${name}`, rest, 4 * i + 1);
+      reading = `restPose.bones.${name}`;
+      readVec3(bones[name], reading, rest, 4 * i + 1);
     }
     return { rest, version };
   }
@@ -1320,19 +1381,28 @@ function createHandRigApi(raw, isReady) {
      */
     solve(frame, target) {
       const r = this.#views("solve");
+      // The target is checked first: a rejected call leaves the rig where it was.
+      let result = target;
+      if (result === undefined) {
+        if (this.#result === undefined) this.#result = {};
+        result = this.#result;
+      } else if (!isObject(result) || !Object.isExtensible(result)) {
+        throw new TypeError(
+          `target: must be an object to fill with the result${isObject(result) ? " (this one is frozen, sealed or not extensible)" : `, got ${describe(result)}`}`,
+        );
+      }
       try {
         packFrame(frame, this.#input);
       } catch (e) {
         throw readError(e);
       }
-      if (r.solveFlat(TIME[0]) !== 0) throw new Error(r.takeError());
-      let result = target;
-      if (result === undefined) {
-        if (this.#result === undefined) this.#result = {};
-        result = this.#result;
-      } else if (!isObject(result)) {
-        throw new TypeError(`target: must be an object to fill with the result, got ${describe(result)}`);
+      // A getter that freed this rig or grew wasm memory (creating rigs) while the frame was
+      // read: the input view is gone, and what was packed with it.
+      if (this.#input.length === 0) {
+        this.#views("solve");
+        throw new Error("frame: reading it changed wasm memory (a getter created or freed rigs); the frame was not solved, solve it again");
       }
+      if (r.solveFlat(TIME[0]) !== 0) throw new Error(r.takeError());
       return fillResult(result, this.#output, this.#input, this.#driven, this.#present);
     }
 
@@ -1432,9 +1502,14 @@ function createHandRigApi(raw, isReady) {
   const RawChainSolver = raw.RawChainSolver;
   const CHAIN_KEYS = ["method", "joints", "constraints", "iterations", "tolerance", "maxStepAngle"];
 
-  function point3(v, field) {
+  // ChainSolver's joints, targets and poles lie within this of the origin, as Rust checks
+  // (chain_solver.rs COORDINATE_LIMIT): any unit of length, but squares must stay finite.
+  const CHAIN_LIMIT = 1e9;
+
+  function point3(v, field, limit = Number.MAX_VALUE) {
+    reading = field;
     const out = [0, 0, 0];
-    readVec3(v, field, out, 0);
+    readVec3(v, field, out, 0, limit);
     return out;
   }
 
@@ -1456,7 +1531,7 @@ function createHandRigApi(raw, isReady) {
     const joints = options.joints;
     if (!Array.isArray(joints)) fail("options.joints", `must be an array of [x, y, z] rest joint positions, root first, got ${describe(joints)}`);
     if (joints.length < 3) fail("options.joints", `needs at least 3 joints (2 bones), got ${joints.length}`);
-    out.joints = joints.map((p, i) => point3(p, `options.joints[${i}]`));
+    out.joints = joints.map((p, i) => point3(p, `options.joints[${i}]`, CHAIN_LIMIT));
     const constraints = options.constraints;
     if (constraints !== undefined && constraints !== null) {
       if (!Array.isArray(constraints)) fail("options.constraints", `must be an array (one entry per bone, or null), got ${describe(constraints)}`);
@@ -1506,7 +1581,7 @@ function createHandRigApi(raw, isReady) {
       ensureReady("new ChainSolver()");
       let r;
       try {
-        r = new RawChainSolver(JSON.stringify(chainOptions(options)));
+        r = new RawChainSolver(JSON.stringify(readUser("options", () => chainOptions(options))));
       } catch (e) {
         const err = asError(e);
         // The Rust side names fields of the options (`joints[1]`, `constraints[0].maxAngle`).
@@ -1533,11 +1608,24 @@ function createHandRigApi(raw, isReady) {
     #run(method, target, pole) {
       const r = this.#views(method);
       const g = this.#goal;
-      readVec3(target, "target", g, 0);
-      if (pole === undefined || pole === null) g[3] = 0;
-      else {
-        readVec3(pole, "pole", g, 4);
-        g[3] = 1;
+      // No closure (readUser's) here: a solve allocates nothing.
+      reading = "target";
+      try {
+        readVec3(target, "target", g, 0, CHAIN_LIMIT);
+        if (pole === undefined || pole === null) g[3] = 0;
+        else {
+          reading = "pole";
+          readVec3(pole, "pole", g, 4, CHAIN_LIMIT);
+          g[3] = 1;
+        }
+      } catch (e) {
+        throw readingError(e);
+      }
+      // A getter that freed this solver or grew wasm memory (creating solvers or rigs) while
+      // the goal was read: the goal view is gone and what was read with it.
+      if (g.length === 0) {
+        this.#views(method);
+        throw new Error(`${method}: reading the goal changed wasm memory (a getter created or freed solvers or rigs); nothing was solved, call it again`);
       }
       if (r.solveFlat() !== 0) throw new Error(r.takeError());
       return this.#pose;
@@ -1556,7 +1644,17 @@ function createHandRigApi(raw, isReady) {
      */
     solve(goal, into) {
       if (!isObject(goal)) throw new FieldError(`goal: must be { target: [x, y, z], pole?: [x, y, z] }, got ${describe(goal)}`);
-      const p = this.#run("solve", goal.target, goal.pole);
+      let target;
+      let pole;
+      reading = "goal.target";
+      try {
+        target = goal.target;
+        reading = "goal.pole";
+        pole = goal.pole;
+      } catch (e) {
+        throw readingError(e);
+      }
+      const p = this.#run("solve", target, pole);
       const n = this.#n;
       let out = into;
       if (out === undefined) {

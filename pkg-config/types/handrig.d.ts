@@ -587,6 +587,8 @@ export type OptionDescription =
       /** Absent when the option is unset by default. */
       default?: number | null;
       step: number;
+      /** True when only whole numbers are accepted. */
+      integer?: boolean;
       description: string;
     }
   | {

@@ -251,15 +251,30 @@ pub struct ChainSolver {
     status: ChainReport,
 }
 
+/// Largest magnitude of a coordinate of the joints, the target and the pole, in the chain's
+/// unit of length: far larger (finite) numbers overflow squared distances into infinities, and a
+/// chain solved toward such a target would not move.
+pub const COORDINATE_LIMIT: f32 = 1e9;
+
+const RANGE: &str = "must be three numbers within -1e9..1e9";
+
+/// A finite point with a coordinate beyond [`COORDINATE_LIMIT`].
+fn out_of_range(p: Vec3) -> bool {
+    p.abs().max_element() > COORDINATE_LIMIT
+}
+
 impl ChainSolver {
     /// Reads the chain and checks every option.
     ///
     /// # Errors
     /// [`Error::InvalidInput`] naming the field: fewer than 3 joints (`joints`), a non-finite
-    /// joint or a zero-length bone (`joints[k]`), a constraint count other than 0 or N - 1
+    /// joint, one beyond [`COORDINATE_LIMIT`] or a zero-length bone (`joints[k]`), a constraint count other than 0 or N - 1
     /// (`constraints`), a bad limit (`constraints[i].maxAngle`, `constraints[i].axis`, ...),
     /// `iterations` of 0, a non-positive `tolerance`, `maxStepAngle` outside `(0, pi]`.
     pub fn new(options: &ChainSolverOptions) -> Result<Self> {
+        if let Some(k) = options.joints.iter().position(|p| out_of_range(*p)) {
+            return Err(Error::invalid(format!("joints[{k}]"), RANGE));
+        }
         if options.joints.len() < 3 {
             return Err(Error::invalid(
                 "joints",
@@ -344,7 +359,8 @@ impl ChainSolver {
     /// Solves for `target` with an optional `pole` (see [`ChainGoal`]). Allocates nothing.
     ///
     /// # Errors
-    /// A non-finite `target` or `pole` (fields `target`, `pole`); the pose is unchanged.
+    /// A non-finite `target` or `pole`, or one beyond [`COORDINATE_LIMIT`] (fields `target`,
+    /// `pole`); the pose is unchanged.
     pub fn solve(&mut self, target: Vec3, pole: Option<Vec3>) -> Result<ChainSolution<'_>> {
         self.solve_goal(&ChainGoal::new(target, pole))
     }
@@ -352,13 +368,20 @@ impl ChainSolver {
     /// Solves a full [`ChainGoal`] (end rotation, pole's first joint). Allocates nothing.
     ///
     /// # Errors
-    /// A non-finite `target`, `pole` or `endRotation`.
+    /// A non-finite `target`, `pole` or `endRotation`; a `target` or `pole` beyond
+    /// [`COORDINATE_LIMIT`].
     pub fn solve_goal(&mut self, goal: &ChainGoal) -> Result<ChainSolution<'_>> {
         if !goal.target.is_finite() {
             return Err(Error::invalid("target", "must be three finite numbers"));
         }
+        if out_of_range(goal.target) {
+            return Err(Error::invalid("target", RANGE));
+        }
         if goal.pole.is_some_and(|p| !p.is_finite()) {
             return Err(Error::invalid("pole", "must be three finite numbers"));
+        }
+        if goal.pole.is_some_and(out_of_range) {
+            return Err(Error::invalid("pole", RANGE));
         }
         if goal
             .end_rotation

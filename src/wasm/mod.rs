@@ -252,8 +252,12 @@ impl HandRig {
                         max,
                         default,
                         step,
+                        integer,
                     } => {
                         set(&o, "type", &s("number"));
+                        if integer {
+                            set(&o, "integer", &JsValue::TRUE);
+                        }
                         set(&o, "min", &JsValue::from_f64(min as f64));
                         set(&o, "max", &JsValue::from_f64(max as f64));
                         set(&o, "step", &JsValue::from_f64(step as f64));

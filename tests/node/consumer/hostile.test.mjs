@@ -8,7 +8,7 @@ import fs from "node:fs";
 import path from "node:path";
 import { describe, it } from "node:test";
 
-import { HandRig } from "handrig";
+import { ChainSolver, HandRig } from "handrig";
 import { avatars, editedRobot, readBytes, readRecording, shared } from "./support.mjs";
 
 const robotBytes = readBytes(avatars.robot);
@@ -149,6 +149,7 @@ describe("seeded fuzz of frames through the object API", () => {
     const weird = [
       Number.NaN, Infinity, -Infinity, 1e30, -1e30, 0, -0, 1e-30, "1", null, undefined, {}, [], true,
       [1, 2], [1, 2, 3, 4, 5], { x: 1 }, new Float32Array(3), -1, 2, 1e6,
+      3e38, -3e38, 1000, -1000, 1000.5,
     ];
     const asl = JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", "thanks.json"), "utf8")).frames;
     const sources = [...frames.slice(0, 50), ...asl.slice(0, 30)];
@@ -201,9 +202,138 @@ describe("seeded fuzz of frames through the object API", () => {
       for (const [name, p] of Object.entries(r.worldPositions)) {
         assert.ok(p.every(Number.isFinite), `frame ${i}: ${name} position ${p}`);
       }
+      for (const [side, t] of Object.entries(r.ikTargets)) {
+        assert.ok([...t.position, ...t.rotation].every(Number.isFinite), `frame ${i}: ikTargets.${side} ${t.position}`);
+      }
+      for (const [side, a] of Object.entries(r.alignment)) {
+        assert.ok([...a.targetDip, ...a.ikWrist, ...a.poseWrist].every(Number.isFinite), `frame ${i}: alignment.${side}`);
+      }
     }
     assert.ok(rejected > 1000 && accepted > 1000, `rejected ${rejected}, accepted ${accepted}`);
     assertWorks(rig, "after the fuzz");
     rig.free();
+  });
+});
+
+describe("the second fuzz round's findings (2026-12-02)", () => {
+  const brother = JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", "brother.json"), "utf8")).frames;
+  // assert.throws with a RegExp tests "Error: <message>"; these test the message itself.
+  const message = (re) => (e) => notAPanic(e) ?? re.test(e.message);
+  const finiteResult = (r) =>
+    Object.values(r.ikTargets).every((t) => [...t.position, ...t.rotation].every(Number.isFinite)) &&
+    Object.values(r.alignment).every((a) => [...a.targetDip, ...a.ikWrist].every(Number.isFinite)) &&
+    Object.values(r.bones).every((q) => q.every(Number.isFinite));
+
+  it("a finite but huge landmark (3e38 at the aligned DIP) is refused naming it; 1000 (the limit) gives finite output", () => {
+    const rig = HandRig.fromVrm(robotBytes);
+    const frame = structuredClone(brother[20]);
+    frame.hands[0].worldLandmarks[7][1] = 3e38;
+    assert.throws(() => rig.solve(frame), (e) => {
+      notAPanic(e);
+      assert.equal(e.message, "frame.hands[0].worldLandmarks[7][1]: must be within -1000..1000 (meters; image landmarks in image units), got 3e+38");
+      return true;
+    });
+    // The same through the flat path: Rust's check names the field.
+    const flat = HandRig.fromVrm(robotBytes);
+    flat.solve(brother[20]);
+    const k = HandRig.layout.input.hands + HandRig.layout.input.hand.world + 7 * 3 + 1;
+    flat.input[k] = 3e38;
+    assert.throws(() => flat.solveFlat(1000), message(/^frame\.hands\[0\]\.worldLandmarks\[7\]: must be three numbers within -1000\.\.1000/));
+    for (const [where, set] of [
+      ["a hand world landmark", (f) => (f.hands[0].worldLandmarks[7][1] = -1000)],
+      ["a hand image landmark", (f) => (f.hands[0].landmarks[8][0] = 1000)],
+      ["a pose world landmark", (f) => (f.pose.worldLandmarks[16][2] = 1000)],
+      ["a tracker wrist", (f) => (f.wrists = { right: { position: [1000, 1, 0] } })],
+    ]) {
+      const f = structuredClone(brother[20]);
+      set(f);
+      assert.ok(finiteResult(rig.solve(f, {})), `${where} at the limit: finite output`);
+    }
+    assertWorks(rig, "after huge landmarks");
+    rig.free();
+    flat.free();
+  });
+
+  it("a frame getter that grows wasm memory or frees the rig: an Error, and the rig (or the module) keeps working", () => {
+    const rig = HandRig.fromVrm(robotBytes);
+    const other = HandRig.fromVrm(robotBytes);
+    const made = [];
+    const growing = {
+      timeMs: 1,
+      pose: brother[20].pose,
+      get hands() {
+        const view = other.input; // length 0 once wasm memory has grown
+        while (view.length) made.push(HandRig.fromVrm(robotBytes));
+        return brother[20].hands;
+      },
+    };
+    assert.throws(() => rig.solve(growing), (e) => {
+      notAPanic(e);
+      assert.match(e.message, /^frame: reading it changed wasm memory/);
+      return true;
+    });
+    assertWorks(rig, "after memory grew in a getter");
+    const doomed = HandRig.fromVrm(robotBytes);
+    assert.throws(
+      () => doomed.solve({ timeMs: 1, get hands() { doomed.free(); return brother[20].hands; } }),
+      message(/^HandRig\.solve: this rig was freed/),
+    );
+    assert.throws(() => rig.solve(brother[20], Object.freeze({})), message(/^target: must be an object to fill with the result \(this one is frozen/));
+    made.forEach((r) => r.free());
+    other.free();
+    rig.free();
+  });
+
+  it("getters that throw while options, rest poses and ChainSolver arguments are read: an Error naming the part", () => {
+    const cases = [
+      [() => HandRig.fromVrm(robotBytes, { get mirror() { throw 42; } }), "options.mirror: reading it threw: 42"],
+      [() => HandRig.fromVrm(robotBytes, { filter: { get beta() { throw new Error("no"); } } }), "options.filter.beta: reading it threw: no"],
+      [() => new HandRig({ get bones() { throw 42; } }), "restPose.bones: reading it threw: 42"],
+      [
+        () => {
+          const p = Proxy.revocable({}, {});
+          p.revoke();
+          HandRig.fromVrm(robotBytes, p.proxy);
+        },
+        /^options: reading it threw: /,
+      ],
+      [() => new ChainSolver({ joints: [[0, 0, 0], [0, 1, 0], { get x() { throw 42; } }] }), "options.joints[2]: reading it threw: 42"],
+      [() => new ChainSolver({ joints: [[0, 0, 0], [0, 1, 0], [0, 2, 0]] }).solve({ get target() { throw 42; } }), "goal.target: reading it threw: 42"],
+      [() => new ChainSolver({ joints: [[0, 0, 0], [0, 1, 0], [0, 2, 0]] }).solve({ target: { x: 1, y: 0, get z() { throw 7; } } }), "target: reading it threw: 7"],
+      [() => HandRig.fromVrm(robotBytes, { calibration: { frames: 1.5 } }), "options.calibration.frames: must be a whole number in 1..300, got 1.5"],
+    ];
+    for (const [call, want] of cases) {
+      assert.throws(call, (e) => {
+        assert.ok(e instanceof Error, `not an Error: ${e}`);
+        notAPanic(e);
+        if (typeof want === "string") assert.equal(e.message, want);
+        else assert.match(e.message, want);
+        return true;
+      });
+    }
+  });
+
+  it("Infinity where any finite number will do (rest poses, hinge axes) is still refused", () => {
+    assert.throws(() => new HandRig({ bones: { hips: [0, Infinity, 0] } }), message(/^restPose\.bones\.hips\[1\]: must be a finite number$/));
+    const hinge = { type: "hinge", axis: { x: -Infinity, y: 0, z: 1 }, min: 0, max: 1 };
+    assert.throws(
+      () => new ChainSolver({ joints: [[0, 0, 0], [0, 1, 0], [0, 2, 0]], constraints: [null, hinge] }),
+      message(/^options\.constraints\[1\]\.axis\.x: must be a finite number$/),
+    );
+  });
+
+  it("ChainSolver: a target beyond 1e9 is refused; one at 1e9 gives the straight chain toward it", () => {
+    const chain = new ChainSolver({ joints: [[0, 0, 0], [0, 1, 0], [0, 2, 0]] });
+    assert.throws(() => chain.solve({ target: [2e19, 0, 0] }), (e) => {
+      notAPanic(e);
+      assert.equal(e.message, "target[0]: must be within -1e9..1e9, got 20000000000000000000");
+      return true;
+    });
+    const r = chain.solve({ target: [1e9, 0, 0] });
+    assert.equal(r.reached, false);
+    assert.ok(r.joints.flat().every(Number.isFinite));
+    assert.ok(Math.abs(r.joints[2][0] - 2) < 1e-3 && Math.abs(r.joints[2][1]) < 1e-3, `straight along +x: ${r.joints[2]}`);
+    assert.ok(Math.abs(r.error - (1e9 - 2)) < 1e3, `error ${r.error}`);
+    chain.free();
   });
 });
