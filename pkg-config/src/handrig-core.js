@@ -416,7 +416,8 @@ function createHandRigApi(raw, isReady) {
 
   // Field paths of MediaPipe result shapes, made once (a good frame builds no strings).
   const RESULT_FIELDS = ["multiHandedness", "multiHandWorldLandmarks", "multiHandLandmarks", "handedness",
-    "handednesses", "worldLandmarks", "landmarks", "leftHandLandmarks", "rightHandLandmarks"];
+    "handednesses", "worldLandmarks", "landmarks", "leftHandLandmarks", "rightHandLandmarks",
+    "leftHandWorldLandmarks", "rightHandWorldLandmarks"];
   const RESULT_PATHS = {};
   for (const name of ["frame", "frame.hands"]) {
     const p = {};
@@ -475,19 +476,13 @@ function createHandRigApi(raw, isReady) {
       // side, like its pose (`leftHandLandmarks` is the hand at the pose's left wrist); the
       // Hands solutions label them as if the image were mirrored. So `leftHandLandmarks` is the
       // hand Hands would label "Right", and the other way round.
-      let n = 0;
+      // tasks-vision's HolisticLandmarker gives the same sides as lists of hands (none or one:
+      // `[]` when the hand is not seen), with world landmarks beside them.
       const left = r.leftHandLandmarks;
       const right = r.rightHandLandmarks;
-      if (left !== undefined && left !== null) {
-        const f = P.leftHandLandmarks;
-        input[LI.hands + n * LI.handStride + LI.hand.score] = 1;
-        packHand(input, n++, 1, null, left, -1, f, "", f, "");
-      }
-      if (right !== undefined && right !== null) {
-        const f = P.rightHandLandmarks;
-        input[LI.hands + n * LI.handStride + LI.hand.score] = 1;
-        packHand(input, n++, 0, null, right, -1, f, "", f, "");
-      }
+      let n = 0;
+      n = packHolisticHand(input, n, 1, left, r.leftHandWorldLandmarks, P.leftHandLandmarks, P.leftHandWorldLandmarks);
+      n = packHolisticHand(input, n, 0, right, r.rightHandWorldLandmarks, P.rightHandLandmarks, P.rightHandWorldLandmarks);
       if (n === 0 && left === undefined && right === undefined) return -1;
       return n;
     }
@@ -505,6 +500,29 @@ function createHandRigApi(raw, isReady) {
       packHand(input, i, label & 1, hasWorld ? world[i] : null, hasImage ? image[i] : null, i, worldPath, "", imagePath, "");
     }
     return n;
+  }
+
+  // One side of a Holistic result into hand slot `n` (as the label `label` of MediaPipe Hands
+  // would give it): legacy Holistic's image landmarks (21 points), or tasks-vision's lists of
+  // hands (`[]` or one list) with world landmarks. Returns the next free slot.
+  function packHolisticHand(input, n, label, image, world, imagePath, worldPath) {
+    if (image === undefined || image === null) return n;
+    let fi = -1;
+    if (Array.isArray(image) && (image.length === 0 || isListOfLists(image))) {
+      if (image.length === 0) return n;
+      if (image.length > 1) fail(imagePath, `has ${image.length} hands: a Holistic result has one hand per side`);
+      image = image[0];
+      fi = 0;
+      if (world !== undefined && world !== null) {
+        if (!Array.isArray(world) || world.length !== 1) {
+          fail(worldPath, `must be a list of one hand like ${imagePath}, got ${describe(world)}`);
+        }
+        world = world[0];
+      }
+    } else world = null;
+    input[LI.hands + n * LI.handStride + LI.hand.score] = 1;
+    packHand(input, n, label, world, image, fi, worldPath, "", imagePath, "");
+    return n + 1;
   }
 
   const NOT_A_FRAME = ["Date", "Map", "Set", "WeakMap", "WeakSet", "RegExp", "Promise", "ArrayBuffer", "Function", "Error"];
@@ -547,6 +565,7 @@ function createHandRigApi(raw, isReady) {
     "handednesses", "multiHandLandmarks", "multiHandWorldLandmarks", "multiHandedness",
     "leftHandLandmarks", "rightHandLandmarks", "poseWorldLandmarks", "poseLandmarks",
     "faceLandmarks", "image", "segmentationMask",
+    "leftHandWorldLandmarks", "rightHandWorldLandmarks", "faceBlendshapes", "poseSegmentationMasks",
   ];
 
   function packPose(frame, input) {

@@ -98,6 +98,19 @@ export interface LegacyHolisticResultLike {
   poseWorldLandmarks?: LandmarkList;
 }
 
+/** tasks-vision `HolisticLandmarkerResult`: per side a list of none or one hand (the subject's side, as its pose). */
+export interface HolisticLandmarkerResultLike {
+  leftHandLandmarks?: ReadonlyArray<LandmarkList>;
+  leftHandWorldLandmarks?: ReadonlyArray<LandmarkList>;
+  rightHandLandmarks?: ReadonlyArray<LandmarkList>;
+  rightHandWorldLandmarks?: ReadonlyArray<LandmarkList>;
+  poseLandmarks?: ReadonlyArray<LandmarkList>;
+  poseWorldLandmarks?: ReadonlyArray<LandmarkList>;
+  faceLandmarks?: unknown;
+  faceBlendshapes?: unknown;
+  poseSegmentationMasks?: unknown;
+}
+
 /** Pose: 33 world landmarks (meters, camera axes), handrig's shape or a PoseLandmarker result. */
 export type PoseInput =
   | { worldLandmarks: LandmarkList | ReadonlyArray<LandmarkList>; landmarks?: LandmarkList | ReadonlyArray<LandmarkList> }
@@ -181,7 +194,8 @@ export type FrameInput =
   | Frame
   | (Frame & HandLandmarkerResultLike)
   | (Frame & LegacyHandsResultLike)
-  | (Frame & LegacyHolisticResultLike);
+  | (Frame & LegacyHolisticResultLike)
+  | (Omit<Frame, "poseWorldLandmarks" | "poseLandmarks"> & HolisticLandmarkerResultLike);
 
 /** A wrist IK target, the model's own frame. */
 export interface IkTarget {

@@ -194,6 +194,47 @@ describe("lost tracking: every driven bone in every result, applied by the adapt
   });
 });
 
+describe("tasks-vision HolisticLandmarker results", () => {
+  it("solve({ timeMs, ...holisticResult }) drives the avatar as the same hands and pose given as a frame", async () => {
+    const fs = await import("node:fs");
+    const path = await import("node:path");
+    const { shared } = await import("./support.mjs");
+    const pt = ([x, y, z, visibility]) => (visibility === undefined ? { x, y, z } : { x, y, z, visibility });
+    const plain = HandRig.fromVrm(robotBytes);
+    const holistic = HandRig.fromVrm(robotBytes);
+    let hands = 0;
+    for (const clip of ["thanks", "sister"]) {
+      for (const f of JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", `${clip}.json`), "utf8")).frames) {
+        // Holistic names hands by the subject's side: its left hand is the one Hands labels "Right".
+        const side = (label) => f.hands.filter((h) => h.handedness === label);
+        // Frames where Hands gave one label twice have no Holistic counterpart.
+        if (side("Left").length > 1 || side("Right").length > 1) continue;
+        const result = {
+          faceLandmarks: [],
+          faceBlendshapes: [],
+          poseLandmarks: [f.pose.landmarks.map(pt)],
+          poseWorldLandmarks: [f.pose.worldLandmarks.map(pt)],
+          poseSegmentationMasks: [],
+          leftHandLandmarks: side("Right").map((h) => h.landmarks.map(pt)),
+          leftHandWorldLandmarks: side("Right").map((h) => h.worldLandmarks.map(pt)),
+          rightHandLandmarks: side("Left").map((h) => h.landmarks.map(pt)),
+          rightHandWorldLandmarks: side("Left").map((h) => h.worldLandmarks.map(pt)),
+        };
+        const want = plain.solve({ timeMs: f.timeMs, hands: f.hands.map((h) => ({ ...h, score: 1 })), pose: f.pose }, {});
+        const got = holistic.solve({ timeMs: f.timeMs, ...result }, {});
+        assert.deepEqual(got.bones, want.bones, `${clip} frame ${f.frame}`);
+        assert.deepEqual(got.ikTargets, want.ikTargets, `${clip} frame ${f.frame}`);
+        hands += f.hands.length;
+      }
+    }
+    assert.ok(hands > 100, `${hands} hands`);
+    const bad = { timeMs: 1, leftHandLandmarks: [[{ x: 0, y: 0, z: 0 }]], leftHandWorldLandmarks: [] };
+    assert.throws(() => holistic.solve(bad), (e) => /^frame\.leftHandWorldLandmarks: must be a list of one hand/.test(e.message));
+    plain.free();
+    holistic.free();
+  });
+});
+
 describe("legacy Holistic results", () => {
   it("leftHandLandmarks is the subject's left hand: it drives the side a Hands 'Right' label does", async () => {
     const fs = await import("node:fs");

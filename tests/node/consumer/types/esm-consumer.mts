@@ -31,6 +31,20 @@ const frames: Frame[] = [
   { timeMs: 4, pose: { worldLandmarks: Array.from({ length: 33 }, () => ({ x: 0, y: 0, z: 0, visibility: 1 })) } },
   { timeMs: 5, wrists: { right: { position: [0.3, 1.2, 0.1], rotation: [0, 0, 0, 1] } } },
 ];
+// A tasks-vision HolisticLandmarkerResult spread into a frame.
+const pose33 = Array.from({ length: 33 }, () => ({ x: 0, y: 0, z: 0, visibility: 1 }));
+rig.solve({
+  timeMs: 6,
+  faceLandmarks: [],
+  faceBlendshapes: [],
+  poseLandmarks: [pose33],
+  poseWorldLandmarks: [pose33],
+  poseSegmentationMasks: [],
+  leftHandLandmarks: [landmarks],
+  leftHandWorldLandmarks: [landmarks],
+  rightHandLandmarks: [],
+  rightHandWorldLandmarks: [],
+});
 for (const frame of frames) {
   const r: SolveResult = rig.solve(frame);
   const q: Quat | undefined = r.bones.rightIndexDistal;
