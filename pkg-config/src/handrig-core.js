@@ -597,9 +597,20 @@ function createHandRigApi(raw, isReady) {
     } else {
       list = frame.poseWorldLandmarks;
       name = "frame.poseWorldLandmarks";
-      if (list === undefined || list === null) return false;
       image = frame.poseLandmarks;
       imageName = "frame.poseLandmarks";
+      if ((list === undefined || list === null) && image !== undefined && image !== null) {
+        // A legacy @mediapipe/holistic result passed as it comes: its 0.5 build exports the
+        // world landmarks under a minified name (`za`; `ea` in earlier builds), taken when it
+        // is a list of 33 points.
+        list = minifiedPoseWorld(frame.za);
+        name = "frame.za";
+        if (list === undefined) {
+          list = minifiedPoseWorld(frame.ea);
+          name = "frame.ea";
+        }
+      }
+      if (list === undefined || list === null) return false;
     }
     // The pose's image landmarks (optional): with the hands' they check handedness.
     if (image !== undefined && image !== null) {
@@ -625,6 +636,13 @@ function createHandRigApi(raw, isReady) {
     packPoints(list, input, LI.pose, POSE_POINTS, LI.poseStride, name, person, "");
     input[LI.posePresent] = 1;
     return true;
+  }
+
+  // `v` if it looks like 33 world landmarks ({x, y, z} objects), else undefined.
+  function minifiedPoseWorld(v) {
+    if (!Array.isArray(v) || v.length !== POSE_POINTS) return undefined;
+    const p = v[0];
+    return isObject(p) && typeof p.x === "number" ? v : undefined;
   }
 
   const WRIST_FIELDS = SIDES.map((side) => ({

@@ -96,6 +96,10 @@ export interface LegacyHolisticResultLike {
   leftHandLandmarks?: LandmarkList;
   rightHandLandmarks?: LandmarkList;
   poseWorldLandmarks?: LandmarkList;
+  /** The 0.5 build's minified name for `poseWorldLandmarks` (read beside `poseLandmarks`). */
+  za?: LandmarkList;
+  /** Earlier builds' minified name for `poseWorldLandmarks`. */
+  ea?: LandmarkList;
 }
 
 /** tasks-vision `HolisticLandmarkerResult`: per side a list of none or one hand (the subject's side, as its pose). */

@@ -255,4 +255,28 @@ describe("legacy Holistic results", () => {
     assert.ok(checked > 50, `${checked} hands`);
     rig.free();
   });
+
+  it("a result passed as it comes: the pose's world landmarks under their minified name (za, or ea) drive the arms", async () => {
+    const fs = await import("node:fs");
+    const path = await import("node:path");
+    const { shared } = await import("./support.mjs");
+    const clip = JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", "eat.json"), "utf8"));
+    const pt = ([x, y, z, visibility]) => ({ x, y, z, visibility });
+    for (const key of ["za", "ea"]) {
+      let driven = 0;
+      const plain = HandRig.fromVrm(robotBytes);
+      const holistic = HandRig.fromVrm(robotBytes);
+      for (const f of clip.frames) {
+        const world = f.pose.worldLandmarks.map(pt);
+        const image = f.pose.landmarks.map(pt);
+        const want = plain.solve({ timeMs: f.timeMs, pose: { worldLandmarks: world, landmarks: image } }, {});
+        const got = holistic.solve({ timeMs: f.timeMs, poseLandmarks: image, [key]: world, image: {}, segmentationMask: {} }, {});
+        assert.deepEqual(got.bones, want.bones, `${key}: frame ${f.frame}`);
+        if (Math.abs(want.bones.rightUpperArm[3]) < 0.999 || Math.abs(want.bones.leftUpperArm[3]) < 0.999) driven++;
+      }
+      assert.ok(driven > clip.frames.length / 2, `the pose drives the arms in ${driven} frames`);
+      plain.free();
+      holistic.free();
+    }
+  });
 });
