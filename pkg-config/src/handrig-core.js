@@ -768,6 +768,21 @@ function createHandRigApi(raw, isReady) {
     }
   }
 
+  // Fields a frame may carry by mistake for one handrig reads under another name: silently
+  // ignored, they would leave the frame without its time or its hands. Looked up (by name, so
+  // each site stays a fast property load) only when the right name is absent; the lists name
+  // them for the message.
+  // (No one-letter names: legacy MediaPipe results carry minified fields such as `za`.)
+  const TIME_ALIASES = ["timestamp", "timeStamp", "time", "timestampMs"];
+  const HAND_ALIASES = ["hand", "Hands", "handLandmarks", "multiHands"];
+  const WRIST_ALIASES = ["wrist", "Wrists"];
+  function misnamed(frame, aliases, hint) {
+    for (let k = 0; k < aliases.length; k++) {
+      const v = frame[aliases[k]];
+      if (v !== undefined && v !== null) fail(`frame.${aliases[k]}`, `unknown field: ${hint}`);
+    }
+  }
+
   // The frame's timestamp, kept in a typed array rather than returned (a returned double is
   // boxed: an allocation per frame).
   const TIME = new Float64Array(1);
@@ -786,8 +801,13 @@ function createHandRigApi(raw, isReady) {
     for (let k = 0; k < FACE_POINTS.length; k++) input[LI.face + k * LI.faceStride + LI.facePoint.present] = 0;
 
     const t = frame.timeMs;
-    if (t === undefined || t === null) TIME[0] = 0;
-    else {
+    if (t === undefined || t === null) {
+      TIME[0] = 0;
+      if (frame.timestamp !== undefined || frame.timeStamp !== undefined || frame.time !== undefined ||
+          frame.timestampMs !== undefined) {
+        misnamed(frame, TIME_ALIASES, "handrig reads the time from frame.timeMs (milliseconds)");
+      }
+    } else {
       if (!isFiniteNumber(t)) notFinite(t, "frame.timeMs");
       TIME[0] = t;
     }
@@ -823,6 +843,10 @@ function createHandRigApi(raw, isReady) {
       else found = true;
     }
     input[LI.handCount] = handCount;
+    if (hands === undefined && (frame.hand !== undefined || frame.Hands !== undefined ||
+        frame.handLandmarks !== undefined || frame.multiHands !== undefined)) {
+      misnamed(frame, HAND_ALIASES, "did you mean frame.hands (an array of hands)?");
+    }
 
     if (packPose(frame, input)) found = true;
 
@@ -830,6 +854,8 @@ function createHandRigApi(raw, isReady) {
     if (wrists !== undefined && wrists !== null) {
       found = true;
       packWrists(wrists, input);
+    } else if (wrists === undefined && (frame.wrist !== undefined || frame.Wrists !== undefined)) {
+      misnamed(frame, WRIST_ALIASES, "did you mean frame.wrists ({ left?, right? })?");
     }
 
     const torso = frame.torso;

@@ -142,7 +142,9 @@ describe("frame shapes that used to be accepted with nothing solved", () => {
   });
 
   it("an object with none of the frame's fields", () => {
-    throwsWith(() => rig.solve({ time: 5, hand: [hand] }), /^frame: has none of timeMs, hands, pose, wrists .*got keys time, hand$/);
+    throwsWith(() => rig.solve({ when: 5, fingers: [hand] }), /^frame: has none of timeMs, hands, pose, wrists .*got keys when, fingers$/);
+    // Near misses of the right names are named themselves (see "misnamed frame fields").
+    throwsWith(() => rig.solve({ time: 5, hand: [hand] }), /^frame\.time: unknown field/);
   });
 
   it("the rig still works after all of these", () => {
@@ -190,6 +192,25 @@ describe("lost tracking: every driven bone in every result, applied by the adapt
     const r2 = rig.solve({ timeMs: frames[10].timeMs + 33 }, {});
     assert.ok(isIdentity(r2.bones.rightUpperArm) && isIdentity(r2.bones.rightLowerArm), "the arm rests");
     assert.ok(isIdentity(r2.bones.rightIndexProximal), "the finger rests");
+    rig.free();
+  });
+});
+
+describe("misnamed frame fields", () => {
+  it("timestamp for timeMs, hand for hands, wrist for wrists: an Error naming the field, not a frame silently without them", () => {
+    const rig = HandRig.fromVrm(robotBytes);
+    const h = frames[100].hands;
+    const cases = [
+      [{ timestamp: 5, hands: h }, "frame.timestamp: unknown field: handrig reads the time from frame.timeMs (milliseconds)"],
+      [{ time: 5, hands: h }, "frame.time: unknown field: handrig reads the time from frame.timeMs (milliseconds)"],
+      [{ timeMs: 5, hand: h }, "frame.hand: unknown field: did you mean frame.hands (an array of hands)?"],
+      [{ timeMs: 5, Hands: h }, "frame.Hands: unknown field: did you mean frame.hands (an array of hands)?"],
+      [{ timeMs: 5, wrist: { left: { position: [0.3, 1.2, 0.1] } } }, "frame.wrist: unknown field: did you mean frame.wrists ({ left?, right? })?"],
+    ];
+    for (const [frame, message] of cases) throwsWith(() => rig.solve(frame), message);
+    // The right names, and both present (the right one wins), are fine.
+    assert.ok(rig.solve({ timeMs: 5, hands: h }, {}).hands.right);
+    assert.ok(rig.solve({ timeMs: 6, time: 6, hands: h, hand: "mine" }, {}).hands.right);
     rig.free();
   });
 });
