@@ -332,6 +332,10 @@ fn vec3_at(buf: &[f32], at: usize) -> Vec3 {
     Vec3::new(buf[at], buf[at + 1], buf[at + 2])
 }
 
+/// Largest distance (m) of a hand's world landmark from its wrist landmark: five times a real
+/// hand's reach.
+pub const HAND_SPAN_LIMIT: f32 = 1.0;
+
 /// Reads `N` points of `stride` floats at `at` (the first three are `x y z`).
 fn points<const N: usize>(
     buf: &[f32],
@@ -342,8 +346,8 @@ fn points<const N: usize>(
 ) -> Result<()> {
     for (k, p) in out.iter_mut().enumerate() {
         *p = vec3_at(buf, at + k * stride);
-        if !p.is_finite() {
-            return Err(Error::invalid(field(k), "must be three finite numbers"));
+        if let Some(problem) = crate::rig::point_problem(*p) {
+            return Err(Error::invalid(field(k), problem));
         }
     }
     Ok(())
@@ -436,9 +440,25 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
             hand.image = Some(image);
         }
         match (has_world, hand.image) {
-            (true, _) => points(buf, at + input::hand::WORLD, 3, &mut hand.world, |k| {
-                name(&format!(".worldLandmarks[{k}]"))
-            })?,
+            (true, _) => {
+                points(buf, at + input::hand::WORLD, 3, &mut hand.world, |k| {
+                    name(&format!(".worldLandmarks[{k}]"))
+                })?;
+                // MediaPipe's world landmarks are meters: a hand is about 0.2 m from wrist to
+                // fingertip. Centimeters or millimeters would place the avatar's hand meters
+                // away with no error.
+                let wrist = hand.world[0];
+                if hand
+                    .world
+                    .iter()
+                    .any(|p| (*p - wrist).length_squared() > HAND_SPAN_LIMIT * HAND_SPAN_LIMIT)
+                {
+                    return Err(Error::invalid(
+                        name(".worldLandmarks"),
+                        "the hand is more than 1 m across: world landmarks are meters (centimeters given?)",
+                    ));
+                }
+            }
             (false, Some(image)) => {
                 hand.world = image;
                 crate::mediapipe::image_to_pseudo_world(&mut hand.world, aspect);
@@ -876,6 +896,7 @@ mod tests {
         assert_eq!(back, frame);
 
         let k = input::HANDS + input::HAND_STRIDE + input::hand::WORLD + 7 * 3 + 1;
+        let was = buf[k];
         buf[k] = f32::NAN;
         let e = read_input(&buf, 0.0, &mut back).unwrap_err();
         assert_eq!(
@@ -886,7 +907,7 @@ mod tests {
             back.hand_count, 0,
             "a rejected frame leaves the input cleared"
         );
-        buf[k] = 0.0;
+        buf[k] = was;
 
         let q = input::TORSO + 5 * input::TORSO_STRIDE + input::torso_bone::ROTATION;
         buf[q + 3] = 2.0;
@@ -934,5 +955,20 @@ mod tests {
                 );
             }
         }
+        buf[aspect] = 0.0;
+
+        // A hand in centimeters: refused; a (large) hand within 1 m of its wrist: read.
+        let world = input::HANDS + input::HAND_STRIDE + input::hand::WORLD;
+        // Landmark 8 at (x, 1, -0.16), its wrist at (0, 1, 0).
+        for (value, ok) in [(0.95, true), (1.0, false)] {
+            buf[world + 8 * 3] = value;
+            let r = read_input(&buf, 0.0, &mut back);
+            assert_eq!(r.is_ok(), ok, "{value}: {r:?}");
+        }
+        let e = read_input(&buf, 0.0, &mut back).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "frame.hands[1].worldLandmarks: the hand is more than 1 m across: world landmarks are meters (centimeters given?)"
+        );
     }
 }

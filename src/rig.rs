@@ -617,14 +617,16 @@ impl Rig {
         for side in Side::BOTH {
             self.reach_target(side, plans[side.index()], out);
         }
-        self.ease(frame.time_ms, out);
-        self.report(out);
+        let eased = self.ease(frame.time_ms, out);
+        self.report(eased, out);
         Ok(())
     }
 
     /// Stage 9: forward kinematics of what is shown, the avatar's fingertips, and the
-    /// retargeting reports placed on the avatar.
-    fn report(&self, out: &mut SolveOutput) {
+    /// retargeting reports placed on the avatar. `eased[side]`: the easing blended that side's
+    /// arm, hand or fingers away from what was solved, so its alignment error (measured on the
+    /// solve) is measured again on what is shown.
+    fn report(&self, eased: [bool; 2], out: &mut SolveOutput) {
         // The torso stage posed the body, which nothing has turned since (the later stages turn
         // the arms, hands and fingers, the easing also the shoulders): the arms from their roots.
         for side in Side::BOTH {
@@ -632,6 +634,19 @@ impl Rig {
         }
         for side in Side::BOTH {
             let s = side.index();
+            if let (true, Some(report)) = (eased[s], out.alignment[s].as_mut()) {
+                let hand = side.hand().index();
+                report.error = align::avatar_offset(
+                    &self.skeleton,
+                    side,
+                    &self.options.alignment,
+                    out.world.rotation[hand],
+                    &out.local,
+                )
+                .map_or(f32::NAN, |a| {
+                    (out.world.position[hand] + a - report.target_dip).length()
+                });
+            }
             for finger in Finger::ALL {
                 out.fingertips[s][finger.index()] =
                     align::fingertip(&self.skeleton, &out.world, side, finger);
@@ -1240,9 +1255,11 @@ impl Rig {
 
     /// Stage 8: hold and ease the groups whose tracking was lost, blend in the returning ones
     /// (see [`crate::filter::dropout`]), and keep every driven rotation in the hemisphere of
-    /// last frame's (so that apps interpolating output never go the long way round).
-    fn ease(&mut self, now_ms: f64, out: &mut SolveOutput) {
+    /// last frame's (so that apps interpolating output never go the long way round). Returns,
+    /// per side, whether anything shown differs from what was solved (a blend under way).
+    fn ease(&mut self, now_ms: f64, out: &mut SolveOutput) -> [bool; 2] {
         let timing = self.options.dropout.effective();
+        let mut eased = [false; 2];
         for side in Side::BOTH {
             let [shoulder, upper, lower, hand] = side.arm();
             let live_fingers = out.hands[side.index()]
@@ -1256,6 +1273,7 @@ impl Rig {
             for (group, live) in groups {
                 let blend =
                     self.presence[side.index()][group as usize].update(now_ms, live, &timing);
+                eased[side.index()] |= !(blend.is_exact() && blend.to_solved);
                 let mut apply = |b: HumanBone| {
                     let i = b.index();
                     if !self.driven[i] {
@@ -1281,6 +1299,7 @@ impl Rig {
                 }
             }
         }
+        eased
     }
 
     /// Eases the arm's share of a shoulder: the turn the arm solver put on top of the torso's
@@ -1401,7 +1420,7 @@ fn set_hand_world_rotation(
 pub const COORDINATE_LIMIT: f32 = 1000.0;
 
 /// What is wrong with a point of a frame, if anything.
-fn point_problem(p: Vec3) -> Option<&'static str> {
+pub(crate) fn point_problem(p: Vec3) -> Option<&'static str> {
     // One test for the common case: NaN fails every comparison, infinities the bound.
     let a = p.abs();
     if a.x <= COORDINATE_LIMIT && a.y <= COORDINATE_LIMIT && a.z <= COORDINATE_LIMIT {

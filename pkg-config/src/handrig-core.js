@@ -86,6 +86,7 @@ function createHandRigApi(raw, isReady) {
 
   function describe(v) {
     if (v === null) return "null";
+    if (v === undefined) return "undefined";
     if (Array.isArray(v)) return `an array of ${v.length}`;
     if (ArrayBuffer.isView(v)) return `a ${tag(v)} of ${v.length}`;
     if (typeof v === "object") return tag(v) === "Object" ? "an object" : `a ${tag(v)}`;
@@ -1227,7 +1228,7 @@ function createHandRigApi(raw, isReady) {
             break;
           }
         }
-        if (!group) fail(field, "unknown option");
+        if (!group) fail(field, `unknown option${optionHint(path, known)}`);
         // `filter: false` is `filter: { enabled: false }` (any group with an `enabled` switch).
         if (typeof value === "boolean" && known.has(`${path}.enabled`)) {
           walk({ enabled: value }, path);
@@ -1241,6 +1242,44 @@ function createHandRigApi(raw, isReady) {
     };
     walk(options, "");
     return out;
+  }
+
+  // Names users bring from MediaPipe and other rigs for handrig's options.
+  const OPTION_ALIASES = { selfieMode: "inputMirrored", mirrored: "mirror", flipHorizontal: "inputMirrored" };
+
+  // " (did you mean X?)" for an unknown option path: a known alias, or the option or group
+  // path nearest in spelling (at most 2 edits, or the same name in another case).
+  function optionHint(path, known) {
+    const alias = OPTION_ALIASES[path];
+    if (alias !== undefined) return ` (did you mean ${alias}?)`;
+    const names = new Set();
+    for (const p of known.keys()) {
+      const parts = p.split(".");
+      for (let i = 1; i <= parts.length; i++) names.add(parts.slice(0, i).join("."));
+    }
+    let best;
+    let bestDistance = 3;
+    for (const name of names) {
+      const d = name.toLowerCase() === path.toLowerCase() ? 0 : editDistance(name, path);
+      if (d < bestDistance) {
+        best = name;
+        bestDistance = d;
+      }
+    }
+    return best === undefined ? "" : ` (did you mean ${best}?)`;
+  }
+
+  // Levenshtein distance (setup-time: option names are short).
+  function editDistance(a, b) {
+    let prev = Array.from({ length: b.length + 1 }, (_, j) => j);
+    for (let i = 1; i <= a.length; i++) {
+      const row = [i];
+      for (let j = 1; j <= b.length; j++) {
+        row[j] = Math.min(prev[j] + 1, row[j - 1] + 1, prev[j - 1] + (a[i - 1] === b[j - 1] ? 0 : 1));
+      }
+      prev = row;
+    }
+    return prev[b.length];
   }
 
   /** Options as the JSON text the raw constructors take (undefined for the defaults). */
@@ -1446,7 +1485,7 @@ function createHandRigApi(raw, isReady) {
       const r = this.#views("solve");
       // The target is checked first: a rejected call leaves the rig where it was.
       let result = target;
-      if (result === undefined) {
+      if (result === undefined || result === null) {
         if (this.#result === undefined) this.#result = {};
         result = this.#result;
       } else if (!isObject(result) || !Object.isExtensible(result)) {
@@ -1720,7 +1759,7 @@ function createHandRigApi(raw, isReady) {
       const p = this.#run("solve", target, pole);
       const n = this.#n;
       let out = into;
-      if (out === undefined) {
+      if (out === undefined || out === null) {
         if (this.#result === undefined) this.#result = {};
         out = this.#result;
       }

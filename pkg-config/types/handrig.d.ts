@@ -290,7 +290,11 @@ export interface SolveResult {
   bones: BoneMap<Quat>;
   /** World positions of every bone of the avatar after solving, meters. */
   worldPositions: BoneMap<Vec3>;
-  /** Wrist IK targets, per avatar side, when a wrist was known. */
+  /**
+   * Wrist IK targets, per avatar side, when both the wrist and the hand's rotation are known (a
+   * solved hand, or a tracker wrist with `rotation`); a wrist position alone moves the arm
+   * (see `worldPositions`) without a target here.
+   */
   ikTargets: { left?: IkTarget; right?: IkTarget };
   /** Fingertip-alignment reports, per avatar side. */
   alignment: { left?: AlignmentReport; right?: AlignmentReport };

@@ -95,7 +95,7 @@ describe("contact: options", () => {
       () => HandRig.fromVrm(robotBytes, { contact: { faceAnchors: { nose: [0, 0, 20] } } }),
       /^options\.contact\.faceAnchors\.nose: must be \[x, y, z\]: finite meters within 10 of the head bone$/,
     );
-    throwsWith(() => HandRig.fromVrm(robotBytes, { contact: { wieght: 1 } }), "options.contact.wieght: unknown option");
+    throwsWith(() => HandRig.fromVrm(robotBytes, { contact: { wieght: 1 } }), "options.contact.wieght: unknown option (did you mean contact.weight?)");
   });
 });
 

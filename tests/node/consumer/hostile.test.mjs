@@ -240,7 +240,12 @@ describe("the second fuzz round's findings (2026-12-02)", () => {
     flat.input[k] = 3e38;
     assert.throws(() => flat.solveFlat(1000), message(/^frame\.hands\[0\]\.worldLandmarks\[7\]: must be three numbers within -1000\.\.1000/));
     for (const [where, set] of [
-      ["a hand world landmark", (f) => (f.hands[0].worldLandmarks[7][1] = -1000)],
+      // A whole hand moved to the limit (one landmark alone that far would be a hand 1000 m
+      // across, refused as centimeters given for meters).
+      ["a hand's world landmarks", (f) => {
+        const low = Math.min(...f.hands[0].worldLandmarks.map((p) => p[1]));
+        f.hands[0].worldLandmarks = f.hands[0].worldLandmarks.map(([x, y, z]) => [x, y - 1000 - low, z]);
+      }],
       ["a hand image landmark", (f) => (f.hands[0].landmarks[8][0] = 1000)],
       ["a pose world landmark", (f) => (f.pose.worldLandmarks[16][2] = 1000)],
       ["a tracker wrist", (f) => (f.wrists = { right: { position: [1000, 1, 0] } })],
@@ -249,6 +254,9 @@ describe("the second fuzz round's findings (2026-12-02)", () => {
       set(f);
       assert.ok(finiteResult(rig.solve(f, {})), `${where} at the limit: finite output`);
     }
+    const cm = structuredClone(brother[20]);
+    cm.hands[0].worldLandmarks = cm.hands[0].worldLandmarks.map((p) => p.map((c) => c * 100));
+    assert.throws(() => rig.solve(cm), message(/^frame\.hands\[0\]\.worldLandmarks: the hand is more than 1 m across: world landmarks are meters \(centimeters given\?\)$/));
     assertWorks(rig, "after huge landmarks");
     rig.free();
     flat.free();

@@ -84,7 +84,17 @@ describe("options: dotted paths, and every error names the field", () => {
   });
 
   it("an unknown dotted path, a value for a group, and the same option twice", () => {
-    throwsWith(() => HandRig.fromVrm(robotBytes, { "alignment.wieght": 1 }), "options.alignment.wieght: unknown option");
+    throwsWith(() => HandRig.fromVrm(robotBytes, { "alignment.wieght": 1 }), "options.alignment.wieght: unknown option (did you mean alignment.weight?)");
+    // Names from MediaPipe and other rigs, and other spellings, get a pointer; far ones do not.
+    throwsWith(() => HandRig.fromVrm(robotBytes, { selfieMode: true }), "options.selfieMode: unknown option (did you mean inputMirrored?)");
+    throwsWith(() => HandRig.fromVrm(robotBytes, { mirrored: true }), "options.mirrored: unknown option (did you mean mirror?)");
+    throwsWith(() => HandRig.fromVrm(robotBytes, { filter: { minCutOff: 1 } }), "options.filter.minCutOff: unknown option (did you mean filter.minCutoff?)");
+    throwsWith(() => HandRig.fromVrm(robotBytes, { smoothing: 1 }), "options.smoothing: unknown option");
+    // No target given as null: the rig's own result, as with none.
+    const rig = HandRig.fromVrm(robotBytes);
+    assert.equal(rig.solve(frames[100], null), rig.solve(frames[101]));
+    throwsWith(() => rig.solve(), "frame: must be an object { timeMs, hands?, pose?, wrists? }, got undefined");
+    rig.free();
     throwsWith(() => HandRig.fromVrm(robotBytes, { calibration: true }), "options.calibration: must be an object of calibration.* options, got boolean true");
     throwsWith(
       () => HandRig.fromVrm(robotBytes, { alignment: { weight: 1 }, "alignment.weight": 0.5 }),
