@@ -359,7 +359,9 @@ fn points<const N: usize>(
 ///
 /// # Errors
 /// Wrong length, a flag other than 0 or 1, a hand count out of range, non-finite numbers,
-/// scores, visibilities or confidences outside `0..=1`, non-unit wrist or torso rotations.
+/// landmarks beyond [`crate::rig::COORDINATE_LIMIT`], a hand's world landmarks more than
+/// [`HAND_SPAN_LIMIT`] from its wrist, an image aspect outside `0.01..=100`, scores,
+/// visibilities or confidences outside `0..=1`, non-unit wrist or torso rotations.
 pub fn read_input(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result<()> {
     frame.clear();
     let r = read_input_inner(buf, time_ms, frame);
@@ -941,8 +943,7 @@ mod tests {
         );
         buf[ear] = 0.0;
 
-        // The image aspect scales image landmarks: 0.01..100. (Points beyond
-        // `COORDINATE_LIMIT` pass this read and are rejected by `Rig::solve`: tests/rig.rs.)
+        // The image aspect scales image landmarks: 0.01..100.
         let aspect = input::IMAGE_ASPECT;
         for (value, ok) in [(0.01, true), (100.0, true), (0.009, false), (101.0, false)] {
             buf[aspect] = value;

@@ -268,8 +268,9 @@ impl ChainSolver {
     ///
     /// # Errors
     /// [`Error::InvalidInput`] naming the field: fewer than 3 joints (`joints`), a non-finite
-    /// joint, one beyond [`COORDINATE_LIMIT`] or a zero-length bone (`joints[k]`), a constraint count other than 0 or N - 1
-    /// (`constraints`), a bad limit (`constraints[i].maxAngle`, `constraints[i].axis`, ...),
+    /// joint, one beyond [`COORDINATE_LIMIT`] or a zero-length bone (`joints[k]`), a
+    /// constraint count other than 0 or N - 1 (`constraints`), a bad limit
+    /// (`constraints[i].maxAngle`, `constraints[i].axis`, ...),
     /// `iterations` of 0, a non-positive `tolerance`, `maxStepAngle` outside `(0, pi]`.
     pub fn new(options: &ChainSolverOptions) -> Result<Self> {
         if let Some(k) = options.joints.iter().position(|p| out_of_range(*p)) {
