@@ -601,15 +601,8 @@ function createHandRigApi(raw, isReady) {
       image = frame.poseLandmarks;
       imageName = "frame.poseLandmarks";
       if ((list === undefined || list === null) && image !== undefined && image !== null) {
-        // A legacy @mediapipe/holistic result passed as it comes: its 0.5 build exports the
-        // world landmarks under a minified name (`za`; `ea` in earlier builds), taken when it
-        // is a list of 33 points.
-        list = minifiedPoseWorld(frame.za);
-        name = "frame.za";
-        if (list === undefined) {
-          list = minifiedPoseWorld(frame.ea);
-          name = "frame.ea";
-        }
+        list = legacyHolisticPoseWorld(frame);
+        name = list === frame.za ? "frame.za" : "frame.ea";
       }
       if (list === undefined || list === null) return false;
     }
@@ -639,6 +632,13 @@ function createHandRigApi(raw, isReady) {
     return true;
   }
 
+  // A legacy @mediapipe/holistic result passed as it comes: its 0.5 build exports the world
+  // landmarks under a minified name (`za`; `ea` in earlier builds), taken when it is a list of
+  // 33 points.
+  function legacyHolisticPoseWorld(frame) {
+    return minifiedPoseWorld(frame.za) ?? minifiedPoseWorld(frame.ea);
+  }
+
   // `v` if it looks like 33 world landmarks ({x, y, z} objects), else undefined.
   function minifiedPoseWorld(v) {
     if (!Array.isArray(v) || v.length !== POSE_POINTS) return undefined;
@@ -661,7 +661,12 @@ function createHandRigApi(raw, isReady) {
       const F = WRIST_FIELDS[s];
       at(F.side, -1, "");
       const w = wrists[SIDES[s]];
-      if (w === undefined || w === null) continue;
+      if (w === undefined || w === null) {
+        if (w === undefined && wrists[WRIST_MISNAMED[s]] !== undefined) {
+          fail(`frame.wrists.${WRIST_MISNAMED[s]}`, `unknown field: did you mean frame.wrists.${SIDES[s]}?`);
+        }
+        continue;
+      }
       const o = LI.wrists + s * LI.wristStride;
       if (!isObject(w)) fail(F.side, `must be { position: [x, y, z], rotation?: [x, y, z, w] }, got ${describe(w)}`);
       const position = w.position;
@@ -770,13 +775,33 @@ function createHandRigApi(raw, isReady) {
   }
 
   // Fields a frame may carry by mistake for one handrig reads under another name: silently
-  // ignored, they would leave the frame without its time or its hands. Looked up (by name, so
-  // each site stays a fast property load) only when the right name is absent; the lists name
-  // them for the message.
+  // ignored, they would leave the frame without its time or its hands. Looked up only when the
+  // right name is absent.
   // (No one-letter names: legacy MediaPipe results carry minified fields such as `za`.)
   const TIME_ALIASES = ["timestamp", "timeStamp", "time", "timestampMs"];
   const HAND_ALIASES = ["hand", "Hands", "handLandmarks", "multiHands"];
   const WRIST_ALIASES = ["wrist", "Wrists"];
+  const POSE_ALIASES = ["poses", "Pose"];
+  const WRIST_MISNAMED = ["Left", "Right"];
+  // Fields misnamed where the right one is absent (see the lists above).
+  // (Named loads first: they stay fast every frame; the lists are walked only on a find.)
+  function checkMisnamed(frame, noTime, noHands, noWrists, noPose) {
+    if (noTime && (frame.timestamp !== undefined || frame.timeStamp !== undefined ||
+        frame.time !== undefined || frame.timestampMs !== undefined)) {
+      misnamed(frame, TIME_ALIASES, "handrig reads the time from frame.timeMs (milliseconds)");
+    }
+    if (noHands && (frame.hand !== undefined || frame.Hands !== undefined ||
+        frame.handLandmarks !== undefined || frame.multiHands !== undefined)) {
+      misnamed(frame, HAND_ALIASES, "did you mean frame.hands (an array of hands)?");
+    }
+    if (noWrists && (frame.wrist !== undefined || frame.Wrists !== undefined)) {
+      misnamed(frame, WRIST_ALIASES, "did you mean frame.wrists ({ left?, right? })?");
+    }
+    if (noPose && (frame.poses !== undefined || frame.Pose !== undefined)) {
+      misnamed(frame, POSE_ALIASES, "did you mean frame.pose ({ worldLandmarks, landmarks? })?");
+    }
+  }
+
   function misnamed(frame, aliases, hint) {
     for (let k = 0; k < aliases.length; k++) {
       const v = frame[aliases[k]];
@@ -804,10 +829,6 @@ function createHandRigApi(raw, isReady) {
     const t = frame.timeMs;
     if (t === undefined || t === null) {
       TIME[0] = 0;
-      if (frame.timestamp !== undefined || frame.timeStamp !== undefined || frame.time !== undefined ||
-          frame.timestampMs !== undefined) {
-        misnamed(frame, TIME_ALIASES, "handrig reads the time from frame.timeMs (milliseconds)");
-      }
     } else {
       if (!isFiniteNumber(t)) notFinite(t, "frame.timeMs");
       TIME[0] = t;
@@ -844,10 +865,6 @@ function createHandRigApi(raw, isReady) {
       else found = true;
     }
     input[LI.handCount] = handCount;
-    if (hands === undefined && (frame.hand !== undefined || frame.Hands !== undefined ||
-        frame.handLandmarks !== undefined || frame.multiHands !== undefined)) {
-      misnamed(frame, HAND_ALIASES, "did you mean frame.hands (an array of hands)?");
-    }
 
     if (packPose(frame, input)) found = true;
 
@@ -855,8 +872,14 @@ function createHandRigApi(raw, isReady) {
     if (wrists !== undefined && wrists !== null) {
       found = true;
       packWrists(wrists, input);
-    } else if (wrists === undefined && (frame.wrist !== undefined || frame.Wrists !== undefined)) {
-      misnamed(frame, WRIST_ALIASES, "did you mean frame.wrists ({ left?, right? })?");
+    }
+    // Out of line: packFrame stays small enough for V8 to inline its callees (a larger one
+    // boxed ~100 more bytes of numbers a frame).
+    // Only for a frame without its time or with nothing to solve from: looking up absent names
+    // on every frame showed up as ~60 bytes of garbage a frame in V8 (soak.test.mjs).
+    const noTime = t === undefined;
+    if (noTime || handCount === 0) {
+      checkMisnamed(frame, noTime, hands === undefined, wrists === undefined, frame.pose === undefined);
     }
 
     const torso = frame.torso;
