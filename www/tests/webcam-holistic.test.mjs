@@ -106,7 +106,11 @@ test("holistic mode: the signer's right hand drives the avatar's right hand, and
   const eat = log.filter((l) => l.tag != null && l.tag < BROTHER && l.handCount > 0);
   assert.ok(eat.length >= 3, `${eat.length} eat frames with a hand`);
   assert.ok(eat.filter((l) => l.right === "solved").length >= 0.8 * eat.length, `right hand solved: ${eat.map((l) => l.right)}`);
-  assert.equal(eat.filter((l) => l.left === "solved").length, 0, "the left hand stays unsolved in eat");
+  // Live Holistic at a few frames a second now and then reports a hand the recording does not
+  // have (CI once: a left hand on 1 of the eat frames, a hand on 2 of 16 hand-less frames): a
+  // swapped mapping would put every eat hand on the left, so allow at most a fifth.
+  const leftInEat = eat.filter((l) => l.left === "solved").length;
+  assert.ok(leftInEat <= Math.max(1, 0.2 * eat.length), `the left hand solved in ${leftInEat} of ${eat.length} eat frames`);
   // `brother`: both hands at once.
   const both = log.filter((l) => l.tag >= BROTHER && l.right === "solved" && l.left === "solved");
   assert.ok(both.length >= 3, `both avatar hands solved in ${both.length} brother frames`);
