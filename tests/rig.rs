@@ -195,10 +195,7 @@ fn duplicate_hands_pick_the_higher_score_and_low_scores_are_ignored() {
 /// may turn a bone outside the arms after the torso stage.
 #[test]
 fn the_reported_world_pose_is_the_forward_kinematics_of_the_rotations() {
-    let frames: Vec<_> = recordings::ASL
-        .iter()
-        .flat_map(|c| recordings::asl(c))
-        .collect();
+    let frames = asl_frames();
     for avatar in recordings::real_avatars() {
         for torso in ["off", "pose"] {
             let options =
@@ -230,10 +227,7 @@ fn the_reported_world_pose_is_the_forward_kinematics_of_the_rotations() {
 #[test]
 fn pose_landmarks_outside_the_read_list_change_nothing() {
     use handrig::mediapipe::pose_landmark::READ;
-    let frames: Vec<_> = recordings::ASL
-        .iter()
-        .flat_map(|c| recordings::asl(c))
-        .collect();
+    let frames = asl_frames();
     let moved: Vec<FrameInput> = frames
         .iter()
         .enumerate()
@@ -277,6 +271,21 @@ fn pose_landmarks_outside_the_read_list_change_nothing() {
     }
 }
 
+/// The four ASL clips' frames, in order (pose and 0-2 hands of the same signer).
+fn asl_frames() -> Vec<FrameInput> {
+    recordings::ASL
+        .iter()
+        .flat_map(|c| recordings::asl(c))
+        .collect()
+}
+
+/// The real avatars and the odd-armature VRM 0.x file (no fingers, rest off the T-pose).
+fn four_avatars() -> Vec<Skeleton> {
+    let mut avatars = recordings::real_avatars().to_vec();
+    avatars.push(recordings::vrm("../shared/avatars/odd-armature-vrm0.vrm"));
+    avatars
+}
+
 /// Equal outputs, NaN fields included (an absent alignment error is NaN).
 fn same(a: &SolveOutput, b: &SolveOutput) -> bool {
     format!("{a:?}") == format!("{b:?}")
@@ -291,10 +300,7 @@ fn same(a: &SolveOutput, b: &SolveOutput) -> bool {
 #[test]
 fn points_beyond_the_coordinate_limit_are_rejected_and_points_at_it_give_finite_output() {
     use handrig::COORDINATE_LIMIT;
-    let frames: Vec<_> = recordings::ASL
-        .iter()
-        .flat_map(|c| recordings::asl(c))
-        .collect();
+    let frames = asl_frames();
     let finite = |out: &SolveOutput| !format!("{out:?}").contains("inf");
     // What each probe moves in frame `i` to `value` (None: the frame has no such part).
     type Probe = fn(&mut FrameInput, usize, f32) -> Option<&'static str>;
@@ -325,8 +331,7 @@ fn points_beyond_the_coordinate_limit_are_rejected_and_points_at_it_give_finite_
             Some(["frame.wrists.left.position", "frame.wrists.right.position"][i % 2])
         },
     ];
-    let mut avatars = recordings::real_avatars().to_vec();
-    avatars.push(recordings::vrm("../shared/avatars/odd-armature-vrm0.vrm"));
+    let avatars = four_avatars();
     let mut at_limit = 0;
     for avatar in &avatars {
         for options in [
@@ -372,12 +377,8 @@ fn points_beyond_the_coordinate_limit_are_rejected_and_points_at_it_give_finite_
 /// the distance from the shown index DIP to the target DIP.
 #[test]
 fn the_alignment_error_is_measured_on_the_shown_pose() {
-    let frames: Vec<_> = recordings::ASL
-        .iter()
-        .flat_map(|c| recordings::asl(c))
-        .collect();
-    let mut avatars = recordings::real_avatars().to_vec();
-    avatars.push(recordings::vrm("../shared/avatars/odd-armature-vrm0.vrm"));
+    let frames = asl_frames();
+    let avatars = four_avatars();
     let (mut checked, mut blending) = (0, 0);
     for avatar in &avatars {
         for options in ["{}", r#"{ "contact": { "enabled": false } }"#] {
