@@ -815,7 +815,7 @@ function createHandRigApi(raw, isReady) {
 
   // Packs one frame into `input` and its timestamp (ms) into TIME[0]. Throws a FieldError
   // naming the field on bad input (the input is then partly written; the rig is not called).
-  function packFrame(frame, input) {
+  function packFrame(frame, input, lookAround) {
     at("frame", -1, "");
     checkFrameObject(frame);
     input[LI.handCount] = 0;
@@ -875,10 +875,11 @@ function createHandRigApi(raw, isReady) {
     }
     // Out of line: packFrame stays small enough for V8 to inline its callees (a larger one
     // boxed ~100 more bytes of numbers a frame).
-    // Only for a frame without its time or with nothing to solve from: looking up absent names
-    // on every frame showed up as ~60 bytes of garbage a frame in V8 (soak.test.mjs).
+    // For a rig's first frames (an app's frames all have one shape: a misnamed field is in the
+    // first), and for a frame without its time or with nothing to solve from: looking up absent
+    // names on every frame showed up as ~60 bytes of garbage a frame in V8 (soak.test.mjs).
     const noTime = t === undefined;
-    if (noTime || handCount === 0) {
+    if (lookAround || noTime || handCount === 0) {
       checkMisnamed(frame, noTime, hands === undefined, wrists === undefined, frame.pose === undefined);
     }
 
@@ -1373,6 +1374,7 @@ function createHandRigApi(raw, isReady) {
     #result;
     #driven;
     #present;
+    #framesRead = 0;
 
     /**
      * `new HandRig(restPose, options?)`: a solver for one avatar. `restPose.bones` maps VRM 1.0
@@ -1517,7 +1519,8 @@ function createHandRigApi(raw, isReady) {
         );
       }
       try {
-        packFrame(frame, this.#input);
+        packFrame(frame, this.#input, this.#framesRead < 3);
+        this.#framesRead++;
       } catch (e) {
         throw readError(e);
       }

@@ -220,9 +220,14 @@ describe("misnamed frame fields", () => {
       [{ timeMs: 5, poses: [{ worldLandmarks: [] }] }, "frame.poses: unknown field: did you mean frame.pose ({ worldLandmarks, landmarks? })?"],
     ];
     for (const [frame, message] of cases) throwsWith(() => rig.solve(frame), message);
-    // Checked only when the frame lacks its time or has no hand to solve (a lookup of absent
-    // names every frame cost garbage): a misnamed pose beside hands is not caught.
+    // After a rig's first three frames, checked only when the frame lacks its time or has no
+    // hand to solve (a lookup of absent names every frame cost garbage).
+    for (let k = 0; k < 3; k++) rig.solve({ timeMs: k, hands: h });
     assert.ok(rig.solve({ timeMs: 7, hands: h, poses: [] }, {}).hands.right);
+    const fresh = HandRig.fromVrm(robotBytes);
+    throwsWith(() => fresh.solve({ timeMs: 1, hands: h, poses: [] }), "frame.poses: unknown field: did you mean frame.pose ({ worldLandmarks, landmarks? })?");
+    throwsWith(() => fresh.solve({ timeMs: 1, hands: h, wrist: {} }), "frame.wrist: unknown field: did you mean frame.wrists ({ left?, right? })?");
+    fresh.free();
     // The right names, and both present (the right one wins), are fine.
     assert.ok(rig.solve({ timeMs: 5, hands: h }, {}).hands.right);
     assert.ok(rig.solve({ timeMs: 6, time: 6, hands: h, hand: "mine" }, {}).hands.right);
