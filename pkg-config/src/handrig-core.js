@@ -784,22 +784,11 @@ function createHandRigApi(raw, isReady) {
   const POSE_ALIASES = ["poses", "Pose"];
   const WRIST_MISNAMED = ["Left", "Right"];
   // Fields misnamed where the right one is absent (see the lists above).
-  // (Named loads first: they stay fast every frame; the lists are walked only on a find.)
   function checkMisnamed(frame, noTime, noHands, noWrists, noPose) {
-    if (noTime && (frame.timestamp !== undefined || frame.timeStamp !== undefined ||
-        frame.time !== undefined || frame.timestampMs !== undefined)) {
-      misnamed(frame, TIME_ALIASES, "handrig reads the time from frame.timeMs (milliseconds)");
-    }
-    if (noHands && (frame.hand !== undefined || frame.Hands !== undefined ||
-        frame.handLandmarks !== undefined || frame.multiHands !== undefined)) {
-      misnamed(frame, HAND_ALIASES, "did you mean frame.hands (an array of hands)?");
-    }
-    if (noWrists && (frame.wrist !== undefined || frame.Wrists !== undefined)) {
-      misnamed(frame, WRIST_ALIASES, "did you mean frame.wrists ({ left?, right? })?");
-    }
-    if (noPose && (frame.poses !== undefined || frame.Pose !== undefined)) {
-      misnamed(frame, POSE_ALIASES, "did you mean frame.pose ({ worldLandmarks, landmarks? })?");
-    }
+    if (noTime) misnamed(frame, TIME_ALIASES, "handrig reads the time from frame.timeMs (milliseconds)");
+    if (noHands) misnamed(frame, HAND_ALIASES, "did you mean frame.hands (an array of hands)?");
+    if (noWrists) misnamed(frame, WRIST_ALIASES, "did you mean frame.wrists ({ left?, right? })?");
+    if (noPose) misnamed(frame, POSE_ALIASES, "did you mean frame.pose ({ worldLandmarks, landmarks? })?");
   }
 
   function misnamed(frame, aliases, hint) {
@@ -827,9 +816,8 @@ function createHandRigApi(raw, isReady) {
     for (let k = 0; k < FACE_POINTS.length; k++) input[LI.face + k * LI.faceStride + LI.facePoint.present] = 0;
 
     const t = frame.timeMs;
-    if (t === undefined || t === null) {
-      TIME[0] = 0;
-    } else {
+    if (t === undefined || t === null) TIME[0] = 0;
+    else {
       if (!isFiniteNumber(t)) notFinite(t, "frame.timeMs");
       TIME[0] = t;
     }
@@ -873,11 +861,10 @@ function createHandRigApi(raw, isReady) {
       found = true;
       packWrists(wrists, input);
     }
-    // Out of line: packFrame stays small enough for V8 to inline its callees (a larger one
-    // boxed ~100 more bytes of numbers a frame).
-    // For a rig's first frames (an app's frames all have one shape: a misnamed field is in the
-    // first), and for a frame without its time or with nothing to solve from: looking up absent
-    // names on every frame showed up as ~60 bytes of garbage a frame in V8 (soak.test.mjs).
+    // Misnamed fields: looked for in a rig's first frames (an app's frames all have one shape:
+    // a misnamed field is in the first) and in a frame without its time or with no hand to
+    // solve; looking up absent names on every frame showed up as ~60 bytes of garbage a frame
+    // in V8 (soak.test.mjs).
     const noTime = t === undefined;
     if (lookAround || noTime || handCount === 0) {
       checkMisnamed(frame, noTime, hands === undefined, wrists === undefined, frame.pose === undefined);
@@ -911,8 +898,14 @@ function createHandRigApi(raw, isReady) {
 
   // A user getter or Proxy threw while the frame was read: name the part being read.
   function readError(e) {
+    return userError(e, path(where.a, where.i, where.b));
+  }
+
+  // What a user getter threw while `part` was read, as an Error naming it (our own FieldErrors
+  // pass through).
+  function userError(e, part) {
     if (e instanceof FieldError) return e;
-    const err = new Error(`${path(where.a, where.i, where.b)}: reading it threw: ${thrownMessage(e)}`);
+    const err = new Error(`${part}: reading it threw: ${thrownMessage(e)}`);
     err.cause = e;
     return err;
   }
@@ -930,14 +923,6 @@ function createHandRigApi(raw, isReady) {
   // reads; frames have `where`), to name it when a user getter or Proxy throws.
   let reading = "";
 
-  // The same as readError for those reads.
-  function readingError(e) {
-    if (e instanceof FieldError) return e;
-    const err = new Error(`${reading}: reading it threw: ${thrownMessage(e)}`);
-    err.cause = e;
-    return err;
-  }
-
   // Runs `read` (which reads user objects and reports bad values with `fail`), turning what a
   // user getter throws into an Error naming the part being read.
   function readUser(what, read) {
@@ -945,7 +930,7 @@ function createHandRigApi(raw, isReady) {
     try {
       return read();
     } catch (e) {
-      throw readingError(e);
+      throw userError(e, reading);
     }
   }
 
@@ -1519,8 +1504,9 @@ function createHandRigApi(raw, isReady) {
         );
       }
       try {
-        packFrame(frame, this.#input, this.#framesRead < 3);
-        this.#framesRead++;
+        const first = this.#framesRead < 3;
+        packFrame(frame, this.#input, first);
+        if (first) this.#framesRead++;
       } catch (e) {
         throw readError(e);
       }
@@ -1747,7 +1733,7 @@ function createHandRigApi(raw, isReady) {
           g[3] = 1;
         }
       } catch (e) {
-        throw readingError(e);
+        throw userError(e, reading);
       }
       // A getter that freed this solver or grew wasm memory (creating solvers or rigs) while
       // the goal was read: the goal view is gone and what was read with it.
@@ -1780,7 +1766,7 @@ function createHandRigApi(raw, isReady) {
         reading = "goal.pole";
         pole = goal.pole;
       } catch (e) {
-        throw readingError(e);
+        throw userError(e, reading);
       }
       const p = this.#run("solve", target, pole);
       const n = this.#n;

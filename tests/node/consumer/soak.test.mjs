@@ -85,7 +85,7 @@ describe("no garbage per frame", () => {
     // this test runs alone, 263 after the flat test above has optimized the same packing and
     // result code for frames without wrists (one "wrong map" deopt, then polymorphic code that
     // inlines less; self-contact's report fields added ~100 of them, the input checks of
-    // 2026-12-02 ~35: 296-299). A fresh result object would be over 10 KB a frame.
+    // 2026-12-02 ~40: 296-307). A fresh result object would be over 10 KB a frame.
     console.log(`# object API: ${perFrame.toFixed(0)} bytes allocated per frame (JS)`);
     assert.ok(perFrame < 320, `the object API allocates ${perFrame.toFixed(0)} bytes a frame`);
     rig.free();
