@@ -1,4 +1,4 @@
-//! JSON documents for the `.vrm` reader (being replaced by serde structs): a small document type ([`Json`]),
+//! JSON documents, for the options and the `.vrm` reader: a small document type ([`Json`]),
 //! text parsing, and decoding into handrig's option types ([`Decode`]) with errors naming the
 //! field path (`options.arm.shoulderAngle: expected a number, got "0.3"`).
 //!
@@ -9,7 +9,9 @@
 //! of `f64`'s range is invalid, and arrays and objects nested deeper than [`MAX_DEPTH`] levels
 //! are an error (never a stack overflow).
 
-use crate::error::Result;
+use glam::Vec3;
+
+use crate::error::{Error, Result};
 
 /// Deepest nesting of arrays and objects accepted (options nest 4 levels, glTF extensions
 /// about 10).
@@ -65,6 +67,11 @@ impl Json {
     /// # Errors
     /// [`JsonError::Invalid`] with the reason.
     pub fn parse(text: &str) -> Result<Json, JsonError> {
+        #[cfg(target_arch = "wasm32")]
+        {
+            crate::wasm::json::parse(text)
+        }
+        #[cfg(not(target_arch = "wasm32"))]
         {
             native::parse(text)
         }
@@ -83,6 +90,11 @@ impl Json {
         keys: &[&str],
         max_len: usize,
     ) -> Result<Option<Vec<(String, Json)>>, JsonError> {
+        #[cfg(target_arch = "wasm32")]
+        {
+            crate::wasm::json::parse_members(text, keys, max_len)
+        }
+        #[cfg(not(target_arch = "wasm32"))]
         {
             native::parse_members(text, keys, max_len)
         }
@@ -168,8 +180,234 @@ impl Json {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Decoding
+
+/// A type read from a [`Json`] value, as the options are.
+pub trait Decode: Sized {
+    /// Reads `json`; `path` is its JS path (`options.arm`), named in errors.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming the field: a wrong type, an unknown key, a missing
+    /// required key, an unknown name.
+    fn decode(json: &Json, path: &str) -> Result<Self>;
+}
+
+/// `path.key`.
+#[must_use]
+pub fn join(path: &str, key: &str) -> String {
+    if path.is_empty() {
+        key.to_string()
+    } else {
+        format!("{path}.{key}")
+    }
+}
+
+/// `expected <what>, got <value>` at `path`.
+#[cold]
+#[inline(never)]
+#[must_use]
+pub fn expected(path: &str, what: &str, got: &Json) -> Error {
+    Error::invalid(path, format!("expected {what}, got {}", got.describe()))
+}
+
+/// The members of an object; an error naming `path` for anything else.
+///
+/// # Errors
+/// `json` is not an object.
+pub fn object<'a>(json: &'a Json, path: &str) -> Result<&'a [(String, Json)]> {
+    json.as_object()
+        .ok_or_else(|| expected(path, "an object", json))
+}
+
+/// An unknown key (`path` includes it), listing the known ones.
+#[cold]
+#[inline(never)]
+#[must_use]
+pub fn unknown_field(path: &str, known: &[&str]) -> Error {
+    Error::invalid(
+        path,
+        format!("unknown field (expected one of {})", known.join(", ")),
+    )
+}
+
+/// A required key missing from the object at `path`.
+#[cold]
+#[inline(never)]
+#[must_use]
+pub fn missing(path: &str, key: &str) -> Error {
+    Error::invalid(join(path, key), "missing (required)")
+}
+
+/// The index in `names` of a string value (an enum by its JS name).
+///
+/// # Errors
+/// Not a string, or not one of the names.
+#[inline(never)]
+pub fn one_of(json: &Json, path: &str, names: &[&str]) -> Result<usize> {
+    let quoted = || {
+        let quoted: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
+        quoted.join(", ")
+    };
+    let s = json
+        .as_str()
+        .ok_or_else(|| expected(path, &format!("one of {}", quoted()), json))?;
+    names.iter().position(|n| *n == s).ok_or_else(|| {
+        Error::invalid(
+            path,
+            format!("must be one of {}, got {}", quoted(), json.describe()),
+        )
+    })
+}
+
+/// Calls `set(i, value, path)` for every member of the object at `path`, `i` the index of
+/// its key in `names`; a key not in `names` is an error.
+///
+/// # Errors
+/// Not an object, an unknown key, or what `set` returns.
+#[inline(never)]
+pub fn decode_fields(
+    json: &Json,
+    path: &str,
+    names: &[&str],
+    set: &mut dyn FnMut(usize, &Json, &str) -> Result<()>,
+) -> Result<()> {
+    for (key, value) in object(json, path)? {
+        let at = join(path, key);
+        let i = names
+            .iter()
+            .position(|n| n == key)
+            .ok_or_else(|| unknown_field(&at, names))?;
+        set(i, value, &at)?;
+    }
+    Ok(())
+}
+
+impl Decode for bool {
+    #[inline(never)]
+    fn decode(json: &Json, path: &str) -> Result<Self> {
+        json.as_bool()
+            .ok_or_else(|| expected(path, "true or false", json))
+    }
+}
+
+impl Decode for f32 {
+    #[inline(never)]
+    fn decode(json: &Json, path: &str) -> Result<Self> {
+        json.as_f64()
+            .map(|x| x as f32)
+            .ok_or_else(|| expected(path, "a number", json))
+    }
+}
+
+impl Decode for f64 {
+    fn decode(json: &Json, path: &str) -> Result<Self> {
+        json.as_f64()
+            .ok_or_else(|| expected(path, "a number", json))
+    }
+}
+
+/// A non-negative integer up to `max`.
+fn integer(json: &Json, path: &str, max: u64) -> Result<u64> {
+    json.as_f64()
+        .filter(|x| x.fract() == 0.0 && *x >= 0.0 && *x <= max as f64)
+        .map(|x| x as u64)
+        .ok_or_else(|| expected(path, &format!("an integer in 0..={max}"), json))
+}
+
+impl Decode for u32 {
+    fn decode(json: &Json, path: &str) -> Result<Self> {
+        integer(json, path, u32::MAX.into()).map(|x| x as u32)
+    }
+}
+
+impl Decode for usize {
+    fn decode(json: &Json, path: &str) -> Result<Self> {
+        // Any count handrig takes fits in 32 bits; the same bound on every target.
+        integer(json, path, u32::MAX.into()).map(|x| x as usize)
+    }
+}
+
+/// `null` is `None`.
+impl<T: Decode> Decode for Option<T> {
+    fn decode(json: &Json, path: &str) -> Result<Self> {
+        if json.is_null() {
+            Ok(None)
+        } else {
+            T::decode(json, path).map(Some)
+        }
+    }
+}
+
+/// An array; items are named `path[i]`.
+impl<T: Decode> Decode for Vec<T> {
+    #[inline(never)]
+    fn decode(json: &Json, path: &str) -> Result<Self> {
+        let items = json
+            .as_array()
+            .ok_or_else(|| expected(path, "an array", json))?;
+        let mut out = Vec::with_capacity(items.len());
+        for (i, v) in items.iter().enumerate() {
+            out.push(T::decode(v, &format!("{path}[{i}]"))?);
+        }
+        Ok(out)
+    }
+}
+
+/// `[x, y, z]`.
+impl Decode for Vec3 {
+    #[inline(never)]
+    fn decode(json: &Json, path: &str) -> Result<Self> {
+        let bad = || expected(path, "[x, y, z]", json);
+        let a = json.as_array().filter(|a| a.len() == 3).ok_or_else(bad)?;
+        let c = |k: usize| a[k].as_f64().map(|x| x as f32).ok_or_else(bad);
+        Ok(Vec3::new(c(0)?, c(1)?, c(2)?))
+    }
+}
+
+/// `impl Decode` for an options struct whose every field has a default (`Default`): an
+/// object of the listed camelCase keys, each optional; any other key is an error.
+macro_rules! decode_struct {
+    ($ty:ty { $($name:literal => $field:ident),* $(,)? }) => {
+        impl $crate::json::Decode for $ty {
+            #[allow(unused_assignments)]
+            #[inline(never)]
+            fn decode(json: &$crate::json::Json, path: &str) -> $crate::error::Result<Self> {
+                let mut out = <$ty as Default>::default();
+                $crate::json::decode_fields(json, path, &[$($name),*], &mut |i, value, at| {
+                    // The `k`-th listed field is the `k`-th name.
+                    let mut k = 0;
+                    $(
+                        if i == k {
+                            out.$field = $crate::json::Decode::decode(value, at)?;
+                        }
+                        k += 1;
+                    )*
+                    Ok(())
+                })?;
+                Ok(out)
+            }
+        }
+    };
+}
+pub(crate) use decode_struct;
+
+/// `impl Decode` for a fieldless enum written as one of the listed strings.
+macro_rules! decode_enum {
+    ($ty:ident { $($name:literal => $variant:ident),* $(,)? }) => {
+        impl $crate::json::Decode for $ty {
+            fn decode(json: &$crate::json::Json, path: &str) -> $crate::error::Result<Self> {
+                let i = $crate::json::one_of(json, path, &[$($name),*])?;
+                Ok([$($ty::$variant),*][i])
+            }
+        }
+    };
+}
+pub(crate) use decode_enum;
+
+// ---------------------------------------------------------------------------------------------
 // Native parsing (serde_json)
 
+#[cfg(not(target_arch = "wasm32"))]
 mod native {
     use std::collections::HashMap;
 
@@ -378,5 +616,295 @@ mod native {
         fn visit_str<E>(self, _: &str) -> Result<Self::Value, E> {
             Ok(None)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Clone, Debug, PartialEq)]
+    struct Inner {
+        angle: f32,
+        on: bool,
+        count: usize,
+        scale: Option<f32>,
+    }
+
+    impl Default for Inner {
+        fn default() -> Self {
+            Inner {
+                angle: 0.25,
+                on: true,
+                count: 30,
+                scale: None,
+            }
+        }
+    }
+
+    decode_struct!(Inner {
+        "angleRad" => angle,
+        "on" => on,
+        "count" => count,
+        "scale" => scale,
+    });
+
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+    enum Mode {
+        #[default]
+        Fast,
+        Slow,
+    }
+
+    decode_enum!(Mode { "fast" => Fast, "slowMode" => Slow });
+
+    #[derive(Clone, Debug, PartialEq, Default)]
+    struct Outer {
+        inner: Inner,
+        mode: Mode,
+        points: Vec<Option<Vec3>>,
+    }
+
+    decode_struct!(Outer {
+        "inner" => inner,
+        "mode" => mode,
+        "points" => points,
+    });
+
+    fn outer(text: &str) -> Result<Outer> {
+        let json = Json::parse(text).map_err(|e| Error::invalid("options", e.to_string()))?;
+        Outer::decode(&json, "options")
+    }
+
+    fn message(text: &str) -> String {
+        match outer(text) {
+            Err(e) => e.to_string(),
+            Ok(o) => panic!("{text}: expected an error, got {o:?}"),
+        }
+    }
+
+    #[test]
+    fn parses_every_kind_of_value() {
+        let j =
+            Json::parse(r#" {"a": [1, -2.5e3, true, false, null, "x\u00e9"], "b": {}} "#).unwrap();
+        let a = j.get("a").unwrap().as_array().unwrap();
+        assert_eq!(a[0], Json::Number(1.0));
+        assert_eq!(a[1].as_f64(), Some(-2500.0));
+        assert_eq!(a[2].as_bool(), Some(true));
+        assert_eq!(a[3], Json::Bool(false));
+        assert!(a[4].is_null());
+        assert_eq!(a[5].as_str(), Some("x\u{e9}"));
+        assert_eq!(j.get("b").unwrap().as_object().unwrap().len(), 0);
+        assert_eq!(j.get("c"), None);
+        assert_eq!(a[0].get("a"), None);
+    }
+
+    #[test]
+    fn invalid_text_and_numbers_are_errors() {
+        for text in ["", "{", "[1,]", "{\"a\" 1}", "nul", "1 2", "[1e999]", "'a'"] {
+            assert!(
+                matches!(Json::parse(text), Err(JsonError::Invalid(_))),
+                "{text:?}"
+            );
+        }
+        assert!(message("{\"mode\": ").starts_with("options: not valid JSON: "));
+    }
+
+    #[test]
+    fn a_repeated_key_keeps_its_first_place_and_last_value() {
+        let j = Json::parse(r#"{"a": 1, "b": 2, "a": 3}"#).unwrap();
+        assert_eq!(
+            j,
+            Json::Object(vec![
+                ("a".into(), Json::Number(3.0)),
+                ("b".into(), Json::Number(2.0)),
+            ])
+        );
+    }
+
+    #[test]
+    fn nesting_deeper_than_the_limit_is_an_error() {
+        let nested = |n: usize| format!("{}{}", "[".repeat(n), "]".repeat(n));
+        assert!(Json::parse(&nested(MAX_DEPTH)).is_ok());
+        assert_eq!(Json::parse(&nested(MAX_DEPTH + 1)), Err(too_deep()));
+        // Far deeper than any stack: an error, not an overflow.
+        let deep = format!("{}1{}", "{\"a\":".repeat(100_000), "}".repeat(100_000));
+        assert!(Json::parse(&deep).is_err());
+        assert!(Json::parse(&nested(100_000)).is_err());
+        let e = Json::parse(&format!("{{\"inner\": {}}}", nested(MAX_DEPTH))).unwrap_err();
+        assert!(
+            e.to_string().contains("nested deeper than 64 levels"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn missing_fields_keep_their_defaults() {
+        assert_eq!(outer("{}").unwrap(), Outer::default());
+        let o = outer(r#"{"inner": {"count": 12}, "mode": "slowMode"}"#).unwrap();
+        assert_eq!(o.inner.count, 12);
+        assert_eq!(o.inner.angle, 0.25);
+        assert!(o.inner.on);
+        assert_eq!(o.mode, Mode::Slow);
+    }
+
+    #[test]
+    fn values_of_every_type_are_read() {
+        let o = outer(
+            r#"{"inner": {"angleRad": 0.5, "on": false, "count": 3.0, "scale": 2},
+                "points": [[1, 2, 3], null]}"#,
+        )
+        .unwrap();
+        assert_eq!(
+            o.inner,
+            Inner {
+                angle: 0.5,
+                on: false,
+                count: 3,
+                scale: Some(2.0)
+            }
+        );
+        assert_eq!(o.points, vec![Some(Vec3::new(1.0, 2.0, 3.0)), None]);
+        // null for an Option field is None.
+        let o = outer(r#"{"inner": {"scale": null}}"#).unwrap();
+        assert_eq!(o.inner.scale, None);
+    }
+
+    /// Each `(input, message)`: decoding the input fails with exactly that message.
+    fn assert_messages(cases: &[(&str, &str)]) {
+        for (input, expected) in cases {
+            assert_eq!(message(input), *expected, "{input}");
+        }
+    }
+
+    #[test]
+    fn an_unknown_field_is_named_with_its_path() {
+        assert_messages(&[
+            (
+                r#"{"inner": {"angle": 1}}"#,
+                "options.inner.angle: unknown field (expected one of angleRad, on, count, scale)",
+            ),
+            (
+                r#"{"extra": 1}"#,
+                "options.extra: unknown field (expected one of inner, mode, points)",
+            ),
+        ]);
+    }
+
+    #[test]
+    fn a_wrong_type_is_named_with_its_path() {
+        assert_messages(&[
+            (
+                r#"{"inner": {"angleRad": "0.5"}}"#,
+                "options.inner.angleRad: expected a number, got \"0.5\"",
+            ),
+            (
+                r#"{"inner": {"on": 1}}"#,
+                "options.inner.on: expected true or false, got 1",
+            ),
+            (
+                r#"{"inner": {"count": 2.5}}"#,
+                "options.inner.count: expected an integer in 0..=4294967295, got a number",
+            ),
+            (
+                r#"{"inner": {"count": -1}}"#,
+                "options.inner.count: expected an integer in 0..=4294967295, got -1",
+            ),
+            (
+                r#"{"inner": [1]}"#,
+                "options.inner: expected an object, got an array",
+            ),
+            (
+                r#"{"points": [[1, 2, 3], [1, 2]]}"#,
+                "options.points[1]: expected [x, y, z], got an array",
+            ),
+            ("null", "options: expected an object, got null"),
+            (
+                r#"{"inner": {"scale": {}}}"#,
+                "options.inner.scale: expected a number, got an object",
+            ),
+        ]);
+    }
+
+    #[test]
+    fn enums_are_read_by_name() {
+        assert_messages(&[
+            (
+                r#"{"mode": "slow"}"#,
+                "options.mode: must be one of \"fast\", \"slowMode\", got \"slow\"",
+            ),
+            (
+                r#"{"mode": 1}"#,
+                "options.mode: expected one of \"fast\", \"slowMode\", got 1",
+            ),
+        ]);
+    }
+
+    #[test]
+    fn joint_limits_are_read_by_their_type_tag() {
+        use crate::kinematics::JointLimit;
+        let limit = |text: &str| JointLimit::decode(&Json::parse(text).unwrap(), "c[1]");
+        assert_eq!(
+            limit(r#"{"type": "hinge", "axis": [0, 0, 2], "min": -1, "max": 0.5}"#).unwrap(),
+            JointLimit::Hinge {
+                axis: Vec3::new(0.0, 0.0, 2.0),
+                min: -1.0,
+                max: 0.5
+            }
+        );
+        assert_eq!(
+            limit(r#"{"maxAngle": 0.25, "type": "cone"}"#).unwrap(),
+            JointLimit::Cone { max_angle: 0.25 }
+        );
+        for (text, message) in [
+            (r#"{"type": "cone"}"#, "c[1].maxAngle: missing (required)"),
+            (
+                r#"{"type": "hinge", "min": 0, "max": 1}"#,
+                "c[1].axis: missing (required)",
+            ),
+            (
+                r#"{"type": "cone", "maxAngle": 1, "min": 0}"#,
+                "c[1].min: unknown field (expected one of type, maxAngle)",
+            ),
+            (
+                r#"{"type": 3}"#,
+                r#"c[1].type: expected one of "cone", "hinge", got 3"#,
+            ),
+            (r#"[]"#, "c[1]: expected an object, got an array"),
+        ] {
+            assert_eq!(limit(text).unwrap_err().to_string(), message, "{text}");
+        }
+    }
+
+    #[test]
+    fn members_are_selected_and_bounded() {
+        let text = r#"{"skip": [1, 2, 3, {"deep": [[[]]]}], "keep": [1, 2], "obj": {"a": 1}}"#;
+        let m = Json::parse_members(text, &["keep", "obj"], 2)
+            .unwrap()
+            .unwrap();
+        assert_eq!(m.len(), 2);
+        assert_eq!(m[0].0, "keep");
+        assert_eq!(m[1].1.get("a"), Some(&Json::Number(1.0)));
+        assert_eq!(
+            Json::parse_members(text, &["keep"], 1),
+            Err(JsonError::TooLong("keep".into()))
+        );
+        // Skipped members are checked all the same.
+        assert!(matches!(
+            Json::parse_members(r#"{"skip": [1,], "keep": 1}"#, &["keep"], 2),
+            Err(JsonError::Invalid(_))
+        ));
+        assert_eq!(Json::parse_members("[1]", &["keep"], 2), Ok(None));
+        assert_eq!(Json::parse_members("\"x\"", &["keep"], 2), Ok(None));
+        assert!(Json::parse_members("{} x", &["keep"], 2).is_err());
+    }
+
+    #[test]
+    fn long_values_are_described_by_kind() {
+        assert_eq!(Json::String("a".repeat(33)).describe(), "a string");
+        assert_eq!(Json::String("abc".into()).describe(), "\"abc\"");
+        assert_eq!(Json::Number(1e20).describe(), "a number");
+        assert_eq!(Json::Number(-7.0).describe(), "-7");
+        assert_eq!(Json::Bool(true).describe(), "true");
     }
 }

@@ -34,26 +34,176 @@
 
 use glam::{Quat, Vec3};
 
-use crate::align::{self, AlignmentReport};
-use crate::body::{ArmAnchor, BodyMapper};
+use crate::align::{self, AlignmentOptions, AlignmentReport};
+use crate::body::{ArmAnchor, BodyMapper, CalibrationOptions};
 use crate::bones::Finger;
 use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::contact::{
-    ContactReport, ContactSolver, HandPoints, SideTarget, Source, UserFace, UserFaces,
+    ContactOptions, ContactReport, ContactSolver, FaceAnchor, HandPoints, SideTarget, Source,
+    UserFace, UserFaces,
 };
-use crate::error::Result;
-use crate::filter::{Clock, OneEuroQuat, PointFilters, Presence};
-use crate::hand::{HandSolver, HandStatus, RetargetReport};
-use crate::ik::ArmSolverState;
+use crate::error::{Error, Result};
+use crate::filter::{Clock, DropoutOptions, FilterOptions, OneEuroQuat, PointFilters, Presence};
+use crate::hand::{HandSolver, HandStatus, HandStrategy, RetargetReport};
+use crate::ik::{ArmOptions, ArmSolver, ArmSolverState};
+use crate::json::{decode_enum, decode_struct, Decode, Json};
 use crate::mediapipe::{
     hand_landmark, pose_landmark, CameraMapping, FrameInput, PoseObservation, TrackerFace,
     HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS,
 };
-pub use crate::options::{HandednessPolicy, RigOptions};
 use crate::skeleton::{Skeleton, WorldPose};
 use crate::torso::{
     self, BodyJoint, TorsoPoints, TorsoSolver, TorsoSource, BODY_JOINT_COUNT, TORSO_BONES,
 };
+
+/// Options of a [`Rig`], set at construction (JS: the `options` argument of `new HandRig`).
+/// Every field has a documented default; JS names are the camelCase field names.
+///
+/// From JSON: [`RigOptions::from_json`] (an object of those names, each optional, nested
+/// groups as objects; unknown names are errors).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RigOptions {
+    /// The image given to MediaPipe was flipped horizontally (selfie view). Default `false`.
+    pub input_mirrored: bool,
+    /// The avatar mirrors the user, VTuber style: the user's right hand drives the avatar's
+    /// left. Default `false`.
+    pub mirror: bool,
+    /// How hands are solved. Default `"analytic"`.
+    pub hand_strategy: HandStrategy,
+    /// Fingertip alignment.
+    pub alignment: AlignmentOptions,
+    /// Which arm IK solver reaches the wrist target. Default `"twoBone"`.
+    pub arm_solver: ArmSolver,
+    /// Options every arm solver shares: the shoulder's help on far reaches, the forearm's
+    /// share of the hand's twist.
+    pub arm: ArmOptions,
+    /// Body-scale calibration from pose landmarks.
+    pub calibration: CalibrationOptions,
+    /// Hands whose handedness score is below this are ignored. Default `0.5`.
+    pub min_hand_score: f32,
+    /// What to do with a hand whose label contradicts the pose. Default `"reassign"`.
+    pub handedness: HandednessPolicy,
+    /// One Euro filtering of the landmarks.
+    pub filter: FilterOptions,
+    /// Holding and easing over tracking loss.
+    pub dropout: DropoutOptions,
+    /// Where the torso comes from: `"frame"` (default: the app's `frame.torso`, rest where
+    /// not given; not driven), `"pose"` (tracked from `body` joints or the pose; driven) or
+    /// `"off"` (the rest torso). See [`crate::torso`].
+    pub torso: TorsoSource,
+    /// Self-contact retargeting: face, hand-to-hand, body colliders.
+    pub contact: ContactOptions,
+}
+
+/// How a hand whose MediaPipe label contradicts the pose is treated (JS:
+/// `options.handedness`). A label contradicts the pose when the hand's wrist, in the image,
+/// is nearer the other side's pose wrist than half its distance to its own side's (both pose
+/// wrists visible; needs the hands' and the pose's image landmarks of the same image).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum HandednessPolicy {
+    /// `"reassign"`: the hand drives the side the pose says (read as that hand).
+    #[default]
+    Reassign,
+    /// `"drop"`: the hand is ignored this frame.
+    Drop,
+    /// `"trust"`: MediaPipe's label decides, as without pose.
+    Trust,
+}
+
+impl HandednessPolicy {
+    /// The JS value.
+    #[must_use]
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            HandednessPolicy::Reassign => "reassign",
+            HandednessPolicy::Drop => "drop",
+            HandednessPolicy::Trust => "trust",
+        }
+    }
+}
+
+impl Default for RigOptions {
+    fn default() -> Self {
+        RigOptions {
+            input_mirrored: false,
+            mirror: false,
+            hand_strategy: HandStrategy::default(),
+            alignment: AlignmentOptions::default(),
+            arm_solver: ArmSolver::default(),
+            arm: ArmOptions::default(),
+            calibration: CalibrationOptions::default(),
+            min_hand_score: 0.5,
+            handedness: HandednessPolicy::default(),
+            filter: FilterOptions::default(),
+            dropout: DropoutOptions::default(),
+            torso: TorsoSource::default(),
+            contact: ContactOptions::default(),
+        }
+    }
+}
+
+decode_enum!(HandednessPolicy {
+    "reassign" => Reassign,
+    "drop" => Drop,
+    "trust" => Trust,
+});
+
+decode_struct!(RigOptions {
+    "inputMirrored" => input_mirrored,
+    "mirror" => mirror,
+    "handStrategy" => hand_strategy,
+    "alignment" => alignment,
+    "armSolver" => arm_solver,
+    "arm" => arm,
+    "calibration" => calibration,
+    "minHandScore" => min_hand_score,
+    "handedness" => handedness,
+    "filter" => filter,
+    "dropout" => dropout,
+    "torso" => torso,
+    "contact" => contact,
+});
+
+impl RigOptions {
+    /// Reads options from JSON text: an object of the camelCase field names (JS:
+    /// `{ mirror: true, arm: { shoulderAngle: 0.3 } }`), each optional (missing ones keep
+    /// their defaults), enums as their JS strings, `null` for an unset optional number. The
+    /// ranges are checked later, by [`Rig::new`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming the field (`options.arm.shoulderAngle`): text that is
+    /// not JSON, a wrong type, an unknown name, an unknown enum value.
+    pub fn from_json(text: &str) -> Result<RigOptions> {
+        let json = Json::parse(text).map_err(|e| Error::invalid("options", e.to_string()))?;
+        RigOptions::decode(&json, "options")
+    }
+
+    /// The defaults with no filtering and no dropout easing: every frame is solved on its own,
+    /// exactly from its input (offline processing, evaluations, tests with exact answers).
+    #[must_use]
+    pub fn per_frame() -> Self {
+        RigOptions {
+            filter: FilterOptions {
+                enabled: false,
+                ..FilterOptions::default()
+            },
+            dropout: DropoutOptions {
+                enabled: false,
+                ..DropoutOptions::default()
+            },
+            ..RigOptions::default()
+        }
+    }
+
+    /// How MediaPipe input maps onto the avatar.
+    #[must_use]
+    pub fn camera(&self) -> CameraMapping {
+        CameraMapping {
+            input_mirrored: self.input_mirrored,
+            mirror: self.mirror,
+        }
+    }
+}
 
 /// A hand's label contradicts the pose when its wrist is nearer the other side's pose wrist
 /// than this fraction of its distance to its own side's (in the image).
@@ -256,9 +406,18 @@ impl Rig {
     /// # Errors
     /// Options out of range (field named in the message).
     pub fn new(skeleton: Skeleton, options: RigOptions) -> Result<Self> {
-        options.validate()?;
-        let mut hands = HandSolver::new(&skeleton, options.hand_strategy)?;
-        hands.set_retarget_options(options.retarget)?;
+        options.alignment.validate()?;
+        options.calibration.validate()?;
+        if !(0.0..=1.0).contains(&options.min_hand_score) {
+            return Err(crate::Error::invalid(
+                "options.minHandScore",
+                "must be a number in 0..1",
+            ));
+        }
+        options.filter.validate()?;
+        options.dropout.validate()?;
+        options.contact.validate()?;
+        let hands = HandSolver::new(&skeleton, options.hand_strategy)?;
         let contact = ContactSolver::new(&skeleton, &options.contact);
         let body = BodyMapper::new(&skeleton, &options.calibration);
         let arms = ArmSolverState::with_options(&skeleton, options.arm_solver, &options.arm)?;
@@ -1309,10 +1468,10 @@ fn validate_frame(frame: &FrameInput) -> Result<()> {
                 e,
             ));
         }
-        if !(0.0..=1.0).contains(&h.score) {
+        if !h.score.is_finite() {
             return Err(crate::Error::invalid(
                 format!("frame.hands[{i}].score"),
-                "must be a number in 0..1",
+                "must be a finite number",
             ));
         }
     }
@@ -1387,4 +1546,373 @@ fn validate_frame(frame: &FrameInput) -> Result<()> {
     }
     let _ = hand_landmark::WRIST;
     Ok(())
+}
+
+/// The type of one option, for building UIs and docs from [`option_descriptions`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum OptionKind {
+    /// `true` / `false`.
+    Boolean {
+        /// Default value.
+        default: bool,
+    },
+    /// One of a fixed set of strings.
+    Enum {
+        /// The accepted values.
+        values: Vec<&'static str>,
+        /// Default value.
+        default: &'static str,
+    },
+    /// A number in `min..=max`; `default` absent means "unset" (e.g. automatic calibration).
+    Number {
+        /// Smallest accepted value.
+        min: f32,
+        /// Largest accepted value.
+        max: f32,
+        /// Default value, if any.
+        default: Option<f32>,
+        /// Suggested UI step.
+        step: f32,
+        /// Only whole numbers are accepted.
+        integer: bool,
+    },
+    /// An object of named points, `{ name: [x, y, z] }` (meters), each optional; no default
+    /// (derived values apply where a point is not given).
+    Points {
+        /// The accepted names.
+        names: Vec<&'static str>,
+    },
+}
+
+/// One option of [`RigOptions`]: its JS path (dot-separated, e.g. `alignment.weight`), type,
+/// range, default and a one-line description.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OptionDescription {
+    /// Dot-separated JS path, e.g. `"alignment.finger"`.
+    pub path: &'static str,
+    /// Type, accepted values and default.
+    pub kind: OptionKind,
+    /// What it does.
+    pub description: &'static str,
+}
+
+/// Every option a [`Rig`] accepts, for UIs (the demo builds its control panel from this) and
+/// docs. Kept next to [`RigOptions`]; a test checks that each path and default round-trips.
+#[must_use]
+pub fn option_descriptions() -> Vec<OptionDescription> {
+    use OptionKind::*;
+    let d = RigOptions::default();
+    vec![
+        OptionDescription {
+            path: "inputMirrored",
+            kind: Boolean { default: d.input_mirrored },
+            description: "The image given to MediaPipe was flipped horizontally (selfie view).",
+        },
+        OptionDescription {
+            path: "mirror",
+            kind: Boolean { default: d.mirror },
+            description: "The avatar mirrors the user: the user's right hand drives the avatar's left.",
+        },
+        OptionDescription {
+            path: "handStrategy",
+            kind: Enum {
+                values: vec!["analytic", "retarget"],
+                default: "analytic",
+            },
+            description: "How hands are solved: analytic = palm frame + anatomically limited joint angles; retarget = the avatar's fingertips placed where the user's are (scaled to the avatar's hand), within the same limits.",
+        },
+        OptionDescription {
+            path: "armSolver",
+            kind: Enum {
+                values: ArmSolver::ALL.iter().map(|s| s.as_str()).collect(),
+                default: d.arm_solver.as_str(),
+            },
+            description: "Arm IK solver reaching the wrist target: twoBone = analytic two-bone IK with a pole; fabrik = FABRIK (seed 002); ccd = CCD with priority effectors (seed 004).",
+        },
+        OptionDescription {
+            path: "arm.shoulderAngle",
+            kind: Number {
+                min: 0.0,
+                max: core::f32::consts::FRAC_PI_2,
+                default: Some(d.arm.shoulder_angle),
+                step: 0.01,
+                integer: false,
+            },
+            description: "Largest angle (radians) the shoulder turns to help a far reach; 0 keeps shoulders at rest.",
+        },
+        OptionDescription {
+            path: "arm.shoulderReach",
+            kind: Number {
+                min: 0.5,
+                max: 1.0,
+                default: Some(d.arm.shoulder_reach),
+                step: 0.01,
+                integer: false,
+            },
+            description: "Fraction of the arm's length beyond which the shoulder starts to turn toward the target.",
+        },
+        OptionDescription {
+            path: "arm.forearmTwist",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.arm.forearm_twist),
+                step: 0.05,
+                integer: false,
+            },
+            description: "Share of the hand's twist about the forearm that the forearm takes (the rest stays at the wrist).",
+        },
+        OptionDescription {
+            path: "arm.wristLimits",
+            kind: Boolean {
+                default: d.arm.wrist_limits,
+            },
+            description: "Clamp wrist flexion (80°), extension (70°), radial (20°) and ulnar (40°) deviation against the forearm; the hand turns about the aligned fingertip, so alignment stays exact.",
+        },
+        OptionDescription {
+            path: "alignment.enabled",
+            kind: Boolean { default: d.alignment.enabled },
+            description: "Fingertip alignment: place the wrist so the avatar's finger lands where the user's is.",
+        },
+        OptionDescription {
+            path: "alignment.finger",
+            kind: Enum {
+                values: crate::bones::Finger::ALL.iter().map(|f| f.as_str()).collect(),
+                default: d.alignment.finger.as_str(),
+            },
+            description: "Which finger is aligned.",
+        },
+        OptionDescription {
+            path: "alignment.point",
+            kind: Enum {
+                values: vec!["dip", "tip"],
+                default: "dip",
+            },
+            description: "Aligned point: dip = the distal bone's joint (exact); tip = distal bone extended by anatomical ratio.",
+        },
+        OptionDescription {
+            path: "alignment.weight",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.alignment.weight),
+                step: 0.05,
+                integer: false,
+            },
+            description: "Blend between the plain pose wrist (0) and the fully aligned wrist (1).",
+        },
+        OptionDescription {
+            path: "calibration.bodyScale",
+            kind: Number {
+                min: 0.1,
+                max: 10.0,
+                default: d.calibration.body_scale,
+                step: 0.01,
+                integer: false,
+            },
+            description: "Preset body scale (avatar arm / user arm) for pose input; unset = calibrate automatically.",
+        },
+        OptionDescription {
+            path: "calibration.frames",
+            kind: Number {
+                min: 1.0,
+                max: crate::body::MAX_CALIBRATION_FRAMES as f32,
+                default: Some(d.calibration.frames as f32),
+                step: 1.0,
+                integer: true,
+            },
+            description: "Pose frames with a visible arm that automatic body-scale calibration averages (outliers beyond 20% of the median dropped).",
+        },
+        OptionDescription {
+            path: "calibration.minVisibility",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.calibration.min_visibility),
+                step: 0.05,
+                integer: false,
+            },
+            description: "Pose landmarks below this visibility are ignored (arm at rest without a visible wrist; default elbow pole without a visible elbow).",
+        },
+        OptionDescription {
+            path: "minHandScore",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.min_hand_score),
+                step: 0.05,
+                integer: false,
+            },
+            description: "Hands whose handedness score is below this are ignored.",
+        },
+        OptionDescription {
+            path: "handedness",
+            kind: Enum {
+                values: vec!["reassign", "drop", "trust"],
+                default: d.handedness.as_str(),
+            },
+            description: "A hand whose label contradicts the pose wrists (needs hand and pose image landmarks): reassign = drives the side the pose says; drop = ignored; trust = MediaPipe's label decides.",
+        },
+        OptionDescription {
+            path: "filter.enabled",
+            kind: Boolean { default: d.filter.enabled },
+            description: "One Euro filtering of the landmarks (hands, pose, tracker wrists) before solving; alignment and IK stay exact on the filtered data.",
+        },
+        OptionDescription {
+            path: "filter.minCutoff",
+            kind: Number {
+                min: 0.05,
+                max: 1000.0,
+                default: Some(d.filter.min_cutoff),
+                step: 0.05,
+                integer: false,
+            },
+            description: "One Euro cutoff at rest (Hz): lower is smoother, with more lag.",
+        },
+        OptionDescription {
+            path: "filter.beta",
+            kind: Number {
+                min: 0.0,
+                max: 10000.0,
+                default: Some(d.filter.beta),
+                step: 0.1,
+                integer: false,
+            },
+            description: "One Euro speed coefficient (Hz per m/s): higher follows fast motion with less lag.",
+        },
+        OptionDescription {
+            path: "filter.dCutoff",
+            kind: Number {
+                min: 0.05,
+                max: 1000.0,
+                default: Some(d.filter.d_cutoff),
+                step: 0.05,
+                integer: false,
+            },
+            description: "One Euro cutoff of the speed estimate (Hz).",
+        },
+        OptionDescription {
+            path: "torso",
+            kind: Enum {
+                values: TorsoSource::ALL.iter().map(|s| s.as_str()).collect(),
+                default: d.torso.as_str(),
+            },
+            description: "Where the torso comes from: frame = the app's frame.torso (rest where not given; handrig does not write the torso bones); pose = tracked from frame.body joints or the pose (handrig drives hips, spine, chest, upperChest, neck, head, shoulders); off = the rest torso.",
+        },
+        OptionDescription {
+            path: "dropout.enabled",
+            kind: Boolean { default: d.dropout.enabled },
+            description: "A lost hand or arm holds its pose, then eases to rest; a returning one blends in (otherwise both snap).",
+        },
+        OptionDescription {
+            path: "dropout.holdMs",
+            kind: Number {
+                min: 0.0,
+                max: 10000.0,
+                default: Some(d.dropout.hold_ms),
+                step: 10.0,
+                integer: false,
+            },
+            description: "How long a lost hand or arm keeps its last pose (ms).",
+        },
+        OptionDescription {
+            path: "dropout.fadeOutMs",
+            kind: Number {
+                min: 0.0,
+                max: 10000.0,
+                default: Some(d.dropout.fade_out_ms),
+                step: 10.0,
+                integer: false,
+            },
+            description: "How long it then takes to ease to rest (ms).",
+        },
+        OptionDescription {
+            path: "dropout.fadeInMs",
+            kind: Number {
+                min: 0.0,
+                max: 10000.0,
+                default: Some(d.dropout.fade_in_ms),
+                step: 10.0,
+                integer: false,
+            },
+            description: "How long a returning hand or arm blends from the shown pose to the solved one (ms).",
+        },
+        OptionDescription {
+            path: "contact.enabled",
+            kind: Boolean { default: d.contact.enabled },
+            description: "Self-contact retargeting: a finger on the user's face lands on the avatar's face, touching hands stay touching, hands stay out of the avatar's body.",
+        },
+        OptionDescription {
+            path: "contact.radius",
+            kind: Number {
+                min: crate::contact::RADIUS_RANGE.0,
+                max: crate::contact::RADIUS_RANGE.1,
+                default: Some(d.contact.radius),
+                step: 0.05,
+                integer: false,
+            },
+            description: "Contact blend radius in head breadths (the user's ear-to-ear distance, about 0.145 m): full contact mapping within half of it, plain alignment beyond it.",
+        },
+        OptionDescription {
+            path: "contact.weight",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.contact.weight),
+                step: 0.05,
+                integer: false,
+            },
+            description: "Scale of the contact blend: 0 = plain alignment, 1 = full contact mapping near the face or the other hand.",
+        },
+        OptionDescription {
+            path: "contact.hands",
+            kind: Boolean { default: d.contact.hands },
+            description: "Hand-to-hand contact: when the user's hands touch, both avatar targets are solved together so its hands touch too.",
+        },
+        OptionDescription {
+            path: "contact.faceAnchors",
+            kind: Points {
+                names: FaceAnchor::ALL.iter().map(|a| a.as_str()).collect(),
+            },
+            description: "The avatar's face points, each [x, y, z] meters from the head bone at rest in the model's axes (e.g. raycast on its mesh); missing ones are derived from the rig (eye bones, look-at offset, an average face).",
+        },
+        OptionDescription {
+            path: "contact.colliders",
+            kind: Boolean { default: d.contact.colliders },
+            description: "Body colliders (torso and neck capsules, head sphere, derived from the rig) push hand targets out of the avatar's body.",
+        },
+        OptionDescription {
+            path: "contact.torsoRadius",
+            kind: Number {
+                min: 0.0,
+                max: crate::contact::MAX_COLLIDER_RADIUS,
+                default: d.contact.torso_radius,
+                step: 0.005,
+                integer: false,
+            },
+            description: "Torso capsule radius (m, hips to chest); unset = 0.6 x the shoulder half-width; 0 = no torso collider.",
+        },
+        OptionDescription {
+            path: "contact.headRadius",
+            kind: Number {
+                min: 0.0,
+                max: crate::contact::MAX_COLLIDER_RADIUS,
+                default: d.contact.head_radius,
+                step: 0.005,
+                integer: false,
+            },
+            description: "Head sphere radius (m); unset = half the head breadth; 0 = no head collider (never covers a face anchor).",
+        },
+        OptionDescription {
+            path: "contact.depthTrust",
+            kind: Number {
+                min: 0.0,
+                max: 1.0,
+                default: Some(d.contact.depth_trust),
+                step: 0.05,
+                integer: false,
+            },
+            description: "MediaPipe pose input: how much the tracked depth between fingertip and face counts (monocular hand depth at the face is off by 15-35 cm); where on the face comes from the image. 1 = as tracked; tracker input always uses its depth.",
+        },
+    ]
 }

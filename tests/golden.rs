@@ -13,8 +13,7 @@
 //!
 //! and says so in its commit. Files: `tests/golden/<avatar>.<options>.bin.gz`, gzipped
 //! little-endian `f32`, per recording a `u32` frame count then `frames * flat::output::LEN`
-//! values (a frame whose solve failed is all NaN). Native only (the files are read from disk).
-#![cfg(not(target_arch = "wasm32"))]
+//! values (a frame whose solve failed is all NaN).
 #[path = "support/kinect_wrists.rs"]
 mod kinect_wrists;
 #[path = "support/recordings.rs"]
@@ -88,7 +87,7 @@ fn outputs(avatar: &str, options: &str) -> Vec<(String, Vec<f32>)> {
     let options = RigOptions::from_json(options).expect("options");
     let mut result = Vec::new();
     for (name, frames) in recordings_for(&skeleton) {
-        let mut rig = Rig::new(skeleton.clone(), options).expect("rig");
+        let mut rig = Rig::new(skeleton.clone(), options.clone()).expect("rig");
         let mut out = SolveOutput::default();
         let mut values = vec![0.0f32; frames.len() * flat::output::LEN];
         for (frame, buf) in frames.iter().zip(values.chunks_mut(flat::output::LEN)) {
