@@ -33,7 +33,7 @@ const state = () =>
 const rects = () => page.evaluate(() => window.__handrigDemo.viewRects());
 
 /**
- * A shared ASL clip up to its touch frame: the frame (with a hand) where MediaPipe Pose's
+ * A shared ASL clip up to its touch frame: the frame (with the right hand tracked) where MediaPipe Pose's
  * right index landmark (20, the signer's right hand) comes closest, in the image, to `target`
  * (the mouth, or a chest point 30% of the way from the shoulders' to the hips' midpoint), in
  * shoulder widths. Frames as `rig.solve` takes them.
@@ -45,7 +45,8 @@ function touchClip(name, target) {
   const mid = (a, b, t = 0.5) => [a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t];
   let best = { i: -1, d: Infinity };
   rec.frames.forEach((f, i) => {
-    if (!f.pose || !f.hands?.length) return;
+    // The signer's right hand tracked too (labelled "Left": the videos are not mirrored).
+    if (!f.pose || !f.hands?.some((h) => h.handedness === "Left")) return;
     const p = f.pose.landmarks;
     const at = target === "mouth" ? mid(p[9], p[10]) : mid(mid(p[11], p[12]), mid(p[23], p[24]), 0.3);
     const x = d(p[20], at) / d(p[11], p[12]);
