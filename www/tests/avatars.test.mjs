@@ -24,6 +24,8 @@ after(async () => {
 });
 
 const GENERATED = ["woman", "man", "child", "woman-vrm0", "man-vrm0", "child-vrm0"];
+/** Right index distal per VRM 1.0 body and clip, to compare with its VRM 0.x variant. */
+const tips = new Map();
 
 const state = () =>
   page.evaluate(() => {
@@ -109,7 +111,18 @@ for (const id of GENERATED) {
       const tip = res.worldPositions.rightIndexDistal;
       const at = clip.name === "eat" ? s.contactModel.anchors.mouth : res.worldPositions.upperChest;
       const dist = Math.hypot(tip[0] - at[0], tip[1] - at[1], tip[2] - at[2]);
-      t.diagnostic(`${clip.name} (frame ${clip.touch}): right index distal ${(dist * 100).toFixed(1)} cm from the ${clip.name === "eat" ? "mouth anchor" : "upper chest joint"}`);
+      // Model frame: VRM 1.0 faces +Z, VRM 0.x -Z.
+      const ahead = (id.endsWith("vrm0") ? -1 : 1) * (tip[2] - at[2]);
+      // The VRM 0.x variant is the 1.0 avatar turned a half turn: the same motion, x and z negated.
+      if (id.endsWith("-vrm0")) {
+        const one = tips.get(`${id.replace("-vrm0", "")}/${clip.name}`);
+        const d = Math.hypot(tip[0] + one[0], tip[1] - one[1], tip[2] + one[2]);
+        assert.ok(d < 1e-3, `${clip.name}: the VRM 0.x fingertip is ${d} m from the turned VRM 1.0 one`);
+      } else tips.set(`${id}/${clip.name}`, tip);
+      t.diagnostic(
+        `${clip.name} (frame ${clip.touch}): right index distal ${(dist * 100).toFixed(1)} cm from the ` +
+          `${clip.name === "eat" ? "mouth anchor" : "upper chest joint"}, ${(ahead * 100).toFixed(1)} cm in front of it`,
+      );
       for (const view of ["front", "side"]) {
         await page.evaluate((v) => window.__handrigDemo.setBodyView(v), view);
         shots[`${clip.name}-${view}`] = await page.screenshot({ path: shot(`avatar-${id}-${clip.name}-${view}.png`) });
