@@ -24,7 +24,7 @@ NODE_DIRS := pkg-config tests/node $(if $(wildcard www/package-lock.json),www)
 NODE_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NODE_DIRS))
 
 .PHONY: help setup setup-system setup-rust setup-node pkg pkg-dev \
-        test test-rust test-wasm test-node test-www demo eval bench record-check clean
+        test test-rust test-wasm test-node test-www demo eval bench record-check avatars clean
 
 help:
 	@echo "make demo       build the package (pkg/) and serve the demo on 127.0.0.1"
@@ -37,6 +37,7 @@ help:
 	@echo "make test-www   the demo's browser tests (Playwright + Debian chromium), when www/ has them"
 	@echo "make eval       every evaluation, then one table of all methods (eval/table.mjs)"
 	@echo "make bench      criterion benchmarks: Rig::solve, chain IK, retargeting (native)"
+	@echo "make avatars    regenerate the human avatars in tests/fixtures/avatars/ from ../shared/data/makehuman (tools/avatars/)"
 	@echo "make record-check  record the shared videos with tools/record-video.mjs and compare with the shared recordings"
 	@echo "make clean      remove pkg/ and the package build's scratch files (not target/)"
 
@@ -131,6 +132,12 @@ record-check: setup
 demo: pkg
 	@[ -f www/serve.mjs ] || { echo "demo: www/serve.mjs not found" >&2; exit 1; }
 	node www/serve.mjs
+
+# The human avatars (VRM 1.0, VRM 0.x, Mixamo- and Unreal-named glTF) from MakeHuman's CC0 body:
+# plain Node, no dependencies; tests/node/consumer/avatars.test.mjs checks that the committed
+# files equal a fresh generation.
+avatars:
+	node tools/avatars/generate.mjs
 
 clean:
 	rm -rf pkg target/handrig-pkg

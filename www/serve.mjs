@@ -5,7 +5,8 @@
 //   PORT=9000 node www/serve.mjs  -> that port (falls back to a free one if taken)
 //   PORT=0 node www/serve.mjs     -> a free port
 //
-// Serves www/ at / (the page, its assets and www/node_modules for the import map) and the
+// Serves www/ at / (the page, its assets and www/node_modules for the import map), the
+// generated human avatars (tests/fixtures/avatars) at /avatars/, and the
 // built handrig package at /handrig/: $HANDRIG_PKG if set (e.g. `node pkg-config/build.mjs
 // --out-dir DIR`), else the repository's pkg/ (what `make demo` builds). Only 127.0.0.1 is
 // bound: this is a development server, not something to expose.
@@ -22,6 +23,8 @@ import { fileURLToPath } from "node:url";
 
 const WWW = dirname(fileURLToPath(import.meta.url));
 const REPO = resolve(WWW, "..");
+/** tests/fixtures/avatars (tools/avatars/generate.mjs), served at /avatars/. */
+const AVATARS = join(REPO, "tests", "fixtures", "avatars");
 
 const TYPES = {
   ".html": "text/html; charset=utf-8",
@@ -87,6 +90,10 @@ export function startServer({ port = 8080, host = "127.0.0.1", packageDir } = {}
           return send(res, 404, "handrig package not built: run `make demo` (or see www/README.md)");
         }
         file = inside(pkgDir, path.slice("/handrig".length));
+      } else if (path.startsWith("/avatars/")) {
+        // The generated human avatars, served from where they are committed (no copy in www/).
+        file = inside(AVATARS, path.slice("/avatars".length));
+        if (file === AVATARS) return send(res, 404, "not found");
       } else {
         if (path.endsWith("/")) path += "index.html";
         file = inside(WWW, path);

@@ -1,6 +1,7 @@
 // A VRM avatar for one view: loading with three-vrm, the rest pose handrig needs, applying
-// handrig results to the normalized bones, and drawing the skeleton (the bundled robot has no
-// body mesh, and a drawn skeleton shows fingers clearly on any avatar).
+// handrig results to the normalized bones, and drawing the skeleton (the robot has no body
+// mesh, and a drawn skeleton shows fingers clearly on any avatar). Avatars with a skinned body
+// (the generated humans) show it, lit, and hide the drawn skeleton by default.
 //
 // Frames: handrig's inputs and outputs are in the model's own frame (VRM 0.x models face -Z,
 // 1.0 models face +Z) and apply directly to three-vrm's normalized bones. Everything here that
@@ -107,6 +108,11 @@ export class Avatar {
       if (node) this.nodes.set(name, node);
     }
     this.boneCount = this.nodes.size;
+    // A skinned body mesh (the generated humans): shown by default instead of the drawing.
+    this.hasBody = false;
+    vrm.scene.traverse((o) => {
+      if (o.isSkinnedMesh) this.hasBody = true;
+    });
     this.armLength = this.#armLength();
     this.#buildSkeleton();
     this.#buildMarkers();
@@ -265,6 +271,11 @@ export class Avatar {
     this.vrm.scene.traverse((o) => {
       if (o.isMesh && !this.markers.children.includes(o) && o.parent !== this.contactMarks) o.visible = visible;
     });
+  }
+
+  /** Shows or hides the drawn skeleton (capsules and joints). */
+  setSkeletonVisible(visible) {
+    this.skeleton.visible = visible;
   }
 
   /**

@@ -16,6 +16,22 @@ import { RecordingBuilder } from "./recording-format.js";
 
 const $ = (id) => document.getElementById(id);
 const VIEW_KEYS = ["without", "with"];
+
+/**
+ * The avatars of the menu: the human bodies generated from MakeHuman's CC0 mesh
+ * (tests/fixtures/avatars, made by tools/avatars/generate.mjs; serve.mjs serves them at
+ * /avatars/) and the bones-only robot. `?avatar=<id>` picks the first one.
+ */
+export const AVATARS = [
+  { id: "woman", url: "./avatars/woman-vrm1.vrm", label: "adult woman (VRM 1.0)" },
+  { id: "man", url: "./avatars/man-vrm1.vrm", label: "adult man (VRM 1.0)" },
+  { id: "child", url: "./avatars/child-vrm1.vrm", label: "child (VRM 1.0)" },
+  { id: "woman-vrm0", url: "./avatars/woman-vrm0.vrm", label: "adult woman (VRM 0.x)" },
+  { id: "man-vrm0", url: "./avatars/man-vrm0.vrm", label: "adult man (VRM 0.x)" },
+  { id: "child-vrm0", url: "./avatars/child-vrm0.vrm", label: "child (VRM 0.x)" },
+  { id: "robot", url: "./assets/debug-robot.vrm", label: "debug robot (VRM 1.0, bones only)" },
+];
+const DEFAULT_AVATAR = "woman";
 const SOLVE_WINDOW = 60;
 
 const demo = {
@@ -145,6 +161,9 @@ function resize() {
 }
 new ResizeObserver(resize).observe(canvas);
 
+/** "front" or "side": where the body camera looks from (the close-ups follow the hand). */
+let bodyView = "front";
+
 function frameCamera(avatar) {
   const b = avatar.rest.bones;
   const L = avatar.armLength;
@@ -174,6 +193,19 @@ function frameCamera(avatar) {
     cy = c.y;
     halfW = size.x / 2 + 0.5 * L;
     halfH = size.y / 2 + 0.5 * L;
+  }
+  if (bodyView === "side") {
+    // From the avatar's right (-X; every avatar faces +Z here): the signing hand's side. Wide
+    // enough for a hand reaching forward; far enough that the arm pointing at the camera in
+    // the T-pose stays in front of the near plane.
+    const c = box.getCenter(new THREE.Vector3());
+    const depthHalf = box.getSize(new THREE.Vector3()).z / 2 + 0.9 * L;
+    const reach = upright ? cx - ru.x + 1.3 * L : box.getSize(new THREE.Vector3()).x / 2;
+    const dist = Math.max(halfH / t, depthHalf / (t * aspect)) + reach;
+    bodyCamera.position.set(cx - dist, cy + 0.15 * L, c.z);
+    controls.target.set(cx, cy, c.z);
+    controls.update();
+    return;
   }
   const dist = Math.max(halfH / t, halfW / (t * aspect));
   bodyCamera.position.set(cx, cy + 0.15 * L, dist);
@@ -454,9 +486,16 @@ async function loadAvatar(bytes, name) {
   avatarBytes = bytes;
   avatarName = name;
   const a = views.with.avatar;
-  for (const k of VIEW_KEYS) views[k].avatar.setMeshesVisible($("show-meshes").checked);
+  // A skinned body (the generated humans) is shown lit instead of the drawn skeleton; the
+  // robot and skeleton-only files keep the drawing. Both can be switched in the panel.
+  $("show-meshes").checked = a.hasBody;
+  $("show-skeleton").checked = !a.hasBody;
+  for (const k of VIEW_KEYS) {
+    views[k].avatar.setMeshesVisible(a.hasBody);
+    views[k].avatar.setSkeletonVisible(!a.hasBody);
+  }
   const parser = compareWithParser(bytes, a.rest);
-  demo.avatar = { name, vrmVersion: a.version, boneCount: a.boneCount, armLength: a.armLength, parser };
+  demo.avatar = { name, vrmVersion: a.version, boneCount: a.boneCount, armLength: a.armLength, hasBody: a.hasBody, parser };
   demo.avatarLoads++;
   $("avatar-info").textContent =
     `${name}: VRM ${a.version === "0" ? "0.x" : "1.0"}, ${a.boneCount} humanoid bones, arm ${(a.armLength * 100).toFixed(1)} cm ` +
@@ -498,10 +537,22 @@ function compareWithParser(bytes, rest) {
   }
 }
 
+/** Loads an avatar of the menu (AVATARS) by id. */
+async function selectAvatar(id) {
+  const entry = AVATARS.find((a) => a.id === id);
+  if (!entry) throw new Error(`no avatar "${id}" (the menu has ${AVATARS.map((a) => a.id).join(", ")})`);
+  const r = await fetch(entry.url);
+  if (!r.ok) throw new Error(`cannot load ${entry.url}: HTTP ${r.status}${entry.url.includes("/avatars/") ? " (make avatars writes tests/fixtures/avatars)" : ""}`);
+  await loadAvatar(new Uint8Array(await r.arrayBuffer()), entry.url.split("/").pop());
+  demo.avatar.id = id;
+  $("avatar-select").value = id;
+}
+
 async function loadAvatarFile(file) {
   try {
     const bytes = new Uint8Array(await file.arrayBuffer());
     await loadAvatar(bytes, file.name);
+    $("avatar-select").value = "";
   } catch (e) {
     status(`could not load ${file.name}: ${e.message}`, true);
     console.warn("avatar load failed:", e);
@@ -566,6 +617,25 @@ function wireUi() {
     for (const k of VIEW_KEYS) views[k].avatar?.setMeshesVisible(e.target.checked);
     dirty = true;
   });
+  $("show-skeleton").addEventListener("change", (e) => {
+    for (const k of VIEW_KEYS) views[k].avatar?.setSkeletonVisible(e.target.checked);
+    dirty = true;
+  });
+  const select = $("avatar-select");
+  for (const a of AVATARS) select.add(new Option(a.label, a.id));
+  select.add(new Option("(a dropped or picked file)", ""));
+  select.options[select.options.length - 1].disabled = true;
+  select.addEventListener("change", async () => {
+    if (!select.value) return;
+    try {
+      await selectAvatar(select.value);
+    } catch (e) {
+      status(e.message, true);
+    }
+  });
+  for (const r of document.querySelectorAll('input[name="body-view"]')) {
+    r.addEventListener("change", () => setBodyView(r.value));
+  }
 
   $("wasm-base").value = LOCAL_WASM_BASE;
   $("webcam-mode").addEventListener("change", showWebcamMode);
@@ -574,6 +644,13 @@ function wireUi() {
   $("webcam-stop").addEventListener("click", stopWebcam);
   $("record").addEventListener("click", toggleRecording);
   $("download-recording").addEventListener("click", downloadRecording);
+}
+
+function setBodyView(v) {
+  bodyView = v === "side" ? "side" : "front";
+  for (const r of document.querySelectorAll('input[name="body-view"]')) r.checked = r.value === bodyView;
+  if (views.with.avatar) frameCamera(views.with.avatar);
+  dirty = true;
 }
 
 function showWebcamMode() {
@@ -827,9 +904,10 @@ async function main() {
   demo.frameCount = recording.length;
   $("scrub").max = String(recording.length - 1);
 
-  const r = await fetch("./assets/debug-robot.vrm");
-  if (!r.ok) throw new Error(`cannot load the bundled avatar: HTTP ${r.status}`);
-  await loadAvatar(new Uint8Array(await r.arrayBuffer()), "debug-robot.vrm");
+  const params = new URLSearchParams(location.search);
+  const wanted = params.get("avatar") ?? DEFAULT_AVATAR;
+  await selectAvatar(AVATARS.some((a) => a.id === wanted) ? wanted : DEFAULT_AVATAR);
+  if (params.get("view") === "side") setBodyView("side");
 
   resize();
   demo.state = "ready";
@@ -841,8 +919,29 @@ async function main() {
 Object.assign(demo, {
   ready: null,
   setFrame: (i) => {
+    if (demo.source === "frames") setSource("recording");
     setPlaying(false);
     setFrame(i);
+    return nextRender();
+  },
+  /** Loads an avatar of the menu by id (AVATARS: "woman", "man-vrm0", "robot", ...). */
+  selectAvatar: (id) => selectAvatar(id).then(nextRender),
+  /** The body camera: "front" or "side". */
+  setBodyView: (v) => {
+    setBodyView(v);
+    return nextRender();
+  },
+  /**
+   * Solves `frames` (rig.solve inputs, e.g. a shared ASL recording's frames with its
+   * imageAspect) in order on fresh rigs, as a session would, and shows the last one; the
+   * recording stays off until setFrame. For screenshots of chosen moments.
+   */
+  showFrames: (frames) => {
+    if (demo.source === "webcam") stopWebcam();
+    setPlaying(false);
+    demo.source = "frames";
+    createRigs();
+    for (const f of frames) solveAndShow(f);
     return nextRender();
   },
   play: () => setPlaying(true),

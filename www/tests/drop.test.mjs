@@ -161,6 +161,24 @@ test("dropping a VRM 1.0 file with human proportions (tests/fixtures/human-propo
   assert.deepEqual(errors, []);
 });
 
+test("dropping a generated human (tests/fixtures/avatars/child-vrm0.vrm): its body is shown, lit, facing the viewer", async (t) => {
+  const bytes = readFileSync(join(REPO, "tests", "fixtures", "avatars", "child-vrm0.vrm"));
+  const s = await drop(bytes, "child-vrm0.vrm");
+  assert.equal(s.avatar?.name, "child-vrm0.vrm", s.status);
+  assert.equal(s.avatar.vrmVersion, "0");
+  assert.equal(s.avatar.boneCount, 54);
+  assert.equal(s.avatar.hasBody, true);
+  assertParserAgrees(s.avatar);
+  assertFiniteResult(s.results.with, "with");
+  assert.equal(await page.isChecked("#show-meshes"), true);
+  const png = await page.screenshot({ path: shot("drop-vrm0-child.png") });
+  const stats = await pixelStats(page, png, s.rects.with.body);
+  assert.ok(stats.nonBg > 0.03 * stats.pixels, `the body is drawn (${stats.nonBg} of ${stats.pixels} pixels)`);
+  assert.ok(s.left.x > s.right.x, `faces the viewer (left hand at x=${s.left.x}, right at x=${s.right.x})`);
+  t.diagnostic(`right error with alignment ${s.errorMm.with.right?.toFixed(2)} mm`);
+  assert.deepEqual(errors, []);
+});
+
 test("a broken file is reported on the page and the current avatar keeps working", async () => {
   const good = readFileSync(join(SHARED, "avatars", "debug-robot.vrm"));
   const current = await page.evaluate(() => window.__handrigDemo.avatar.name);

@@ -25,6 +25,16 @@ test("serves the page, assets, node_modules and the package; refuses escapes", a
     assert.equal(vrm.status, 200);
     assert.deepEqual(Buffer.from(await vrm.arrayBuffer()), readFileSync(join(WWW, "assets", "debug-robot.vrm")));
 
+    // The generated human avatars, from tests/fixtures/avatars (not copied into www/).
+    const woman = await fetch(url + "avatars/woman-vrm1.vrm");
+    assert.equal(woman.status, 200);
+    assert.equal(woman.headers.get("content-type"), "model/gltf-binary");
+    assert.deepEqual(Buffer.from(await woman.arrayBuffer()), readFileSync(join(WWW, "..", "tests", "fixtures", "avatars", "woman-vrm1.vrm")));
+    for (const evil of ["avatars/..%2f..%2fvrm.rs", "avatars/%2e%2e/%2e%2e/%2e%2e/Cargo.toml"]) {
+      const r = await fetch(url + evil);
+      assert.ok(r.status === 403 || r.status === 404, `${evil} -> ${r.status}`);
+    }
+
     const three = await fetch(url + "node_modules/three/build/three.module.js");
     assert.equal(three.status, 200);
     assert.match(three.headers.get("content-type"), /javascript/);

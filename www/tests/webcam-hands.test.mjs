@@ -40,7 +40,8 @@ before(async () => {
     fps: 15,
   });
   env = await launch({ fakeCamera: camera });
-  ({ page, errors } = await openDemo(env));
+  // On the robot: the page's results are compared with a Node rig on debug-robot.vrm.
+  ({ page, errors } = await openDemo(env, "?paused&avatar=robot"));
   await installWebcamLog(page, { width: WIDTH });
   startMs = await startWebcam(page, "hands");
 });

@@ -51,7 +51,8 @@ before(async () => {
     fps: 15,
   });
   env = await launch({ fakeCamera: camera });
-  ({ page, errors } = await openDemo(env));
+  // On the robot: the page's results are compared with a Node rig on debug-robot.vrm.
+  ({ page, errors } = await openDemo(env, "?paused&avatar=robot"));
   armLength = await page.evaluate(() => window.__handrigDemo.avatar.armLength);
   // One Euro filtering off: at the few frames a second MediaPipe delivers here, the filter
   // smooths each step by a third or more, so the avatar would lag the frame it is checked on.

@@ -8,7 +8,7 @@ import { describe, it } from "node:test";
 
 import { HandRig } from "handrig";
 import { restPoseFromVRM } from "handrig/three-vrm";
-import { avatars, fixtureVrms, loadVRM, readBytes, threeNormalizedWorldPositions } from "./support.mjs";
+import { avatarFiles, avatars, fixtureVrms, loadVRM, readBytes, threeNormalizedWorldPositions } from "./support.mjs";
 
 const TOLERANCE_M = 1e-5;
 
@@ -65,6 +65,18 @@ describe("rest world positions: HandRig.fromVrm vs three-vrm's normalized humano
   for (const file of fixtures) {
     it(`tests/fixtures/${path.basename(file)}`, async (t) => {
       await compare(file, t);
+    });
+  }
+
+  // The human avatars of tools/avatars (issue 25): skinned MakeHuman bodies, 54 bones each.
+  const humans = avatarFiles(".vrm");
+  it("tests/fixtures/avatars holds the human avatars (woman, man, child; VRM 1.0 and 0.x)", () => {
+    assert.equal(humans.length, 6, `found ${humans.map((f) => path.basename(f))}`);
+  });
+  for (const file of humans) {
+    it(`tests/fixtures/avatars/${path.basename(file)}`, async (t) => {
+      const r = await compare(file, t);
+      assert.equal(r.bones, 54);
     });
   }
 });

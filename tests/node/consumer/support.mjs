@@ -26,6 +26,20 @@ export function fixtureVrms() {
     .map((f) => path.join(dir, f));
 }
 
+/**
+ * The generated human avatars (tests/fixtures/avatars: `*.vrm` and `*.glb` made by
+ * tools/avatars/generate.mjs from MakeHuman's CC0 body), sorted; `ext` filters by extension.
+ */
+export function avatarFiles(ext) {
+  const dir = path.join(repo, "tests", "fixtures", "avatars");
+  if (!fs.existsSync(dir)) return [];
+  return fs
+    .readdirSync(dir)
+    .filter((f) => (ext ? f.endsWith(ext) : /\.(vrm|glb)$/.test(f)))
+    .sort()
+    .map((f) => path.join(dir, f));
+}
+
 export function readBytes(file) {
   return new Uint8Array(fs.readFileSync(file));
 }
@@ -55,6 +69,13 @@ export async function loadVRM(file) {
   const vrm = gltf.userData.vrm;
   assert.ok(vrm, `${path.basename(file)}: VRMLoaderPlugin found no VRM`);
   return vrm;
+}
+
+/** A plain glTF binary through three's GLTFLoader in Node (no VRM plugin). */
+export async function loadGltf(file) {
+  const { GLTFLoader } = await import("three/examples/jsm/loaders/GLTFLoader.js");
+  const buf = fs.readFileSync(file);
+  return new GLTFLoader().parseAsync(buf.buffer.slice(buf.byteOffset, buf.byteOffset + buf.byteLength), "");
 }
 
 /** World positions of three-vrm's normalized bones from three's own matrices (rest pose). */
