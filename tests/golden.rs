@@ -65,7 +65,7 @@ fn recordings_for(skeleton: &handrig::Skeleton) -> Vec<(String, Vec<FrameInput>)
         .enumerate()
         .map(|(i, hands)| {
             let mut f =
-                recordings::frame_of(&hands[..hands.len().min(handrig::input::MAX_HANDS)]);
+                recordings::frame_of(&hands[..hands.len().min(handrig::mediapipe::MAX_HANDS)]);
             f.time_ms = i as f64 * 1000.0 / 30.0;
             f
         })
