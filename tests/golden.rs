@@ -47,11 +47,8 @@ const OPTION_SETS: [(&str, &str); 3] = [
     ),
 ];
 
-const CLIPS: [&str; 6] = [
-    "../shared/data/asl/eat.json",
-    "../shared/data/asl/thanks.json",
-    "../shared/data/asl/brother.json",
-    "../shared/data/asl/sister.json",
+/// The clips shared after [`recordings::ASL`]: a hand on the chest, a hand into the other palm.
+const MORE_CLIPS: [&str; 2] = [
     "../shared/data/asl/please.json",
     "../shared/data/asl/again.json",
 ];
@@ -75,7 +72,7 @@ fn recordings_for(skeleton: &handrig::Skeleton) -> Vec<(String, Vec<FrameInput>)
         "hand-video+kinect".to_string(),
         kinect_wrists::paired_frames(skeleton, Side::Right),
     ));
-    for clip in CLIPS {
+    for clip in recordings::ASL.iter().chain(&MORE_CLIPS) {
         out.push((clip.to_string(), recordings::asl(clip)));
     }
     out
