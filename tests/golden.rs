@@ -13,7 +13,8 @@
 //!
 //! and says so in its commit. Files: `tests/golden/<avatar>.<options>.bin.gz`, gzipped
 //! little-endian `f32`, per recording a `u32` frame count then `frames * flat::output::LEN`
-//! values (a frame whose solve failed is all NaN).
+//! values (a frame whose solve failed is all NaN). Native only (the files are read from disk).
+#![cfg(not(target_arch = "wasm32"))]
 #[path = "support/kinect_wrists.rs"]
 mod kinect_wrists;
 #[path = "support/recordings.rs"]
