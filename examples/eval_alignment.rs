@@ -532,7 +532,7 @@ fn asl_frames(
     let mut options = options;
     options.contact.enabled = false;
     for (c, clip) in clips.iter().enumerate() {
-        let mut rig = Rig::new(skel.clone(), options.clone()).expect("rig");
+        let mut rig = Rig::new(skel.clone(), options).expect("rig");
         let mut out = SolveOutput::default();
         for (i, f) in clip.iter().enumerate() {
             rig.solve(f, &mut out).expect("solve");

@@ -152,7 +152,7 @@ fn rigs(skel: &Skeleton, mirror: bool, depth_trust: f32) -> [Rig; 2] {
         ..RigOptions::per_frame()
     };
     on.contact.depth_trust = depth_trust;
-    let mut off = on.clone();
+    let mut off = on;
     off.contact.enabled = false;
     [on, off].map(|o| Rig::new(skel.clone(), o).expect("rig"))
 }

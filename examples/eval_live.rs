@@ -107,9 +107,7 @@ fn main() {
     let all: Vec<FrameInput> = asl.iter().flatten().copied().collect();
     // The ASL clips are filmed separately: solve each clip on its own rig, then concatenate.
     let per_clip = |options: RigOptions, bones: &[HumanBone]| -> Vec<Vec<Quat>> {
-        asl.iter()
-            .flat_map(|c| run(c, options.clone(), bones))
-            .collect()
+        asl.iter().flat_map(|c| run(c, options, bones)).collect()
     };
     for (bones_name, bones) in [("upper and lower arms", &arms), ("right fingers", &fingers)] {
         let raw = per_clip(RigOptions::per_frame(), bones);
@@ -164,7 +162,7 @@ fn main() {
          (dropout off), {:.1} deg easing (hold {} ms, out {} ms, in {} ms); {:.1} deg on the same \
          frames without the dropout",
         largest(&run(&dropped, RigOptions::per_frame(), &bones)),
-        largest(&run(&dropped, easing.clone(), &bones)),
+        largest(&run(&dropped, easing, &bones)),
         easing.dropout.hold_ms,
         easing.dropout.fade_out_ms,
         easing.dropout.fade_in_ms,

@@ -584,7 +584,7 @@ fn kinect_run(skel: &Skeleton, print_frames: bool) -> (Vec<TorsoRow>, Vec<f32>, 
         };
         // A second rig with the same options and body input gives the torso alone: where the
         // avatar's shoulders are this frame (what an app with its own FK reads from the model).
-        let mut torso_rig = Rig::new(skel.clone(), options.clone()).expect("rig");
+        let mut torso_rig = Rig::new(skel.clone(), options).expect("rig");
         let mut rig = Rig::new(skel.clone(), options).expect("rig");
         let (mut t_out, mut out) = (SolveOutput::default(), SolveOutput::default());
         let (sh, wr) = match side {

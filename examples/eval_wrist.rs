@@ -103,7 +103,7 @@ impl Measure {
 /// Runs `frames` (one session; a fresh rig) with `options`, measuring `side`.
 fn run(skel: &Skeleton, frames: &[FrameInput], options: &RigOptions, side: Side, m: &mut Measure) {
     let frame = WristFrame::new(skel, side).expect("wrist frame");
-    let mut rig = Rig::new(skel.clone(), options.clone()).expect("rig");
+    let mut rig = Rig::new(skel.clone(), *options).expect("rig");
     let mut out = SolveOutput::default();
     let mut last = None;
     for f in frames {
@@ -179,7 +179,7 @@ fn main() {
             // Kinect wrists + hand video, each side on its own rig.
             let mut m = Measure::default();
             for side in Side::BOTH {
-                let mut o = options.clone();
+                let mut o = options;
                 o.mirror = side == Side::Left;
                 run(
                     &skel,

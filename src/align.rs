@@ -17,17 +17,14 @@
 use glam::{Quat, Vec3};
 
 use crate::bones::{Finger, Side, BONE_COUNT};
-use crate::error::{Error, Result};
-use crate::json::{decode_enum, decode_struct, Decode, Json};
 use crate::mediapipe::HAND_LANDMARKS;
 use crate::skeleton::{Skeleton, WorldPose};
 
 /// Which point of the finger is aligned.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AlignPoint {
     /// The DIP joint (thumb: IP), i.e. the avatar's distal bone origin. The seed's choice:
     /// avatars have no tip bone, so this is the most distal point known exactly.
-    #[default]
     Dip,
     /// The fingertip: MediaPipe's TIP landmark on the user, and on the avatar the distal bone
     /// extended past its joint by `TIP_RATIO[finger]` times the intermediate segment's length
@@ -54,32 +51,7 @@ pub struct AlignmentOptions {
     pub weight: f32,
 }
 
-impl Default for AlignmentOptions {
-    fn default() -> Self {
-        AlignmentOptions {
-            enabled: true,
-            finger: Finger::Index,
-            point: AlignPoint::Dip,
-            weight: 1.0,
-        }
-    }
-}
-
 impl AlignmentOptions {
-    /// Checks ranges.
-    ///
-    /// # Errors
-    /// `weight` outside 0..1.
-    pub fn validate(&self) -> Result<()> {
-        if !(0.0..=1.0).contains(&self.weight) {
-            return Err(Error::invalid(
-                "options.alignment.weight",
-                "must be a number in 0..1",
-            ));
-        }
-        Ok(())
-    }
-
     /// The effective weight (0 when disabled).
     #[must_use]
     pub fn effective_weight(&self) -> f32 {
@@ -88,33 +60,6 @@ impl AlignmentOptions {
         } else {
             0.0
         }
-    }
-}
-
-decode_enum!(AlignPoint { "dip" => Dip, "tip" => Tip });
-
-decode_struct!(AlignmentOptions {
-    "enabled" => enabled,
-    "finger" => finger,
-    "point" => point,
-    "weight" => weight,
-});
-
-/// A finger by its name (`alignment.finger`).
-impl Decode for Finger {
-    fn decode(json: &Json, path: &str) -> Result<Self> {
-        let name = json
-            .as_str()
-            .ok_or_else(|| crate::json::expected(path, "a finger name", json))?;
-        Finger::from_name(name).ok_or_else(|| {
-            Error::invalid(
-                path,
-                format!(
-                    "unknown finger {} (expected thumb, index, middle, ring or little)",
-                    json.describe()
-                ),
-            )
-        })
     }
 }
 

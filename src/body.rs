@@ -67,8 +67,6 @@
 use glam::{Quat, Vec3};
 
 use crate::bones::Side;
-use crate::error::{Error, Result};
-use crate::json::decode_struct;
 use crate::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation};
 use crate::skeleton::Skeleton;
 
@@ -95,52 +93,7 @@ pub struct CalibrationOptions {
     pub min_visibility: f32,
 }
 
-impl Default for CalibrationOptions {
-    fn default() -> Self {
-        CalibrationOptions {
-            body_scale: None,
-            frames: 30,
-            min_visibility: 0.5,
-        }
-    }
-}
-
-decode_struct!(CalibrationOptions {
-    "bodyScale" => body_scale,
-    "frames" => frames,
-    "minVisibility" => min_visibility,
-});
-
-impl CalibrationOptions {
-    /// Checks ranges.
-    ///
-    /// # Errors
-    /// A preset scale that is not positive and finite, `frames` outside 1..=300,
-    /// `minVisibility` outside 0..1.
-    pub fn validate(&self) -> Result<()> {
-        if let Some(s) = self.body_scale {
-            if !(s.is_finite() && s > 0.0) {
-                return Err(Error::invalid(
-                    "options.calibration.bodyScale",
-                    "must be a positive number",
-                ));
-            }
-        }
-        if !(1..=MAX_CALIBRATION_FRAMES).contains(&self.frames) {
-            return Err(Error::invalid(
-                "options.calibration.frames",
-                format!("must be an integer in 1..={MAX_CALIBRATION_FRAMES}"),
-            ));
-        }
-        if !(0.0..=1.0).contains(&self.min_visibility) {
-            return Err(Error::invalid(
-                "options.calibration.minVisibility",
-                "must be a number in 0..1",
-            ));
-        }
-        Ok(())
-    }
-}
+impl CalibrationOptions {}
 
 /// The user's arm mapped onto the avatar (internal frame).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -390,12 +390,7 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
     if !(count >= 0.0 && count <= MAX_HANDS as f32 && count.fract() == 0.0) {
         return Err(Error::invalid(
             "frame.hands",
-            // The count by `describe` (integers as written, other numbers by kind): formatting
-            // an f32 would bring Rust's float formatting into the `.wasm`.
-            format!(
-                "hand count must be a whole number in 0..={MAX_HANDS}, got {}",
-                crate::json::Json::Number(f64::from(count)).describe()
-            ),
+            format!("hand count must be a whole number in 0..={MAX_HANDS}, got {count}"),
         ));
     }
     let aspect = match buf[input::IMAGE_ASPECT] {

@@ -28,6 +28,7 @@
 //! * [`json`]: JSON documents and the decoding of options from them (the engine's
 //!   `JSON.parse` in WebAssembly).
 //! * [`mediapipe`]: input types and the camera-to-avatar conversion.
+//! * [`options`]: [`RigOptions`] and the one table every option is described in.
 //! * [`hand`]: wrist and finger rotations from 21 hand landmarks.
 //! * [`align`]: fingertip alignment (the wrist IK target).
 //! * [`body`]: body mapping and calibration from pose landmarks.
@@ -57,6 +58,7 @@ pub mod ik;
 pub mod json;
 pub mod kinematics;
 pub mod mediapipe;
+pub mod options;
 pub mod rig;
 pub mod skeleton;
 pub mod solve;
@@ -69,5 +71,6 @@ pub mod wasm;
 pub use bones::{Finger, HumanBone, Side, BONE_COUNT};
 pub use error::{Error, Result};
 pub use mediapipe::{CameraMapping, FrameInput, HandObservation, Handedness, PoseObservation};
-pub use rig::{Rig, RigOptions, SolveOutput, COORDINATE_LIMIT};
+pub use options::RigOptions;
+pub use rig::{Rig, SolveOutput, COORDINATE_LIMIT};
 pub use skeleton::{Skeleton, VrmVersion, WorldPose};

@@ -79,22 +79,15 @@ use crate::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation};
 use crate::skeleton::{Skeleton, VrmVersion};
 
 /// Where the torso comes from (JS: `options.torso`). See the module docs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TorsoSource {
     /// `"off"`: the rest torso; `frame.torso` and the pose's torso are ignored.
     Off,
     /// `"frame"` (default): the app's `frame.torso` (rest where not given); not driven.
-    #[default]
     Frame,
     /// `"pose"`: tracked from `body` joints or the MediaPipe pose; driven.
     Pose,
 }
-
-crate::json::decode_enum!(TorsoSource {
-    "off" => Off,
-    "frame" => Frame,
-    "pose" => Pose,
-});
 
 impl TorsoSource {
     /// Every value, in the order the option lists them.

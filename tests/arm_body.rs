@@ -292,8 +292,9 @@ fn options_are_validated_and_named() {
     assert!(Rig::new(skeleton(0.25, 0.25), ok).is_ok());
     let e = RigOptions::from_json(r#"{"calibration": {"frame": 10}}"#).unwrap_err();
     assert!(
-        e.to_string()
-            .starts_with("options.calibration.frame: unknown field"),
+        e.to_string().starts_with(
+            "options.calibration.frame: unknown option (did you mean calibration.frames?)"
+        ),
         "{e}"
     );
 }

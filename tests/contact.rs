@@ -973,15 +973,15 @@ fn contact_options_are_checked_and_named() {
     for (json, message) in [
         (
             r#"{"contact": {"faceAnchors": {"nose": [0, 0]}}}"#,
-            "options.contact.faceAnchors.nose: expected [x, y, z], got an array",
+            "options.contact.faceAnchors.nose: must be [x, y, z], got an array",
         ),
         (
             r#"{"contact": {"faceAnchors": {"nostril": [0, 0, 0]}}}"#,
-            "options.contact.faceAnchors.nostril: unknown anchor",
+            "options.contact.faceAnchors.nostril: unknown point (expected one of nose, chin, mouth, leftCheek, rightCheek, leftEar, rightEar, forehead)",
         ),
         (
             r#"{"contact": {"faceAnchors": [0, 0, 0]}}"#,
-            "options.contact.faceAnchors: expected an object of [x, y, z], got an array",
+            "options.contact.faceAnchors: must be an object { nose, chin, mouth, leftCheek, rightCheek, leftEar, rightEar, forehead } of [x, y, z] (meters), got an array",
         ),
     ] {
         let e = RigOptions::from_json(json).unwrap_err();

@@ -85,7 +85,7 @@ fn outputs(avatar: &str, options: &str) -> Vec<(String, Vec<f32>)> {
     let options = RigOptions::from_json(options).expect("options");
     let mut result = Vec::new();
     for (name, frames) in recordings_for(&skeleton) {
-        let mut rig = Rig::new(skeleton.clone(), options.clone()).expect("rig");
+        let mut rig = Rig::new(skeleton.clone(), options).expect("rig");
         let mut out = SolveOutput::default();
         let mut values = vec![0.0f32; frames.len() * flat::output::LEN];
         for (frame, buf) in frames.iter().zip(values.chunks_mut(flat::output::LEN)) {

@@ -333,7 +333,7 @@ fn a_new_session_solves_like_a_new_rig() {
     let mut checked = 0;
     for clip in recordings::ASL {
         let frames = recordings::asl(clip);
-        let mut used = rig(options.clone());
+        let mut used = rig(options);
         let mut out = SolveOutput::default();
         let mut fresh_out = SolveOutput::default();
         for (i, f) in frames.iter().enumerate() {
@@ -344,7 +344,7 @@ fn a_new_session_solves_like_a_new_rig() {
                 let mut seek = *f;
                 seek.time_ms = f.time_ms + 5000.0;
                 used.solve(&seek, &mut out).unwrap();
-                let mut fresh = rig(options.clone());
+                let mut fresh = rig(options);
                 fresh.solve(&frames[0], &mut fresh_out).unwrap();
                 fresh.solve(&seek, &mut fresh_out).unwrap();
                 // Component-wise (up to sign): `angle_between` of equal f32 quaternions can

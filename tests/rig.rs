@@ -160,6 +160,14 @@ fn invalid_frames_are_rejected_naming_the_field_and_leave_the_rig_usable() {
         err.to_string().contains("frame.wrists.left.position"),
         "{err}"
     );
+    // A score outside 0..1 is rejected natively as on the flat path.
+    let mut f = frame_with(label, world);
+    f.hands[0].score = 1.5;
+    let err = rig.solve(&f, &mut out).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "frame.hands[0].score: must be a number in 0..1"
+    );
     rig.solve(&frame_with(label, world), &mut out).unwrap();
     assert!(out.solved[HumanBone::RightHand.index()]);
     for q in out.local {
@@ -259,7 +267,7 @@ fn pose_landmarks_outside_the_read_list_change_nothing() {
             r#"{ "inputMirrored": true, "handedness": "drop" }"#,
         ] {
             let options = RigOptions::from_json(options).expect("options");
-            let mut a = Rig::new(avatar.clone(), options.clone()).expect("rig");
+            let mut a = Rig::new(avatar.clone(), options).expect("rig");
             let mut b = Rig::new(avatar.clone(), options).expect("rig");
             let (mut out_a, mut out_b) = (SolveOutput::default(), SolveOutput::default());
             for (i, (fa, fb)) in frames.iter().zip(&moved).enumerate() {

@@ -1188,6 +1188,18 @@ function createHandRigApi(raw, isReady) {
         }
         return out;
       }
+      case "numbers": {
+        // A fixed-length array of numbers, copied.
+        if (!Array.isArray(value) || value.length !== d.length) {
+          fail(field, `must be an array of ${d.length} numbers in ${d.min}..${d.max}, got ${describe(value)}`);
+        }
+        return value.map((x, i) => {
+          if (typeof x !== "number" || !Number.isFinite(x) || x < d.min || x > d.max) {
+            fail(`${field}[${i}]`, `must be a number in ${d.min}..${d.max}, got ${describe(x)}`);
+          }
+          return x;
+        });
+      }
       case "number":
         if (value === null && d.default === null) return null;
         if (typeof value !== "number" || !Number.isFinite(value)) {
@@ -1291,10 +1303,13 @@ function createHandRigApi(raw, isReady) {
     return prev[b.length];
   }
 
-  /** Options as the JSON text the raw constructors take (undefined for the defaults). */
-  function optionsJson(options) {
-    const normalized = readUser("options", () => normalizeOptions(options));
-    return normalized === undefined ? undefined : JSON.stringify(normalized);
+  /**
+   * Options as the raw constructors take them: a fresh plain object of checked values (no user
+   * getters or prototypes reach Rust, which reads it with serde-wasm-bindgen), or undefined for
+   * the defaults.
+   */
+  function optionsValue(options) {
+    return readUser("options", () => normalizeOptions(options));
   }
 
   // ---------------------------------------------------------------------------------------
@@ -1375,7 +1390,7 @@ function createHandRigApi(raw, isReady) {
       let r;
       try {
         const { rest, version } = restPoseToFlat(restPose);
-        r = new RawHandRig(rest, version, optionsJson(options));
+        r = new RawHandRig(rest, version, optionsValue(options));
       } catch (e) {
         throw asError(e);
       }
@@ -1402,7 +1417,7 @@ function createHandRigApi(raw, isReady) {
       ensureReady("HandRig.fromVrm()");
       let r;
       try {
-        r = RawHandRig.fromVrm(vrmBytes(bytes), optionsJson(options));
+        r = RawHandRig.fromVrm(vrmBytes(bytes), optionsValue(options));
       } catch (e) {
         throw asError(e);
       }
@@ -1695,7 +1710,7 @@ function createHandRigApi(raw, isReady) {
       ensureReady("new ChainSolver()");
       let r;
       try {
-        r = new RawChainSolver(JSON.stringify(readUser("options", () => chainOptions(options))));
+        r = new RawChainSolver(readUser("options", () => chainOptions(options)));
       } catch (e) {
         const err = asError(e);
         // The Rust side names fields of the options (`joints[1]`, `constraints[0].maxAngle`).

@@ -431,10 +431,23 @@ export interface HandRigOptions {
         /** MediaPipe pose input: how much the tracked depth between fingertip and face counts (0..1); where on the face comes from the image. Default 0.1. */
         depthTrust?: number;
       };
+  /** The objective of handStrategy "retarget" (seed 003). See docs/options.md. */
+  retarget?: {
+    tipWeights?: [number, number, number, number, number];
+    jointWeight?: number;
+    pinchWeight?: number;
+    pinchDistance?: number;
+    spatialWeight?: number;
+    temporalWeight?: number;
+    temporalSpeed?: number;
+    maxIterations?: number;
+    stepTolerance?: number;
+  };
   /** Dotted paths as `optionDescriptions()` spells them are accepted too: `{ "alignment.weight": 0.5 }`. */
   [dottedPath: `${string}.${string}`]:
     | boolean
     | number
+    | number[]
     | string
     | null
     | undefined
@@ -619,6 +632,16 @@ export type OptionDescription =
       type: "points";
       names: string[];
       default: null;
+      description: string;
+    }
+  | {
+      path: string;
+      /** A fixed-length array of numbers, each in min..max. */
+      type: "numbers";
+      length: number;
+      min: number;
+      max: number;
+      default: number[];
       description: string;
     };
 

@@ -93,6 +93,18 @@ impl FaceAnchor {
         }
     }
 
+    /// Every anchor's JS name, in [`FaceAnchor::ALL`] order.
+    pub const NAMES: &'static [&'static str] = &[
+        "nose",
+        "chin",
+        "mouth",
+        "leftCheek",
+        "rightCheek",
+        "leftEar",
+        "rightEar",
+        "forehead",
+    ];
+
     /// Parses a JS name.
     #[must_use]
     pub fn from_name(name: &str) -> Option<FaceAnchor> {

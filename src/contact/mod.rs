@@ -50,8 +50,6 @@ pub mod hands;
 use glam::Vec3;
 
 use crate::bones::{Finger, HumanBone};
-use crate::error::{Error, Result};
-use crate::json::{self, Decode, Json};
 use crate::mediapipe::CameraMapping;
 use crate::skeleton::{Skeleton, WorldPose};
 
@@ -73,27 +71,24 @@ pub struct FaceAnchorsOption {
     points: [Option<[f32; 3]>; ANCHORS],
 }
 
-/// `null` (none given) or an object of anchor names to `[x, y, z]` or `null`.
-impl Decode for FaceAnchorsOption {
-    fn decode(j: &Json, path: &str) -> Result<Self> {
-        let mut out = FaceAnchorsOption::default();
-        if j.is_null() {
-            return Ok(out);
-        }
-        let members = j
-            .as_object()
-            .ok_or_else(|| json::expected(path, "an object of [x, y, z]", j))?;
-        for (name, v) in members {
-            let at = json::join(path, name);
-            let a =
-                FaceAnchor::from_name(name).ok_or_else(|| Error::invalid(&at, "unknown anchor"))?;
-            out.points[a.index()] = Option::<Vec3>::decode(v, &at)?.map(|v| v.to_array());
-        }
-        Ok(out)
-    }
-}
-
 impl FaceAnchorsOption {
+    /// No anchor given.
+    pub const NONE: FaceAnchorsOption = FaceAnchorsOption {
+        points: [None; ANCHORS],
+    };
+
+    /// From the points in [`FaceAnchor::ALL`] order (model axes).
+    #[must_use]
+    pub const fn from_array(points: [Option<[f32; 3]>; ANCHORS]) -> Self {
+        FaceAnchorsOption { points }
+    }
+
+    /// The points in [`FaceAnchor::ALL`] order (model axes).
+    #[must_use]
+    pub const fn to_array(&self) -> [Option<[f32; 3]>; ANCHORS] {
+        self.points
+    }
+
     /// The given anchor, as written (model axes).
     #[must_use]
     pub fn get(&self, a: FaceAnchor) -> Option<Vec3> {
@@ -133,93 +128,10 @@ pub struct ContactOptions {
     pub depth_trust: f32,
 }
 
-impl Default for ContactOptions {
-    fn default() -> Self {
-        ContactOptions {
-            enabled: true,
-            radius: 0.5,
-            weight: 1.0,
-            hands: true,
-            face_anchors: FaceAnchorsOption::default(),
-            colliders: true,
-            torso_radius: None,
-            head_radius: None,
-            depth_trust: 0.1,
-        }
-    }
-}
-
-json::decode_struct!(ContactOptions {
-    "enabled" => enabled,
-    "radius" => radius,
-    "weight" => weight,
-    "hands" => hands,
-    "faceAnchors" => face_anchors,
-    "colliders" => colliders,
-    "torsoRadius" => torso_radius,
-    "headRadius" => head_radius,
-    "depthTrust" => depth_trust,
-});
-
-/// Range of `contact.radius` (head breadths).
-pub const RADIUS_RANGE: (f32, f32) = (0.05, 3.0);
 /// Largest `contact.torsoRadius` / `contact.headRadius` (m).
 pub const MAX_COLLIDER_RADIUS: f32 = 2.0;
 
-// The range messages spell the constants out: formatting an `f32` would bring Rust's float
-// formatting into the `.wasm` (over 10 KiB gzipped). A test checks them against the constants.
-const RADIUS_MESSAGE: &str = "must be a number in 0.05..3 (head breadths)";
-const COLLIDER_RADIUS_MESSAGE: &str = "must be a number in 0..2 (meters)";
-const ANCHOR_MESSAGE: &str = "must be [x, y, z]: finite meters within 10 of the head bone";
-
-impl ContactOptions {
-    /// Checks ranges.
-    ///
-    /// # Errors
-    /// `radius` outside 0.05..=3, `weight` outside 0..=1, collider radii outside 0..=2 m,
-    /// anchor coordinates not finite or beyond 10 m (the field is named).
-    pub fn validate(&self) -> Result<()> {
-        if !(RADIUS_RANGE.0..=RADIUS_RANGE.1).contains(&self.radius) {
-            return Err(Error::invalid("options.contact.radius", RADIUS_MESSAGE));
-        }
-        if !(0.0..=1.0).contains(&self.weight) {
-            return Err(Error::invalid(
-                "options.contact.weight",
-                "must be a number in 0..1",
-            ));
-        }
-        if !(0.0..=1.0).contains(&self.depth_trust) {
-            return Err(Error::invalid(
-                "options.contact.depthTrust",
-                "must be a number in 0..1",
-            ));
-        }
-        for (name, r) in [
-            ("torsoRadius", self.torso_radius),
-            ("headRadius", self.head_radius),
-        ] {
-            if let Some(r) = r {
-                if !(0.0..=MAX_COLLIDER_RADIUS).contains(&r) {
-                    return Err(Error::invalid(
-                        format!("options.contact.{name}"),
-                        COLLIDER_RADIUS_MESSAGE,
-                    ));
-                }
-            }
-        }
-        for a in FaceAnchor::ALL {
-            if let Some(p) = self.face_anchors.get(a) {
-                if !(p.is_finite() && p.abs().max_element() <= MAX_ANCHOR_OFFSET) {
-                    return Err(Error::invalid(
-                        format!("options.contact.faceAnchors.{}", a.as_str()),
-                        ANCHOR_MESSAGE,
-                    ));
-                }
-            }
-        }
-        Ok(())
-    }
-}
+impl ContactOptions {}
 
 /// What contact did for one side this frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -475,27 +387,3 @@ impl ContactSolver {
 /// radius when no user face is known.
 pub const PALMS_PER_HEAD: f32 = HEAD_BREADTH_M / 0.09;
 const HEAD_BREADTH_M: f32 = face::HEAD_BREADTH;
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn range_messages_agree_with_the_constants() {
-        assert_eq!(
-            RADIUS_MESSAGE,
-            format!(
-                "must be a number in {}..{} (head breadths)",
-                RADIUS_RANGE.0, RADIUS_RANGE.1
-            )
-        );
-        assert_eq!(
-            COLLIDER_RADIUS_MESSAGE,
-            format!("must be a number in 0..{MAX_COLLIDER_RADIUS} (meters)")
-        );
-        assert_eq!(
-            ANCHOR_MESSAGE,
-            format!("must be [x, y, z]: finite meters within {MAX_ANCHOR_OFFSET} of the head bone")
-        );
-    }
-}

@@ -9,8 +9,6 @@
 
 use glam::Quat;
 
-use crate::error::{Error, Result};
-
 /// Timings of the hold and the easing (JS: `options.dropout`). XR Animator uses 250 ms in and
 /// 500 ms out; handrig holds a lost group 250 ms first, which bridges MediaPipe's short
 /// dropouts (a few frames) without any motion.
@@ -26,24 +24,6 @@ pub struct DropoutOptions {
     /// How long a returning group blends from the shown pose to the solved one (ms). Default 250.
     pub fade_in_ms: f32,
 }
-
-impl Default for DropoutOptions {
-    fn default() -> Self {
-        DropoutOptions {
-            enabled: true,
-            hold_ms: 250.0,
-            fade_out_ms: 500.0,
-            fade_in_ms: 250.0,
-        }
-    }
-}
-
-crate::json::decode_struct!(DropoutOptions {
-    "enabled" => enabled,
-    "holdMs" => hold_ms,
-    "fadeOutMs" => fade_out_ms,
-    "fadeInMs" => fade_in_ms,
-});
 
 impl DropoutOptions {
     /// No hold, no easing: lost groups snap to rest and returning ones snap in (handrig
@@ -63,26 +43,6 @@ impl DropoutOptions {
         } else {
             Self::OFF
         }
-    }
-
-    /// Checks ranges.
-    ///
-    /// # Errors
-    /// A time that is negative, not finite or above 10 s.
-    pub fn validate(&self) -> Result<()> {
-        for (v, name) in [
-            (self.hold_ms, "options.dropout.holdMs"),
-            (self.fade_out_ms, "options.dropout.fadeOutMs"),
-            (self.fade_in_ms, "options.dropout.fadeInMs"),
-        ] {
-            if !(v.is_finite() && (0.0..=10_000.0).contains(&v)) {
-                return Err(Error::invalid(
-                    name,
-                    "must be a number of milliseconds in 0..10000",
-                ));
-            }
-        }
-        Ok(())
     }
 }
 
@@ -313,6 +273,5 @@ mod tests {
             last = w;
         }
         assert_eq!(last, 1.0);
-        assert!(DropoutOptions { hold_ms: -1.0, ..O }.validate().is_err());
     }
 }

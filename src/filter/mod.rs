@@ -29,8 +29,6 @@ pub mod one_euro;
 
 use glam::Vec3;
 
-use crate::error::Result;
-
 pub use dropout::{Blend, DropoutOptions, Presence};
 pub use one_euro::{OneEuroOptions, OneEuroQuat, OneEuroVec3};
 
@@ -47,24 +45,6 @@ pub struct FilterOptions {
     pub d_cutoff: f32,
 }
 
-impl Default for FilterOptions {
-    fn default() -> Self {
-        FilterOptions {
-            enabled: true,
-            min_cutoff: 1.5,
-            beta: 2.0,
-            d_cutoff: 1.0,
-        }
-    }
-}
-
-crate::json::decode_struct!(FilterOptions {
-    "enabled" => enabled,
-    "minCutoff" => min_cutoff,
-    "beta" => beta,
-    "dCutoff" => d_cutoff,
-});
-
 impl FilterOptions {
     /// The One Euro parameters.
     #[must_use]
@@ -74,14 +54,6 @@ impl FilterOptions {
             beta: self.beta,
             d_cutoff: self.d_cutoff,
         }
-    }
-
-    /// Checks ranges.
-    ///
-    /// # Errors
-    /// See [`OneEuroOptions::validate`].
-    pub fn validate(&self) -> Result<()> {
-        self.one_euro().validate("options.filter")
     }
 }
 

@@ -20,13 +20,10 @@ use core::f32::consts::PI;
 
 use glam::{Quat, Vec3};
 
-use crate::error::{Error, Result};
-use crate::json::{self, Decode, Json};
-
 /// Parameters of a One Euro filter. Units: `min_cutoff` and `d_cutoff` in Hz, `beta` in Hz per
 /// unit of speed (per m/s for points, per rad/s for rotations).
 ///
-/// From JSON ([`Decode`]): `{ minCutoff, beta, dCutoff }`, all three required.
+/// In a rig these are `options.filter` (ranges in [`crate::options::table::OPTIONS`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OneEuroOptions {
     /// Cutoff frequency at rest (Hz): lower is smoother and slower.
@@ -35,51 +32,6 @@ pub struct OneEuroOptions {
     pub beta: f32,
     /// Cutoff of the speed estimate (Hz). The paper uses 1.
     pub d_cutoff: f32,
-}
-
-impl Decode for OneEuroOptions {
-    fn decode(j: &Json, path: &str) -> Result<Self> {
-        const KNOWN: [&str; 3] = ["minCutoff", "beta", "dCutoff"];
-        let mut values = [None; 3];
-        json::decode_fields(j, path, &KNOWN, &mut |k, value, at| {
-            values[k] = Some(f32::decode(value, at)?);
-            Ok(())
-        })?;
-        let get = |k: usize| values[k].ok_or_else(|| json::missing(path, KNOWN[k]));
-        Ok(OneEuroOptions {
-            min_cutoff: get(0)?,
-            beta: get(1)?,
-            d_cutoff: get(2)?,
-        })
-    }
-}
-
-impl OneEuroOptions {
-    /// Checks ranges; `field` is the option's JS path for the message.
-    ///
-    /// # Errors
-    /// A cutoff that is not a positive finite number, or a negative or non-finite `beta`.
-    pub fn validate(&self, field: &str) -> Result<()> {
-        if !(0.05..=1000.0).contains(&self.min_cutoff) {
-            return Err(Error::invalid(
-                format!("{field}.minCutoff"),
-                "must be a number in 0.05..1000 (Hz)",
-            ));
-        }
-        if !(0.0..=10_000.0).contains(&self.beta) {
-            return Err(Error::invalid(
-                format!("{field}.beta"),
-                "must be a number in 0..10000",
-            ));
-        }
-        if !(0.05..=1000.0).contains(&self.d_cutoff) {
-            return Err(Error::invalid(
-                format!("{field}.dCutoff"),
-                "must be a number in 0.05..1000 (Hz)",
-            ));
-        }
-        Ok(())
-    }
 }
 
 /// The smoothing factor of a first-order low-pass at `cutoff` Hz for a step of `dt` seconds.
@@ -326,17 +278,5 @@ mod tests {
         let mut q = OneEuroQuat::default();
         q.filter(Quat::IDENTITY, 0.03, &O);
         assert!(q.filter(Quat::from_rotation_x(1.0), 1e-30, &O).is_finite());
-    }
-
-    #[test]
-    fn options_are_validated_by_name() {
-        let bad = OneEuroOptions {
-            min_cutoff: 0.0,
-            ..O
-        };
-        let e = bad.validate("options.filter.hands").unwrap_err();
-        assert!(e.to_string().starts_with("options.filter.hands.minCutoff"));
-        assert!(OneEuroOptions { beta: -1.0, ..O }.validate("f").is_err());
-        assert!(O.validate("f").is_ok());
     }
 }

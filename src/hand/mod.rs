@@ -67,22 +67,16 @@ pub use retarget::{RetargetOptions, RetargetReport};
 use chain::{bend, clamp_angle, hinge_angle, wrap, Basis, Kind, Targets};
 
 /// How hands are solved (JS: `options.handStrategy`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum HandStrategy {
     /// Closed-form palm frame for the hand; per finger a least-squares fit of an anatomical
     /// joint model with literature joint limits (see the module docs).
-    #[default]
     Analytic,
     /// Optimization-based retargeting (seed 003, section 3.1): the analytic solve, then
     /// finger angles fitted so the avatar's fingertips land on the user's, scaled to the
     /// avatar's hand, within the same joint limits (see [`retarget`]).
     Retarget,
 }
-
-crate::json::decode_enum!(HandStrategy {
-    "analytic" => Analytic,
-    "retarget" => Retarget,
-});
 
 /// What the last [`HandSolver::solve`] did for one side.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

@@ -138,24 +138,6 @@ pub struct RetargetOptions {
     pub settings: Settings,
 }
 
-impl Default for RetargetOptions {
-    fn default() -> Self {
-        RetargetOptions {
-            tip_weights: [2.0, 2.0, 1.0, 1.0, 1.0],
-            joint_weight: 0.02,
-            pinch_weight: 10.0,
-            pinch_distance: 0.04,
-            spatial_weight: 2e-6,
-            temporal_weight: 4e-3,
-            temporal_speed: 3e-3,
-            settings: Settings {
-                max_iterations: 50,
-                step_tolerance: 1e-4,
-            },
-        }
-    }
-}
-
 impl RetargetOptions {
     /// Whether every weight is finite and non-negative, the temporal weight, the temporal
     /// speed and the pinch distance positive (the temporal term keeps the Gauss-Newton model

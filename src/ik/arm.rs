@@ -72,52 +72,6 @@ pub struct ArmOptions {
     pub wrist_limits: bool,
 }
 
-impl Default for ArmOptions {
-    fn default() -> Self {
-        ArmOptions {
-            shoulder_angle: 0.26,
-            shoulder_reach: 0.9,
-            forearm_twist: 0.5,
-            wrist_limits: true,
-        }
-    }
-}
-
-crate::json::decode_struct!(ArmOptions {
-    "shoulderAngle" => shoulder_angle,
-    "shoulderReach" => shoulder_reach,
-    "forearmTwist" => forearm_twist,
-    "wristLimits" => wrist_limits,
-});
-
-impl ArmOptions {
-    /// Checks ranges.
-    ///
-    /// # Errors
-    /// A field out of range, named `options.arm.<field>`.
-    pub fn validate(&self) -> Result<()> {
-        if !(0.0..=PI / 2.0).contains(&self.shoulder_angle) {
-            return Err(Error::invalid(
-                "options.arm.shoulderAngle",
-                "must be an angle in 0..pi/2 radians",
-            ));
-        }
-        if !(0.5..=1.0).contains(&self.shoulder_reach) {
-            return Err(Error::invalid(
-                "options.arm.shoulderReach",
-                "must be a number in 0.5..1",
-            ));
-        }
-        if !(0.0..=1.0).contains(&self.forearm_twist) {
-            return Err(Error::invalid(
-                "options.arm.forearmTwist",
-                "must be a number in 0..1",
-            ));
-        }
-        Ok(())
-    }
-}
-
 /// The angle (radians, `0..=max_angle`) the shoulder bone must turn from rest toward the
 /// target so that the target is within `reach * arm_length` of the upper arm joint (see the
 /// module docs). `root` is the shoulder bone's joint and its parent's rotation, `offset` the

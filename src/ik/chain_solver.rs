@@ -30,7 +30,6 @@
 use glam::{Quat, Vec3};
 
 use crate::error::{Error, Result};
-use crate::json::{self, Decode, Json};
 use crate::kinematics::{Chain, JointLimit};
 
 use super::ccd::{Ccd, CcdOptions, Effector};
@@ -128,7 +127,8 @@ impl ChainReport {
 }
 
 /// Which method a [`ChainSolver`] uses (JS: `method`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize)]
+#[serde(rename_all = "camelCase")]
 #[non_exhaustive]
 pub enum ChainMethod {
     /// `"fabrik"`: FABRIK ([`Fabrik`], seed 002).
@@ -137,8 +137,6 @@ pub enum ChainMethod {
     /// `"ccd"`: CCD ([`Ccd`], seed 004).
     Ccd,
 }
-
-crate::json::decode_enum!(ChainMethod { "fabrik" => Fabrik, "ccd" => Ccd });
 
 /// Setup of a [`ChainSolver`] (JS: the constructor's argument, same camelCase names; from
 /// JSON: [`ChainSolverOptions::from_json`]).
@@ -175,38 +173,22 @@ impl Default for ChainSolverOptions {
     }
 }
 
-/// `joints` required, every other field optional (`null` for an unset optional number).
-impl Decode for ChainSolverOptions {
-    fn decode(j: &Json, path: &str) -> Result<Self> {
-        let mut out = ChainSolverOptions::default();
-        let mut joints = false;
-        let names = [
-            "method",
-            "joints",
-            "constraints",
-            "iterations",
-            "tolerance",
-            "maxStepAngle",
-        ];
-        json::decode_fields(j, path, &names, &mut |i, value, at| {
-            match i {
-                0 => out.method = Decode::decode(value, at)?,
-                1 => {
-                    out.joints = Decode::decode(value, at)?;
-                    joints = true;
-                }
-                2 => out.constraints = Decode::decode(value, at)?,
-                3 => out.iterations = Decode::decode(value, at)?,
-                4 => out.tolerance = Decode::decode(value, at)?,
-                _ => out.max_step_angle = Decode::decode(value, at)?,
-            }
-            Ok(())
-        })?;
-        if !joints {
-            return Err(json::missing(path, "joints"));
-        }
-        Ok(out)
-    }
+/// The JSON form of [`ChainSolverOptions`] (serde): `joints` required, every other field
+/// optional (`null` for an unset optional number), no other field.
+#[derive(serde::Deserialize)]
+#[serde(rename_all = "camelCase", deny_unknown_fields)]
+struct ChainSolverJson {
+    #[serde(default)]
+    method: ChainMethod,
+    joints: Vec<[f32; 3]>,
+    #[serde(default)]
+    constraints: Vec<Option<JointLimit>>,
+    #[serde(default)]
+    iterations: Option<u32>,
+    #[serde(default)]
+    tolerance: Option<f32>,
+    #[serde(default)]
+    max_step_angle: Option<f32>,
 }
 
 impl ChainSolverOptions {
@@ -219,8 +201,36 @@ impl ChainSolverOptions {
     /// [`Error::InvalidInput`] naming the field (`options.constraints[1].maxAngle`): text
     /// that is not JSON, a wrong type, an unknown or missing name.
     pub fn from_json(text: &str) -> Result<ChainSolverOptions> {
-        let j = Json::parse(text).map_err(|e| Error::invalid("options", e.to_string()))?;
-        ChainSolverOptions::decode(&j, "options")
+        let mut de = serde_json::Deserializer::from_str(text);
+        Self::deserialize_from(&mut de)
+    }
+
+    /// Reads the options from any serde deserializer (the wasm binding's JS object); errors
+    /// as [`ChainSolverOptions::from_json`].
+    ///
+    /// # Errors
+    /// As [`ChainSolverOptions::from_json`].
+    pub fn deserialize_from<'de, D: serde::Deserializer<'de>>(de: D) -> Result<ChainSolverOptions>
+    where
+        D::Error: core::fmt::Display,
+    {
+        let o: ChainSolverJson = serde_path_to_error::deserialize(de).map_err(|e| {
+            let path = e.path().to_string();
+            let field = if path == "." {
+                "options".to_string()
+            } else {
+                format!("options.{path}")
+            };
+            Error::invalid(field, e.inner().to_string())
+        })?;
+        Ok(ChainSolverOptions {
+            method: o.method,
+            joints: o.joints.into_iter().map(Vec3::from_array).collect(),
+            constraints: o.constraints,
+            iterations: o.iterations,
+            tolerance: o.tolerance,
+            max_step_angle: o.max_step_angle,
+        })
     }
 }
 

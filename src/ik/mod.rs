@@ -68,23 +68,16 @@ pub use two_bone::{TwoBoneIk, TwoBoneOptions};
 pub use wrist::{WristAngles, WristFrame, WristLimited, WristRange, WRIST_RANGE};
 
 /// Which solver reaches the wrist target (JS: `options.armSolver`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum ArmSolver {
     /// `"twoBone"`: analytic two-bone IK with the elbow swivel from a pole ([`TwoBoneIk`]).
-    #[default]
     TwoBone,
     /// `"fabrik"`: FABRIK over the arm chain ([`FabrikArm`], seed 002).
     Fabrik,
     /// `"ccd"`: CCD with priority effectors ([`CcdArm`], seed 004).
     Ccd,
 }
-
-crate::json::decode_enum!(ArmSolver {
-    "twoBone" => TwoBone,
-    "fabrik" => Fabrik,
-    "ccd" => Ccd,
-});
 
 impl ArmSolver {
     /// Every solver, in the order of [`ArmSolver::as_str`]'s values in the options.

@@ -21,15 +21,20 @@ use core::f32::consts::PI;
 use glam::{Quat, Vec3};
 
 use crate::error::{Error, Result};
-use crate::json::{self, Decode, Json};
 
 /// Directions shorter than this are treated as zero (unit-vector arithmetic).
 const EPS: f32 = 1e-7;
 
 /// A rotational limit of one chain bone, in its parent bone's frame (see the module docs).
 /// Angles in radians. JS: `{ type: "cone", maxAngle }` or
-/// `{ type: "hinge", axis: [x, y, z], min, max }`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// `{ type: "hinge", axis: [x, y, z], min, max }` (every field required).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Deserialize)]
+#[serde(
+    tag = "type",
+    rename_all = "camelCase",
+    rename_all_fields = "camelCase",
+    deny_unknown_fields
+)]
 pub enum JointLimit {
     /// The bone stays within `max_angle` (in `[0, pi]`) of its reference direction: the
     /// parent bone's direction, for bone 0 its own rest direction.
@@ -47,45 +52,6 @@ pub enum JointLimit {
         /// Largest signed angle (radians).
         max: f32,
     },
-}
-
-/// `{ type: "cone", maxAngle }` or `{ type: "hinge", axis: [x, y, z], min, max }`, every
-/// field required.
-impl Decode for JointLimit {
-    fn decode(j: &Json, path: &str) -> Result<Self> {
-        json::object(j, path)?;
-        let hinge = match j.get("type") {
-            Some(t) => json::one_of(t, &json::join(path, "type"), &["cone", "hinge"])? == 1,
-            None => return Err(json::missing(path, "type")),
-        };
-        // axis, min, max (hinge) or maxAngle (cone), after `type`.
-        let (mut axis, mut numbers) = (None, [None; 3]);
-        let names: &[&str] = if hinge {
-            &["type", "axis", "min", "max"]
-        } else {
-            &["type", "maxAngle"]
-        };
-        json::decode_fields(j, path, names, &mut |i, value, at| {
-            match (hinge, i) {
-                (_, 0) => {}
-                (true, 1) => axis = Some(Vec3::decode(value, at)?),
-                (_, i) => numbers[i - 1] = Some(f32::decode(value, at)?),
-            }
-            Ok(())
-        })?;
-        let number = |k: usize| numbers[k - 1].ok_or_else(|| json::missing(path, names[k]));
-        Ok(if hinge {
-            JointLimit::Hinge {
-                axis: axis.ok_or_else(|| json::missing(path, "axis"))?,
-                min: number(2)?,
-                max: number(3)?,
-            }
-        } else {
-            JointLimit::Cone {
-                max_angle: number(1)?,
-            }
-        })
-    }
 }
 
 impl JointLimit {

@@ -23,12 +23,14 @@ pub struct RawChainSolver {
 
 #[wasm_bindgen(js_class = RawChainSolver)]
 impl RawChainSolver {
-    /// `options`: JSON text (the JS layer checks its shape first): `{ method, joints,
-    /// constraints, iterations, tolerance, maxStepAngle }`.
+    /// `options`: a plain object (the JS layer's checked copy of the user's), `{ method,
+    /// joints, constraints, iterations, tolerance, maxStepAngle }`, read with
+    /// serde-wasm-bindgen.
     #[wasm_bindgen(constructor)]
-    pub fn new(options: &str) -> Result<RawChainSolver, JsError> {
+    pub fn new(options: JsValue) -> Result<RawChainSolver, JsError> {
         let options =
-            ChainSolverOptions::from_json(options).map_err(|e| JsError::new(&e.to_string()))?;
+            ChainSolverOptions::deserialize_from(serde_wasm_bindgen::Deserializer::from(options))
+                .map_err(|e| JsError::new(&e.to_string()))?;
         let solver = ChainSolver::new(&options).map_err(|e| JsError::new(&e.to_string()))?;
         let n = solver.joint_count();
         Ok(RawChainSolver {

@@ -8,13 +8,12 @@
 //! result objects from the output.
 //!
 //! No user JS code runs while Rust is on the stack: the constructor takes rest positions as a
-//! typed array and options as JSON text (both copied in before Rust runs), so a throwing getter
-//! or a lying `length` in user input throws in JavaScript, before wasm is entered, and cannot
-//! leave a rig half-borrowed. JSON text is parsed by the engine's `JSON.parse` ([`crate::json`]),
-//! which runs no user code.
+//! typed array and the options as a plain object the JS layer built (its own copy of the
+//! user's, so a throwing getter or a lying `length` throws in JavaScript before wasm is
+//! entered and cannot leave a rig half-borrowed); serde-wasm-bindgen reads that object, and
+//! the option table ([`crate::options`]) checks it.
 
 mod chain;
-pub(crate) mod json;
 
 pub use chain::RawChainSolver;
 
@@ -26,7 +25,8 @@ use crate::bones::{HumanBone, BONE_COUNT};
 use crate::error::Error;
 use crate::flat;
 use crate::mediapipe::FrameInput;
-use crate::rig::{option_descriptions, OptionKind, Rig, RigOptions, SolveOutput};
+use crate::options::{option_descriptions, OptionKind, RigOptions};
+use crate::rig::{Rig, SolveOutput};
 use crate::skeleton::{Skeleton, VrmVersion};
 
 type JsResult<T> = Result<T, JsError>;
@@ -38,6 +38,17 @@ fn js_err(e: Error) -> JsError {
 fn set(o: &Object, k: &str, v: &JsValue) {
     // Setting a property on a plain object we created cannot fail.
     let _ = Reflect::set(o, &JsValue::from_str(k), v);
+}
+
+/// Options from the JS object (`undefined` or `null`: the defaults), read with
+/// serde-wasm-bindgen and checked by the option table.
+fn rig_options(options: JsValue) -> Result<RigOptions, Error> {
+    if options.is_undefined() || options.is_null() {
+        return Ok(RigOptions::default());
+    }
+    let value: serde_json::Value = serde_wasm_bindgen::from_value(options)
+        .map_err(|e| Error::invalid("options", e.to_string()))?;
+    RigOptions::from_value(&value)
 }
 
 /// Which WebAssembly build this is: `"simd128"` (compiled with `-C target-feature=+simd128`,
@@ -70,10 +81,10 @@ impl HandRig {
     /// `new HandRig(rest, vrmVersion, options)`: `rest` is a `Float64Array` of
     /// `4 * 55` numbers, per bone in `LAYOUT.bones` order `[present, x, y, z]` (rest world
     /// positions of three-vrm's normalized bones, meters, the model's own frame); `vrmVersion`
-    /// 0 or 1; `options` the options as JSON text (the JS layer checks and normalizes them) or
-    /// undefined. Strings and typed arrays only: no user object is read from Rust.
+    /// 0 or 1; `options` the options object (the JS layer's plain copy of the user's) or
+    /// undefined.
     #[wasm_bindgen(constructor)]
-    pub fn new(rest: &[f64], vrm_version: u8, options: Option<String>) -> JsResult<HandRig> {
+    pub fn new(rest: &[f64], vrm_version: u8, options: JsValue) -> JsResult<HandRig> {
         if rest.len() != 4 * BONE_COUNT {
             return Err(js_err(Error::invalid(
                 "restPose",
@@ -106,19 +117,13 @@ impl HandRig {
 
     /// `HandRig.fromVrm(bytes, options)`: reads a `.vrm` file (VRM 1.0 or 0.x) directly.
     #[wasm_bindgen(js_name = fromVrm)]
-    pub fn from_vrm(bytes: &[u8], options: Option<String>) -> JsResult<HandRig> {
+    pub fn from_vrm(bytes: &[u8], options: JsValue) -> JsResult<HandRig> {
         let skeleton = crate::vrm::load_skeleton(bytes).map_err(js_err)?;
         Self::with_skeleton(skeleton, options)
     }
 
-    fn with_skeleton(skeleton: Skeleton, options: Option<String>) -> JsResult<HandRig> {
-        let options: RigOptions = match options {
-            None => RigOptions::default(),
-            // The JS layer has checked every name, type and range against
-            // `optionDescriptions()` (naming the field); `RigOptions::from_json` is the
-            // backstop.
-            Some(json) => RigOptions::from_json(&json).map_err(js_err)?,
-        };
+    fn with_skeleton(skeleton: Skeleton, options: JsValue) -> JsResult<HandRig> {
+        let options = rig_options(options).map_err(js_err)?;
         let rig = Rig::new(skeleton, options).map_err(js_err)?;
         Ok(HandRig {
             rig,
@@ -269,6 +274,22 @@ impl HandRig {
                         let v: Array = names.iter().map(|v| s(v)).collect();
                         set(&o, "names", &v);
                         set(&o, "default", &JsValue::NULL);
+                    }
+                    OptionKind::Numbers {
+                        len,
+                        min,
+                        max,
+                        default,
+                    } => {
+                        set(&o, "type", &s("numbers"));
+                        set(&o, "length", &JsValue::from_f64(len as f64));
+                        set(&o, "min", &JsValue::from_f64(min as f64));
+                        set(&o, "max", &JsValue::from_f64(max as f64));
+                        let d: Array = default
+                            .iter()
+                            .map(|v| JsValue::from_f64(*v as f64))
+                            .collect();
+                        set(&o, "default", &d);
                     }
                 }
                 JsValue::from(o)

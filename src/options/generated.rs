@@ -1,0 +1,240 @@
+//! Files generated from the option table: the TypeScript `HandRigOptions` type
+//! (`pkg-config/src/options-types.ts`) and the options reference page (`docs/options.md`).
+//! A test compares both with the committed files; `HANDRIG_GENERATE=write cargo test
+//! --lib options` rewrites them.
+
+use super::table::{Kind, OptionSpec, Value, OPTIONS};
+
+/// Where the TypeScript type is committed, relative to the crate root.
+pub const TYPESCRIPT_PATH: &str = "pkg-config/src/options-types.ts";
+/// Where the reference page is committed, relative to the crate root.
+pub const MARKDOWN_PATH: &str = "docs/options.md";
+
+/// The one-line summary of a row's type, range and default, as the docs show it.
+fn summary(spec: &OptionSpec) -> String {
+    let default = match spec.default {
+        Value::Number(None) | Value::Points(_) => "unset".to_string(),
+        d => format!("`{}`", d.to_json()),
+    };
+    match spec.kind {
+        Kind::Bool => format!("boolean, default {default}"),
+        Kind::Enum(names) => {
+            let q: Vec<String> = names.iter().map(|n| format!("`\"{n}\"`")).collect();
+            format!("one of {}, default {default}", q.join(", "))
+        }
+        Kind::Number {
+            min, max, integer, ..
+        } => {
+            let what = if integer { "whole number" } else { "number" };
+            format!("{what} in {min}..{max}, default {default}")
+        }
+        Kind::Points { names, limit } => format!(
+            "object of [x, y, z] (meters, within {limit}) named {}, default {default}",
+            names.join(", ")
+        ),
+        Kind::Numbers { len, min, max } => {
+            format!("{len} numbers in {min}..{max}, default {default}")
+        }
+    }
+}
+
+/// The TypeScript type of a row's value.
+fn ts_type(spec: &OptionSpec) -> String {
+    match spec.kind {
+        Kind::Bool => "boolean".into(),
+        Kind::Enum(names) => {
+            let q: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
+            q.join(" | ")
+        }
+        Kind::Number { optional, .. } => {
+            if optional {
+                "number | null".into()
+            } else {
+                "number".into()
+            }
+        }
+        Kind::Points { names, .. } => {
+            let q: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
+            format!(
+                "{{ [name in {}]?: [number, number, number] | {{ x: number; y: number; z: number }} | null }} | null",
+                q.join(" | ")
+            )
+        }
+        Kind::Numbers { len, .. } => {
+            format!("[{}]", vec!["number"; len].join(", "))
+        }
+    }
+}
+
+/// The groups (first path segments with nested rows), in table order.
+fn groups() -> Vec<&'static str> {
+    let mut out: Vec<&'static str> = Vec::new();
+    for spec in OPTIONS {
+        if let Some((g, _)) = spec.path.split_once('.') {
+            if !out.contains(&g) {
+                out.push(g);
+            }
+        }
+    }
+    out
+}
+
+/// What a group is, for its doc comment.
+fn group_doc(group: &str) -> &'static str {
+    match group {
+        "arm" => "Options every arm solver shares.",
+        "alignment" => "Fingertip alignment (seeds 000/001).",
+        "calibration" => "Body-scale calibration from pose landmarks.",
+        "filter" => "One Euro filtering of the landmarks.",
+        "dropout" => "Holding and easing over tracking loss.",
+        "contact" => "Self-contact retargeting: face, hand-to-hand, body colliders.",
+        "retarget" => "The objective of handStrategy \"retarget\" (seed 003).",
+        _ => "Options.",
+    }
+}
+
+/// `pkg-config/src/options-types.ts`.
+#[must_use]
+pub fn typescript() -> String {
+    let mut s = String::from(
+        "// Generated from the option table (src/options/table.rs) by `HANDRIG_GENERATE=write cargo test\n\
+         // --lib options`; a test fails when this file is stale. Do not edit.\n\n\
+         /** Options, set at construction. `HandRig.optionDescriptions()` lists them with ranges and defaults. */\n\
+         export interface HandRigOptions {\n",
+    );
+    let mut done: Vec<&str> = Vec::new();
+    for spec in OPTIONS {
+        match spec.path.split_once('.') {
+            None => {
+                s.push_str(&format!(
+                    "  /** {} ({}.) */\n  {}?: {};\n",
+                    spec.doc,
+                    summary(spec),
+                    spec.path,
+                    ts_type(spec)
+                ));
+            }
+            Some((group, _)) if !done.contains(&group) => {
+                done.push(group);
+                let switch = OPTIONS.iter().any(|o| o.path == format!("{group}.enabled"));
+                s.push_str(&format!(
+                    "  /** {}{} */\n  {group}?:{}\n",
+                    group_doc(group),
+                    if switch {
+                        " `false` / `true` sets `enabled`."
+                    } else {
+                        ""
+                    },
+                    if switch {
+                        "\n    | boolean\n    | {"
+                    } else {
+                        " {"
+                    },
+                ));
+                let pad = if switch { "        " } else { "    " };
+                for o in OPTIONS
+                    .iter()
+                    .filter(|o| o.path.starts_with(&format!("{group}.")))
+                {
+                    let name = &o.path[group.len() + 1..];
+                    s.push_str(&format!(
+                        "{pad}/** {} ({}.) */\n{pad}{name}?: {};\n",
+                        o.doc,
+                        summary(o),
+                        ts_type(o)
+                    ));
+                }
+                s.push_str(if switch { "      };\n" } else { "  };\n" });
+            }
+            Some(_) => {}
+        }
+    }
+    s.push_str(
+        "  /** Dotted paths as `optionDescriptions()` spells them are accepted too: `{ \"alignment.weight\": 0.5 }`. */\n\
+         \x20 [dottedPath: `${string}.${string}`]: unknown;\n}\n",
+    );
+    s
+}
+
+/// `docs/options.md`.
+#[must_use]
+pub fn markdown() -> String {
+    let mut s = String::from(
+        "# Options reference\n\n\
+         Generated from the option table (`src/options/table.rs`) by `HANDRIG_GENERATE=write cargo\n\
+         test --lib options`; a test fails when this page is stale. Pass options as the second\n\
+         argument of `new HandRig(restPose, options)` / `HandRig.fromVrm(bytes, options)`, nested\n\
+         (`{ filter: { minCutoff: 1 } }`) or dotted (`{ \"filter.minCutoff\": 1 }`); a group with an\n\
+         `enabled` switch also takes `false` / `true` (`{ filter: false }`). In Rust:\n\
+         `RigOptions::from_json` or the fields of `RigOptions`. Every option is checked when the rig\n\
+         is made; an error names the path (`options.filter.minCutoff: must be a number in\n\
+         0.05..1000, got 0`).\n\n",
+    );
+    let top: Vec<&OptionSpec> = OPTIONS.iter().filter(|o| !o.path.contains('.')).collect();
+    s.push_str(
+        "## Top level\n\n| option | type, range, default | what it does |\n| --- | --- | --- |\n",
+    );
+    for o in top {
+        s.push_str(&format!("| `{}` | {} | {} |\n", o.path, summary(o), o.doc));
+    }
+    for g in groups() {
+        s.push_str(&format!(
+            "\n## `{g}`\n\n{}\n\n| option | type, range, default | what it does |\n| --- | --- | --- |\n",
+            group_doc(g)
+        ));
+        for o in OPTIONS
+            .iter()
+            .filter(|o| o.path.starts_with(&format!("{g}.")))
+        {
+            s.push_str(&format!("| `{}` | {} | {} |\n", o.path, summary(o), o.doc));
+        }
+    }
+    s
+}
+
+#[cfg(all(test, not(target_arch = "wasm32")))]
+mod tests {
+    use super::*;
+
+    fn compare(path: &str, text: &str) {
+        let full = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path);
+        if std::env::var("HANDRIG_GENERATE").is_ok_and(|v| v == "write") {
+            std::fs::create_dir_all(full.parent().expect("dir")).expect("mkdir");
+            std::fs::write(&full, text).expect("write");
+            return;
+        }
+        let committed = std::fs::read_to_string(&full).unwrap_or_default();
+        assert!(
+            committed == text,
+            "{path} is stale: regenerate with HANDRIG_GENERATE=write cargo test --lib options"
+        );
+    }
+
+    #[test]
+    fn generated_typescript_is_committed() {
+        compare(TYPESCRIPT_PATH, &typescript());
+    }
+
+    #[test]
+    fn generated_reference_page_is_committed() {
+        compare(MARKDOWN_PATH, &markdown());
+    }
+
+    #[test]
+    fn every_option_appears_in_both_files() {
+        let (ts, md) = (typescript(), markdown());
+        for o in OPTIONS {
+            let leaf = o.path.rsplit('.').next().unwrap_or(o.path);
+            assert!(
+                ts.contains(&format!("{leaf}?:")),
+                "{} missing in the TS",
+                o.path
+            );
+            assert!(
+                md.contains(&format!("`{}`", o.path)),
+                "{} missing in the docs",
+                o.path
+            );
+        }
+    }
+}
