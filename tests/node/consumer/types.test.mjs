@@ -54,6 +54,10 @@ function generatedSource() {
       ok("{}");
       ok(`{ ${d.names.map((n) => `${n}: [0, 0.05, 0.1]`).join(", ")} }`);
       bad('{ __not_a_name__: [0, 0, 0] }', `${d.path} takes only ${d.names.join(", ")}`);
+    } else if (d.type === "numbers") {
+      ok(JSON.stringify(d.default));
+      ok(JSON.stringify(Array(d.length).fill(d.max)));
+      bad('"x"', `${d.path} is an array of numbers`);
     } else {
       throw new Error(`unknown option type ${d.type} for ${d.path}`);
     }
