@@ -1,0 +1,302 @@
+// `HandRig`, the idiomatic class over the raw wasm-bindgen `HandRig` (rapier.js style: the wasm
+// class stays thin, users get this one). Per frame nothing crosses the wasm boundary but
+// numbers: the rig owns a flat input and output buffer in wasm memory (LAYOUT, src/flat.rs);
+// `solve` packs the frame through a Float32Array view (frame.ts), calls `solveFlat(timeMs)` and
+// builds the result object from the output view (results.ts), reusing one object per rig (or
+// the caller's), so that a frame allocates nothing once warmed up.
+
+import { asError, describe, isObject, readError } from "./errors.js";
+import type { BoneMap, FrameInput, RestPose, Vec3 } from "./frame-types.js";
+import { TIME, packFrame } from "./frame.js";
+import { BONES, BONE_COUNT, LAYOUT, LI, LO, optionNames, type FlatLayout, type HumanBoneName } from "./layout.js";
+import { cleanDescriptions, optionsValue, type HandRigOptions, type OptionDescription } from "./options.js";
+import type { ContactModel, SolveResult } from "./result-types.js";
+import { fillResult } from "./results.js";
+import { restPoseToFlat, vrmBytes } from "./rest-pose.js";
+import { ensureReady, wasm, wasmMemory, type RawHandRig } from "./wasm.js";
+
+// Constructor token for wrapping a raw rig made by a static factory (fromVrm).
+const ADOPT = {};
+
+/** The solver for one avatar. Create once, `solve` every frame, `free()` when done. */
+export class HandRig {
+  #raw: RawHandRig | null = null;
+  #input = new Float32Array(0);
+  #output = new Float32Array(0);
+  #result: object | undefined;
+  #driven: number[] = [];
+  #present: number[] = [];
+  #framesRead = 0;
+
+  /**
+   * `new HandRig(restPose, options?)`: a solver for one avatar. `restPose.bones` maps VRM 1.0
+   * humanoid bone names to rest world positions [x, y, z] (meters, the model's own frame,
+   * three-vrm's normalized bones); `restPose.vrmVersion` is "0" or "1" (default "1").
+   * @param restPose rest world positions of the normalized bones (see `restPoseFromVRM` in `handrig/three-vrm`).
+   * @throws Error naming the field on bad input (unknown bone, missing required bone, non-finite number, unknown option).
+   */
+  constructor(restPose: RestPose, options?: HandRigOptions) {
+    if ((restPose as unknown) === ADOPT) {
+      this.#adopt(options as unknown as RawHandRig);
+      return;
+    }
+    ensureReady("new HandRig()");
+    let r: RawHandRig;
+    try {
+      const { rest, version } = restPoseToFlat(restPose);
+      r = new (wasm().HandRig)(rest, version, optionsValue(options));
+    } catch (e) {
+      throw asError(e);
+    }
+    this.#adopt(r);
+  }
+
+  #adopt(r: RawHandRig): void {
+    this.#raw = r;
+    const states = r.boneStates();
+    const driven: number[] = [];
+    const present: number[] = [];
+    for (let i = 0; i < BONE_COUNT; i++) {
+      if (states[i] !== 0) present.push(i);
+      if (states[i] === 2) driven.push(i);
+    }
+    this.#driven = driven;
+    this.#present = present;
+    this.#input = new Float32Array(0);
+    this.#output = new Float32Array(0);
+  }
+
+  /**
+   * A rig for a `.vrm` file (VRM 1.0 or 0.x), read directly from its bytes (parsed in wasm).
+   * @throws Error starting with "vrm:" for a truncated or non-VRM file.
+   */
+  static fromVrm(bytes: Uint8Array | ArrayBuffer | ArrayBufferView, options?: HandRigOptions): HandRig {
+    ensureReady("HandRig.fromVrm()");
+    let r: RawHandRig;
+    try {
+      r = wasm().HandRig.fromVrm(vrmBytes(bytes), optionsValue(options));
+    } catch (e) {
+      throw asError(e);
+    }
+    return new HandRig(ADOPT as RestPose, r as unknown as HandRigOptions);
+  }
+
+  /**
+   * Every option with its path, type, range, default and description: `{ path, type, default,
+   * values?, min?, max?, step?, description }`. Numbers are the shortest decimals of the f32
+   * values Rust holds (`0.05`, not `0.05000000074505806`); `min` and `max` are accepted.
+   */
+  static optionDescriptions(): OptionDescription[] {
+    ensureReady("HandRig.optionDescriptions()");
+    return cleanDescriptions();
+  }
+
+  /** The flat frame layout (same as the `LAYOUT` export): offsets of the input and output arrays; see the README. */
+  static get layout(): FlatLayout {
+    return LAYOUT;
+  }
+
+  #live(method: string): RawHandRig {
+    const r = this.#raw;
+    if (r === null) {
+      throw new Error(`HandRig.${method}: this rig was freed (free() was called); create a new HandRig`);
+    }
+    return r;
+  }
+
+  // Views into wasm memory, re-created only when the memory grew (its old buffer is then
+  // detached and the old views have length 0).
+  #views(method: string): RawHandRig {
+    const r = this.#live(method);
+    if (this.#input.length === 0) {
+      const buffer = wasmMemory().buffer;
+      this.#input = new Float32Array(buffer, r.inputPtr(), LI.length);
+      this.#output = new Float32Array(buffer, r.outputPtr(), LO.length);
+    }
+    return r;
+  }
+
+  /**
+   * The rig's flat input array (a Float32Array view into wasm memory, `LAYOUT.input`): write a
+   * frame here, then call `solveFlat(timeMs)`. Read the getter again after creating other rigs
+   * (a view goes stale when wasm memory grows); it returns the same view while it is valid.
+   */
+  get input(): Float32Array {
+    this.#views("input");
+    return this.#input;
+  }
+
+  /** The rig's flat output array (a Float32Array view into wasm memory, `LAYOUT.output`). */
+  get output(): Float32Array {
+    this.#views("output");
+    return this.#output;
+  }
+
+  /**
+   * Solves the frame in `rig.input` into `rig.output`. Allocates nothing.
+   * @param timeMs the frame's timestamp, milliseconds.
+   */
+  solveFlat(timeMs: number): void {
+    const r = this.#views("solveFlat");
+    if (typeof timeMs !== "number") throw new TypeError(`timeMs: must be a number, got ${describe(timeMs)}`);
+    if (r.solveFlat(timeMs) !== 0) throw new Error(r.takeError());
+  }
+
+  /**
+   * Copies `input` (a Float32Array of `LAYOUT.input.length`) in, solves, and copies the output
+   * into `output` (a Float32Array of `LAYOUT.output.length`), which it returns. Allocates nothing.
+   */
+  solveInto(input: Float32Array, output: Float32Array, timeMs: number): Float32Array {
+    const r = this.#views("solveInto");
+    if (!(input instanceof Float32Array) || input.length !== LI.length) {
+      throw new TypeError(`input: must be a Float32Array of ${LI.length} (LAYOUT.input.length)`);
+    }
+    if (!(output instanceof Float32Array) || output.length !== LO.length) {
+      throw new TypeError(`output: must be a Float32Array of ${LO.length} (LAYOUT.output.length)`);
+    }
+    if (typeof timeMs !== "number") throw new TypeError(`timeMs: must be a number, got ${describe(timeMs)}`);
+    this.#input.set(input);
+    if (r.solveFlat(timeMs) !== 0) throw new Error(r.takeError());
+    output.set(this.#output);
+    return output;
+  }
+
+  /**
+   * Solves one frame (see the README for the frame and result shapes). Returns the rig's own
+   * result object, updated in place by the next call (a warmed-up frame allocates nothing); pass
+   * `target` (e.g. `{}`) to fill an object of your own instead, for results you keep.
+   * @throws Error naming the field (e.g. "frame.hands[0].worldLandmarks: must have 21 points, got 20"); the rig is unchanged and keeps working.
+   */
+  solve(frame: FrameInput, target?: object): SolveResult {
+    const r = this.#views("solve");
+    // The target is checked first: a rejected call leaves the rig where it was.
+    let result: unknown = target;
+    if (result === undefined || result === null) {
+      if (this.#result === undefined) this.#result = {};
+      result = this.#result;
+    } else if (!isObject(result) || !Object.isExtensible(result)) {
+      throw new TypeError(
+        `target: must be an object to fill with the result${isObject(result) ? " (this one is frozen, sealed or not extensible)" : `, got ${describe(result)}`}`,
+      );
+    }
+    try {
+      const first = this.#framesRead < 3;
+      packFrame(frame, this.#input, first);
+      if (first) this.#framesRead++;
+    } catch (e) {
+      throw readError(e);
+    }
+    // A getter that freed this rig or grew wasm memory (creating rigs) while the frame was read:
+    // the input view is gone, and what was packed with it.
+    if (this.#input.length === 0) {
+      this.#views("solve");
+      throw new Error("frame: reading it changed wasm memory (a getter created or freed rigs); the frame was not solved, solve it again");
+    }
+    if (r.solveFlat(TIME[0]!) !== 0) throw new Error(r.takeError());
+    return fillResult(result as object, this.#output, this.#input, this.#driven, this.#present) as SolveResult;
+  }
+
+  /**
+   * The avatar's self-contact model at rest (meters, the model's own frame): `{ anchors: { nose,
+   * chin, mouth, leftCheek, rightCheek, leftEar, rightEar, forehead: [x, y, z] }, headBreadth,
+   * colliders: { torso?, neck?: { a, b, radius }, head?: { center, radius } } }` (from
+   * `contact.faceAnchors` where given, derived from the rig elsewhere). Anchors relative to the
+   * head bone are `anchors[name] - restWorldPositions().head`.
+   */
+  contactModel(): ContactModel {
+    const v = this.#live("contactModel").contactModel();
+    const p = (k: number): Vec3 => [v[k]!, v[k + 1]!, v[k + 2]!];
+    const faceAnchors = optionNames().faceAnchors;
+    const anchors: { [name: string]: Vec3 } = {};
+    faceAnchors.forEach((name, i) => (anchors[name] = p(3 * i)));
+    const colliders: { [name: string]: object } = {};
+    let k = 3 * faceAnchors.length + 1;
+    for (const name of ["torso", "neck"]) {
+      if (v[k] === 1) colliders[name] = { a: p(k + 1), b: p(k + 4), radius: v[k + 7] };
+      k += 8;
+    }
+    if (v[k] === 1) colliders.head = { center: p(k + 1), radius: v[k + 4] };
+    return { anchors, headBreadth: v[3 * faceAnchors.length], colliders } as ContactModel;
+  }
+
+  /** `{ [boneName]: [x, y, z] }`: rest world positions of the avatar's bones, meters, the model's own frame. */
+  restWorldPositions(): BoneMap<Vec3> {
+    const p = this.#live("restWorldPositions").restPositions();
+    const o: { [name: string]: Vec3 } = {};
+    for (const i of this.#present) o[BONES[i]!] = [p[3 * i]!, p[3 * i + 1]!, p[3 * i + 2]!];
+    return o;
+  }
+
+  /** The bones this avatar has, parent-first, VRM 1.0 names. */
+  boneNames(): HumanBoneName[] {
+    this.#live("boneNames");
+    return this.#present.map((i) => BONES[i]!);
+  }
+
+  /** The bones the rig writes every frame (in `result.bones`), parent-first. */
+  drivenBones(): HumanBoneName[] {
+    this.#live("drivenBones");
+    return this.#driven.map((i) => BONES[i]!);
+  }
+
+  /** "0" or "1": the VRM version the rig was built for. */
+  get vrmVersion(): "0" | "1" {
+    return this.#live("vrmVersion").vrmVersion as "0" | "1";
+  }
+
+  /** Body scale in force for pose input (avatar arm / user arm); before any calibration sample, avatar arm / 0.52 m. */
+  get bodyScale(): number {
+    return this.#live("bodyScale").bodyScale;
+  }
+
+  /** Restarts body-scale calibration. */
+  resetCalibration(): void {
+    this.#live("resetCalibration").resetCalibration();
+  }
+
+  /** Forgets all history: filters, dropout holds and blends, held hands, elbow swivel, body-scale calibration. */
+  reset(): void {
+    this.#live("reset").reset();
+  }
+
+  /**
+   * Calibrates the hand scale of `handStrategy: "retarget"` from the last hand solved on each
+   * side, which should be an open, flat hand (call it while the user shows one). Returns
+   * `{ left, right }`: the new scale (avatar hand / user hand), or null where nothing changed (no
+   * hand yet, fingers not straight).
+   */
+  calibrateHandScale(): { left: number | null; right: number | null } {
+    const [left, right] = this.#live("calibrateHandScale").calibrateHandScale() as unknown as [number, number];
+    return { left: Number.isNaN(left) ? null : left, right: Number.isNaN(right) ? null : right };
+  }
+
+  /** Releases the wasm memory. Safe to call twice (idempotent); the rig throws on use afterwards. */
+  free(): void {
+    const r = this.#raw;
+    if (r) {
+      this.#raw = null;
+      this.#input = new Float32Array(0);
+      this.#output = new Float32Array(0);
+      r.free();
+    }
+  }
+
+  /**
+   * True once `free()` was called. (Where `Symbol.dispose` exists the rig also has
+   * `[Symbol.dispose]()`, an alias of `free()`; it is left out of these types so that they
+   * type-check without the esnext.disposable lib.)
+   */
+  get freed(): boolean {
+    return this.#raw === null;
+  }
+}
+
+/** `[Symbol.dispose]()`, an alias of `free()`, where the engine has `Symbol.dispose`. */
+export function addDispose(C: { prototype: { free(): void } }): void {
+  const dispose = typeof Symbol === "function" ? (Symbol as { dispose?: unknown }).dispose : undefined;
+  if (typeof dispose === "symbol") {
+    Object.defineProperty(C.prototype, dispose, { value: C.prototype.free, writable: true, configurable: true });
+  }
+}
+
+addDispose(HandRig);

@@ -1,0 +1,178 @@
+// The flat frame layout (src/flat.rs): offsets of the input and output Float32Arrays in wasm
+// memory, and the name lists of the bones, torso bones and body joints. build.mjs reads it from
+// the wasm it just built (`HandRig.layout()`) and esbuild inlines it as `__HANDRIG_LAYOUT__`, so
+// it is there before `init()` (and in the three-vrm adapter) and cannot drift from Rust. The
+// finger and face-anchor names come from `optionDescriptions()` (their option rows list them in
+// Rust's order), read once the module is initialized. No name list is retyped here.
+
+import { wasm } from "./wasm.js";
+
+/** The 55 VRM 1.0 humanoid bone names, parent-first (three-vrm's order). */
+export type HumanBoneName =
+  | "hips" | "spine" | "chest" | "upperChest" | "neck" | "head" | "leftEye" | "rightEye" | "jaw"
+  | "leftUpperLeg" | "leftLowerLeg" | "leftFoot" | "leftToes"
+  | "rightUpperLeg" | "rightLowerLeg" | "rightFoot" | "rightToes"
+  | "leftShoulder" | "leftUpperArm" | "leftLowerArm" | "leftHand"
+  | "rightShoulder" | "rightUpperArm" | "rightLowerArm" | "rightHand"
+  | "leftThumbMetacarpal" | "leftThumbProximal" | "leftThumbDistal"
+  | "leftIndexProximal" | "leftIndexIntermediate" | "leftIndexDistal"
+  | "leftMiddleProximal" | "leftMiddleIntermediate" | "leftMiddleDistal"
+  | "leftRingProximal" | "leftRingIntermediate" | "leftRingDistal"
+  | "leftLittleProximal" | "leftLittleIntermediate" | "leftLittleDistal"
+  | "rightThumbMetacarpal" | "rightThumbProximal" | "rightThumbDistal"
+  | "rightIndexProximal" | "rightIndexIntermediate" | "rightIndexDistal"
+  | "rightMiddleProximal" | "rightMiddleIntermediate" | "rightMiddleDistal"
+  | "rightRingProximal" | "rightRingIntermediate" | "rightRingDistal"
+  | "rightLittleProximal" | "rightLittleIntermediate" | "rightLittleDistal";
+
+/** The torso bones `frame.torso` may give, parent-first (`LAYOUT.torsoBones`). */
+export type TorsoBoneName =
+  | "hips" | "spine" | "chest" | "upperChest" | "neck" | "head" | "leftShoulder" | "rightShoulder";
+
+/** Body-tracker joints (`LAYOUT.bodyJoints`), named by the avatar bone whose joint they are, plus the face. */
+export type BodyJointName =
+  | "hips" | "leftUpperLeg" | "rightUpperLeg" | "leftUpperArm" | "rightUpperArm"
+  | "nose" | "leftEye" | "rightEye" | "leftEar" | "rightEar";
+
+/** Offsets of the flat frame layout (`LAYOUT`): indices into the input and output Float32Arrays. See the README. */
+export interface FlatLayout {
+  /** Bumped whenever an offset or meaning changes. */
+  readonly version: number;
+  readonly input: {
+    readonly length: number;
+    readonly handCount: number;
+    readonly imageAspect: number;
+    readonly posePresent: number;
+    readonly poseHasImage: number;
+    readonly poseImage: number;
+    readonly hands: number;
+    readonly handStride: number;
+    readonly hand: {
+      readonly handedness: number;
+      readonly score: number;
+      readonly hasWorld: number;
+      readonly hasImage: number;
+      readonly world: number;
+      readonly image: number;
+    };
+    readonly pose: number;
+    readonly poseStride: number;
+    readonly wrists: number;
+    readonly wristStride: number;
+    readonly wrist: {
+      readonly present: number;
+      readonly hasRotation: number;
+      readonly position: number;
+      readonly rotation: number;
+    };
+    readonly torso: number;
+    readonly torsoStride: number;
+    readonly torsoBone: {
+      readonly present: number;
+      readonly rotation: number;
+    };
+    readonly bodyPresent: number;
+    readonly body: number;
+    readonly bodyStride: number;
+    readonly face: number;
+    readonly faceStride: number;
+    readonly facePoint: {
+      readonly present: number;
+      readonly position: number;
+    };
+  };
+  readonly output: {
+    readonly length: number;
+    readonly boneRotations: number;
+    readonly boneFlags: number;
+    readonly bonePositions: number;
+    readonly sides: number;
+    readonly sideStride: number;
+    readonly side: {
+      readonly handStatus: number;
+      readonly handScore: number;
+      readonly targetPresent: number;
+      readonly targetPosition: number;
+      readonly targetRotation: number;
+      readonly alignmentPresent: number;
+      readonly targetDip: number;
+      readonly ikWrist: number;
+      readonly poseWrist: number;
+      readonly alignmentError: number;
+      readonly reachable: number;
+      readonly aligned: number;
+      readonly handIndex: number;
+      readonly handReassigned: number;
+      readonly fingertips: number;
+      readonly retargetPresent: number;
+      readonly retargetTargets: number;
+      readonly retargetScale: number;
+      readonly retargetIterations: number;
+      readonly retargetResidual: number;
+      readonly contactPresent: number;
+      readonly contactAnchor: number;
+      readonly contactWeight: number;
+      readonly contactDistance: number;
+      readonly contactHandWeight: number;
+      readonly contactPush: number;
+    };
+    readonly handUse: number;
+  };
+  /** The 55 bone names in output order. */
+  readonly bones: readonly HumanBoneName[];
+  /** The bones VRM requires. */
+  readonly requiredBones: readonly HumanBoneName[];
+  /** The torso section's bones, in order. */
+  readonly torsoBones: readonly TorsoBoneName[];
+  /** The body section's joints, in order. */
+  readonly bodyJoints: readonly BodyJointName[];
+}
+
+// Defined by build.mjs (esbuild `define`): `HandRig.layout()` of the wasm just built.
+declare const __HANDRIG_LAYOUT__: FlatLayout;
+
+function deepFreeze<T extends object>(o: T): T {
+  for (const v of Object.values(o)) if (v !== null && typeof v === "object") deepFreeze(v as object);
+  return Object.freeze(o);
+}
+
+/** The flat frame layout of this build. */
+export const LAYOUT: FlatLayout = deepFreeze(__HANDRIG_LAYOUT__);
+
+export const LI = LAYOUT.input;
+export const LO = LAYOUT.output;
+export const BONES = LAYOUT.bones;
+export const BONE_COUNT = BONES.length;
+export const BONE_INDEX = new Map<string, number>(BONES.map((name, i) => [name, i]));
+export const HAND_POINTS = 21;
+export const POSE_POINTS = 33;
+export const MAX_HANDS = (LI.pose - LI.hands) / LI.handStride;
+/** The avatar's sides, in the order of the layout's per-side sections. */
+export const SIDES = ["left", "right"] as const;
+
+/** Names Rust lists in its option table: the fingers (`alignment.finger`) and face anchors. */
+export interface OptionNames {
+  /** Thumb first (Rust's `Finger` order: the output's per-finger sections). */
+  readonly fingers: readonly string[];
+  /** Rust's `FaceAnchor` order (the output's `contactAnchor` index). */
+  readonly faceAnchors: readonly string[];
+}
+
+let optionNamesCache: OptionNames | undefined;
+
+/** The finger and face-anchor names, from `optionDescriptions()` (needs the module initialized). */
+export function optionNames(): OptionNames {
+  if (optionNamesCache === undefined) {
+    const rows = wasm().HandRig.optionDescriptions() as { path: string; values?: string[]; names?: string[] }[];
+    const row = (path: string) => {
+      const d = rows.find((r) => r.path === path);
+      if (d === undefined) throw new Error(`handrig: optionDescriptions() has no ${path}`);
+      return d;
+    };
+    optionNamesCache = Object.freeze({
+      fingers: Object.freeze([...(row("alignment.finger").values ?? [])]),
+      faceAnchors: Object.freeze([...(row("contact.faceAnchors").names ?? [])]),
+    });
+  }
+  return optionNamesCache;
+}

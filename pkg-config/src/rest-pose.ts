@@ -1,0 +1,57 @@
+// What `new HandRig()` and `HandRig.fromVrm()` read besides the options: a rest pose (bone name
+// -> rest world position, checked and packed into the flat array the raw constructor takes) or a
+// .vrm file's bytes.
+
+import { describe, fail, isObject, readUser, reading, tag } from "./errors.js";
+import { BONE_COUNT, BONE_INDEX } from "./layout.js";
+import { readVec3 } from "./points.js";
+
+/** A rest pose as the raw constructor takes it: per bone [present, x, y, z], and the VRM version. */
+export interface FlatRestPose {
+  rest: Float64Array;
+  version: number;
+}
+
+export function restPoseToFlat(restPose: unknown): FlatRestPose {
+  return readUser("restPose", () => readRestPose(restPose));
+}
+
+function readRestPose(restPose: unknown): FlatRestPose {
+  if (!isObject(restPose) || Array.isArray(restPose)) {
+    fail("restPose", 'must be an object { bones: { [boneName]: [x, y, z] }, vrmVersion?: "0" | "1" }');
+  }
+  const v = restPose.vrmVersion;
+  let version = 1;
+  if (v !== undefined && v !== null) {
+    if (v === "0" || v === 0) version = 0;
+    else if (v !== "1" && v !== 1) fail("restPose.vrmVersion", `must be "0" or "1", got ${describe(v)}`);
+  }
+  reading.part = "restPose.bones";
+  const bones = restPose.bones;
+  if (!isObject(bones) || Array.isArray(bones)) {
+    fail("restPose.bones", "must be an object { [boneName]: [x, y, z] }");
+  }
+  const rest = new Float64Array(4 * BONE_COUNT);
+  for (const name of Object.keys(bones)) {
+    const i = BONE_INDEX.get(name);
+    if (i === undefined) {
+      fail("restPose.bones", `unknown bone name ${JSON.stringify(name)} (expected a VRM 1.0 humanoid bone name such as "leftHand")`);
+    }
+    rest[4 * i] = 1;
+    reading.part = `restPose.bones.${name}`;
+    readVec3(bones[name], reading.part, rest, 4 * i + 1);
+  }
+  return { rest, version };
+}
+
+/** Accepts what file/fetch/fs APIs hand out; checks by tag so other realms' buffers work. */
+export function vrmBytes(bytes: unknown): Uint8Array {
+  if (bytes instanceof Uint8Array) return bytes;
+  const t = tag(bytes);
+  if (t === "ArrayBuffer" || t === "SharedArrayBuffer") return new Uint8Array(bytes as ArrayBuffer);
+  if (ArrayBuffer.isView(bytes)) return new Uint8Array(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  throw new TypeError(
+    "bytes: must be the .vrm file's contents as a Uint8Array, ArrayBuffer, Buffer or typed array" +
+      (bytes === undefined ? " (got undefined)" : ` (got ${t})`),
+  );
+}

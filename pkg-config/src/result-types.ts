@@ -1,0 +1,126 @@
+// The public types of what handrig returns: `HandRig.solve()` results (results.ts builds them)
+// and the contact model. The finger and face-anchor names are the option table's
+// (options-types.ts, generated from Rust), not retyped here.
+
+import type { BoneMap, Quat, Vec3 } from "./frame-types.js";
+import type { HandRigOptions } from "./options-types.js";
+
+type Group<T> = Exclude<T, boolean | undefined>;
+
+/** A finger: `alignment.finger`'s values (thumb, index, middle, ring, little). */
+export type FingerName = NonNullable<Group<HandRigOptions["alignment"]>["finger"]>;
+
+/** A face anchor: a named place of the face contact maps between user and avatar (`contact.faceAnchors`' names). */
+export type FaceAnchorName = keyof NonNullable<Group<HandRigOptions["contact"]>["faceAnchors"]>;
+
+/** A wrist IK target, the model's own frame. */
+export interface IkTarget {
+  /** Where the avatar's hand bone (wrist joint) should be, meters. */
+  position: Vec3;
+  /** World rotation the avatar's normalized hand bone should have. */
+  rotation: Quat;
+}
+
+/** What fingertip alignment did for one hand. */
+export interface AlignmentReport {
+  /** Where the user's aligned point (DIP or tip) is, mapped onto the avatar, meters. */
+  targetDip: Vec3;
+  /** The wrist IK target position, meters. */
+  ikWrist: Vec3;
+  /** The pose wrist the target was built from, meters. */
+  poseWrist: Vec3;
+  /** Distance (m) between the avatar's aligned point after IK and targetDip; null when unknown. */
+  error: number | null;
+  /** Whether the arm reached the IK wrist. */
+  reachable: boolean;
+  /** Whether the avatar has the aligned finger (otherwise the IK wrist is the pose wrist). */
+  aligned: boolean;
+  /** What self-contact did for this hand (null with `contact.enabled: false`); `targetDip` and `ikWrist` include it. */
+  contact: ContactReport | null;
+}
+
+/** What self-contact retargeting did for one hand. */
+export interface ContactReport {
+  /** The face anchor nearest the user's fingertip (null: no face for this side's wrist source, or no hand). */
+  anchor: FaceAnchorName | null;
+  /** The face contact blend applied, 0 (plain alignment) to 1 (the fingertip mapped onto the avatar's face). */
+  weight: number;
+  /** Distance (m) from the avatar's fingertip (the aligned finger, after IK) to the avatar's anchor; null when unknown. */
+  distance: number | null;
+  /** The hand-to-hand contact blend applied, 0..1. */
+  handWeight: number;
+  /** How far the body colliders pushed the hand, meters. */
+  push: number;
+}
+
+/** The avatar's self-contact model at rest, meters, the model's own frame (`rig.contactModel()`). */
+export interface ContactModel {
+  /** The face anchors (from `contact.faceAnchors` where given, derived from the rig elsewhere). */
+  anchors: { [name in FaceAnchorName]: Vec3 };
+  /** Head breadth (ear to ear) the derived anchors assume, meters. */
+  headBreadth: number;
+  /** The body colliders (absent where dropped). */
+  colliders: {
+    torso?: { a: Vec3; b: Vec3; radius: number };
+    neck?: { a: Vec3; b: Vec3; radius: number };
+    head?: { center: Vec3; radius: number };
+  };
+}
+
+/** The tracked hand that drove one avatar side this frame. */
+export interface TrackedHand {
+  /** "solved" from this frame; "held": this frame's hand was degenerate and the previous
+   * rotations are reported again; "skipped": degenerate with nothing to hold. */
+  status: "solved" | "held" | "skipped";
+  /** Its handedness score, 0..1. */
+  score: number;
+  /** Its index among the frame's hands. */
+  index: number;
+  /** Its label contradicted the pose wrists and it was reassigned to this side (`handedness: "reassign"`). */
+  reassigned: boolean;
+}
+
+/** What became of one hand of the frame. */
+export type HandUse = "left" | "right" | "lowScore" | "duplicate" | "contradicted";
+
+/** The result of one `solve`, in the model's own frame. */
+export interface SolveResult {
+  /** The frame's timestamp, milliseconds. */
+  timeMs: number;
+  /** Local rotations of every bone the rig drives (`rig.drivenBones()`: arms, hands, fingers the avatar has; with `torso: "pose"` the torso bones), every frame: solved, held, or back at rest (identity) when tracking is lost. Write them all to `getNormalizedBoneNode(name).quaternion` (`applyToVRM` does). */
+  bones: BoneMap<Quat>;
+  /** World positions of every bone of the avatar after solving, meters. */
+  worldPositions: BoneMap<Vec3>;
+  /**
+   * Wrist IK targets, per avatar side, when both the wrist and the hand's rotation are known (a
+   * solved hand, or a tracker wrist with `rotation`); a wrist position alone moves the arm
+   * (see `worldPositions`) without a target here.
+   */
+  ikTargets: { left?: IkTarget; right?: IkTarget };
+  /** Fingertip-alignment reports, per avatar side. */
+  alignment: { left?: AlignmentReport; right?: AlignmentReport };
+  /** Which tracked hand drove each avatar side, and whether its rotations are fresh. */
+  hands: { left?: TrackedHand; right?: TrackedHand };
+  /** Per hand of the frame (its order): the avatar side it drove, or why it was ignored. */
+  handUse: HandUse[];
+  /** The avatar's fingertips per side (the distal bone extended by the anatomical ratio), every frame and strategy; a finger the avatar lacks is undefined. */
+  fingertips: { left?: Fingers<Vec3>; right?: Fingers<Vec3> };
+  /** What `handStrategy: "retarget"` did per side this frame (sides freshly solved by it). */
+  retarget: { left?: RetargetReport; right?: RetargetReport };
+}
+
+/** One value per finger (undefined where the avatar lacks the finger). */
+export type Fingers<T> = { [finger in FingerName]?: T };
+
+/** The retargeting of one hand (seed 003). */
+export interface RetargetReport {
+  /** The user's fingertips, scaled to the avatar's hand and placed on it (same frame as `fingertips`). */
+  targets: Fingers<Vec3>;
+  /** Avatar hand size / user hand size. */
+  scale: number;
+  /** Gauss-Newton iterations (the most any finger needed). */
+  iterations: number;
+  /** Weighted RMS distance (m) between the avatar's fingertips and the targets. */
+  residual: number;
+}
+

@@ -1,0 +1,236 @@
+// The result of `HandRig.solve()`, built from the output view (LAYOUT.output) into a reused
+// object: the rig's own (or the caller's), whose parts are created on first use and updated in
+// place after, so that a warmed-up frame allocates nothing.
+
+import { isObject, type Bag } from "./errors.js";
+import { TIME } from "./frame.js";
+import { BONES, LI, LO, SIDES, optionNames } from "./layout.js";
+
+type Mutable = { [key: string | symbol]: unknown };
+type Vec = [number, number, number];
+type Q = [number, number, number, number];
+
+export function vec(out: Float32Array, at: number, dst: number[]): number[] {
+  dst[0] = out[at]!;
+  dst[1] = out[at + 1]!;
+  dst[2] = out[at + 2]!;
+  return dst;
+}
+
+export function quat(out: Float32Array, at: number, dst: number[]): number[] {
+  dst[0] = out[at]!;
+  dst[1] = out[at + 1]!;
+  dst[2] = out[at + 2]!;
+  dst[3] = out[at + 3]!;
+  return dst;
+}
+
+// The output's enumerations (src/flat.rs): hand status per side, and what became of each hand.
+const STATUS = [undefined, "solved", "held", "skipped"];
+const HAND_USE = [null, "left", "right", "lowScore", "duplicate", "contradicted"];
+
+/** Per-finger points: `thumb` ... `little` (names from `optionNames()`), the reused arrays hidden. */
+type FingerSet = Mutable & { points: Vec[] };
+
+interface SideParts {
+  target: { position: Vec; rotation: Q };
+  alignment: {
+    targetDip: Vec;
+    ikWrist: Vec;
+    poseWrist: Vec;
+    error: number | null;
+    reachable: boolean;
+    aligned: boolean;
+    contact: SideParts["contact"] | null;
+  };
+  contact: { anchor: string | null; weight: number; distance: number | null; handWeight: number; push: number };
+  hand: { status: string; score: number; index: number; reassigned: boolean };
+  tips: FingerSet;
+  retarget: { targets: FingerSet; scale: number; iterations: number; residual: number };
+}
+
+/**
+ * Fills `result` (any object; its parts are created on first use and reused after) from the
+ * output view. `driven`/`present` are the rig's bone indices.
+ */
+export function fillResult(result: object, out: Float32Array, input: Float32Array, driven: number[], present: number[]): object {
+  const r = result as Mutable;
+  r.timeMs = TIME[0];
+  // The per-bone arrays, found by name once per result object and then updated by index: a
+  // property store by a varying key is a slow (megamorphic) lookup every time.
+  const arrays = boneArrays(r, driven, present);
+  const rotations = arrays.rotations;
+  for (let k = 0; k < driven.length; k++) quat(out, LO.boneRotations + 4 * driven[k]!, rotations[k]!);
+  const positions = arrays.positions;
+  for (let k = 0; k < present.length; k++) vec(out, LO.bonePositions + 3 * present[k]!, positions[k]!);
+  let targets = r.ikTargets as Mutable;
+  if (!isObject(targets)) targets = r.ikTargets = {};
+  let alignment = r.alignment as Mutable;
+  if (!isObject(alignment)) alignment = r.alignment = {};
+  let hands = r.hands as Mutable;
+  if (!isObject(hands)) hands = r.hands = {};
+  const names = optionNames();
+  const S = LO.side;
+  for (let s = 0; s < 2; s++) {
+    const side = SIDES[s]!;
+    const at = LO.sides + s * LO.sideStride;
+    const cache = sideCache(r, s);
+    if (out[at + S.targetPresent] === 1) {
+      const t = cache.target;
+      vec(out, at + S.targetPosition, t.position);
+      quat(out, at + S.targetRotation, t.rotation);
+      targets[side] = t;
+    } else if (side in targets) delete targets[side];
+    if (out[at + S.alignmentPresent] === 1) {
+      const a = cache.alignment;
+      vec(out, at + S.targetDip, a.targetDip);
+      vec(out, at + S.ikWrist, a.ikWrist);
+      vec(out, at + S.poseWrist, a.poseWrist);
+      const err = out[at + S.alignmentError]!;
+      a.error = Number.isNaN(err) ? null : err;
+      a.reachable = out[at + S.reachable] === 1;
+      a.aligned = out[at + S.aligned] === 1;
+      if (out[at + S.contactPresent] === 1) {
+        const c = cache.contact;
+        c.anchor = names.faceAnchors[out[at + S.contactAnchor]!] ?? null;
+        c.weight = out[at + S.contactWeight]!;
+        const d = out[at + S.contactDistance]!;
+        c.distance = Number.isNaN(d) ? null : d;
+        c.handWeight = out[at + S.contactHandWeight]!;
+        c.push = out[at + S.contactPush]!;
+        a.contact = c;
+      } else a.contact = null;
+      alignment[side] = a;
+    } else if (side in alignment) delete alignment[side];
+    const status = STATUS[out[at + S.handStatus]!];
+    if (status !== undefined) {
+      const h = cache.hand;
+      h.status = status;
+      h.score = out[at + S.handScore]!;
+      h.index = out[at + S.handIndex]!;
+      h.reassigned = out[at + S.handReassigned] === 1;
+      hands[side] = h;
+    } else if (side in hands) delete hands[side];
+  }
+  let tips = r.fingertips as Mutable;
+  if (!isObject(tips)) tips = r.fingertips = {};
+  let retarget = r.retarget as Mutable;
+  if (!isObject(retarget)) retarget = r.retarget = {};
+  for (let s = 0; s < 2; s++) {
+    const side = SIDES[s]!;
+    const at = LO.sides + s * LO.sideStride;
+    const cache = sideCache(r, s);
+    if (fingers(out, at + S.fingertips, cache.tips, names.fingers)) tips[side] = cache.tips;
+    else if (side in tips) delete tips[side];
+    if (out[at + S.retargetPresent] === 1) {
+      const rt = cache.retarget;
+      fingers(out, at + S.retargetTargets, rt.targets, names.fingers);
+      rt.scale = out[at + S.retargetScale]!;
+      rt.iterations = out[at + S.retargetIterations]!;
+      rt.residual = out[at + S.retargetResidual]!;
+      retarget[side] = rt;
+    } else if (side in retarget) delete retarget[side];
+  }
+  let use = r.handUse as (string | null | undefined)[];
+  if (!Array.isArray(use)) use = r.handUse = [];
+  const count = input[LI.handCount]!;
+  use.length = count;
+  for (let k = 0; k < count; k++) use[k] = HAND_USE[out[LO.handUse + k]!];
+  return result;
+}
+
+/**
+ * Five points (NaN for a finger the avatar lacks) into `dst.thumb` ... `dst.little` (undefined
+ * where missing). Returns whether any finger is there.
+ */
+function fingers(out: Float32Array, at: number, dst: FingerSet, names: readonly string[]): boolean {
+  let any = false;
+  for (let f = 0; f < 5; f++) {
+    const o = at + 3 * f;
+    const name = names[f]!;
+    if (Number.isNaN(out[o])) {
+      dst[name] = undefined;
+      continue;
+    }
+    const p = dst.points[f]!;
+    vec(out, o, p);
+    dst[name] = p;
+    any = true;
+  }
+  return any;
+}
+
+/** { thumb, index, middle, ring, little } with the five reused arrays kept non-enumerable. */
+function fingerSet(names: readonly string[]): FingerSet {
+  const o: Mutable = {};
+  for (const name of names) o[name] = undefined;
+  Object.defineProperty(o, "points", { value: names.map((): Vec => [0, 0, 0]), enumerable: false });
+  return o as FingerSet;
+}
+
+interface BoneArrays {
+  bones: Bag;
+  world: Bag;
+  driven: number[];
+  rotations: number[][];
+  positions: number[][];
+}
+
+/**
+ * The arrays of `result.bones` and `result.worldPositions`, in the rig's driven / present order,
+ * kept on a hidden property of the result (re-found if the caller swapped an object).
+ */
+const BONE_ARRAYS: symbol | string = typeof Symbol === "function" ? Symbol("handrig.bones") : "__handrigBones";
+function boneArrays(result: Mutable, driven: number[], present: number[]): BoneArrays {
+  let c = result[BONE_ARRAYS] as BoneArrays | undefined;
+  if (c !== undefined && c.bones === result.bones && c.world === result.worldPositions && c.driven === driven) return c;
+  let bones = result.bones as Mutable;
+  if (!isObject(bones)) bones = result.bones = {};
+  let world = result.worldPositions as Mutable;
+  if (!isObject(world)) world = result.worldPositions = {};
+  const take = (o: Mutable, name: string, n: number): number[] => {
+    const a = o[name];
+    if (Array.isArray(a) && a.length === n) return a as number[];
+    return (o[name] = n === 4 ? [0, 0, 0, 1] : [0, 0, 0]);
+  };
+  c = {
+    bones,
+    world,
+    driven,
+    rotations: driven.map((i) => take(bones, BONES[i]!, 4)),
+    positions: present.map((i) => take(world, BONES[i]!, 3)),
+  };
+  Object.defineProperty(result, BONE_ARRAYS, { value: c, enumerable: false, configurable: true, writable: true });
+  return c;
+}
+
+/**
+ * Per-side sub-objects, kept on a hidden property of the result so a reused result reuses them
+ * (and a fresh `{}` gets its own).
+ */
+const SIDE_CACHE: symbol | string = typeof Symbol === "function" ? Symbol("handrig.sides") : "__handrigSides";
+function sideCache(result: Mutable, s: number): SideParts {
+  let c = result[SIDE_CACHE] as SideParts[] | undefined;
+  if (c === undefined) {
+    const fingerNames = optionNames().fingers;
+    const make = (): SideParts => ({
+      target: { position: [0, 0, 0], rotation: [0, 0, 0, 1] },
+      alignment: {
+        targetDip: [0, 0, 0],
+        ikWrist: [0, 0, 0],
+        poseWrist: [0, 0, 0],
+        error: null,
+        reachable: false,
+        aligned: false,
+        contact: null,
+      },
+      contact: { anchor: null, weight: 0, distance: null, handWeight: 0, push: 0 },
+      hand: { status: "solved", score: 0, index: 0, reassigned: false },
+      tips: fingerSet(fingerNames),
+      retarget: { targets: fingerSet(fingerNames), scale: 0, iterations: 0, residual: 0 },
+    });
+    c = [make(), make()];
+    Object.defineProperty(result, SIDE_CACHE, { value: c, enumerable: false });
+  }
+  return c[s]!;
+}

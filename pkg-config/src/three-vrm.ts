@@ -1,0 +1,167 @@
+// handrig <-> three-vrm adapter (`handrig/three-vrm`): the one place that knows three-vrm. It
+// reads and writes three-vrm's *normalized* humanoid (identity rest rotations, positions =
+// offsets from the nearest existing humanoid ancestor), which is the frame handrig solves in. It
+// imports nothing at run time but the layout (inlined by build.mjs): the VRM object is used
+// through the few members of `VRMLike`, so the package has no dependency on three or
+// @pixiv/three-vrm, and a three-vrm `VRM` fits the types.
+//
+// VRM 0.x: three-vrm keeps a 0.x model's normalized bones in the model's own frame (facing -Z).
+// handrig is told the version (restPose.vrmVersion) and returns rotations in that same frame, so
+// they are written as they are: do NOT negate x and z here or in user code (that negation is for
+// poses authored for VRM 1.0's +Z facing, which handrig already handles).
+
+import { LAYOUT } from "./layout.js";
+
+/** A normalized bone node: the parts of three's `Object3D` the adapter uses. */
+interface BoneNodeLike {
+  parent: unknown;
+  quaternion: { set(x: number, y: number, z: number, w: number): unknown };
+}
+
+/** The parts of three-vrm's `VRM` the adapter uses. */
+export interface VRMLike {
+  meta: { metaVersion: "0" | "1" | string };
+  humanoid: {
+    /** Local positions of the normalized bones at rest (offsets from the nearest existing humanoid ancestor). */
+    normalizedRestPose: { [boneName: string]: { position?: ArrayLike<number> } | undefined };
+    getNormalizedBoneNode(name: string): BoneNodeLike | null | undefined;
+  };
+}
+
+/** Same shape as handrig's `RestPose` (import that type from "handrig"). */
+export interface VRMRestPose {
+  /** Rest world positions of the normalized bones, meters, the model's own frame. */
+  bones: { [boneName: string]: [number, number, number] };
+  /** `vrm.meta.metaVersion`: "0" models face -Z, "1" models face +Z. */
+  vrmVersion: "0" | "1";
+}
+
+type Humanoid = VRMLike["humanoid"];
+
+function humanoidOf(vrm: unknown, fn: string): Humanoid {
+  const humanoid: unknown = vrm !== null && typeof vrm === "object" ? (vrm as { humanoid?: unknown }).humanoid : undefined;
+  if (
+    humanoid === null ||
+    typeof humanoid !== "object" ||
+    typeof (humanoid as { getNormalizedBoneNode?: unknown }).getNormalizedBoneNode !== "function"
+  ) {
+    throw new TypeError(`${fn}: vrm.humanoid must be a three-vrm VRMHumanoid (pass gltf.userData.vrm from VRMLoaderPlugin)`);
+  }
+  return humanoid as Humanoid;
+}
+
+/**
+ * The rest pose handrig needs, from three-vrm's normalized humanoid (`normalizedRestPose`): world
+ * positions of the normalized bones at rest in the model's own frame (meters), plus the VRM
+ * version: `{ bones: { [name]: [x, y, z] }, vrmVersion }`. Unaffected by the avatar's current
+ * pose, its scene transform and `VRMUtils.rotateVRM0`. Use it as
+ * `new HandRig(restPoseFromVRM(vrm), options)`.
+ * @throws TypeError when `vrm` is not a three-vrm VRM.
+ */
+export function restPoseFromVRM(vrm: VRMLike): VRMRestPose {
+  const fn = "restPoseFromVRM";
+  const humanoid = humanoidOf(vrm, fn);
+  const metaVersion = vrm.meta ? vrm.meta.metaVersion : undefined;
+  if (metaVersion !== "0" && metaVersion !== "1") {
+    throw new TypeError(`${fn}: vrm.meta.metaVersion must be "0" or "1", got ${JSON.stringify(metaVersion)}`);
+  }
+  const rest = humanoid.normalizedRestPose as VRMLike["humanoid"]["normalizedRestPose"] | null | undefined;
+  if (rest === null || typeof rest !== "object") {
+    throw new TypeError(`${fn}: vrm.humanoid.normalizedRestPose is missing (three-vrm >= 1.0 is required)`);
+  }
+  // Normalized bone node -> bone name, to follow the normalized hierarchy (each node's parent is
+  // the nearest existing humanoid ancestor's node, or the rig root for hips).
+  const nameOfNode = new Map<unknown, string>();
+  for (const name of Object.keys(rest)) {
+    const node = humanoid.getNormalizedBoneNode(name);
+    if (node) nameOfNode.set(node, name);
+  }
+  const bones: { [name: string]: [number, number, number] } = {};
+  const visiting = new Set<string>();
+  const worldOf = (name: string): [number, number, number] => {
+    const known = bones[name];
+    if (known) return known;
+    if (visiting.has(name)) {
+      throw new Error(`${fn}: the normalized bone hierarchy has a cycle at "${name}"`);
+    }
+    visiting.add(name);
+    const p: ArrayLike<number> = rest[name]!.position || [0, 0, 0];
+    const parentName = nameOfNode.get(humanoid.getNormalizedBoneNode(name)!.parent);
+    const base = parentName === undefined ? [0, 0, 0] : worldOf(parentName);
+    const world: [number, number, number] = [base[0]! + p[0]!, base[1]! + p[1]!, base[2]! + p[2]!];
+    for (let i = 0; i < 3; i++) {
+      if (!Number.isFinite(world[i])) {
+        throw new Error(`${fn}: vrm.humanoid.normalizedRestPose.${name}.position is not finite`);
+      }
+    }
+    visiting.delete(name);
+    bones[name] = world;
+    return world;
+  };
+  for (const name of nameOfNode.values()) worldOf(name);
+  return { bones, vrmVersion: metaVersion };
+}
+
+// Per humanoid: bone name -> normalized bone node (null when the avatar lacks it), so a frame
+// does not look every bone up again. Keyed weakly: a disposed VRM takes its entry with it.
+const nodeCache = new WeakMap<object, Map<string, BoneNodeLike | null>>();
+
+function nodesOf(humanoid: Humanoid): Map<string, BoneNodeLike | null> {
+  let nodes = nodeCache.get(humanoid);
+  if (nodes === undefined) {
+    nodes = new Map();
+    for (const name of LAYOUT.bones) nodes.set(name, humanoid.getNormalizedBoneNode(name) || null);
+    nodeCache.set(humanoid, nodes);
+  }
+  return nodes;
+}
+
+/**
+ * Writes a solve's rotations to `vrm.humanoid.getNormalizedBoneNode(name).quaternion`: `result`
+ * is a `HandRig.solve` result (its `bones`: every bone the rig drives, every frame) or a flat
+ * output array (`rig.output`, or what `solveInto` filled: every bone whose flag is not 0). Bones
+ * the avatar lacks are skipped. No VRM 0.x sign flip is applied or needed: handrig already
+ * returns rotations in the model's own frame. Call `vrm.update(delta)` afterwards as usual
+ * (three-vrm copies normalized rotations to the model's bones there). Returns how many bones were
+ * written. Allocates nothing per frame: the bone nodes are looked up once per VRM and cached.
+ * @throws TypeError when `vrm` or `result` has the wrong shape.
+ */
+export function applyToVRM(
+  vrm: VRMLike,
+  result: { bones: { [boneName: string]: ArrayLike<number> | undefined } } | Float32Array,
+): number {
+  const fn = "applyToVRM";
+  const humanoid = humanoidOf(vrm, fn);
+  const nodes = nodesOf(humanoid);
+  let written = 0;
+  if (result instanceof Float32Array) {
+    const O = LAYOUT.output;
+    if (result.length !== O.length) {
+      throw new TypeError(`${fn}: a flat output must have ${O.length} numbers (LAYOUT.output.length), got ${result.length}`);
+    }
+    const bones = LAYOUT.bones;
+    for (let i = 0; i < bones.length; i++) {
+      if (result[O.boneFlags + i] === 0) continue;
+      const node = nodes.get(bones[i]!);
+      if (!node) continue;
+      const at = O.boneRotations + 4 * i;
+      node.quaternion.set(result[at]!, result[at + 1]!, result[at + 2]!, result[at + 3]!);
+      written++;
+    }
+    return written;
+  }
+  const bones: unknown = result !== null && typeof result === "object" ? result.bones : undefined;
+  if (bones === null || typeof bones !== "object") {
+    throw new TypeError(`${fn}: result.bones must be the bones of a HandRig.solve() result (or pass a flat output Float32Array)`);
+  }
+  // for..in over the result's own plain object: no per-frame allocation.
+  const map = bones as { [boneName: string]: ArrayLike<number> | undefined };
+  for (const name in map) {
+    const q = map[name];
+    const node = nodes.get(name);
+    if (!node || !q) continue;
+    node.quaternion.set(q[0]!, q[1]!, q[2]!, q[3]!);
+    written++;
+  }
+  return written;
+}

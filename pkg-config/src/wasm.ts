@@ -1,0 +1,98 @@
+// The raw wasm-bindgen module under the JS layer, as the entry point for each target hands it
+// over (`bindWasm`): the `--target web` glue in browsers and bundlers, the `--target nodejs` glue
+// in Node. Only the members below are used; build.mjs type-checks the real glue against
+// `RawModule`, so this interface cannot drift from src/wasm/.
+
+/** wasm-bindgen's `HandRig` (src/wasm/mod.rs): thin, flat buffers in wasm memory. */
+export interface RawHandRig {
+  inputPtr(): number;
+  outputPtr(): number;
+  solveFlat(timeMs: number): number;
+  takeError(): string | undefined;
+  boneStates(): Uint8Array;
+  contactModel(): Float32Array;
+  restPositions(): Float32Array;
+  readonly vrmVersion: string;
+  readonly bodyScale: number;
+  resetCalibration(): void;
+  reset(): void;
+  calibrateHandScale(): Float32Array;
+  free(): void;
+}
+
+/** One option as the raw `optionDescriptions()` gives it (numbers as f32 values widened). */
+export interface RawOptionDescription {
+  path: string;
+  type: string;
+  description: string;
+  default?: unknown;
+  values?: string[];
+  names?: string[];
+  min?: number;
+  max?: number;
+  step?: number;
+  length?: number;
+  integer?: boolean;
+}
+
+export interface RawHandRigClass {
+  new (rest: Float64Array, vrmVersion: number, options: unknown): RawHandRig;
+  fromVrm(bytes: Uint8Array, options: unknown): RawHandRig;
+  memory(): unknown;
+  layout(): unknown;
+  optionDescriptions(): unknown[];
+}
+
+/** wasm-bindgen's `RawChainSolver` (src/wasm/chain.rs). */
+export interface RawChainSolver {
+  readonly jointCount: number;
+  goalPtr(): number;
+  posePtr(): number;
+  readonly poseLength: number;
+  solveFlat(): number;
+  takeError(): string | undefined;
+  reset(): void;
+  free(): void;
+}
+
+export interface RawChainSolverClass {
+  new (options: unknown): RawChainSolver;
+}
+
+/** What the JS layer uses of the wasm-bindgen glue. */
+export interface RawModule {
+  HandRig: RawHandRigClass;
+  RawChainSolver: RawChainSolverClass;
+  wasmBuild(): string;
+}
+
+let raw: RawModule | undefined;
+let isReady: () => boolean = () => false;
+
+/** Called once by the entry point: the glue, and whether its module is instantiated. */
+export function bindWasm(module: RawModule, ready: () => boolean): void {
+  raw = module;
+  isReady = ready;
+}
+
+/** The glue (the entry point bound it before any class of this layer can be used). */
+export function wasm(): RawModule {
+  return raw as RawModule;
+}
+
+export function ensureReady(what: string): void {
+  if (!isReady()) {
+    throw new Error(
+      `handrig: ${what} was called before the WebAssembly module was initialized. ` +
+        "In browsers and bundlers, `await init()` (the package's default export) first.",
+    );
+  }
+}
+
+let memory: { readonly buffer: ArrayBuffer } | undefined;
+
+/** wasm's memory (its `buffer` is replaced when the memory grows). */
+export function wasmMemory(): { readonly buffer: ArrayBuffer } {
+  if (memory === undefined) memory = wasm().HandRig.memory() as { readonly buffer: ArrayBuffer };
+  return memory;
+}
