@@ -211,8 +211,21 @@ const ENTRIES = [
 // The public types, emitted from the same sources (one bundled .d.ts per entry): index.d.ts and
 // three-vrm.d.ts for ES modules, .d.cts (without the default export) for CommonJS.
 const DECLARATIONS = [
-  { src: "index.ts", out: "index" },
-  { src: "three-vrm.ts", out: "three-vrm" },
+  {
+    src: "index.ts",
+    out: "index",
+    about:
+      "// Types of the handrig package. Conventions: meters, radians, milliseconds; right-handed, +Y up;\n" +
+      "// the avatar faces +Z (VRM 1.0; VRM 0.x models face -Z and everything is in the model's own\n" +
+      "// frame); quaternions [x, y, z, w].\n",
+  },
+  {
+    src: "three-vrm.ts",
+    out: "three-vrm",
+    about:
+      "// Types of `handrig/three-vrm`. The VRM is typed structurally (the members the adapter uses),\n" +
+      "// so neither three nor @pixiv/three-vrm is needed to type-check; a three-vrm `VRM` fits.\n",
+  },
 ];
 
 /**
@@ -312,7 +325,7 @@ function declarations(work, out, version) {
   fs.writeFileSync(path.join(dir, "config.json"), `${JSON.stringify(config, null, 2)}\n`);
   run(tool("dts-bundle-generator"), ["--silent", "--config", path.join(dir, "config.json")]);
   for (const d of DECLARATIONS) {
-    const dts = `${banner(version)}\n${fs.readFileSync(path.join(dir, `${d.out}.d.ts`), "utf8")}`;
+    const dts = `${banner(version)}\n${d.about}\n${fs.readFileSync(path.join(dir, `${d.out}.d.ts`), "utf8")}`;
     fs.writeFileSync(path.join(out, `${d.out}.d.ts`), dts);
     fs.writeFileSync(path.join(out, `${d.out}.d.cts`), toCts(dts));
   }

@@ -4,10 +4,9 @@
 
 import { asError, describe, fail, finite, FieldError, isObject, readUser, reading, userError } from "./errors.js";
 import type { Landmark, Quat, Vec3 } from "./frame-types.js";
-import { addDispose } from "./hand-rig.js";
 import { point3, readVec3 } from "./points.js";
 import { quat, vec } from "./results.js";
-import { ensureReady, wasm, wasmMemory, type RawChainSolver } from "./wasm.js";
+import { addDispose, ensureReady, wasm, wasmMemory, type RawChainSolver } from "./wasm.js";
 
 /** A joint limit of a chain bone, in the parent bone's frame (bone 0: against its rest direction). */
 export type JointConstraint =

@@ -13,7 +13,7 @@ import { cleanDescriptions, optionsValue, type HandRigOptions, type OptionDescri
 import type { ContactModel, SolveResult } from "./result-types.js";
 import { fillResult } from "./results.js";
 import { restPoseToFlat, vrmBytes } from "./rest-pose.js";
-import { ensureReady, wasm, wasmMemory, type RawHandRig } from "./wasm.js";
+import { addDispose, ensureReady, wasm, wasmMemory, type RawHandRig } from "./wasm.js";
 
 // Constructor token for wrapping a raw rig made by a static factory (fromVrm).
 const ADOPT = {};
@@ -288,14 +288,6 @@ export class HandRig {
    */
   get freed(): boolean {
     return this.#raw === null;
-  }
-}
-
-/** `[Symbol.dispose]()`, an alias of `free()`, where the engine has `Symbol.dispose`. */
-export function addDispose(C: { prototype: { free(): void } }): void {
-  const dispose = typeof Symbol === "function" ? (Symbol as { dispose?: unknown }).dispose : undefined;
-  if (typeof dispose === "symbol") {
-    Object.defineProperty(C.prototype, dispose, { value: C.prototype.free, writable: true, configurable: true });
   }
 }
 

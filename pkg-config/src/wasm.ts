@@ -96,3 +96,11 @@ export function wasmMemory(): { readonly buffer: ArrayBuffer } {
   if (memory === undefined) memory = wasm().HandRig.memory() as { readonly buffer: ArrayBuffer };
   return memory;
 }
+
+/** `[Symbol.dispose]()`, an alias of `free()`, where the engine has `Symbol.dispose`. */
+export function addDispose(C: { prototype: { free(): void } }): void {
+  const dispose = typeof Symbol === "function" ? (Symbol as { dispose?: unknown }).dispose : undefined;
+  if (typeof dispose === "symbol") {
+    Object.defineProperty(C.prototype, dispose, { value: C.prototype.free, writable: true, configurable: true });
+  }
+}
