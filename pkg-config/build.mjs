@@ -49,10 +49,10 @@ const WASM_NAME = "handrig_bg.wasm";
 // The SIMD build's file, beside it.
 const WASM_SIMD_NAME = "handrig_simd_bg.wasm";
 
-// Size budget of the shipped .wasm, gzipped, from issue 10 (set before the chain IK and the
-// retargeting landed). Printed with every build; tests/node guards it (the release build
-// measures 148.4 KiB, SIMD 144.3, with everything of milestone 2; see the README, "Speed").
-const WASM_GZIP_BUDGET = 150 * 1024;
+// Size budget of the shipped .wasm, gzipped: 250 KiB, from issue 24 (serde and
+// serde-wasm-bindgen read the options, rest poses and the .vrm's JSON at setup: 148.4 KiB
+// before, 205 KiB with them). Printed with every build; tests/node guards it.
+const WASM_GZIP_BUDGET = 250 * 1024;
 
 // Code generation for both WebAssembly builds: LLVM unrolls loops up to a cost of 125 instead
 // of its -O3 default (300). Fully unrolled loops over bones, fingers and sides made the

@@ -24,9 +24,8 @@
 //!
 //! * [`bones`]: the 55 humanoid bones, parent map, sides and fingers.
 //! * [`skeleton`]: rest pose and forward kinematics over normalized bones.
-//! * [`vrm`]: reading `.vrm` (glTF binary) files, VRM 1.0 and 0.x.
-//! * [`json`]: JSON documents and the decoding of options from them (the engine's
-//!   `JSON.parse` in WebAssembly).
+//! * [`vrm`]: reading `.vrm` (glTF binary) files, VRM 1.0 and 0.x (the JSON chunk through
+//!   serde_json).
 //! * [`mediapipe`]: input types and the camera-to-avatar conversion.
 //! * [`options`]: [`RigOptions`] and the one table every option is described in.
 //! * [`hand`]: wrist and finger rotations from 21 hand landmarks.
@@ -55,7 +54,6 @@ pub mod filter;
 pub mod flat;
 pub mod hand;
 pub mod ik;
-pub mod json;
 pub mod kinematics;
 pub mod mediapipe;
 pub mod options;

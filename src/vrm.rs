@@ -17,8 +17,9 @@
 //! Every malformed input is an [`Error::Vrm`] naming the part of the file and the problem;
 //! nothing here panics or indexes out of bounds, whatever the bytes.
 
-use crate::json::{Json, JsonError};
 use glam::Vec3;
+use serde::de::{Deserialize, Deserializer, Error as _, SeqAccess, Visitor};
+use serde_json::Value as Json;
 
 use crate::bones::{HumanBone, BONE_COUNT};
 use crate::error::{Error, Result};
@@ -61,10 +62,10 @@ pub struct VrmHumanoid {
 pub fn parse(bytes: &[u8]) -> Result<VrmHumanoid> {
     let glb = Glb::parse(bytes)?;
     let json = glb.json.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(glb.json);
-    let root = read_top_level(json)?;
-    let root = &root;
-    let nodes = NodeTree::parse(root)?;
-    let (version, map) = humanoid_map(root, nodes.len())?;
+    let top = read_top_level(json)?;
+    let nodes = NodeTree::parse(&top.nodes.0)?;
+    let ext = top.extensions.as_ref();
+    let (version, map) = humanoid_map(ext, nodes.len())?;
 
     let mut world = vec![None; nodes.len()];
     let head_node = map
@@ -72,7 +73,7 @@ pub fn parse(bytes: &[u8]) -> Result<VrmHumanoid> {
         .find(|(b, _, _)| *b == HumanBone::Head)
         .map(|(_, n, _)| *n);
     let look_at = head_node.and_then(|node| {
-        let offset = look_at_offset(root, version)?;
+        let offset = look_at_offset(ext?, version)?;
         let [x, y, z] = nodes.world(node, &mut world).apply_linear(offset);
         let v = Vec3::new(x as f32, y as f32, z as f32);
         v.is_finite().then_some(v)
@@ -110,8 +111,7 @@ pub fn parse(bytes: &[u8]) -> Result<VrmHumanoid> {
 
 /// The look-at offset as written in the head node's local frame (VRM 0.x: z negated, as
 /// three-vrm reads it); `None` when absent or malformed.
-fn look_at_offset(root: &Json, version: VrmVersion) -> Option<[f64; 3]> {
-    let ext = root.get("extensions")?;
+fn look_at_offset(ext: &Json, version: VrmVersion) -> Option<[f64; 3]> {
     let v = match version {
         VrmVersion::V1 => {
             let a = ext
@@ -166,22 +166,80 @@ pub const MAX_DEPTH: usize = 1_024;
 /// Largest JSON chunk read (real avatars: a few MB).
 pub const MAX_JSON_BYTES: usize = 64 << 20;
 
-/// The two top-level members handrig reads (`nodes`, `extensions`), as an object. Every other
+/// The two top-level members handrig reads, read by serde from the JSON chunk. Every other
 /// member (meshes, accessors, materials, animations, extras...) is checked but not kept, and
-/// `nodes` is refused beyond [`MAX_NODES`] entries before it is converted, so a hostile file
-/// with millions of nodes or of other objects costs a scan of its text, not a document tree.
-fn read_top_level(json: &[u8]) -> Result<Json> {
+/// `nodes` is refused beyond [`MAX_NODES`] entries as it is read, so a hostile file with
+/// millions of nodes or of other objects costs a scan of its text, not a document tree.
+#[derive(serde::Deserialize)]
+struct TopLevel {
+    #[serde(default)]
+    nodes: Nodes,
+    #[serde(default)]
+    extensions: Option<Json>,
+}
+
+/// `nodes`: at most [`MAX_NODES`] JSON values (each checked by [`NodeTree::parse`]).
+#[derive(Default)]
+struct Nodes(Vec<Json>);
+
+/// Marks the error of a `nodes` array longer than [`MAX_NODES`].
+const TOO_MANY_NODES: &str = "more than MAX_NODES nodes";
+
+impl<'de> Deserialize<'de> for Nodes {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> core::result::Result<Self, D::Error> {
+        struct Bounded;
+        impl<'de> Visitor<'de> for Bounded {
+            type Value = Nodes;
+            fn expecting(&self, f: &mut core::fmt::Formatter) -> core::fmt::Result {
+                f.write_str("an array")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> core::result::Result<Nodes, A::Error> {
+                let mut out = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(1024));
+                while let Some(v) = seq.next_element::<Json>()? {
+                    if out.len() == MAX_NODES {
+                        return Err(A::Error::custom(TOO_MANY_NODES));
+                    }
+                    out.push(v);
+                }
+                Ok(Nodes(out))
+            }
+        }
+        d.deserialize_seq(Bounded)
+    }
+}
+
+/// Reads the JSON chunk's `nodes` and `extensions` (serde_json; errors name the problem).
+fn read_top_level(json: &[u8]) -> Result<TopLevel> {
     // Check the encoding of the whole chunk up front (skipped members are not decoded).
     let json = std::str::from_utf8(json)
         .map_err(|e| vrm_err(format!("JSON chunk is not valid JSON: not UTF-8 ({e})")))?;
-    match Json::parse_members(json, &["nodes", "extensions"], MAX_NODES) {
-        Ok(Some(members)) => Ok(Json::Object(members)),
-        Ok(None) => Err(vrm_err("JSON chunk: the top level must be an object")),
-        Err(JsonError::TooLong(_)) => Err(vrm_err(format!(
-            "nodes: more than the {MAX_NODES} nodes handrig reads"
-        ))),
-        Err(JsonError::Invalid(e)) => Err(vrm_err(format!("JSON chunk is not valid JSON: {e}"))),
+    if !json.trim_start().starts_with('{') {
+        // serde would read a struct from an array too: anything but an object is refused here
+        // (after checking that it is JSON at all).
+        return Err(match serde_json::from_str::<serde::de::IgnoredAny>(json) {
+            Ok(_) => vrm_err("JSON chunk: the top level must be an object"),
+            Err(e) => vrm_err(format!("JSON chunk is not valid JSON: {e}")),
+        });
     }
+    let mut de = serde_json::Deserializer::from_str(json);
+    let top = serde_path_to_error::deserialize::<_, TopLevel>(&mut de)
+        .map_err(|e| (e.path().to_string(), e.into_inner()))
+        .and_then(|t| de.end().map(|()| t).map_err(|e| (String::new(), e)));
+    top.map_err(|(path, e)| {
+        let data = e.classify() == serde_json::error::Category::Data;
+        if path == "nodes" && e.to_string().starts_with(TOO_MANY_NODES) {
+            vrm_err(format!(
+                "nodes: more than the {MAX_NODES} nodes handrig reads"
+            ))
+        } else if data && path == "nodes" {
+            vrm_err("nodes: must be an array")
+        } else {
+            vrm_err(format!("JSON chunk is not valid JSON: {e}"))
+        }
+    })
 }
 
 fn vrm_err(msg: impl Into<String>) -> Error {
@@ -346,12 +404,7 @@ struct NodeTree {
 }
 
 impl NodeTree {
-    fn parse(root: &Json) -> Result<Self> {
-        let nodes = match root.get("nodes") {
-            None => &[],
-            Some(Json::Array(a)) => a.as_slice(),
-            Some(_) => return Err(vrm_err("nodes: must be an array")),
-        };
+    fn parse(nodes: &[Json]) -> Result<Self> {
         let n = nodes.len();
         if n > MAX_NODES {
             return Err(vrm_err(format!(
@@ -500,6 +553,23 @@ impl NodeTree {
     }
 }
 
+/// The value for an error message, short whatever its size: integers and short strings as
+/// written, anything else by kind (`a number`, `a string`, `an array`, ...).
+fn describe(v: &Json) -> String {
+    match v {
+        Json::Null => "null".into(),
+        Json::Bool(b) => b.to_string(),
+        Json::Number(x) => match x.as_f64() {
+            Some(f) if f.fract() == 0.0 && f.abs() < 1e15 => format!("{}", f as i64),
+            _ => "a number".into(),
+        },
+        Json::String(s) if s.len() <= 32 => format!("\"{s}\""),
+        Json::String(_) => "a string".into(),
+        Json::Array(_) => "an array".into(),
+        Json::Object(_) => "an object".into(),
+    }
+}
+
 /// A non-negative integer index below `n` (JSON numbers such as `3.0` count as integers).
 fn index_value(v: &Json, n: usize, field: &str) -> Result<usize> {
     let i = v
@@ -511,7 +581,7 @@ fn index_value(v: &Json, n: usize, field: &str) -> Result<usize> {
         // value cannot blow up the message.
         return Err(vrm_err(format!(
             "{field}: node index must be a non-negative integer, got {}",
-            v.describe()
+            describe(v)
         )));
     };
     usize::try_from(i).ok().filter(|&i| i < n).ok_or_else(|| {
@@ -678,8 +748,7 @@ fn quat_from_rotation_columns(c0: [f64; 3], c1: [f64; 3], c2: [f64; 3]) -> [f64;
 type BoneEntry = (HumanBone, usize, String);
 
 /// Reads the humanoid bone map of `VRMC_vrm` (preferred) or `VRM`.
-fn humanoid_map(root: &Json, n: usize) -> Result<(VrmVersion, Vec<BoneEntry>)> {
-    let ext = root.get("extensions");
+fn humanoid_map(ext: Option<&Json>, n: usize) -> Result<(VrmVersion, Vec<BoneEntry>)> {
     let v1 = ext.and_then(|e| e.get("VRMC_vrm"));
     let v0 = ext.and_then(|e| e.get("VRM"));
     let (version, entries) = match (v1, v0) {
@@ -737,17 +806,9 @@ fn vrm1_bones(ext: &Json, n: usize) -> Result<Vec<BoneEntry>> {
             bones.len()
         )));
     }
-    // In name order, so that which of two clashing entries an error names does not depend
-    // on the file's member order. An insertion sort: at most 55 short names, and no copy of
-    // the standard library's sort in the `.wasm` for them.
-    let mut bones: Vec<&(String, Json)> = bones.iter().collect();
-    for i in 1..bones.len() {
-        let mut j = i;
-        while j > 0 && bones[j - 1].0 > bones[j].0 {
-            bones.swap(j - 1, j);
-            j -= 1;
-        }
-    }
+    // In name order (serde_json's map is sorted), so that which of two clashing entries an
+    // error names does not depend on the file's member order.
+
     // 1.0-beta files kept the 0.x thumb names; three-vrm renames them when it sees one.
     let beta_thumbs = bones
         .iter()

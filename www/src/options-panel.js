@@ -2,8 +2,9 @@
 // the package gains (hand strategies, arm solvers, filters) appear without touching the page.
 //
 // A description is { path (or name): "alignment.weight", type: "boolean" | "enum" | "number" |
-// "points", values?, min?, max?, names?, default, description } ("points": an object of named
-// [x, y, z], edited as JSON text). Dotted paths become nested option objects:
+// "numbers" | "points", values?, min?, max?, length?, names?, default, description } ("numbers": a
+// fixed-length array, edited as comma-separated text; "points": an object of named [x, y, z],
+// edited as JSON text). Dotted paths become nested option objects:
 // "alignment.weight" -> { alignment: { weight } }. A number whose default is null (e.g. a preset
 // that is automatic unless set) gets an "auto" checkbox; while it is ticked the option is left
 // out so the package's own default applies.
@@ -161,6 +162,24 @@ export function buildOptionsPanel(form, descriptions, onChange) {
           out.textContent = v == null ? "auto" : fmt(v);
         },
       });
+    } else if (d.type === "numbers") {
+      // A fixed-length array of numbers (d.length, each in d.min..d.max), typed as "a, b, c".
+      const input = document.createElement("input");
+      input.type = "text";
+      input.name = path;
+      input.spellcheck = false;
+      input.value = (d.default ?? []).join(", ");
+      input.title = `${d.length} numbers, each in ${d.min}..${d.max}, separated by commas`;
+      input.addEventListener("change", () => {
+        const v = input.value.split(",").map((s) => Number(s.trim()));
+        const ok = v.length === d.length && v.every((x) => Number.isFinite(x) && x >= d.min && x <= d.max);
+        input.classList.toggle("invalid", !ok);
+        if (!ok) return;
+        values.set(path, v);
+        emit(path);
+      });
+      ctl.append(input);
+      controls.set(path, { set: (v) => (input.value = v == null ? "" : v.join(", ")) });
     } else if (d.type === "points") {
       // An object of named points { name: [x, y, z] } (d.names), typed as JSON; empty = unset.
       const input = document.createElement("input");

@@ -157,9 +157,9 @@ test("alignment: the error readout is finite and below 2 mm, without alignment i
 async function setControl(d, value) {
   const path = d.path ?? d.name;
   const ctl = `#options .opt[data-path="${path}"]`;
-  if (d.type === "points") {
+  if (d.type === "points" || d.type === "numbers") {
     const input = page.locator(`${ctl} input[name="${path}"]`);
-    await input.fill(value == null ? "" : JSON.stringify(value));
+    await input.fill(value == null ? "" : d.type === "numbers" ? value.join(", ") : JSON.stringify(value));
     await input.dispatchEvent("change");
   } else if (d.type === "boolean") await page.locator(`${ctl} input[type=checkbox]`).setChecked(value);
   else if (d.type === "enum") await page.locator(`${ctl} select`).selectOption(String(value));
@@ -237,6 +237,8 @@ test("every control re-creates the rigs with its option, and the controls change
     // has a single control value to compare.
     if (d.type === "points") return [];
     if (d.type === "enum") return d.values.filter((v) => v !== d.default);
+    // A fixed-length array (retarget.tipWeights): its first number doubled.
+    if (d.type === "numbers") return [d.default.map((x, i) => (i === 0 ? Math.min(d.max, x * 2) : x))];
     if (d.path === "minHandScore") return [1];
     // A value on the control's step grid (a range input snaps to it), away from the default.
     const step = d.step ? Number(d.step.toPrecision(6)) : 0.01;
@@ -252,7 +254,7 @@ test("every control re-creates the rigs with its option, and the controls change
     for (const value of nonDefault(d)) {
       await setControl(d, value);
       const s = await demoState();
-      assert.equal(get(s.options, path), value, `${path}: the panel's options carry ${value}`);
+      assert.deepEqual(get(s.options, path), value, `${path}: the panel's options carry ${value}`);
       assert.doesNotMatch(await page.textContent("#status"), /rejected|failed/, `${path}=${value} accepted`);
       assert.ok(s.results.with, `${path}=${value}: the new rig solves`);
       if (effects[path]) {
@@ -286,7 +288,7 @@ test("every number control accepts the ends of its range (the package's bounds, 
       assert.doesNotMatch(await page.textContent("#status"), /rejected|failed/, `${d.path}=${end} accepted`);
       assert.ok(s.results.with, `${d.path}=${end}: the new rig solves`);
       // A range input snaps to min + k * step: the far end may land a step fraction short.
-      assert.ok(v >= d.min && v <= d.max && Math.abs(v - end) <= (d.step ?? 0), `${d.path}: ${v} for ${end}`);
+      assert.ok(v >= d.min && v <= d.max && Math.abs(v - end) <= (d.step ?? 0) * (1 + 1e-9), `${d.path}: ${v} for ${end}`);
       checked++;
     }
     await setControl(d, d.default);

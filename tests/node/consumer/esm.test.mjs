@@ -26,7 +26,7 @@ describe("import('handrig') in Node", () => {
     assert.ok(Array.isArray(options) && options.length > 0);
     for (const o of options) {
       assert.equal(typeof o.path, "string");
-      assert.ok(["boolean", "enum", "number", "points"].includes(o.type), `${o.path}: type ${o.type}`);
+      assert.ok(["boolean", "enum", "number", "numbers", "points"].includes(o.type), `${o.path}: type ${o.type}`);
       assert.equal(typeof o.description, "string");
     }
     const rig = HandRig.fromVrm(readBytes(avatars.robot));

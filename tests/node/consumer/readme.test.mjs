@@ -1,6 +1,6 @@
-// The README shipped in the package documents every option exactly as the running module
+// The options reference (docs/options.md, generated from the Rust option table and linked from
+// the README shipped in the package) documents every option exactly as the running module
 // describes it (HandRig.optionDescriptions()): path, type, default, enum values and range.
-// When an option is added or changed in Rust, this test names the README row to update.
 
 import assert from "node:assert/strict";
 import fs from "node:fs";
@@ -10,28 +10,55 @@ import { describe, it } from "node:test";
 
 import { HandRig, LAYOUT } from "handrig";
 
+import { repo as repoRoot } from "./support.mjs";
+
 const require = createRequire(import.meta.url);
 // README.md is not an export; find it next to the package.json, which is.
 const readme = fs.readFileSync(path.join(path.dirname(require.resolve("handrig/package.json")), "README.md"), "utf8");
 
-/** Rows of the table under "### Options": { path: [type, default, values, description] }. */
+/**
+ * Rows of the options reference (docs/options.md in the repository, generated from the Rust
+ * option table; the README links to it): { path: [spec, description] }.
+ */
 function optionRows() {
-  const section = readme.split(/^### Options$/m)[1]?.split(/^##+ /m)[0];
-  assert.ok(section, "README has a '### Options' section");
+  const page = fs.readFileSync(path.join(repoRoot, "docs", "options.md"), "utf8");
   const rows = {};
-  for (const line of section.split("\n")) {
-    const m = line.match(/^\| `([A-Za-z.]+)` \|(.*)\|$/);
-    if (!m) continue;
-    rows[m[1]] = m[2].split("|").map((c) => c.trim());
+  for (const line of page.split("\n")) {
+    const m = line.match(/^\| `([A-Za-z.]+)` \| (.*) \| (.*) \|$/);
+    if (m) rows[m[1]] = [m[2], m[3]];
   }
   return rows;
 }
 
-// optionDescriptions() gives the shortest decimals of Rust's f32 values; the README shows them as
-// they are (a rounded bound, e.g. 1.5708 for pi/2, would be outside the range it documents).
-const num = (x) => String(x);
+// optionDescriptions() gives the shortest decimals of Rust's f32 values; the page prints them
+// as Rust's `{}` does, never in exponent notation (1e-9 is 0.000000001).
+function num(x) {
+  const s = String(x);
+  const m = s.match(/^(-?)(\d)(?:\.(\d+))?e-(\d+)$/);
+  if (!m) return s;
+  return `${m[1]}0.${"0".repeat(Number(m[4]) - 1)}${m[2]}${m[3] ?? ""}`;
+}
 
-describe("README options table", () => {
+/** The page's "type, range, default" cell for one description of the running module. */
+function spec(d) {
+  const def = (v) => (v === null || v === undefined ? "unset" : `\`${v}\``);
+  switch (d.type) {
+    case "boolean":
+      return `boolean, default ${def(d.default)}`;
+    case "enum":
+      return `one of ${d.values.map((v) => `\`"${v}"\``).join(", ")}, default ${def(`"${d.default}"`)}`;
+    case "number":
+      return `${d.integer ? "whole number" : "number"} in ${num(d.min)}..${num(d.max)}, default ${def(d.default === null ? null : num(d.default))}`;
+    case "numbers":
+      return `${d.length} numbers in ${num(d.min)}..${num(d.max)}, default ${def(`[${d.default.map(num).join(", ")}]`)}`;
+    case "points":
+      return `object of [x, y, z] (meters, within 10) named ${d.names.join(", ")}, default unset`;
+    default:
+      throw new Error(`unknown option type ${d.type} for ${d.path}`);
+  }
+}
+
+describe("options reference (docs/options.md) against the running module", () => {
   const rows = optionRows();
   const described = HandRig.optionDescriptions();
 
@@ -39,24 +66,16 @@ describe("README options table", () => {
     assert.deepEqual(Object.keys(rows).sort(), described.map((d) => d.path).sort());
   });
 
+  it("the README links to it", () => {
+    assert.match(readme, /\(docs\/options\.md\)/);
+  });
+
   for (const d of described) {
     it(`${d.path}: type, default, values and range`, () => {
       const row = rows[d.path];
-      assert.ok(row, `README: add a row for \`${d.path}\``);
-      const [type, def, values] = row;
-      assert.equal(type, d.type);
-      if (d.type === "boolean") {
-        assert.equal(def, `\`${d.default}\``);
-      } else if (d.type === "enum") {
-        assert.equal(def, `\`"${d.default}"\``);
-        assert.equal(values, d.values.map((v) => `\`"${v}"\``).join(", "));
-      } else if (d.type === "points") {
-        assert.equal(def, "unset");
-        assert.equal(values, d.names.map((v) => `\`${v}\``).join(", "));
-      } else {
-        assert.equal(def, d.default === null || d.default === undefined ? "unset" : `\`${num(d.default)}\``);
-        assert.equal(values, `${num(d.min)} – ${num(d.max)}`);
-      }
+      assert.ok(row, `docs/options.md has no row for \`${d.path}\` (HANDRIG_GENERATE=write cargo test --lib options)`);
+      assert.equal(row[0], spec(d));
+      assert.equal(row[1], d.description);
     });
   }
 });
