@@ -279,13 +279,13 @@ pub static OPTIONS: &[OptionSpec] = &[
         "handStrategy retarget: weight of each intermediate joint, hung back from the fingertip target along the user's phalanges."),
     number!("retarget.pinchWeight", retarget.pinch_weight, 0.0, 10000.0, 0.5, 10.0,
         "handStrategy retarget: weight of the thumb tip relative to the index tip when the user pinches (within half of pinchDistance, fading out at it)."),
-    number!("retarget.pinchDistance", retarget.pinch_distance, 0.001, 0.5, 0.005, 0.04,
+    number!("retarget.pinchDistance", retarget.pinch_distance, 0.001, 0.5, 0.001, 0.04,
         "handStrategy retarget: scaled thumb-index tip distance (m) below which the pinch term counts."),
     number!("retarget.spatialWeight", retarget.spatial_weight, 0.0, 1.0, 1e-6, 2e-6,
         "handStrategy retarget: weight (m^2/rad^2) pulling each DIP toward two thirds of its PIP."),
     number!("retarget.temporalWeight", retarget.temporal_weight, 1e-9, 1.0, 1e-3, 4e-3,
         "handStrategy retarget: weight (m^2/rad^2) toward the previous frame's angles for a finger whose target stood still."),
-    number!("retarget.temporalSpeed", retarget.temporal_speed, 1e-5, 1.0, 1e-3, 3e-3,
+    number!("retarget.temporalSpeed", retarget.temporal_speed, 1e-5, 1.0, 1e-5, 3e-3,
         "handStrategy retarget: the fingertip target move (m per frame) at which the temporal weight has halved."),
     number!(count "retarget.maxIterations", retarget.settings.max_iterations, 1.0, 1000.0, 50.0,
         "handStrategy retarget: most Gauss-Newton iterations per finger and frame."),
@@ -409,6 +409,25 @@ fn unreachable_kind(kind: Kind, default: Value) -> OptionKind {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A UI's range input (the demo's panel) snaps to `min + k * step`: a default off that
+    /// grid could not be set back once moved.
+    #[test]
+    fn number_defaults_lie_on_their_step_grid() {
+        for spec in OPTIONS {
+            let (Kind::Number { min, step, .. }, Value::Number(Some(d))) =
+                (spec.kind, spec.default)
+            else {
+                continue;
+            };
+            let k = (f64::from(d) - f64::from(min)) / f64::from(step);
+            assert!(
+                (k - k.round()).abs() < 1e-3,
+                "{}: default {d} is not min {min} + k * step {step}",
+                spec.path
+            );
+        }
+    }
 
     #[test]
     fn paths_are_unique_and_defaults_match_kinds_and_ranges() {
