@@ -30,7 +30,7 @@
 //! face size over the user's (`g`) times the warp's stretch (at most about 3: the anchor
 //! interpolation's gradient), and the blend adds its largest slope (3 / (r h): from 1 to 0
 //! over half the radius `r h` in meters) times the largest distance `D` between the warped
-//! and the plain target. `tests/contact.rs` checks it on approach paths to every anchor (the
+//! and the plain target. `tests/it/contact.rs` checks it on approach paths to every anchor (the
 //! largest step measured is 0.8 of the bound).
 //!
 //! ## The avatar's head

@@ -1,15 +1,11 @@
 //! Arm test bodies shared by the arm solver tests: a humanoid with given left-arm rest offsets
 //! (the right arm mirrors it) and the rest layouts the property tests run on.
 //!
-//! Included with `#[path = "support/arms.rs"] mod arms;` (it includes `recordings.rs` and
-//! `rigs.rs` itself).
+//! Uses its siblings `recordings` and `rigs` (re-exported).
 // Each including crate uses a subset of these helpers; the rest would warn as dead code there.
 #![allow(dead_code)]
 
-#[path = "recordings.rs"]
-pub mod recordings;
-#[path = "rigs.rs"]
-pub mod rigs;
+pub use super::{recordings, rigs};
 
 use std::sync::OnceLock;
 

@@ -8,8 +8,7 @@
 // Each including test uses a subset of these helpers; the rest would warn as dead code there.
 #![allow(dead_code)]
 
-#[path = "rigs.rs"]
-mod rigs;
+use super::rigs;
 
 use glam::{Quat, Vec3};
 use handrig::{Finger, HumanBone, Side, Skeleton, VrmVersion};

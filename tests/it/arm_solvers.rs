@@ -5,12 +5,9 @@
 //! flipping.
 
 // Native only: proptest and the shared files are not available on wasm32.
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/arms.rs"]
-mod arms;
-#[path = "support/geometry.rs"]
-mod geometry;
+use crate::support::arms;
+use crate::support::geometry;
 
 use core::f32::consts::PI;
 
@@ -24,7 +21,7 @@ use proptest::prelude::*;
 
 /// Arm options with the shoulder option off (the plain two-bone arm) or at its default; the
 /// wrist limits off (these tests give hand rotations the solvers must reach as given; the
-/// limits are tested in `tests/wrist_limits.rs`).
+/// limits are tested in `tests/it/wrist_limits.rs`).
 fn arm_options(shoulder: bool) -> ArmOptions {
     ArmOptions {
         shoulder_angle: if shoulder {
@@ -377,7 +374,7 @@ fn forearm_takes_its_share_of_the_twist_without_flipping() {
 #[test]
 fn odd_avatars_give_finite_poses_or_clear_errors() {
     // Wrist targets 1e20 m away on the robot (`../shared/repro/huge-scale-robot.vrm` put such
-    // numbers in the rest pose; that file is now refused at load, see tests/vrm.rs) and
+    // numbers in the rest pose; that file is now refused at load, see tests/it/vrm.rs) and
     // `../shared/avatars/odd-armature-vrm0.vrm` (17 bones, off the T-pose). Every solver
     // solves wrist-target frames without a panic and without NaN.
     let wrists = [

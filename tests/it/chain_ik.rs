@@ -3,10 +3,8 @@
 //! pole side), known answers, degenerate setups and goals.
 
 // Native only: proptest is not built for wasm32.
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/geometry.rs"]
-mod geometry;
+use crate::support::geometry;
 
 use core::f32::consts::PI;
 

@@ -1,10 +1,8 @@
 //! The VRM reader on real files (the shared avatars), on the generated fixtures, and on
 //! broken input: every malformed file is an error naming the problem, and nothing panics.
 // Native only: reads ../shared from disk (and uses proptest, not built for wasm32).
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/vrm_fixture.rs"]
-mod vrm_fixture;
+use crate::support::vrm_fixture;
 
 use glam::Vec3;
 use handrig::vrm::{load_skeleton, parse, VrmHumanoid};

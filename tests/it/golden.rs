@@ -8,17 +8,14 @@
 //! purpose re-records with
 //!
 //! ```text
-//! HANDRIG_GOLDEN=record cargo test --test golden
+//! HANDRIG_GOLDEN=record cargo test --test it golden
 //! ```
 //!
 //! and says so in its commit. Files: `tests/golden/<avatar>.<options>.bin.gz`, gzipped
 //! little-endian `f32`, per recording a `u32` frame count then `frames * flat::output::LEN`
 //! values (a frame whose solve failed is all NaN). Native only (the files are read from disk).
-#![cfg(not(target_arch = "wasm32"))]
-#[path = "support/kinect_wrists.rs"]
-mod kinect_wrists;
-#[path = "support/recordings.rs"]
-mod recordings;
+use crate::support::kinect_wrists;
+use crate::support::recordings;
 
 use std::io::{Read, Write};
 use std::path::PathBuf;
@@ -154,7 +151,7 @@ fn solve_outputs_match_the_recorded_golden_outputs() {
             }
             let bytes = std::fs::read(&path).unwrap_or_else(|e| {
                 panic!(
-                    "{}: {e} (record with HANDRIG_GOLDEN=record cargo test --test golden)",
+                    "{}: {e} (record with HANDRIG_GOLDEN=record cargo test --test it golden)",
                     path.display()
                 )
             });

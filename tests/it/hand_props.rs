@@ -1,9 +1,7 @@
 //! Property tests: random in-limit hand poses on random avatars, placements and proportions
 //! are recovered within 1 degree, with unit, finite outputs.
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/hand_model.rs"]
-mod hand_model;
+use crate::support::hand_model;
 
 use glam::{EulerRot, Quat, Vec3};
 use hand_model::{avatar, place, Angles, HandLayout, HandModel};

@@ -5,12 +5,9 @@
 //! the same data bends beyond the range (so the check means something); alignment weights
 //! keep their meaning; hands-only input is not limited.
 // Native only: reads ../shared from disk.
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/kinect_wrists.rs"]
-mod kinect_wrists;
-#[path = "support/recordings.rs"]
-mod recordings;
+use crate::support::kinect_wrists;
+use crate::support::recordings;
 
 use glam::Quat;
 use handrig::bones::{Finger, Side};
@@ -43,7 +40,7 @@ fn angle(a: Quat, b: Quat) -> f32 {
 /// Default options with `solver`, the limits on or off, `mirror`, and no dropout easing (a
 /// returning hand blends in over a few frames, so what is shown would differ from the solve
 /// the reports describe), nor self-contact (it moves targets near the face, body and other
-/// hand, and turns a limited hand about the touching point: see `tests/contact.rs`).
+/// hand, and turns a limited hand about the touching point: see `tests/it/contact.rs`).
 fn options(solver: ArmSolver, limits: bool, mirror: bool) -> RigOptions {
     let mut o = RigOptions::default();
     o.dropout.enabled = false;

@@ -2,10 +2,8 @@
 //! calibrated scale with outliers, visibility handling, presets and reset, and the rig's
 //! behaviour with missing or poorly visible pose input.
 // Native only: reads ../shared from disk and uses proptest (not built for wasm32).
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/rigs.rs"]
-mod rigs;
+use crate::support::rigs;
 
 use glam::{Quat, Vec3};
 use handrig::body::{

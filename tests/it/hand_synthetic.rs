@@ -1,8 +1,6 @@
 //! Known-answer tests of the hand solver on a synthetic hand posed with known joint angles.
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/hand_model.rs"]
-mod hand_model;
+use crate::support::hand_model;
 
 use glam::{Quat, Vec3};
 use hand_model::{avatar, place, poses, Angles, HandLayout, HandModel, NO_STRETCH};

@@ -3,12 +3,9 @@
 //! when the target or the pole passes the shoulder's pole axis.
 
 // Native only: proptest and the shared files are not available on wasm32.
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/arms.rs"]
-mod arms;
-#[path = "support/geometry.rs"]
-mod geometry;
+use crate::support::arms;
+use crate::support::geometry;
 
 use core::f32::consts::{FRAC_PI_2, PI};
 
@@ -25,8 +22,8 @@ use proptest::prelude::*;
 
 /// The analytic solver with the shoulder option and the wrist limits off: these tests check
 /// the two-bone geometry from a fixed upper arm joint with the hand rotation as given (the
-/// shoulder option is tested in `tests/arm_solvers.rs`, the wrist limits in
-/// `tests/wrist_limits.rs`).
+/// shoulder option is tested in `tests/it/arm_solvers.rs`, the wrist limits in
+/// `tests/it/wrist_limits.rs`).
 fn two_bone(skel: &Skeleton) -> ArmSolverState {
     let arm = ArmOptions {
         shoulder_angle: 0.0,

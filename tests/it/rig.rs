@@ -1,12 +1,9 @@
 //! Pipeline-level tests of `Rig`: camera mapping on the real recording, the VRM 0.x output
 //! convention, input validation and state after errors.
 // Native only: reads ../shared from disk (and uses proptest, not built for wasm32).
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/recordings.rs"]
-mod recordings;
-#[path = "support/rigs.rs"]
-mod rigs;
+use crate::support::recordings;
+use crate::support::rigs;
 
 use glam::{Quat, Vec3};
 use handrig::mediapipe::{Handedness, WristObservation, HAND_LANDMARKS};

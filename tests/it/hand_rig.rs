@@ -1,11 +1,8 @@
 //! The hand solver inside `Rig::solve`: both sides from MediaPipe input through the camera
 //! mapping, and degenerate hands keeping the previous rotations.
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/hand_model.rs"]
-mod hand_model;
-#[path = "support/recordings.rs"]
-mod recordings;
+use crate::support::hand_model;
+use crate::support::recordings;
 
 use glam::{Quat, Vec3};
 use hand_model::{avatar, place, pose, HandLayout, HandModel, NO_STRETCH};

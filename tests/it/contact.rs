@@ -16,10 +16,8 @@
 //! * two hands: touching index fingertips and palms stay touching (within 5 mm of the user's
 //!   gap scaled to the avatar's hands), and equal plain alignment at three times the radius;
 //! * body colliders push a target out of the belly; options are checked and named.
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/recordings.rs"]
-mod recordings;
+use crate::support::recordings;
 
 use glam::{EulerRot, Quat, Vec3};
 use handrig::align::TIP_RATIO;

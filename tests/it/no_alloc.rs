@@ -4,10 +4,8 @@
 //! the torso paths on the real ASL clips; and `ChainSolver::solve` / `solve_into` for both
 //! methods. Allocations are counted per thread, so the tests can run in parallel.
 // Native only: reads ../shared from disk (and uses proptest, not built for wasm32).
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/recordings.rs"]
-mod recordings;
+use crate::support::recordings;
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;

@@ -1,12 +1,9 @@
 //! Optimization-based hand retargeting (`HandStrategy::Retarget`, seed 003): known answers on
 //! hands built from the avatar's own skeleton, scale, limits on real data, degenerate input,
 //! and the rig's fingertip and retarget outputs.
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/hand_model.rs"]
-mod hand_model;
-#[path = "support/recordings.rs"]
-mod recordings;
+use crate::support::hand_model;
+use crate::support::recordings;
 
 use glam::{Quat, Vec3};
 use hand_model::{avatar, place, pose, poses, Angles, HandLayout, HandModel};

@@ -1,12 +1,9 @@
 //! Live-tracking robustness on the real recordings (issue 13): handedness sanity from the pose,
 //! One Euro filtering (jitter and lag), dropout easing, the clock and `Rig::reset`.
 // Native only: reads ../shared from disk.
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/motion.rs"]
-mod motion;
-#[path = "support/recordings.rs"]
-mod recordings;
+use crate::support::motion;
+use crate::support::recordings;
 
 use glam::Quat;
 use handrig::bones::Finger;

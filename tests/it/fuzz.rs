@@ -10,12 +10,9 @@
 //! fixed (`HANDRIG_FUZZ_SEED` to change it) and the budget is `HANDRIG_FUZZ_SECONDS` (default
 //! 20 s); the run prints how many cases it tried.
 // Native only: reads files from disk.
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/recordings.rs"]
-mod recordings;
-#[path = "support/vrm_fixture.rs"]
-mod vrm_fixture;
+use crate::support::recordings;
+use crate::support::vrm_fixture;
 
 use std::time::{Duration, Instant};
 

@@ -3,12 +3,9 @@
 //! the target DIP with every arm solver; weight 0 and disabled alignment put the wrist on the pose wrist; tip mode
 //! puts the extended distal bone on the target tip; no one-frame lag.
 // Native only: reads ../shared from disk and uses proptest (not built for wasm32).
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/recordings.rs"]
-mod recordings;
-#[path = "support/rigs.rs"]
-mod rigs;
+use crate::support::recordings;
+use crate::support::rigs;
 
 use glam::{EulerRot, Quat, Vec3};
 use handrig::align::{AlignPoint, TIP_RATIO};

@@ -5,12 +5,9 @@
 //! the known pose, a lean is not read as a reach, lost landmarks hold then ease to rest,
 //! limits hold.
 // Native only: reads ../shared from disk.
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/recordings.rs"]
-mod recordings;
-#[path = "support/torso_user.rs"]
-mod torso_user;
+use crate::support::recordings;
+use crate::support::torso_user;
 
 use glam::{Quat, Vec3};
 use handrig::bones::{Finger, HumanBone as B, Side};
@@ -30,7 +27,7 @@ const AVATARS: [&str; 3] = [
 
 /// Per-frame options with `torso` and `mirror`, and self-contact off: these tests measure
 /// plain fingertip alignment (contact moves targets near the face and body; with a posed
-/// torso it is tested in `tests/contact.rs`).
+/// torso it is tested in `tests/it/contact.rs`).
 fn options(torso: TorsoSource, mirror: bool) -> RigOptions {
     let mut options = RigOptions {
         torso,

@@ -3,12 +3,9 @@
 //! p95 < 15 degrees between avatar bones and MediaPipe segments in the palm frame, on frames
 //! where no limit of that finger is active). `cargo run --release --example eval_hands`
 //! prints the full table.
-#![cfg(not(target_arch = "wasm32"))]
 
-#[path = "support/hand_model.rs"]
-mod hand_model;
-#[path = "support/recordings.rs"]
-mod recordings;
+use crate::support::hand_model;
+use crate::support::recordings;
 
 use glam::{Quat, Vec3};
 use hand_model::{avatar, HandLayout};

@@ -1,0 +1,30 @@
+//! handrig's integration tests, one binary with a module per topic (each file's header says
+//! what it checks and on which data). Native only: they read the shared recordings and
+//! fixtures from disk; `tests/wasm.rs` is the wasm32 suite (`wasm-pack test --node`).
+//!
+//! `cargo test --test it <filter>` runs one topic, e.g. `cargo test --test it golden`.
+
+#![cfg(not(target_arch = "wasm32"))]
+
+#[path = "../support/mod.rs"]
+mod support;
+
+mod alignment;
+mod arm_body;
+mod arm_ik;
+mod arm_solvers;
+mod chain_ik;
+mod contact;
+mod fuzz;
+mod golden;
+mod hand_props;
+mod hand_real;
+mod hand_rig;
+mod hand_synthetic;
+mod live;
+mod no_alloc;
+mod retarget;
+mod rig;
+mod torso;
+mod vrm;
+mod wrist_limits;
