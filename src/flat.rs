@@ -24,7 +24,7 @@ use crate::mediapipe::{
     FrameInput, HandObservation, Handedness, PoseObservation, TrackerFace, WristObservation,
     HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS,
 };
-use crate::rig::{HandUse, Rig, SolveOutput};
+use crate::pipeline::{HandUse, Rig, SolveOutput};
 use crate::torso::{BodyJoint, BodyObservation, BODY_JOINT_COUNT, TORSO_BONES};
 
 /// Layout version: bumped whenever an offset or meaning below changes. 4: the app's torso
@@ -346,7 +346,7 @@ fn points<const N: usize>(
 ) -> Result<()> {
     for (k, p) in out.iter_mut().enumerate() {
         *p = vec3_at(buf, at + k * stride);
-        if let Some(problem) = crate::rig::point_problem(*p) {
+        if let Some(problem) = crate::input::validate::point_problem(*p) {
             return Err(Error::invalid(field(k), problem));
         }
     }
@@ -359,7 +359,7 @@ fn points<const N: usize>(
 ///
 /// # Errors
 /// Wrong length, a flag other than 0 or 1, a hand count out of range, non-finite numbers,
-/// landmarks beyond [`crate::rig::COORDINATE_LIMIT`], a hand's world landmarks more than
+/// landmarks beyond [`crate::input::COORDINATE_LIMIT`], a hand's world landmarks more than
 /// [`HAND_SPAN_LIMIT`] from its wrist, an image aspect outside `0.01..=100`, scores,
 /// visibilities or confidences outside `0..=1`, non-unit wrist or torso rotations.
 pub fn read_input(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result<()> {
@@ -642,7 +642,7 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
         buf[at + output::side::HAND_SCORE] = score;
         let target = out.ik_targets[s];
         put_flag(buf, at + output::side::TARGET_PRESENT, target.is_some());
-        let t = target.unwrap_or(crate::rig::IkTarget {
+        let t = target.unwrap_or(crate::pipeline::IkTarget {
             position: Vec3::ZERO,
             rotation: Quat::IDENTITY,
         });
