@@ -2,10 +2,10 @@
 
 use glam::Vec3;
 
-use super::mediapipe::{hand_landmark, FrameInput, TrackerFace};
+use super::mediapipe::{hand_landmark, FrameInput, TrackerFace, MAX_HANDS};
+use super::torso::{BodyJoint, TORSO_BONES};
 use crate::bones::Side;
 use crate::error::Result;
-use crate::torso::{BodyJoint, TORSO_BONES};
 
 /// Largest magnitude of any coordinate of a frame's points: meters for world points, wrists,
 /// body joints and face points, image units for image landmarks. A body is not 1 km across, and
@@ -26,7 +26,7 @@ pub(crate) fn point_problem(p: Vec3) -> Option<&'static str> {
 }
 
 /// The first point of `points` with a problem: its index and the problem.
-fn points_problem(points: &[Vec3]) -> Option<(usize, &'static str)> {
+pub(crate) fn points_problem(points: &[Vec3]) -> Option<(usize, &'static str)> {
     // A pass without branches first (every frame's ~150 points; NaN fails the comparisons).
     let within = points.iter().fold(true, |ok, p| {
         let a = p.abs();
@@ -41,14 +41,29 @@ fn points_problem(points: &[Vec3]) -> Option<(usize, &'static str)> {
         .find_map(|(k, p)| point_problem(*p).map(|e| (k, e)))
 }
 
+/// Largest distance (m) of a hand's world landmark from its wrist landmark: five times a real
+/// hand's reach.
+pub const HAND_SPAN_LIMIT: f32 = 1.0;
+
 /// Checks a frame before any state changes: the one check every path runs ([`crate::Rig::solve`]
 /// natively, and [`crate::flat::read_input`] after decoding the typed-array layout). Errors
 /// name the field as the object API spells it (`frame.hands[1].worldLandmarks[7]`).
 ///
 /// # Errors
-/// Non-finite numbers, points beyond [`COORDINATE_LIMIT`], scores or confidences outside
-/// `0..=1`, non-unit wrist or torso rotations.
+/// Non-finite numbers, points beyond [`COORDINATE_LIMIT`], a hand's world landmarks more than
+/// [`HAND_SPAN_LIMIT`] from its wrist (centimeters given for meters), scores, visibilities or
+/// confidences outside `0..=1`, non-unit wrist or torso rotations.
 pub(crate) fn validate_frame(frame: &FrameInput) -> Result<()> {
+    validate_frame_with(frame, [true; MAX_HANDS])
+}
+
+/// [`validate_frame`], where `metric_world[i]` says whether hand `i`'s world landmarks were
+/// given as meters (the flat decoder's image-only hands carry approximate points made from
+/// their image landmarks instead, which the hand span check does not apply to).
+pub(crate) fn validate_frame_with(
+    frame: &FrameInput,
+    metric_world: [bool; MAX_HANDS],
+) -> Result<()> {
     if !frame.time_ms.is_finite() {
         return Err(crate::Error::invalid(
             "frame.timeMs",
@@ -60,6 +75,20 @@ pub(crate) fn validate_frame(frame: &FrameInput) -> Result<()> {
             return Err(crate::Error::invalid(
                 format!("frame.hands[{i}].worldLandmarks[{k}]"),
                 e,
+            ));
+        }
+        // MediaPipe's world landmarks are meters: a hand is about 0.2 m from wrist to
+        // fingertip. Centimeters or millimeters would place the avatar's hand meters away
+        // with no error.
+        let wrist = h.world[hand_landmark::WRIST];
+        if metric_world[i]
+            && h.world
+                .iter()
+                .any(|p| (*p - wrist).length_squared() > HAND_SPAN_LIMIT * HAND_SPAN_LIMIT)
+        {
+            return Err(crate::Error::invalid(
+                format!("frame.hands[{i}].worldLandmarks"),
+                "the hand is more than 1 m across: world landmarks are meters (centimeters given?)",
             ));
         }
         if let Some((k, e)) = h.image.as_ref().and_then(|p| points_problem(p)) {
@@ -81,6 +110,14 @@ pub(crate) fn validate_frame(frame: &FrameInput) -> Result<()> {
                 format!("frame.pose.worldLandmarks[{k}]"),
                 e,
             ));
+        }
+        for (k, v) in p.visibility.iter().enumerate() {
+            if !(0.0..=1.0).contains(v) {
+                return Err(crate::Error::invalid(
+                    format!("frame.pose.worldLandmarks[{k}].visibility"),
+                    "must be a number in 0..1",
+                ));
+            }
         }
     }
     if let Some((k, e)) = frame.pose_image.as_ref().and_then(|p| points_problem(p)) {
@@ -144,6 +181,5 @@ pub(crate) fn validate_frame(frame: &FrameInput) -> Result<()> {
             }
         }
     }
-    let _ = hand_landmark::WRIST;
     Ok(())
 }
