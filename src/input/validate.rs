@@ -1,4 +1,4 @@
-//! The one validation of a frame ([`validate_frame`]), shared by every input path.
+//! The one validation of a frame (`validate_frame`), shared by every input path.
 
 use glam::Vec3;
 

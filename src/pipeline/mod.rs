@@ -1,33 +1,35 @@
 //! The per-frame pipeline: MediaPipe frame in, normalized-bone rotations, IK targets and
 //! alignment reports out.
 //!
-//! [`Rig::solve`] runs named stages, each feature in one of them:
+//! [`Rig::solve`] runs named stages, each feature in one of them, each stage in its own file
+//! (`select.rs`, `observe.rs`, `torso.rs`, `hands.rs`, `targets.rs`, `reach.rs`, `ease.rs`,
+//! `report.rs`; the outputs in `output.rs`):
 //!
-//! 1. **select hands** ([`Rig::select_hands`]): which tracked hand drives each avatar side;
+//! 1. **select hands** (`Rig::select_hands`): which tracked hand drives each avatar side;
 //!    low scores ignored, labels that contradict the pose wrists reassigned
 //!    (`options.handedness`), two hands on one side resolved.
-//! 2. **pose** ([`Rig::observe_pose`]): the pose landmarks, One Euro filtered
+//! 2. **pose** (`Rig::observe_pose`): the pose landmarks, One Euro filtered
 //!    ([`crate::filter`]), feed body-scale calibration ([`crate::body`]).
-//! 3. **torso** ([`Rig::torso_stage`]): the torso bones from the app (`frame.torso`) or tracked
+//! 3. **torso** (`Rig::torso_stage`): the torso bones from the app (`frame.torso`) or tracked
 //!    from `body` joints or the pose, eased over tracking loss ([`crate::torso`]); the user's
 //!    upper-torso frame measured on the pose; forward kinematics of the posed torso places
 //!    each arm's anchor (its upper-arm joint and torso frame);
-//! 4. per side, **hand** ([`Rig::solve_hand`]): the hand's landmarks mapped to the avatar frame
+//! 4. per side, **hand** (`Rig::solve_hand`): the hand's landmarks mapped to the avatar frame
 //!    and filtered, then hand orientation and finger rotations ([`crate::hand`]);
-//! 5. per side, **wrist source** ([`Rig::wrist_source`]): the wrist from `wrists` (filtered) or
+//! 5. per side, **wrist source** (`Rig::wrist_source`): the wrist from `wrists` (filtered) or
 //!    from the pose mapped relative to the torso ([`crate::body`]), with the elbow as pole;
-//! 6. **targets** ([`Rig::plan_target`] per side, then [`Rig::contact_targets`] for both
+//! 6. **targets** (`Rig::plan_target` per side, then `Rig::contact_targets` for both
 //!    sides together): the wrist IK target by fingertip alignment ([`crate::align`]) from
 //!    forward kinematics of *this* frame's hand, then moved for self-contact
 //!    ([`crate::contact`]: a finger on the face lands on the avatar's face where the posed
 //!    torso put it, touching hands stay touching, hands stay out of the body); both sides'
 //!    targets exist before any IK;
-//! 7. per side, **IK** ([`Rig::reach_target`]): the arm solver ([`crate::ik`]) reaches the
+//! 7. per side, **IK** (`Rig::reach_target`): the arm solver ([`crate::ik`]) reaches the
 //!    target from the posed torso;
-//! 8. **ease** ([`Rig::ease`]): groups whose tracking was lost hold, then ease to rest (a
+//! 8. **ease** (`Rig::ease`): groups whose tracking was lost hold, then ease to rest (a
 //!    shoulder to the torso's rotation of it); returning ones blend in
 //!    ([`crate::filter::dropout`]); rotations keep their hemisphere;
-//! 9. **report** ([`Rig::report`]): forward kinematics of the whole avatar, its fingertips,
+//! 9. **report** (`Rig::report`): forward kinematics of the whole avatar, its fingertips,
 //!    the retargeting reports.
 //!
 //! [`Rig::reset`] clears the history of every stage.
