@@ -20,12 +20,13 @@ use glam::{Quat, Vec3};
 use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::{Error, Result};
 use crate::hand::HandStatus;
+use crate::input::torso::{BodyJoint, BodyObservation, BODY_JOINT_COUNT, TORSO_BONES};
+use crate::input::validate::validate_frame_with;
 use crate::mediapipe::{
     FrameInput, HandObservation, Handedness, PoseObservation, TrackerFace, WristObservation,
     HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS,
 };
-use crate::rig::{HandUse, Rig, SolveOutput};
-use crate::torso::{BodyJoint, BodyObservation, BODY_JOINT_COUNT, TORSO_BONES};
+use crate::pipeline::{HandUse, Rig, SolveOutput};
 
 /// Layout version: bumped whenever an offset or meaning below changes. 4: the app's torso
 /// (`input.torso`) and body-tracker joints (`input.body`); 5: the tracker face input
@@ -332,34 +333,30 @@ fn vec3_at(buf: &[f32], at: usize) -> Vec3 {
     Vec3::new(buf[at], buf[at + 1], buf[at + 2])
 }
 
-/// Largest distance (m) of a hand's world landmark from its wrist landmark: five times a real
-/// hand's reach.
-pub const HAND_SPAN_LIMIT: f32 = 1.0;
+pub use crate::input::validate::HAND_SPAN_LIMIT;
 
-/// Reads `N` points of `stride` floats at `at` (the first three are `x y z`).
-fn points<const N: usize>(
-    buf: &[f32],
-    at: usize,
-    stride: usize,
-    out: &mut [Vec3; N],
-    field: impl Fn(usize) -> String,
-) -> Result<()> {
+/// Reads `N` points of `stride` floats at `at` (the first three are `x y z`), unchecked (the
+/// shared validation checks them).
+fn points<const N: usize>(buf: &[f32], at: usize, stride: usize, out: &mut [Vec3; N]) {
     for (k, p) in out.iter_mut().enumerate() {
         *p = vec3_at(buf, at + k * stride);
-        if let Some(problem) = crate::rig::point_problem(*p) {
-            return Err(Error::invalid(field(k), problem));
-        }
     }
-    Ok(())
+}
+
+/// A quaternion `x y z w` at `at`, unchecked.
+fn quat_at(buf: &[f32], at: usize) -> Quat {
+    Quat::from_xyzw(buf[at], buf[at + 1], buf[at + 2], buf[at + 3])
 }
 
 /// Decodes a flat input array into `frame` (reused: nothing is allocated unless the input is
-/// rejected). Every number is checked; errors name the field as the object API spells it
+/// rejected). The layout's own slots (length, flags, hand count, handedness, image aspect)
+/// are checked here; every number then goes through the same validation as a native frame
+/// ([`crate::input::validate`]). Errors name the field as the object API spells it
 /// (`frame.hands[1].worldLandmarks[7]`), and `frame` is left cleared on error.
 ///
 /// # Errors
 /// Wrong length, a flag other than 0 or 1, a hand count out of range, non-finite numbers,
-/// landmarks beyond [`crate::rig::COORDINATE_LIMIT`], a hand's world landmarks more than
+/// landmarks beyond [`crate::input::COORDINATE_LIMIT`], a hand's world landmarks more than
 /// [`HAND_SPAN_LIMIT`] from its wrist, an image aspect outside `0.01..=100`, scores,
 /// visibilities or confidences outside `0..=1`, non-unit wrist or torso rotations.
 pub fn read_input(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result<()> {
@@ -382,9 +379,6 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
             ),
         ));
     }
-    if !time_ms.is_finite() {
-        return Err(Error::invalid("frame.timeMs", "must be a finite number"));
-    }
     frame.time_ms = time_ms;
     let count = buf[input::HAND_COUNT];
     if !(count >= 0.0 && count <= MAX_HANDS as f32 && count.fract() == 0.0) {
@@ -404,7 +398,10 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
             ))
         }
     };
-    for i in 0..count as usize {
+    // Which hands' world landmarks are given as meters (the others are made from image
+    // landmarks below).
+    let mut metric_world = [false; MAX_HANDS];
+    for (i, metric) in metric_world.iter_mut().enumerate().take(count as usize) {
         let at = input::HANDS + i * input::HAND_STRIDE;
         let name = |f: &str| format!("frame.hands[{i}]{f}");
         let handedness = match buf[at + input::hand::HANDEDNESS] {
@@ -417,46 +414,29 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
                 ))
             }
         };
-        let score = buf[at + input::hand::SCORE];
-        if !(0.0..=1.0).contains(&score) {
-            return Err(Error::invalid(name(".score"), "must be a number in 0..1"));
-        }
         let has_world = flag(buf, at + input::hand::HAS_WORLD, || name(".hasWorld"))?;
         let has_image = flag(buf, at + input::hand::HAS_IMAGE, || name(".hasImage"))?;
         let mut hand = HandObservation {
             handedness,
-            score,
+            score: buf[at + input::hand::SCORE],
             world: [Vec3::ZERO; HAND_LANDMARKS],
             image: None,
         };
         if has_image {
             let mut image = [Vec3::ZERO; HAND_LANDMARKS];
-            points(buf, at + input::hand::IMAGE, 3, &mut image, |k| {
-                name(&format!(".landmarks[{k}]"))
-            })?;
+            points(buf, at + input::hand::IMAGE, 3, &mut image);
             hand.image = Some(image);
         }
         match (has_world, hand.image) {
             (true, _) => {
-                points(buf, at + input::hand::WORLD, 3, &mut hand.world, |k| {
-                    name(&format!(".worldLandmarks[{k}]"))
-                })?;
-                // MediaPipe's world landmarks are meters: a hand is about 0.2 m from wrist to
-                // fingertip. Centimeters or millimeters would place the avatar's hand meters
-                // away with no error.
-                let wrist = hand.world[0];
-                if hand
-                    .world
-                    .iter()
-                    .any(|p| (*p - wrist).length_squared() > HAND_SPAN_LIMIT * HAND_SPAN_LIMIT)
-                {
-                    return Err(Error::invalid(
-                        name(".worldLandmarks"),
-                        "the hand is more than 1 m across: world landmarks are meters (centimeters given?)",
-                    ));
-                }
+                points(buf, at + input::hand::WORLD, 3, &mut hand.world);
+                *metric = true;
             }
             (false, Some(image)) => {
+                // The image landmarks must be valid before they are turned into points.
+                if let Some((k, e)) = crate::input::validate::points_problem(&image) {
+                    return Err(Error::invalid(name(&format!(".landmarks[{k}]")), e));
+                }
                 hand.world = image;
                 crate::mediapipe::image_to_pseudo_world(&mut hand.world, aspect);
                 if hand.world.iter().any(|p| !p.is_finite()) {
@@ -481,24 +461,14 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
             world: [Vec3::ZERO; POSE_LANDMARKS],
             visibility: [1.0; POSE_LANDMARKS],
         };
-        points(buf, input::POSE, input::POSE_STRIDE, &mut pose.world, |k| {
-            format!("frame.pose.worldLandmarks[{k}]")
-        })?;
+        points(buf, input::POSE, input::POSE_STRIDE, &mut pose.world);
         for (k, v) in pose.visibility.iter_mut().enumerate() {
             *v = buf[input::POSE + k * input::POSE_STRIDE + 3];
-            if !(0.0..=1.0).contains(v) {
-                return Err(Error::invalid(
-                    format!("frame.pose.worldLandmarks[{k}].visibility"),
-                    "must be a number in 0..1",
-                ));
-            }
         }
         frame.pose = Some(pose);
         if flag(buf, input::POSE_HAS_IMAGE, || "frame.pose.landmarks".into())? {
             let mut image = [Vec3::ZERO; POSE_LANDMARKS];
-            points(buf, input::POSE_IMAGE, 3, &mut image, |k| {
-                format!("frame.pose.landmarks[{k}]")
-            })?;
+            points(buf, input::POSE_IMAGE, 3, &mut image);
             frame.pose_image = Some(image);
         }
     }
@@ -509,60 +479,25 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
             continue;
         }
         let position = vec3_at(buf, at + input::wrist::POSITION);
-        if !position.is_finite() {
-            return Err(Error::invalid(
-                name(".position"),
-                "must be three finite numbers",
-            ));
-        }
-        let rotation = if flag(buf, at + input::wrist::HAS_ROTATION, || name(".rotation"))? {
-            let r = at + input::wrist::ROTATION;
-            let q = Quat::from_xyzw(buf[r], buf[r + 1], buf[r + 2], buf[r + 3]);
-            if !q.is_finite() || (q.length() - 1.0).abs() > 1e-2 {
-                return Err(Error::invalid(
-                    name(".rotation"),
-                    "must be a unit quaternion [x, y, z, w]",
-                ));
-            }
-            Some(q.normalize())
-        } else {
-            None
-        };
+        let rotation = flag(buf, at + input::wrist::HAS_ROTATION, || name(".rotation"))?
+            .then(|| quat_at(buf, at + input::wrist::ROTATION));
         frame.wrists[side.index()] = Some(WristObservation { position, rotation });
     }
     for (slot, bone) in TORSO_BONES.iter().enumerate() {
         let at = input::TORSO + slot * input::TORSO_STRIDE;
-        let name = || format!("frame.torso.{bone}");
-        if !flag(buf, at + input::torso_bone::PRESENT, name)? {
-            continue;
+        if flag(buf, at + input::torso_bone::PRESENT, || {
+            format!("frame.torso.{bone}")
+        })? {
+            frame.torso[slot] = Some(quat_at(buf, at + input::torso_bone::ROTATION));
         }
-        let r = at + input::torso_bone::ROTATION;
-        let q = Quat::from_xyzw(buf[r], buf[r + 1], buf[r + 2], buf[r + 3]);
-        if !q.is_finite() || (q.length() - 1.0).abs() > 1e-2 {
-            return Err(Error::invalid(
-                name(),
-                "must be a unit quaternion [x, y, z, w]",
-            ));
-        }
-        frame.torso[slot] = Some(q.normalize());
     }
     if flag(buf, input::BODY_PRESENT, || "frame.body".into())? {
         let mut body = BodyObservation::default();
         for joint in BodyJoint::ALL {
             let k = joint.index();
             let at = input::BODY + k * input::BODY_STRIDE;
-            let name = |f: &str| format!("frame.body.{}{f}", joint.as_str());
             body.position[k] = vec3_at(buf, at);
-            if !body.position[k].is_finite() {
-                return Err(Error::invalid(name(""), "must be three finite numbers"));
-            }
             body.confidence[k] = buf[at + 3];
-            if !(0.0..=1.0).contains(&body.confidence[k]) {
-                return Err(Error::invalid(
-                    name(".confidence"),
-                    "must be a number in 0..1",
-                ));
-            }
         }
         frame.body = Some(body);
     }
@@ -570,17 +505,21 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
     for k in 0..TrackerFace::POINTS {
         let at = input::FACE + k * input::FACE_STRIDE;
         let name = || format!("frame.face.{}", TrackerFace::NAMES[k]);
-        if !flag(buf, at + input::face_point::PRESENT, name)? {
-            continue;
+        if flag(buf, at + input::face_point::PRESENT, name)? {
+            face.set_point(k, Some(vec3_at(buf, at + input::face_point::POSITION)));
         }
-        let p = vec3_at(buf, at + input::face_point::POSITION);
-        if !p.is_finite() {
-            return Err(Error::invalid(name(), "must be three finite numbers"));
-        }
-        face.set_point(k, Some(p));
     }
     if !face.is_empty() {
         frame.face = Some(face);
+    }
+    // Every number: the same check as a native frame.
+    validate_frame_with(frame, metric_world)?;
+    // The rotations were checked to be unit within 1e-2: make them exactly unit.
+    for w in frame.wrists.iter_mut().flatten() {
+        w.rotation = w.rotation.map(Quat::normalize);
+    }
+    for q in frame.torso.iter_mut().flatten() {
+        *q = q.normalize();
     }
     Ok(())
 }
@@ -642,7 +581,7 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
         buf[at + output::side::HAND_SCORE] = score;
         let target = out.ik_targets[s];
         put_flag(buf, at + output::side::TARGET_PRESENT, target.is_some());
-        let t = target.unwrap_or(crate::rig::IkTarget {
+        let t = target.unwrap_or(crate::pipeline::IkTarget {
             position: Vec3::ZERO,
             rotation: Quat::IDENTITY,
         });

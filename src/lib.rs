@@ -26,7 +26,9 @@
 //! * [`skeleton`]: rest pose and forward kinematics over normalized bones.
 //! * [`vrm`]: reading `.vrm` (glTF binary) files, VRM 1.0 and 0.x (the JSON chunk through
 //!   serde_json).
-//! * [`mediapipe`]: input types and the camera-to-avatar conversion.
+//! * [`input`]: what a frame carries in, at the bottom of the imports: [`input::mediapipe`]
+//!   (input types and the camera-to-avatar conversion, also at [`mediapipe`]) and
+//!   [`input::validate`] (the one check of a frame every path runs).
 //! * [`options`]: [`RigOptions`] and the one table every option is described in.
 //! * [`hand`]: wrist and finger rotations from 21 hand landmarks.
 //! * [`align`]: fingertip alignment (the wrist IK target).
@@ -39,7 +41,10 @@
 //!   ([`ik::wrist`]), and the standalone [`ik::ChainSolver`].
 //! * [`filter`]: One Euro smoothing and easing over tracking loss.
 //! * [`solve`]: small allocation-free numerical solvers (box-constrained Gauss-Newton).
-//! * [`rig`]: the per-frame pipeline tying them together ([`Rig`]).
+//! * [`pipeline`]: the per-frame pipeline tying them together ([`Rig`]), one file per stage
+//!   (select hands, pose, torso, hands, targets, reach, ease, report) and its output
+//!   ([`SolveOutput`]).
+//! * [`rig`]: the pipeline's former path, re-exports of [`pipeline`] and [`input`].
 //! * [`flat`]: the flat `f32` frame layout of the typed-array path (input and output).
 //! * `wasm` (wasm32 only): the raw JavaScript bindings over [`flat`].
 
@@ -54,9 +59,10 @@ pub mod filter;
 pub mod flat;
 pub mod hand;
 pub mod ik;
+pub mod input;
 pub mod kinematics;
-pub mod mediapipe;
 pub mod options;
+pub mod pipeline;
 pub mod rig;
 pub mod skeleton;
 pub mod solve;
@@ -66,9 +72,12 @@ pub mod vrm;
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;
 
+pub use input::mediapipe;
+
 pub use bones::{Finger, HumanBone, Side, BONE_COUNT};
 pub use error::{Error, Result};
+pub use input::COORDINATE_LIMIT;
 pub use mediapipe::{CameraMapping, FrameInput, HandObservation, Handedness, PoseObservation};
 pub use options::RigOptions;
-pub use rig::{Rig, SolveOutput, COORDINATE_LIMIT};
+pub use pipeline::{Rig, SolveOutput};
 pub use skeleton::{Skeleton, VrmVersion, WorldPose};

@@ -82,7 +82,7 @@ impl Blend {
         } else if self.weight <= 0.0 {
             *anchor
         } else {
-            crate::rig::nlerp(*anchor, target, self.weight)
+            crate::pipeline::nlerp(*anchor, target, self.weight)
         };
         if q.dot(shown) < 0.0 {
             -q

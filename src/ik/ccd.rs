@@ -41,10 +41,12 @@ use glam::{Quat, Vec3};
 
 use crate::error::{Error, Result};
 use crate::kinematics::chain::{angle_about, bow_if_straight, turn_toward_pole};
+use crate::kinematics::iterative::{
+    anchor, bow_fallback, face_pole, sub_min_reach, validate_iterations,
+};
 use crate::kinematics::{angle_between, Chain, Pull, RootFrame};
 
 use super::arm::ChainArm;
-use super::fabrik::{anchor, bow_fallback, face_pole, sub_min_reach, validate_iterations};
 use super::{ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, ChainReport};
 
 /// Options of [`Ccd`].

@@ -6,9 +6,13 @@
 //! * [`limits`]: [`JointLimit`] (hinge and cone, each in the parent bone's frame) and the
 //!   swing-twist helpers.
 //!
+//! * `iterative` (crate-internal): helpers FABRIK and CCD share (options check, warm-start
+//!   anchoring, pole step, bow of a straight chain).
+//!
 //! The IK methods built on these live in [`crate::ik`].
 
 pub mod chain;
+pub(crate) mod iterative;
 pub mod limits;
 
 pub use chain::{swing, Chain, Pull, RootFrame};

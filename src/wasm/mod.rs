@@ -26,7 +26,7 @@ use crate::error::Error;
 use crate::flat;
 use crate::mediapipe::FrameInput;
 use crate::options::{option_descriptions, OptionKind, RigOptions};
-use crate::rig::{Rig, SolveOutput};
+use crate::pipeline::{Rig, SolveOutput};
 use crate::skeleton::{Skeleton, VrmVersion};
 
 type JsResult<T> = Result<T, JsError>;

@@ -299,8 +299,8 @@ fn same(a: &SolveOutput, b: &SolveOutput) -> bool {
 /// Fuzzing found a finite but huge landmark (3e38 at the aligned finger's DIP) accepted and
 /// turned into infinite IK targets. Points beyond `COORDINATE_LIMIT` are rejected naming the
 /// field, the rig stays usable, and points at the limit give finite output: on the ASL clips,
-/// one coordinate of one hand landmark (world or image), pose landmark (world or image) or tracker
-/// wrist per frame set to the limit, on four avatars (the odd-armature one included), with the
+/// one coordinate of one hand landmark (world or image; the whole hand moved there for world
+/// landmarks), pose landmark (world or image) or tracker wrist per frame set to the limit, on four avatars (the odd-armature one included), with the
 /// largest body scale and with the torso tracked.
 #[test]
 fn points_beyond_the_coordinate_limit_are_rejected_and_points_at_it_give_finite_output() {
@@ -311,8 +311,20 @@ fn points_beyond_the_coordinate_limit_are_rejected_and_points_at_it_give_finite_
     type Probe = fn(&mut FrameInput, usize, f32) -> Option<&'static str>;
     let probes: [Probe; 5] = [
         |f, i, v| {
+            // The whole hand moves so its farthest landmark that way is at `v` (one landmark
+            // alone that far would be a hand 1000 m across, refused as centimeters given for
+            // meters).
             let h = f.hands.get_mut(0).filter(|_| f.hand_count > 0)?;
-            h.world[if i % 2 == 0 { 7 } else { i % 21 }][i % 3] = v;
+            let c = i % 3;
+            let extreme = h
+                .world
+                .iter()
+                .map(|p| p[c] * v.signum())
+                .fold(f32::MIN, f32::max);
+            let shift = v - extreme * v.signum();
+            for p in &mut h.world {
+                p[c] += shift;
+            }
             Some("frame.hands[0].worldLandmarks[")
         },
         |f, i, v| {

@@ -18,8 +18,8 @@
 
 use glam::Vec3;
 
+use super::torso::{BodyObservation, TorsoRotations, TORSO_BONE_COUNT};
 use crate::bones::Side;
-use crate::torso::{BodyObservation, TorsoRotations, TORSO_BONE_COUNT};
 
 /// Number of MediaPipe hand landmarks.
 pub const HAND_LANDMARKS: usize = 21;

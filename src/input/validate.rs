@@ -1,0 +1,185 @@
+//! The one validation of a frame (`validate_frame`), shared by every input path.
+
+use glam::Vec3;
+
+use super::mediapipe::{hand_landmark, FrameInput, TrackerFace, MAX_HANDS};
+use super::torso::{BodyJoint, TORSO_BONES};
+use crate::bones::Side;
+use crate::error::Result;
+
+/// Largest magnitude of any coordinate of a frame's points: meters for world points, wrists,
+/// body joints and face points, image units for image landmarks. A body is not 1 km across, and
+/// far larger (finite) numbers overflow the solvers' squares into infinities.
+pub const COORDINATE_LIMIT: f32 = 1000.0;
+
+/// What is wrong with a point of a frame, if anything.
+pub(crate) fn point_problem(p: Vec3) -> Option<&'static str> {
+    // One test for the common case: NaN fails every comparison, infinities the bound.
+    let a = p.abs();
+    if a.x <= COORDINATE_LIMIT && a.y <= COORDINATE_LIMIT && a.z <= COORDINATE_LIMIT {
+        None
+    } else if !p.is_finite() {
+        Some("must be three finite numbers")
+    } else {
+        Some("must be three numbers within -1000..1000 (meters; image landmarks in image units)")
+    }
+}
+
+/// The first point of `points` with a problem: its index and the problem.
+pub(crate) fn points_problem(points: &[Vec3]) -> Option<(usize, &'static str)> {
+    // A pass without branches first (every frame's ~150 points; NaN fails the comparisons).
+    let within = points.iter().fold(true, |ok, p| {
+        let a = p.abs();
+        ok & (a.x <= COORDINATE_LIMIT) & (a.y <= COORDINATE_LIMIT) & (a.z <= COORDINATE_LIMIT)
+    });
+    if within {
+        return None;
+    }
+    points
+        .iter()
+        .enumerate()
+        .find_map(|(k, p)| point_problem(*p).map(|e| (k, e)))
+}
+
+/// Largest distance (m) of a hand's world landmark from its wrist landmark: five times a real
+/// hand's reach.
+pub const HAND_SPAN_LIMIT: f32 = 1.0;
+
+/// Checks a frame before any state changes: the one check every path runs ([`crate::Rig::solve`]
+/// natively, and [`crate::flat::read_input`] after decoding the typed-array layout). Errors
+/// name the field as the object API spells it (`frame.hands[1].worldLandmarks[7]`).
+///
+/// # Errors
+/// Non-finite numbers, points beyond [`COORDINATE_LIMIT`], a hand's world landmarks more than
+/// [`HAND_SPAN_LIMIT`] from its wrist (centimeters given for meters), scores, visibilities or
+/// confidences outside `0..=1`, non-unit wrist or torso rotations.
+pub(crate) fn validate_frame(frame: &FrameInput) -> Result<()> {
+    validate_frame_with(frame, [true; MAX_HANDS])
+}
+
+/// [`validate_frame`], where `metric_world[i]` says whether hand `i`'s world landmarks were
+/// given as meters (the flat decoder's image-only hands carry approximate points made from
+/// their image landmarks instead, which the hand span check does not apply to).
+pub(crate) fn validate_frame_with(
+    frame: &FrameInput,
+    metric_world: [bool; MAX_HANDS],
+) -> Result<()> {
+    if !frame.time_ms.is_finite() {
+        return Err(crate::Error::invalid(
+            "frame.timeMs",
+            "must be a finite number",
+        ));
+    }
+    for (i, h) in frame.hands().iter().enumerate() {
+        if let Some((k, e)) = points_problem(&h.world) {
+            return Err(crate::Error::invalid(
+                format!("frame.hands[{i}].worldLandmarks[{k}]"),
+                e,
+            ));
+        }
+        // MediaPipe's world landmarks are meters: a hand is about 0.2 m from wrist to
+        // fingertip. Centimeters or millimeters would place the avatar's hand meters away
+        // with no error.
+        let wrist = h.world[hand_landmark::WRIST];
+        if metric_world[i]
+            && h.world
+                .iter()
+                .any(|p| (*p - wrist).length_squared() > HAND_SPAN_LIMIT * HAND_SPAN_LIMIT)
+        {
+            return Err(crate::Error::invalid(
+                format!("frame.hands[{i}].worldLandmarks"),
+                "the hand is more than 1 m across: world landmarks are meters (centimeters given?)",
+            ));
+        }
+        if let Some((k, e)) = h.image.as_ref().and_then(|p| points_problem(p)) {
+            return Err(crate::Error::invalid(
+                format!("frame.hands[{i}].landmarks[{k}]"),
+                e,
+            ));
+        }
+        if !(0.0..=1.0).contains(&h.score) {
+            return Err(crate::Error::invalid(
+                format!("frame.hands[{i}].score"),
+                "must be a number in 0..1",
+            ));
+        }
+    }
+    if let Some(p) = &frame.pose {
+        if let Some((k, e)) = points_problem(&p.world) {
+            return Err(crate::Error::invalid(
+                format!("frame.pose.worldLandmarks[{k}]"),
+                e,
+            ));
+        }
+        for (k, v) in p.visibility.iter().enumerate() {
+            if !(0.0..=1.0).contains(v) {
+                return Err(crate::Error::invalid(
+                    format!("frame.pose.worldLandmarks[{k}].visibility"),
+                    "must be a number in 0..1",
+                ));
+            }
+        }
+    }
+    if let Some((k, e)) = frame.pose_image.as_ref().and_then(|p| points_problem(p)) {
+        return Err(crate::Error::invalid(
+            format!("frame.pose.landmarks[{k}]"),
+            e,
+        ));
+    }
+    for side in Side::BOTH {
+        if let Some(w) = &frame.wrists[side.index()] {
+            if let Some(e) = point_problem(w.position) {
+                return Err(crate::Error::invalid(
+                    format!("frame.wrists.{}.position", side.as_str()),
+                    e,
+                ));
+            }
+            if let Some(q) = w.rotation {
+                if !q.is_finite() || (q.length() - 1.0).abs() > 1e-2 {
+                    return Err(crate::Error::invalid(
+                        format!("frame.wrists.{}.rotation", side.as_str()),
+                        "must be a unit quaternion [x, y, z, w]",
+                    ));
+                }
+            }
+        }
+    }
+    for (bone, q) in TORSO_BONES.iter().zip(frame.torso.iter()) {
+        if let Some(q) = q {
+            if !q.is_finite() || (q.length() - 1.0).abs() > 1e-2 {
+                return Err(crate::Error::invalid(
+                    format!("frame.torso.{bone}"),
+                    "must be a unit quaternion [x, y, z, w]",
+                ));
+            }
+        }
+    }
+    if let Some(body) = &frame.body {
+        for j in BodyJoint::ALL {
+            let k = j.index();
+            if let Some(e) = point_problem(body.position[k]) {
+                return Err(crate::Error::invalid(
+                    format!("frame.body.{}", j.as_str()),
+                    e,
+                ));
+            }
+            if !(0.0..=1.0).contains(&body.confidence[k]) {
+                return Err(crate::Error::invalid(
+                    format!("frame.body.{}.confidence", j.as_str()),
+                    "must be a number in 0..1",
+                ));
+            }
+        }
+    }
+    if let Some(face) = &frame.face {
+        for k in 0..TrackerFace::POINTS {
+            if let Some(e) = face.point(k).and_then(point_problem) {
+                return Err(crate::Error::invalid(
+                    format!("frame.face.{}", TrackerFace::NAMES[k]),
+                    e,
+                ));
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,118 @@
+//! Stage 8, **ease**: groups whose tracking was lost hold, then ease to rest (a shoulder to
+//! the torso's rotation of it); returning ones blend in ([`crate::filter::dropout`]); rotations
+//! keep their hemisphere.
+
+use glam::Quat;
+
+use crate::bones::{HumanBone, Side};
+use crate::hand::HandStatus;
+
+use super::{Rig, SolveOutput};
+
+/// The bone groups that come and go with tracking, per side.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Group {
+    /// The fingers: tracked with a hand.
+    Fingers = 0,
+    /// The hand bone: tracked with a hand, or a tracker wrist's rotation.
+    Hand = 1,
+    /// The shoulder, upper and lower arm: tracked with a wrist (tracker or pose).
+    Arm = 2,
+}
+
+impl Rig {
+    /// Stage 8: hold and ease the groups whose tracking was lost, blend in the returning ones
+    /// (see [`crate::filter::dropout`]), and keep every driven rotation in the hemisphere of
+    /// last frame's (so that apps interpolating output never go the long way round). Returns,
+    /// per side, whether anything shown differs from what was solved (a blend under way).
+    pub(super) fn ease(&mut self, now_ms: f64, out: &mut SolveOutput) -> [bool; 2] {
+        let timing = self.options.dropout.effective();
+        let mut eased = [false; 2];
+        for side in Side::BOTH {
+            let [shoulder, upper, lower, hand] = side.arm();
+            let live_fingers = out.hands[side.index()]
+                .is_some_and(|h| matches!(h.status, HandStatus::Solved | HandStatus::Held));
+            // The hand bone is also driven by a tracker wrist's rotation without a hand.
+            let groups = [
+                (Group::Fingers, live_fingers),
+                (Group::Hand, out.solved[hand.index()]),
+                (Group::Arm, out.solved[upper.index()]),
+            ];
+            for (group, live) in groups {
+                let blend =
+                    self.presence[side.index()][group as usize].update(now_ms, live, &timing);
+                eased[side.index()] |= !(blend.is_exact() && blend.to_solved);
+                let mut apply = |b: HumanBone| {
+                    let i = b.index();
+                    if !self.driven[i] {
+                        return;
+                    }
+                    let q = blend.show(out.local[i], &mut self.anchor[i], self.shown[i]);
+                    out.local[i] = q;
+                    self.shown[i] = q;
+                };
+                match group {
+                    Group::Fingers => {
+                        for f in crate::bones::Finger::ALL {
+                            side.finger(f).into_iter().for_each(&mut apply);
+                        }
+                    }
+                    Group::Hand => apply(hand),
+                    Group::Arm => {
+                        [upper, lower].into_iter().for_each(apply);
+                        if self.arms.moves_shoulder(side) && self.skeleton.has(shoulder) {
+                            self.ease_shoulder(side, blend, out);
+                        }
+                    }
+                }
+            }
+        }
+        eased
+    }
+
+    /// Eases the arm's share of a shoulder: the turn the arm solver put on top of the torso's
+    /// rotation of the bone (`shoulder_base`), so that a lost arm's shoulder goes back to the
+    /// torso's (shrug, or the app's) while the torso keeps moving.
+    pub(super) fn ease_shoulder(
+        &mut self,
+        side: Side,
+        blend: crate::filter::Blend,
+        out: &mut SolveOutput,
+    ) {
+        let s = side.index();
+        let i = side.arm()[0].index();
+        let base = self.scratch.shoulder_base[s];
+        if blend.capture {
+            self.shoulder_turn_anchor[s] = self.shoulder_turn_shown[s];
+        }
+        let target = if blend.to_solved {
+            (base.conjugate() * out.local[i]).normalize()
+        } else {
+            Quat::IDENTITY
+        };
+        let turn = if blend.is_exact() {
+            target
+        } else if blend.weight <= 0.0 {
+            self.shoulder_turn_anchor[s]
+        } else {
+            nlerp(self.shoulder_turn_anchor[s], target, blend.weight)
+        };
+        let turn = if turn.dot(self.shoulder_turn_shown[s]) < 0.0 {
+            -turn
+        } else {
+            turn
+        };
+        self.shoulder_turn_shown[s] = turn;
+        let q = (base * turn).normalize();
+        let q = if q.dot(self.shown[i]) < 0.0 { -q } else { q };
+        out.local[i] = q;
+        self.shown[i] = q;
+    }
+}
+
+/// Normalized linear interpolation from `a` to `b` (the short way): for easing it looks like a
+/// slerp, and costs no trigonometry (software `acos`/`sin` are slow in wasm).
+pub(crate) fn nlerp(a: Quat, b: Quat, t: f32) -> Quat {
+    let b = if a.dot(b) < 0.0 { -b } else { b };
+    (a * (1.0 - t) + b * t).normalize()
+}

@@ -1,0 +1,366 @@
+//! The per-frame pipeline: MediaPipe frame in, normalized-bone rotations, IK targets and
+//! alignment reports out.
+//!
+//! [`Rig::solve`] runs named stages, each feature in one of them, each stage in its own file
+//! (`select.rs`, `observe.rs`, `torso.rs`, `hands.rs`, `targets.rs`, `reach.rs`, `ease.rs`,
+//! `report.rs`; the outputs in `output.rs`):
+//!
+//! 1. **select hands** (`Rig::select_hands`): which tracked hand drives each avatar side;
+//!    low scores ignored, labels that contradict the pose wrists reassigned
+//!    (`options.handedness`), two hands on one side resolved.
+//! 2. **pose** (`Rig::observe_pose`): the pose landmarks, One Euro filtered
+//!    ([`crate::filter`]), feed body-scale calibration ([`crate::body`]).
+//! 3. **torso** (`Rig::torso_stage`): the torso bones from the app (`frame.torso`) or tracked
+//!    from `body` joints or the pose, eased over tracking loss ([`crate::torso`]); the user's
+//!    upper-torso frame measured on the pose; forward kinematics of the posed torso places
+//!    each arm's anchor (its upper-arm joint and torso frame);
+//! 4. per side, **hand** (`Rig::solve_hand`): the hand's landmarks mapped to the avatar frame
+//!    and filtered, then hand orientation and finger rotations ([`crate::hand`]);
+//! 5. per side, **wrist source** (`Rig::wrist_source`): the wrist from `wrists` (filtered) or
+//!    from the pose mapped relative to the torso ([`crate::body`]), with the elbow as pole;
+//! 6. **targets** (`Rig::plan_target` per side, then `Rig::contact_targets` for both
+//!    sides together): the wrist IK target by fingertip alignment ([`crate::align`]) from
+//!    forward kinematics of *this* frame's hand, then moved for self-contact
+//!    ([`crate::contact`]: a finger on the face lands on the avatar's face where the posed
+//!    torso put it, touching hands stay touching, hands stay out of the body); both sides'
+//!    targets exist before any IK;
+//! 7. per side, **IK** (`Rig::reach_target`): the arm solver ([`crate::ik`]) reaches the
+//!    target from the posed torso;
+//! 8. **ease** (`Rig::ease`): groups whose tracking was lost hold, then ease to rest (a
+//!    shoulder to the torso's rotation of it); returning ones blend in
+//!    ([`crate::filter::dropout`]); rotations keep their hemisphere;
+//! 9. **report** (`Rig::report`): forward kinematics of the whole avatar, its fingertips,
+//!    the retargeting reports.
+//!
+//! [`Rig::reset`] clears the history of every stage.
+
+mod ease;
+mod hands;
+mod observe;
+mod output;
+mod reach;
+mod report;
+mod select;
+mod targets;
+mod torso;
+
+use glam::{Quat, Vec3};
+
+use crate::body::{ArmAnchor, BodyMapper};
+use crate::bones::{HumanBone, Side, BONE_COUNT};
+use crate::contact::ContactSolver;
+use crate::error::Result;
+use crate::filter::{Clock, OneEuroQuat, PointFilters, Presence};
+use crate::hand::HandSolver;
+use crate::ik::ArmSolverState;
+use crate::input::validate::validate_frame;
+use crate::mediapipe::{FrameInput, PoseObservation, HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS};
+pub use crate::options::{HandednessPolicy, RigOptions};
+use crate::skeleton::Skeleton;
+use crate::torso::{TorsoSolver, TorsoSource, BODY_JOINT_COUNT, TORSO_BONES};
+
+pub use crate::input::validate::COORDINATE_LIMIT;
+pub(crate) use ease::nlerp;
+pub use output::{HandUse, IkTarget, SolveOutput, TrackedHand};
+pub use select::CONTRADICTION_RATIO;
+
+use targets::Plan;
+
+/// The solver for one avatar: owns the skeleton, the options and every buffer, so
+/// [`Rig::solve`] allocates nothing.
+#[derive(Clone, Debug)]
+pub struct Rig {
+    skeleton: Skeleton,
+    options: RigOptions,
+    hands: HandSolver,
+    body: BodyMapper,
+    arms: ArmSolverState,
+    contact: ContactSolver,
+    driven: [bool; BONE_COUNT],
+    clock: Clock,
+    /// Landmark filters per avatar side, the pose's, and the tracker wrists'.
+    hand_filters: [PointFilters<HAND_LANDMARKS>; 2],
+    pose_filters: PointFilters<POSE_LANDMARKS>,
+    wrist_filters: [WristFilter; 2],
+    /// Presence of each side's hand and arm ([`Group`]), for the dropout easing.
+    presence: [[Presence; 3]; 2],
+    /// The rotations shown last frame, and the anchors of running blends.
+    shown: [Quat; BONE_COUNT],
+    anchor: [Quat; BONE_COUNT],
+    /// The torso stage: the avatar's torso, the shrug's neutral, the torso's easing.
+    torso: TorsoSolver,
+    /// Filters of the body-tracker joints.
+    body_filters: PointFilters<BODY_JOINT_COUNT>,
+    /// The arm solver's turn of each shoulder on top of `shoulder_base`, as shown last frame,
+    /// and the anchor of its running blend.
+    shoulder_turn_shown: [Quat; 2],
+    shoulder_turn_anchor: [Quat; 2],
+    /// This frame's values passed from stage to stage (not history; see [`Scratch`]).
+    scratch: Scratch,
+}
+
+/// This frame's values carried from one stage to the next: each is written by an earlier
+/// stage of [`Rig::solve`] before a later one reads it, so none is history. Preallocated
+/// storage held by the [`Rig`] (fixed-size: no allocation per frame).
+#[derive(Clone, Debug)]
+struct Scratch {
+    /// This frame's hand landmarks of the side being solved, in the avatar frame, filtered
+    /// (stage 4, read by stage 6).
+    landmarks: [Vec3; HAND_LANDMARKS],
+    /// This frame's pose, filtered (stage 2).
+    pose: Option<PoseObservation>,
+    /// This frame's torso rotation of each shoulder bone (`[left, right]`): what an arm's
+    /// shoulder eases back to when the arm is lost (stage 3, read by stage 8).
+    shoulder_base: [Quat; 2],
+    /// Where each side's pose arm is placed this frame (posed upper-arm joint, torso turn;
+    /// stage 3).
+    anchors: [Option<ArmAnchor>; 2],
+    /// This frame's turn from the user's upper-torso frame (on the pose) to the avatar's,
+    /// when measured (not with `torso: "off"`): applied to the whole pose-driven arm and hand
+    /// (stage 3).
+    turn: Option<Quat>,
+}
+
+impl Default for Scratch {
+    fn default() -> Self {
+        Scratch {
+            landmarks: [Vec3::ZERO; HAND_LANDMARKS],
+            pose: None,
+            shoulder_base: [Quat::IDENTITY; 2],
+            anchors: [None, None],
+            turn: None,
+        }
+    }
+}
+
+/// Filters of one side's tracker wrist (position and rotation).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+struct WristFilter {
+    position: PointFilters<1>,
+    rotation: OneEuroQuat,
+}
+
+impl Rig {
+    /// Creates a rig for `skeleton`.
+    ///
+    /// # Errors
+    /// Options out of range (field named in the message).
+    pub fn new(skeleton: Skeleton, options: RigOptions) -> Result<Self> {
+        options.validate()?;
+        let mut hands = HandSolver::new(&skeleton, options.hand_strategy)?;
+        hands.set_retarget_options(options.retarget)?;
+        let contact = ContactSolver::new(&skeleton, &options.contact);
+        let body = BodyMapper::new(&skeleton, &options.calibration);
+        let arms = ArmSolverState::with_options(&skeleton, options.arm_solver, &options.arm)?;
+        let mut driven = [false; BONE_COUNT];
+        for side in Side::BOTH {
+            let [shoulder, upper, lower, hand] = side.arm();
+            let fingers = crate::bones::Finger::ALL
+                .iter()
+                .flat_map(|f| side.finger(*f));
+            for b in [upper, lower, hand].into_iter().chain(fingers) {
+                driven[b.index()] = skeleton.has(b);
+            }
+            // The shoulder when the arm option may turn it on far reaches, or the torso
+            // shrugs it.
+            driven[shoulder.index()] = skeleton.has(shoulder)
+                && (arms.moves_shoulder(side) || options.torso == TorsoSource::Pose);
+        }
+        if options.torso == TorsoSource::Pose {
+            for b in TORSO_BONES {
+                driven[b.index()] = skeleton.has(b);
+            }
+        }
+        let torso = TorsoSolver::new(&skeleton, options.calibration.frames);
+        Ok(Rig {
+            skeleton,
+            options,
+            hands,
+            body,
+            arms,
+            contact,
+            driven,
+            clock: Clock::default(),
+            hand_filters: [PointFilters::default(); 2],
+            pose_filters: PointFilters::default(),
+            wrist_filters: [WristFilter::default(); 2],
+            presence: [[Presence::default(); 3]; 2],
+            shown: [Quat::IDENTITY; BONE_COUNT],
+            anchor: [Quat::IDENTITY; BONE_COUNT],
+            torso,
+            body_filters: PointFilters::default(),
+            shoulder_turn_shown: [Quat::IDENTITY; 2],
+            shoulder_turn_anchor: [Quat::IDENTITY; 2],
+            scratch: Scratch::default(),
+        })
+    }
+
+    /// Whether the rig drives `bone`: it writes the bone's rotation every frame (solved, held
+    /// or back at rest), so an app applies it every frame. The hand, finger and arm bones the
+    /// avatar has (the shoulders when the arm option may turn them); with `torso: "pose"` also
+    /// the torso bones (hips, spine, chest, upperChest, neck, head, shoulders) it has; other
+    /// bones are left to the app.
+    #[inline]
+    #[must_use]
+    pub fn drives(&self, bone: HumanBone) -> bool {
+        self.driven[bone.index()]
+    }
+
+    /// Forgets everything carried between frames (filters, dropout holds and blends, held
+    /// hands, the elbow swivel, body-scale calibration): the next frame solves as if it were
+    /// the first.
+    pub fn reset(&mut self) {
+        self.body.reset();
+        self.torso.reset_calibration();
+        self.restart_history();
+    }
+
+    /// The per-frame history of the filters and the easing (not calibration).
+    fn restart_history(&mut self) {
+        self.clock.reset();
+        self.new_session();
+    }
+
+    /// Everything carried from one frame to the next, but the clock (which already holds the
+    /// new session's first time) and calibration: a frame after a seek or a long gap solves
+    /// exactly as the first frame of a new rig.
+    fn new_session(&mut self) {
+        self.hands.reset();
+        self.arms.reset();
+        self.hand_filters = [PointFilters::default(); 2];
+        self.pose_filters.reset();
+        self.wrist_filters = [WristFilter::default(); 2];
+        self.presence = [[Presence::default(); 3]; 2];
+        self.shown = [Quat::IDENTITY; BONE_COUNT];
+        self.torso.restart();
+        self.body_filters.reset();
+        self.shoulder_turn_shown = [Quat::IDENTITY; 2];
+        self.shoulder_turn_anchor = [Quat::IDENTITY; 2];
+        self.scratch.pose = None;
+        self.scratch.anchors = [None, None];
+        self.scratch.turn = None;
+    }
+
+    /// The avatar's skeleton.
+    #[must_use]
+    pub fn skeleton(&self) -> &Skeleton {
+        &self.skeleton
+    }
+
+    /// The options in force.
+    #[must_use]
+    pub fn options(&self) -> &RigOptions {
+        &self.options
+    }
+
+    /// Body-scale calibration state.
+    #[must_use]
+    pub fn body(&self) -> &BodyMapper {
+        &self.body
+    }
+
+    /// The arm solvers (which method, last iteration counts).
+    #[must_use]
+    pub fn arms(&self) -> &ArmSolverState {
+        &self.arms
+    }
+
+    /// Restarts body-scale calibration (and the torso's neutral shoulder height).
+    /// The avatar's side of self-contact: its face (anchors) and body colliders.
+    #[must_use]
+    pub fn contact(&self) -> &ContactSolver {
+        &self.contact
+    }
+
+    /// Restarts body-scale calibration (and the torso's neutral shoulder height).
+    pub fn reset_calibration(&mut self) {
+        self.body.reset();
+        self.torso.reset_calibration();
+    }
+
+    /// The torso stage (the avatar's torso bone the arms hang from, the shrug's neutral).
+    #[must_use]
+    pub fn torso(&self) -> &TorsoSolver {
+        &self.torso
+    }
+
+    /// The torso's rotation of `side`'s shoulder bone in the last solve (internal frame): the
+    /// shrug (`torso: "pose"`) or the app's rotation of it, before the arm solver's turn on
+    /// far reaches. What a lost arm's shoulder eases back to.
+    #[must_use]
+    pub fn shoulder_base(&self, side: Side) -> Quat {
+        self.scratch.shoulder_base[side.index()]
+    }
+
+    /// Calibrates the hand scale of `handStrategy: "retarget"` (avatar hand over user hand)
+    /// on each side from the last hand solved there, which should be an open, flat hand
+    /// (the seed's bounding-box scale; see [`crate::hand::retarget`]). Until then, or after
+    /// a refused calibration, the scale comes from the hand's stable lengths. Returns the new
+    /// scale per side (`[left, right]`), `None` where nothing changed (no hand solved yet,
+    /// fingers not straight, or no retargetable fingers). Any strategy may calibrate.
+    pub fn calibrate_hand_scale(&mut self) -> [Option<f32>; 2] {
+        Side::BOTH.map(|side| self.hands.calibrate_hand_scale(side))
+    }
+
+    /// Solves one frame into `out` (internal frame; see [`Rig::export_rotation`] and
+    /// [`Rig::export_position`] for the model frame). Allocates nothing.
+    ///
+    /// # Errors
+    /// Invalid input (non-finite numbers, and points beyond [`COORDINATE_LIMIT`], are rejected
+    /// before any state changes). Degenerate hands are not errors: that hand is skipped and
+    /// its previous rotations are kept.
+    pub fn solve(&mut self, frame: &FrameInput, out: &mut SolveOutput) -> Result<()> {
+        validate_frame(frame)?;
+        let camera = self.options.camera();
+        let dt = self.clock.advance(frame.time_ms);
+        if dt.is_none() {
+            // A new session (first frame, time going back, a long gap): no blending across,
+            // and no continuity either (the forearm's twist branch, the elbow swivel and the
+            // IK warm start are carried from the frame before, which is not this one's past).
+            self.new_session();
+        }
+        out.solved = [false; BONE_COUNT];
+        out.ik_targets = [None, None];
+        out.alignment = [None, None];
+        out.hands = [None, None];
+        out.hand_use = [HandUse::Unused; MAX_HANDS];
+        out.retarget = [None, None];
+        out.contact = [None, None];
+        // Everything not solved this frame goes back to rest (then the easing stage decides).
+        out.local = [Quat::IDENTITY; BONE_COUNT];
+
+        let picks = self.select_hands(frame, camera, out);
+        self.observe_pose(frame, camera, dt);
+        // The torso (from the app or tracking), and its forward kinematics: the world pose the
+        // arms hang from, once per frame (arms and hands do not move it).
+        self.torso_stage(frame, camera, dt, out);
+        let mut plans = [Plan::Rest; 2];
+        for side in Side::BOTH {
+            let hand_rotation = self.solve_hand(side, frame, picks[side.index()], dt, out);
+            let source = self.wrist_source(side, frame, dt);
+            plans[side.index()] = self.plan_target(side, frame, hand_rotation, source, out);
+        }
+        self.contact_targets(frame, &mut plans, out);
+        for side in Side::BOTH {
+            self.reach_target(side, plans[side.index()], out);
+        }
+        let eased = self.ease(frame.time_ms, out);
+        self.report(eased, out);
+        Ok(())
+    }
+
+    /// Converts a rotation from the internal frame to the model's own frame (VRM 0.x: negate
+    /// x and z).
+    #[inline]
+    #[must_use]
+    pub fn export_rotation(&self, q: Quat) -> Quat {
+        self.skeleton.version().rotation_to_internal(q)
+    }
+
+    /// Converts a position from the internal frame to the model's own frame.
+    #[inline]
+    #[must_use]
+    pub fn export_position(&self, p: Vec3) -> Vec3 {
+        self.skeleton.version().position_to_internal(p)
+    }
+}

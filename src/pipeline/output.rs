@@ -1,0 +1,99 @@
+//! What [`Rig::solve`](super::Rig::solve) produces: [`SolveOutput`] and the types it reports.
+
+use glam::{Quat, Vec3};
+
+use crate::align::AlignmentReport;
+use crate::bones::{Side, BONE_COUNT};
+use crate::contact::ContactReport;
+use crate::hand::{HandStatus, RetargetReport};
+use crate::mediapipe::MAX_HANDS;
+use crate::skeleton::WorldPose;
+
+/// A wrist IK target in the internal frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IkTarget {
+    /// Where the avatar's hand bone (wrist joint) should be.
+    pub position: Vec3,
+    /// World rotation the avatar's normalized hand bone should have.
+    pub rotation: Quat,
+}
+
+/// Everything one `solve` produces, in handrig's internal frame. Fixed-size: reused frame to
+/// frame without allocation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolveOutput {
+    /// Local rotation of every normalized bone (identity where nothing was solved).
+    pub local: [Quat; BONE_COUNT],
+    /// Which bones were solved this frame (only these are reported).
+    pub solved: [bool; BONE_COUNT],
+    /// Forward kinematics of `local`.
+    pub world: WorldPose,
+    /// Wrist IK targets per side (`[left, right]`), when a pose wrist was known.
+    pub ik_targets: [Option<IkTarget>; 2],
+    /// Fingertip-alignment reports per side.
+    pub alignment: [Option<AlignmentReport>; 2],
+    /// The tracked hand that drove each side this frame, if any.
+    pub hands: [Option<TrackedHand>; 2],
+    /// The avatar's fingertips per side (`[left, right]`), thumb to little, world positions
+    /// in the internal frame, every strategy: the distal bone extended by the anatomical
+    /// ratio of [`crate::align::tip_offset`] (the point `alignment.point: "tip"` aligns).
+    /// `None` where the avatar lacks that finger's distal bone.
+    pub fingertips: [[Option<Vec3>; 5]; 2],
+    /// What `handStrategy: "retarget"` did per side this frame (`None` for other strategies
+    /// and for sides not freshly solved); targets are world positions in the internal frame,
+    /// like [`SolveOutput::fingertips`].
+    pub retarget: [Option<RetargetReport>; 2],
+    /// What became of each input hand (in the frame's order; `Unused` past its count).
+    pub hand_use: [HandUse; MAX_HANDS],
+    /// What self-contact did per side (`[left, right]`): `Some` for every side with a wrist
+    /// IK target while `contact.enabled`.
+    pub contact: [Option<ContactReport>; 2],
+}
+
+/// What the rig did with one tracked hand of the frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum HandUse {
+    /// No such hand in the frame.
+    #[default]
+    Unused,
+    /// It drove this avatar side (see [`TrackedHand::reassigned`]).
+    Drove(Side),
+    /// Ignored: its score is below `minHandScore`.
+    LowScore,
+    /// Ignored: another hand drove its side (higher score, or nearer that side's pose wrist).
+    Duplicate,
+    /// Ignored: its label contradicts the pose (`handedness: "drop"`).
+    Contradicted,
+}
+
+/// Which tracked hand drove an avatar side, and whether its rotations are fresh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrackedHand {
+    /// [`HandStatus::Solved`] (from this frame), [`HandStatus::Held`] (this frame's hand was
+    /// degenerate; the previous rotations were kept) or [`HandStatus::Skipped`] (degenerate
+    /// with nothing to keep, or the avatar has no usable palm).
+    pub status: HandStatus,
+    /// Its handedness score.
+    pub score: f32,
+    /// Its index in the frame's hands.
+    pub index: usize,
+    /// Whether its label contradicted the pose and it was reassigned to this side.
+    pub reassigned: bool,
+}
+
+impl Default for SolveOutput {
+    fn default() -> Self {
+        SolveOutput {
+            local: [Quat::IDENTITY; BONE_COUNT],
+            solved: [false; BONE_COUNT],
+            world: WorldPose::default(),
+            ik_targets: [None, None],
+            alignment: [None, None],
+            hands: [None, None],
+            hand_use: [HandUse::Unused; MAX_HANDS],
+            fingertips: [[None; 5]; 2],
+            retarget: [None, None],
+            contact: [None, None],
+        }
+    }
+}

@@ -1,0 +1,165 @@
+//! Stage 7, per side, **IK**: the arm solver ([`crate::ik`]) reaches the target from the posed
+//! torso, and the reports that need the result.
+
+use glam::{Quat, Vec3};
+
+use crate::align;
+use crate::bones::{HumanBone, Side};
+use crate::skeleton::Skeleton;
+
+use super::targets::Plan;
+use super::{IkTarget, Rig, SolveOutput};
+
+impl Rig {
+    /// Stage 7: the arm reaching the side's target, and the reports that need the result.
+    pub(super) fn reach_target(&mut self, side: Side, plan: Plan, out: &mut SolveOutput) {
+        let (target, hand_rot, pole, points) = match plan {
+            Plan::Rest => return,
+            Plan::HandOnly(q) => {
+                set_hand_world_rotation(&self.skeleton, side, q, out);
+                return;
+            }
+            Plan::Reach {
+                target,
+                hand_rotation: None,
+                pole,
+                ..
+            } => {
+                self.reach(side, target, None, pole, None, out);
+                return;
+            }
+            Plan::Reach {
+                target,
+                hand_rotation: Some(q),
+                pole,
+                points,
+            } => (target, q, pole, points),
+        };
+        out.ik_targets[side.index()] = Some(IkTarget {
+            position: target,
+            rotation: hand_rot,
+        });
+        // The aligned finger point (CCD's first-priority effector; the wrist limits turn the
+        // hand about it). With `alignment.weight` w the IK wrist moves by w times the avatar
+        // offset, so the point that stays put is w of the way along it.
+        let weight = self.options.alignment.effective_weight();
+        let finger = out.alignment[side.index()]
+            .filter(|a| a.aligned && weight > 0.0)
+            .map(|a| a.avatar_offset * weight);
+        // In contact, the touching point is what must stay put, so the wrist limits turn the
+        // hand about it (as far as the blends go): the point touching the other hand, then a
+        // fingertip on the face (which wins).
+        let finger = match (out.contact[side.index()], points) {
+            (Some(c), Some(p)) => {
+                let mut pivot = finger;
+                let mut toward = |point: Option<Vec3>, weight: f32| {
+                    if let Some(point) = point.filter(|_| weight > 0.0) {
+                        pivot = Some(pivot.unwrap_or(Vec3::ZERO).lerp(point, weight));
+                    }
+                };
+                toward(c.hand_meet, c.hand_weight);
+                let tip = 1 + self.options.alignment.finger.index();
+                toward(p.avatar[tip], c.weight);
+                pivot
+            }
+            _ => finger,
+        };
+        let reach = self.reach(side, target, Some(hand_rot), pole, finger, out);
+        if let Some(limited) = reach.wrist {
+            // The wrist limits turned the hand: report the target and rotation reached.
+            let turn = limited.hand_rotation * hand_rot.conjugate();
+            if let Some(t) = out.ik_targets[side.index()].as_mut() {
+                t.position = limited.target;
+                t.rotation = limited.hand_rotation;
+            }
+            if let Some(report) = out.alignment[side.index()].as_mut() {
+                report.ik_wrist = limited.target;
+                report.avatar_offset = turn * report.avatar_offset;
+            }
+        }
+        if let Some(report) = out.alignment[side.index()].as_mut() {
+            report.reachable = reach.reachable;
+            report.error = align::alignment_error(
+                &self.skeleton,
+                side,
+                &self.options.alignment,
+                report,
+                &out.local,
+                &mut out.world,
+            );
+        }
+        if let Some(c) = out.contact[side.index()].as_mut() {
+            if let Some(anchor) = c.anchor {
+                // Forward kinematics of the arm just solved (alignment_error ran it when
+                // there was a report; run it here otherwise).
+                if out.alignment[side.index()].is_none() {
+                    self.skeleton.forward_arm(side, &out.local, &mut out.world);
+                }
+                c.distance = align::fingertip(
+                    &self.skeleton,
+                    &out.world,
+                    side,
+                    self.options.alignment.finger,
+                )
+                .map_or(f32::NAN, |tip| {
+                    (tip - self.contact.anchor_world(anchor, &out.world)).length()
+                });
+            }
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn reach(
+        &mut self,
+        side: Side,
+        target: Vec3,
+        hand_rotation: Option<Quat>,
+        pole: Option<Vec3>,
+        finger: Option<Vec3>,
+        out: &mut SolveOutput,
+    ) -> crate::ik::ArmReach {
+        // `out.world` holds the arm's parent chain (posed once per frame in `solve`; neither
+        // side's arm moves it).
+        let reach = self.arms.solve(
+            side,
+            target,
+            hand_rotation,
+            pole,
+            finger,
+            &mut out.local,
+            &out.world,
+        );
+        for b in side.arm() {
+            if b != side.arm()[0] || self.arms.moves_shoulder(side) {
+                out.solved[b.index()] |= self.skeleton.has(b);
+            }
+        }
+        reach
+    }
+}
+
+/// Sets the hand's local rotation so its world rotation is `hand_world`, given the arm's
+/// current local rotations.
+fn set_hand_world_rotation(
+    skeleton: &Skeleton,
+    side: Side,
+    hand_world: Quat,
+    out: &mut SolveOutput,
+) {
+    let hand = side.hand();
+    let mut parent_world = Quat::IDENTITY;
+    let mut chain = [HumanBone::Hips; 8];
+    let mut n = 0;
+    let mut b = skeleton.parent(hand);
+    while let Some(p) = b {
+        if n < chain.len() {
+            chain[n] = p;
+            n += 1;
+        }
+        b = skeleton.parent(p);
+    }
+    for link in chain[..n].iter().rev() {
+        parent_world *= out.local[link.index()];
+    }
+    out.local[hand.index()] = (parent_world.inverse() * hand_world).normalize();
+}

@@ -1,0 +1,51 @@
+//! Stage 9, **report**: forward kinematics of the whole avatar, its fingertips, the
+//! retargeting reports.
+
+use crate::align;
+use crate::bones::{Finger, Side};
+use crate::hand::{HandStatus, RetargetReport};
+
+use super::{Rig, SolveOutput};
+
+impl Rig {
+    /// Stage 9: forward kinematics of what is shown, the avatar's fingertips, and the
+    /// retargeting reports placed on the avatar. `eased[side]`: the easing blended that side's
+    /// arm, hand or fingers away from what was solved, so its alignment error (measured on the
+    /// solve) is measured again on what is shown.
+    pub(super) fn report(&self, eased: [bool; 2], out: &mut SolveOutput) {
+        // The torso stage posed the body, which nothing has turned since (the later stages turn
+        // the arms, hands and fingers, the easing also the shoulders): the arms from their roots.
+        for side in Side::BOTH {
+            self.skeleton.forward_arm(side, &out.local, &mut out.world);
+        }
+        for side in Side::BOTH {
+            let s = side.index();
+            if let (true, Some(report)) = (eased[s], out.alignment[s].as_mut()) {
+                let hand = side.hand().index();
+                report.error = align::avatar_offset(
+                    &self.skeleton,
+                    side,
+                    &self.options.alignment,
+                    out.world.rotation[hand],
+                    &out.local,
+                )
+                .map_or(f32::NAN, |a| {
+                    (out.world.position[hand] + a - report.target_dip).length()
+                });
+            }
+            for finger in Finger::ALL {
+                out.fingertips[s][finger.index()] =
+                    align::fingertip(&self.skeleton, &out.world, side, finger);
+            }
+            let fresh = out.hands[s].is_some_and(|h| h.status == HandStatus::Solved);
+            if let (true, Some(report)) = (fresh, self.hands.retarget_report(side)) {
+                let hand = side.hand().index();
+                let (p, q) = (out.world.position[hand], out.world.rotation[hand]);
+                out.retarget[s] = Some(RetargetReport {
+                    targets: report.targets.map(|t| t.map(|t| p + q * t)),
+                    ..*report
+                });
+            }
+        }
+    }
+}

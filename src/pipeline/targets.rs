@@ -1,0 +1,262 @@
+//! Stage 6, **targets**: per side the wrist IK target by fingertip alignment
+//! ([`crate::align`]) from forward kinematics of *this* frame's hand, then for both sides
+//! together moved for self-contact ([`crate::contact`]: a finger on the face lands on the
+//! avatar's face where the posed torso put it, touching hands stay touching, hands stay out of
+//! the body); both sides' targets exist before any IK.
+
+use glam::{Quat, Vec3};
+
+use crate::align;
+use crate::bones::{Finger, Side, BONE_COUNT};
+use crate::contact::{HandPoints, SideTarget, Source, UserFace, UserFaces};
+use crate::hand::HandStatus;
+use crate::mediapipe::{pose_landmark, FrameInput};
+
+use super::hands::WristSource;
+use super::{Rig, SolveOutput};
+
+/// What a side's arm does this frame, decided by [`Rig::plan_target`] before any IK. Two per
+/// frame on the stack: the size difference between variants does not matter.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Plan {
+    /// Nothing drives the arm.
+    Rest,
+    /// Hands only: the arm stays at rest, the hand takes this world rotation.
+    HandOnly(Quat),
+    /// The arm reaches `target` (the hand with `hand_rotation`, when known).
+    Reach {
+        target: Vec3,
+        hand_rotation: Option<Quat>,
+        pole: Option<Vec3>,
+        /// The hand's contact points (a hand solved this frame, contact on).
+        points: Option<HandPoints>,
+    },
+}
+
+impl Rig {
+    /// Stage 6a: the side's wrist IK target by fingertip alignment from this frame's hand
+    /// (no IK yet), and the hand's contact points while its landmarks are at hand.
+    pub(super) fn plan_target(
+        &mut self,
+        side: Side,
+        frame: &FrameInput,
+        hand_rotation: Option<Quat>,
+        source: Option<WristSource>,
+        out: &mut SolveOutput,
+    ) -> Plan {
+        let Some(hand_rot) = hand_rotation.or(source.and_then(|s| s.rotation)) else {
+            // No hand and no wrist rotation: with a wrist the arm can still reach it.
+            return match source {
+                Some(s) => Plan::Reach {
+                    target: s.position,
+                    hand_rotation: None,
+                    pole: s.pole,
+                    points: None,
+                },
+                None => Plan::Rest,
+            };
+        };
+
+        let Some(source) = source else {
+            // Hands only: the arm stays at rest and the hand takes the solved world rotation.
+            return Plan::HandOnly(hand_rot);
+        };
+
+        // A held hand (degenerate landmarks this frame) keeps its rotations but its
+        // landmarks cannot place the fingertip: align only freshly solved hands.
+        let fresh = out.hands[side.index()].is_some_and(|h| h.status == HandStatus::Solved);
+        let target = if fresh {
+            let a = align::wrist_target(
+                &self.skeleton,
+                side,
+                &self.options.alignment,
+                source.position,
+                &self.scratch.landmarks,
+                source.scale,
+                hand_rot,
+                &out.local,
+            );
+            out.alignment[side.index()] = Some(a);
+            a.ik_wrist
+        } else {
+            source.position
+        };
+        let hand_index = out.hands[side.index()].map(|h| h.index);
+        let points = (fresh && self.options.contact.enabled)
+            .then(|| self.hand_points(side, frame, hand_index, &source, hand_rot, &out.local))
+            .flatten();
+        Plan::Reach {
+            target,
+            hand_rotation: Some(hand_rot),
+            pole: source.pole,
+            points,
+        }
+    }
+
+    /// The hand's contact points ([`HandPoints`]): the user's from this side's landmarks
+    /// placed on the user's wrist (the tracker wrist, or the pose wrist landmark in user
+    /// space, whichever [`Rig::wrist_source`] used), the avatar's from forward kinematics of
+    /// this frame's hand rotation and finger rotations.
+    pub(super) fn hand_points(
+        &self,
+        side: Side,
+        frame: &FrameInput,
+        out_hand: Option<usize>,
+        source: &WristSource,
+        hand_rotation: Quat,
+        local: &[Quat; BONE_COUNT],
+    ) -> Option<HandPoints> {
+        use crate::mediapipe::hand_landmark as hl;
+        let camera = self.options.camera();
+        let (kind, wrist) = if frame.wrists[side.index()].is_some() {
+            (Source::Tracker, source.position)
+        } else {
+            let k = match camera.pose_side_for(side) {
+                Side::Left => pose_landmark::LEFT_WRIST,
+                Side::Right => pose_landmark::RIGHT_WRIST,
+            };
+            (
+                Source::Pose,
+                camera.to_avatar(self.scratch.pose.as_ref()?.world[k]),
+            )
+        };
+        let lm = &self.scratch.landmarks;
+        let palm_center = (lm[hl::WRIST]
+            + lm[hl::INDEX_MCP]
+            + lm[hl::MIDDLE_MCP]
+            + lm[hl::RING_MCP]
+            + lm[hl::PINKY_MCP])
+            / 5.0;
+        let mut user = [Vec3::ZERO; crate::contact::POINTS];
+        user[0] = wrist + palm_center - lm[hl::WRIST];
+        let mut avatar = [None; crate::contact::POINTS];
+        // The avatar's palm center: its hand joint and the proximal joints it has.
+        let mut sum = Vec3::ZERO;
+        let mut n = 1.0;
+        for f in [Finger::Index, Finger::Middle, Finger::Ring, Finger::Little] {
+            let proximal = side.finger(f)[0];
+            if self.skeleton.has(proximal) {
+                sum += self.skeleton.rest_local(proximal);
+                n += 1.0;
+            }
+        }
+        avatar[0] = Some(hand_rotation * (sum / n));
+        let tip_options = align::AlignmentOptions {
+            point: align::AlignPoint::Tip,
+            ..self.options.alignment
+        };
+        for finger in Finger::ALL {
+            let k = 1 + finger.index();
+            user[k] = wrist + lm[finger.landmarks()[3]] - lm[hl::WRIST];
+            avatar[k] = align::avatar_offset(
+                &self.skeleton,
+                side,
+                &align::AlignmentOptions {
+                    finger,
+                    ..tip_options
+                },
+                hand_rotation,
+                local,
+            );
+        }
+        let middle = side.finger(Finger::Middle)[0];
+        let image_tip = out_hand
+            .and_then(|i| frame.hands().get(i))
+            .and_then(|h| h.image)
+            .map(|img| img[self.options.alignment.finger.landmarks()[3]]);
+        Some(HandPoints {
+            image_tip,
+            source: kind,
+            user,
+            avatar,
+            user_palm: (lm[hl::MIDDLE_MCP] - lm[hl::WRIST]).length(),
+            avatar_palm: if self.skeleton.has(middle) {
+                self.skeleton.rest_local(middle).length()
+            } else {
+                crate::contact::colliders::avatar_palm_length(&self.skeleton)
+            },
+        })
+    }
+
+    /// Stage 6b: self-contact for both sides together ([`crate::contact`]): the targets move
+    /// so that a finger on the user's face lands on the avatar's, touching hands stay
+    /// touching, and hands stay out of the avatar's body. Reads the head and torso where they
+    /// will be shown from the torso stage's forward kinematics (`out.world`; nothing between
+    /// moves them: the hands and arms are below).
+    pub(super) fn contact_targets(
+        &mut self,
+        frame: &FrameInput,
+        plans: &mut [Plan; 2],
+        out: &mut SolveOutput,
+    ) {
+        if !self.options.contact.enabled {
+            return;
+        }
+        let mut targets: [Option<SideTarget>; 2] = plans.map(|p| match p {
+            Plan::Reach { target, points, .. } => Some(SideTarget {
+                wrist: target,
+                hand: points,
+            }),
+            _ => None,
+        });
+        if targets.iter().all(Option::is_none) {
+            return;
+        }
+        let needs = |source: Source| {
+            targets
+                .iter()
+                .flatten()
+                .any(|t| t.hand.is_some_and(|h| h.source == source))
+        };
+        let faces = UserFaces {
+            pose: if needs(Source::Pose) {
+                self.scratch.pose.as_ref().and_then(|p| {
+                    UserFace::from_pose(
+                        p,
+                        self.options.camera(),
+                        self.options.calibration.min_visibility,
+                    )
+                })
+            } else {
+                None
+            },
+            pose_image: match (&self.scratch.pose, &frame.pose_image) {
+                (Some(pose), Some(image)) if needs(Source::Pose) => {
+                    crate::contact::ImageFit::from_pose(
+                        pose,
+                        image,
+                        self.options.calibration.min_visibility,
+                    )
+                }
+                _ => None,
+            },
+            camera: self.options.camera(),
+            tracker: if needs(Source::Tracker) {
+                frame
+                    .face
+                    .as_ref()
+                    .and_then(|f| UserFace::from_tracker(f, self.skeleton.version()))
+            } else {
+                None
+            },
+        };
+        self.contact.solve(
+            self.options.alignment.finger,
+            &faces,
+            &out.world,
+            &mut targets,
+            &mut out.contact,
+        );
+        for (s, (plan, t)) in plans.iter_mut().zip(targets).enumerate() {
+            if let (Plan::Reach { target, .. }, Some(t)) = (plan, t) {
+                let delta = t.wrist - *target;
+                *target = t.wrist;
+                if let Some(a) = out.alignment[s].as_mut() {
+                    a.target_dip += delta;
+                    a.ik_wrist += delta;
+                }
+            }
+        }
+    }
+}
