@@ -272,6 +272,8 @@ fn drive(
             rotation: None,
         });
         rig.solve(&input, &mut out).expect("solve");
+        // Compared with the skeleton (internal frame) below.
+        out.turn_to_internal_frame(rig.skeleton().version());
         // No report: the hand solver held last frame's hand (degenerate landmarks), so
         // nothing was aligned this frame; not scored.
         let Some(report) = out.alignment[k] else {
@@ -536,6 +538,8 @@ fn asl_frames(
         let mut out = SolveOutput::default();
         for (i, f) in clip.iter().enumerate() {
             rig.solve(f, &mut out).expect("solve");
+            // Compared with the skeleton (internal frame) below.
+            out.turn_to_internal_frame(rig.skeleton().version());
             if let Some(report) = out.alignment[side.index()] {
                 total += 1;
                 frames.push(arm_frame(

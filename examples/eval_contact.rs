@@ -116,6 +116,8 @@ fn measure(
 ) {
     for (rig, out) in rigs.iter_mut().zip(outs.iter_mut()) {
         rig.solve(frame, out).expect("solve");
+        // Compared with the skeleton (internal frame) below.
+        out.turn_to_internal_frame(rig.skeleton().version());
     }
     let radius = rigs[0].options().contact.radius;
     for side in Side::BOTH {

@@ -286,6 +286,8 @@ fn synthetic(skel: &Skeleton, method: Synthetic, video: &[HandObservation]) -> E
                 }
             }
             rig.solve(&f, &mut out).expect("solve");
+            // Compared with the skeleton (internal frame) below.
+            out.turn_to_internal_frame(rig.skeleton().version());
             // What the app draws: its torso where it drives it, handrig's bones elsewhere.
             let mut drawn = out.local;
             if source == TorsoSource::Frame {
@@ -376,6 +378,8 @@ fn noisy(skel: &Skeleton, amplitude: f32, video: &[HandObservation]) -> [Vec<f32
             f.pose = Some(landmarks);
             f.time_ms = k as f64 * 1000.0 / 30.0;
             rig.solve(&f, &mut out).expect("solve");
+            // Compared with the skeleton (internal frame) below.
+            out.turn_to_internal_frame(rig.skeleton().version());
             if k >= 10 {
                 let upper = out.world.rotation[top.index()] * rig.torso().rest_upper();
                 errors[0].push(angle_deg(upper, pose.upper()));
@@ -599,6 +603,8 @@ fn kinect_run(skel: &Skeleton, print_frames: bool) -> (Vec<TorsoRow>, Vec<f32>, 
                 ..FrameInput::default()
             };
             torso_rig.solve(&body_only, &mut t_out).expect("solve");
+            // Compared with the skeleton (internal frame) below.
+            t_out.turn_to_internal_frame(torso_rig.skeleton().version());
             let shoulder = t_out.world.position[side.arm()[1].index()];
             let wrist = shoulder + scale * (kinect_point(f[idx(wr)]) - kinect_point(f[idx(sh)]));
             let hands = &video[i % video.len()];
@@ -610,6 +616,8 @@ fn kinect_run(skel: &Skeleton, print_frames: bool) -> (Vec<TorsoRow>, Vec<f32>, 
                 rotation: None,
             });
             rig.solve(&frame, &mut out).expect("solve");
+            // Compared with the skeleton (internal frame) below.
+            out.turn_to_internal_frame(rig.skeleton().version());
             if side == Side::Right {
                 let row = torso_row(&rig, &out);
                 if print_frames {
@@ -788,6 +796,8 @@ fn main() {
             starts.push(rows.len());
             for f in &frames {
                 rig.solve(f, &mut out).expect("solve");
+                // Compared with the skeleton (internal frame) below.
+                out.turn_to_internal_frame(rig.skeleton().version());
                 rows.push(torso_row(&rig, &out));
                 if name == "debug-robot" {
                     if let Some(a) = out.alignment[Side::Right.index()] {

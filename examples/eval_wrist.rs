@@ -109,6 +109,8 @@ fn run(skel: &Skeleton, frames: &[FrameInput], options: &RigOptions, side: Side,
     for f in frames {
         let start = std::time::Instant::now();
         rig.solve(f, &mut out).expect("solve");
+        // Compared with the skeleton (internal frame) below.
+        out.turn_to_internal_frame(rig.skeleton().version());
         m.seconds += start.elapsed().as_secs_f64();
         m.frames += 1;
         let before = m.bends.len();

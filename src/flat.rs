@@ -536,8 +536,8 @@ fn put_flag(buf: &mut [f32], at: usize, on: bool) {
     buf[at] = if on { 1.0 } else { 0.0 };
 }
 
-/// Writes `out` (from [`Rig::solve`] on `rig`) into a flat output array, converting to the
-/// model's own frame. Allocates nothing.
+/// Writes `out` (from [`Rig::solve`] on `rig`, already in the model's own frame) into a flat
+/// output array. Allocates nothing.
 ///
 /// # Panics
 /// When `buf` is shorter than [`output::LEN`] (a caller bug, not an input problem).
@@ -546,22 +546,14 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
     for bone in HumanBone::ALL {
         let i = bone.index();
         let driven = skeleton.has(bone) && rig.drives(bone);
-        let q = if driven {
-            rig.export_rotation(out.local[i])
-        } else {
-            Quat::IDENTITY
-        };
+        let q = if driven { out.local[i] } else { Quat::IDENTITY };
         put_quat(buf, output::BONE_ROTATIONS + 4 * i, q);
         buf[output::BONE_FLAGS + i] = match (driven, out.solved[i]) {
             (false, _) => 0.0,
             (true, true) => 1.0,
             (true, false) => 2.0,
         };
-        put_vec3(
-            buf,
-            output::BONE_POSITIONS + 3 * i,
-            rig.export_position(out.world.position[i]),
-        );
+        put_vec3(buf, output::BONE_POSITIONS + 3 * i, out.world.position[i]);
     }
     for side in Side::BOTH {
         let at = output::SIDES + side.index() * output::SIDE_STRIDE;
@@ -585,16 +577,8 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
             position: Vec3::ZERO,
             rotation: Quat::IDENTITY,
         });
-        put_vec3(
-            buf,
-            at + output::side::TARGET_POSITION,
-            rig.export_position(t.position),
-        );
-        put_quat(
-            buf,
-            at + output::side::TARGET_ROTATION,
-            rig.export_rotation(t.rotation),
-        );
+        put_vec3(buf, at + output::side::TARGET_POSITION, t.position);
+        put_quat(buf, at + output::side::TARGET_ROTATION, t.rotation);
         let a = out.alignment[s];
         put_flag(buf, at + output::side::ALIGNMENT_PRESENT, a.is_some());
         let (dip, ik, pose, error, reachable, aligned) = a.map_or(
@@ -610,13 +594,9 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
                 )
             },
         );
-        put_vec3(buf, at + output::side::TARGET_DIP, rig.export_position(dip));
-        put_vec3(buf, at + output::side::IK_WRIST, rig.export_position(ik));
-        put_vec3(
-            buf,
-            at + output::side::POSE_WRIST,
-            rig.export_position(pose),
-        );
+        put_vec3(buf, at + output::side::TARGET_DIP, dip);
+        put_vec3(buf, at + output::side::IK_WRIST, ik);
+        put_vec3(buf, at + output::side::POSE_WRIST, pose);
         buf[at + output::side::ALIGNMENT_ERROR] = if error.is_finite() { error } else { f32::NAN };
         put_flag(buf, at + output::side::REACHABLE, reachable);
         put_flag(buf, at + output::side::ALIGNED, aligned);
@@ -624,7 +604,7 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
             out.hands[s].map_or((-1.0, false), |h| (h.index as f32, h.reassigned));
         buf[at + output::side::HAND_INDEX] = index;
         put_flag(buf, at + output::side::HAND_REASSIGNED, reassigned);
-        let point = |p: Option<Vec3>| p.map_or(Vec3::NAN, |p| rig.export_position(p));
+        let point = |p: Option<Vec3>| p.map_or(Vec3::NAN, |p| p);
         for (f, tip) in out.fingertips[s].iter().enumerate() {
             put_vec3(buf, at + output::side::FINGERTIPS + 3 * f, point(*tip));
         }

@@ -302,8 +302,9 @@ impl Rig {
         Side::BOTH.map(|side| self.hands.calibrate_hand_scale(side))
     }
 
-    /// Solves one frame into `out` (internal frame; see [`Rig::export_rotation`] and
-    /// [`Rig::export_position`] for the model frame). Allocates nothing.
+    /// Solves one frame into `out`, in the model's own frame (the report stage turns a VRM 0.x
+    /// model's output; [`SolveOutput::turn_to_internal_frame`] turns it back for use with the
+    /// [`Skeleton`]'s internal-frame kinematics). Allocates nothing.
     ///
     /// # Errors
     /// Invalid input (non-finite numbers, and points beyond [`COORDINATE_LIMIT`], are rejected
@@ -349,8 +350,9 @@ impl Rig {
         Ok(())
     }
 
-    /// Converts a rotation from the internal frame to the model's own frame (VRM 0.x: negate
-    /// x and z).
+    /// Converts a rotation from the internal frame (the [`Skeleton`]'s, the contact model's,
+    /// [`Rig::shoulder_base`]) to the model's own frame (VRM 0.x: negate x and z). [`Rig::solve`]
+    /// output is already in the model's frame.
     #[inline]
     #[must_use]
     pub fn export_rotation(&self, q: Quat) -> Quat {

@@ -7,9 +7,9 @@ use crate::bones::{Side, BONE_COUNT};
 use crate::contact::ContactReport;
 use crate::hand::{HandStatus, RetargetReport};
 use crate::mediapipe::MAX_HANDS;
-use crate::skeleton::WorldPose;
+use crate::skeleton::{VrmVersion, WorldPose};
 
-/// A wrist IK target in the internal frame.
+/// A wrist IK target in the model's own frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct IkTarget {
     /// Where the avatar's hand bone (wrist joint) should be.
@@ -18,8 +18,10 @@ pub struct IkTarget {
     pub rotation: Quat,
 }
 
-/// Everything one `solve` produces, in handrig's internal frame. Fixed-size: reused frame to
-/// frame without allocation.
+/// Everything one `solve` produces, in the model's own frame (a VRM 0.x avatar's rotations and
+/// positions as three-vrm's normalized bones of that model take them, the same numbers the JS
+/// API returns; [`SolveOutput::turn_to_internal_frame`] turns them into handrig's internal frame).
+/// Fixed-size: reused frame to frame without allocation.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolveOutput {
     /// Local rotation of every normalized bone (identity where nothing was solved).
@@ -35,12 +37,12 @@ pub struct SolveOutput {
     /// The tracked hand that drove each side this frame, if any.
     pub hands: [Option<TrackedHand>; 2],
     /// The avatar's fingertips per side (`[left, right]`), thumb to little, world positions
-    /// in the internal frame, every strategy: the distal bone extended by the anatomical
+    /// in the model's frame, every strategy: the distal bone extended by the anatomical
     /// ratio of [`crate::align::tip_offset`] (the point `alignment.point: "tip"` aligns).
     /// `None` where the avatar lacks that finger's distal bone.
     pub fingertips: [[Option<Vec3>; 5]; 2],
     /// What `handStrategy: "retarget"` did per side this frame (`None` for other strategies
-    /// and for sides not freshly solved); targets are world positions in the internal frame,
+    /// and for sides not freshly solved); targets are world positions in the model's frame,
     /// like [`SolveOutput::fingertips`].
     pub retarget: [Option<RetargetReport>; 2],
     /// What became of each input hand (in the frame's order; `Unused` past its count).
@@ -94,6 +96,62 @@ impl Default for SolveOutput {
             fingertips: [[None; 5]; 2],
             retarget: [None, None],
             contact: [None, None],
+        }
+    }
+}
+
+impl SolveOutput {
+    /// Turns every rotation, position and direction of this output from handrig's internal
+    /// (+Z-facing) frame into the model's own frame: for VRM 0.x the 180 degree turn about Y
+    /// (positions `(-x, y, -z)`, rotations conjugated); for VRM 1.0 nothing changes. The report
+    /// stage runs it last, so every caller (native Rust, the flat path, JS) gets the model's
+    /// frame. Allocates nothing.
+    pub(crate) fn turn_to_model_frame(&mut self, version: VrmVersion) {
+        self.turn(version);
+    }
+
+    /// The inverse of the report stage's conversion: this output back in handrig's internal
+    /// (+Z-facing) frame, the frame of [`crate::Skeleton`]'s forward kinematics and of the
+    /// rig's contact model, for Rust code that combines the two. (The turn is its own
+    /// inverse.) Allocates nothing.
+    pub fn turn_to_internal_frame(&mut self, version: VrmVersion) {
+        self.turn(version);
+    }
+
+    fn turn(&mut self, version: VrmVersion) {
+        if version == VrmVersion::V1 {
+            return;
+        }
+        let p = |v: Vec3| version.position_to_internal(v);
+        let q = |r: Quat| version.rotation_to_internal(r);
+        for r in self.local.iter_mut().chain(self.world.rotation.iter_mut()) {
+            *r = q(*r);
+        }
+        for v in &mut self.world.position {
+            *v = p(*v);
+        }
+        for t in self.ik_targets.iter_mut().flatten() {
+            t.position = p(t.position);
+            t.rotation = q(t.rotation);
+        }
+        for a in self.alignment.iter_mut().flatten() {
+            a.target_dip = p(a.target_dip);
+            a.ik_wrist = p(a.ik_wrist);
+            a.pose_wrist = p(a.pose_wrist);
+            a.avatar_offset = p(a.avatar_offset);
+        }
+        for tip in self.fingertips.iter_mut().flatten().flatten() {
+            *tip = p(*tip);
+        }
+        for r in self.retarget.iter_mut().flatten() {
+            for t in r.targets.iter_mut().flatten() {
+                *t = p(*t);
+            }
+        }
+        for c in self.contact.iter_mut().flatten() {
+            if let Some(m) = c.hand_meet.as_mut() {
+                *m = p(*m);
+            }
         }
     }
 }

@@ -1,5 +1,5 @@
 //! Stage 9, **report**: forward kinematics of the whole avatar, its fingertips, the
-//! retargeting reports.
+//! retargeting reports, and the whole output turned into the model's own frame.
 
 use crate::align;
 use crate::bones::{Finger, Side};
@@ -47,5 +47,7 @@ impl Rig {
                 });
             }
         }
+        // Last: everything in the model's own frame, for every caller.
+        out.turn_to_model_frame(self.skeleton.version());
     }
 }

@@ -148,6 +148,7 @@ fn index_distal_lands_on_the_target_dip() {
                 let wrist = reachable_wrist(&skel, side);
                 let f = frame(&skel, side, r, wrist);
                 rig.solve(&f, &mut out).unwrap();
+                out.turn_to_internal_frame(rig.skeleton().version());
                 let report = out.alignment[side.index()].expect("aligned");
                 assert!(report.reachable && report.aligned);
                 // The target DIP is the pose wrist plus the user's wrist-to-DIP offset (s = 1).
@@ -192,6 +193,7 @@ fn weight_zero_and_disabled_use_the_pose_wrist() {
         let mut out = SolveOutput::default();
         let r = hand_turns()[1];
         rig.solve(&frame(&skel, side, r, wrist), &mut out).unwrap();
+        out.turn_to_internal_frame(rig.skeleton().version());
         let target = out.ik_targets[side.index()].unwrap();
         assert!((target.position - wrist).length() < 1e-6, "{json}");
         assert!((out.world.position[side.hand().index()] - wrist).length() < 1e-4);
@@ -211,7 +213,9 @@ fn weight_zero_and_disabled_use_the_pose_wrist() {
     let (mut a, mut b) = (SolveOutput::default(), SolveOutput::default());
     let f = frame(&skel, side, hand_turns()[2], wrist);
     full.solve(&f, &mut a).unwrap();
+    a.turn_to_internal_frame(full.skeleton().version());
     half.solve(&f, &mut b).unwrap();
+    b.turn_to_internal_frame(half.skeleton().version());
     let mid = 0.5 * (wrist + a.ik_targets[1].unwrap().position);
     assert!((b.ik_targets[1].unwrap().position - mid).length() < 1e-5);
 }
@@ -226,6 +230,7 @@ fn tip_mode_puts_the_extended_distal_on_the_target_tip() {
     let wrist = reachable_wrist(&skel, side);
     let f = frame(&skel, side, hand_turns()[3], wrist);
     rig.solve(&f, &mut out).unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     let report = out.alignment[side.index()].unwrap();
     let lm = f.hands[0].world;
     let tip_offset = Vec3::new(lm[8].x - lm[0].x, lm[0].y - lm[8].y, lm[0].z - lm[8].z);
@@ -269,6 +274,7 @@ fn other_fingers_and_mirroring() {
         rotation: None,
     });
     rig.solve(&f, &mut out).unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     assert!(out.alignment[1].is_none());
     let report = out.alignment[0].expect("left side aligned");
     let distal = out.world.position[B::LeftIndexDistal.index()];
@@ -286,6 +292,7 @@ fn no_one_frame_lag() {
     let wrist = reachable_wrist(&skel, side);
     for r in [hand_turns()[1], hand_turns()[2], hand_turns()[3]] {
         rig.solve(&frame(&skel, side, r, wrist), &mut out).unwrap();
+        out.turn_to_internal_frame(rig.skeleton().version());
         let report = out.alignment[0].unwrap();
         let distal = out.world.position[B::LeftIndexDistal.index()];
         assert!((distal - report.target_dip).length() < 1e-4);
@@ -301,6 +308,7 @@ fn unreachable_target_reports_and_stays_finite() {
     let far = skel.rest_world(side.arm()[1]).unwrap() + Vec3::new(-0.2, 0.1, 1.5);
     rig.solve(&frame(&skel, side, hand_turns()[1], far), &mut out)
         .unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     let report = out.alignment[1].unwrap();
     assert!(!report.reachable);
     assert!(report.error.is_finite() && report.error > 0.5);

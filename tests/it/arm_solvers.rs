@@ -418,6 +418,7 @@ fn odd_avatars_give_finite_poses_or_clear_errors() {
                 });
                 let mut out = handrig::SolveOutput::default();
                 let solved = rig.solve(&frame, &mut out);
+                out.turn_to_internal_frame(rig.skeleton().version());
                 assert!(
                     solved.is_ok() || !must_solve,
                     "{solver:?} {side:?}: {solved:?}"

@@ -288,6 +288,7 @@ fn approach(head: &Head, a: FaceAnchor, side: Side) -> Vec3 {
 fn solve(rig: &mut Rig, f: &FrameInput, side: Side) -> (Vec3, SolveOutput) {
     let mut out = SolveOutput::default();
     rig.solve(f, &mut out).unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     let tip = out.fingertips[side.index()][Finger::Index.index()].unwrap();
     (tip, out)
 }
@@ -846,8 +847,10 @@ fn touching_hands_stay_touching_and_separate_into_plain_alignment() {
                     let f = two_hands(&skel, lms, [wl, wr]);
                     let mut a_out = SolveOutput::default();
                     on.solve(&f, &mut a_out).unwrap();
+                    a_out.turn_to_internal_frame(on.skeleton().version());
                     let mut b_out = SolveOutput::default();
                     off.solve(&f, &mut b_out).unwrap();
+                    b_out.turn_to_internal_frame(off.skeleton().version());
                     if separation > 0.0 {
                         for side in Side::BOTH {
                             let ta = a_out.ik_targets[side.index()].unwrap().position;
@@ -925,6 +928,7 @@ fn colliders_push_a_hand_out_of_the_belly() {
         });
         let mut out = SolveOutput::default();
         rig.solve(&f, &mut out).unwrap();
+        out.turn_to_internal_frame(rig.skeleton().version());
         let target = out.ik_targets[side.index()].unwrap().position;
         let c = rig.contact().colliders();
         let torso = c.torso.expect("torso collider");
@@ -943,6 +947,7 @@ fn colliders_push_a_hand_out_of_the_belly() {
             },
         );
         off.solve(&f, &mut out).unwrap();
+        out.turn_to_internal_frame(off.skeleton().version());
         let t = out.ik_targets[side.index()].unwrap().position;
         assert!(shapes[0].unwrap().penetration(t, 0.0).0 > 0.0, "{name}");
     }

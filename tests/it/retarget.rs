@@ -326,6 +326,7 @@ fn the_rig_reports_fingertips_for_every_strategy_and_retarget_targets_in_world()
             let mut rig = Rig::new(skel.clone(), options).unwrap();
             let mut out = SolveOutput::default();
             rig.solve(&frame, &mut out).unwrap();
+            out.turn_to_internal_frame(rig.skeleton().version());
             // Fingertips: the distal bone extended by the anatomical ratio, both sides.
             for s in Side::BOTH {
                 for f in Finger::ALL {
@@ -383,6 +384,7 @@ fn the_rig_calibrates_the_hand_scale_from_an_open_hand() {
         Vec3::ZERO,
     );
     rig.solve(&mediapipe_frame(&open, None), &mut out).unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     let auto = out.retarget[side.index()].unwrap().scale;
     assert!((auto - OPEN_EXTENT / 0.8).abs() < 1e-4, "{auto}");
     let [left, right] = rig.calibrate_hand_scale();
@@ -396,9 +398,11 @@ fn the_rig_calibrates_the_hand_scale_from_an_open_hand() {
         Vec3::ZERO,
     );
     rig.solve(&mediapipe_frame(&fist, None), &mut out).unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     assert_eq!(out.retarget[side.index()].unwrap().scale, s);
     // A fist does not calibrate; the calibrated scale stays.
     assert_eq!(rig.calibrate_hand_scale(), [None, None]);
     rig.solve(&mediapipe_frame(&fist, None), &mut out).unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     assert_eq!(out.retarget[side.index()].unwrap().scale, s);
 }

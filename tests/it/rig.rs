@@ -86,6 +86,7 @@ fn real_recording_drives_the_subjects_right_hand_in_all_four_mappings() {
         let mut out = SolveOutput::default();
         let (label, world) = rec[100];
         rig.solve(&frame_with(label, world), &mut out).unwrap();
+        out.turn_to_internal_frame(rig.skeleton().version());
         assert!(
             out.solved[expected.hand().index()],
             "{input_mirrored} {mirror}"
@@ -119,19 +120,62 @@ fn vrm0_outputs_are_the_vrm1_outputs_turned_into_the_model_frame() {
             if !o1.solved[b.index()] {
                 continue;
             }
-            let q1 = rig1.export_rotation(o1.local[b.index()]);
-            let q0 = rig0.export_rotation(o0.local[b.index()]);
+            // Native outputs are in each model's own frame (the report stage turns them).
+            let (q1, q0) = (o1.local[b.index()], o0.local[b.index()]);
             // three-vrm's VRM 0.x rule: negate x and z.
             let expected = Quat::from_xyzw(-q1.x, q1.y, -q1.z, q1.w);
             assert!(
                 q0.dot(expected).abs() > 1.0 - 1e-5,
                 "{b}: {q0} vs {expected}"
             );
-            let w1 = rig1.export_position(o1.world.position[b.index()]);
-            let w0 = rig0.export_position(o0.world.position[b.index()]);
+            let (w1, w0) = (o1.world.position[b.index()], o0.world.position[b.index()]);
             assert!((w0 - Vec3::new(-w1.x, w1.y, -w1.z)).length() < 1e-5, "{b}");
         }
     }
+}
+
+/// Native Rust gets the numbers JS gets: on a VRM 0.x avatar, `Rig::solve`'s output equals
+/// the flat output the wasm binding hands to JS (`flat::write_output`, which converts
+/// nothing), bone by bone, and the wrist targets and fingertips too.
+#[test]
+fn native_output_of_a_vrm0_avatar_is_what_js_gets() {
+    use handrig::flat::{output, write_output};
+    let rec = recording();
+    let mut rig = Rig::new(body(VrmVersion::V0), RigOptions::default()).unwrap();
+    let mut out = SolveOutput::default();
+    let mut buf = vec![0.0f32; output::LEN];
+    let mut turned = 0;
+    for (label, world) in rec.iter().step_by(41) {
+        let mut f = frame_with(*label, *world);
+        f.wrists[1] = Some(WristObservation {
+            position: Vec3::new(0.5, 1.3, -0.25),
+            rotation: None,
+        });
+        rig.solve(&f, &mut out).unwrap();
+        write_output(&rig, &out, &mut buf);
+        for b in HumanBone::ALL.iter().filter(|b| out.solved[b.index()]) {
+            let i = b.index();
+            let q = &buf[output::BONE_ROTATIONS + 4 * i..][..4];
+            assert_eq!(q, &out.local[i].to_array(), "{b}");
+            let p = &buf[output::BONE_POSITIONS + 3 * i..][..3];
+            assert_eq!(p, &out.world.position[i].to_array(), "{b}");
+            // The model's frame, not the internal one: a VRM 0.x arm bends with x or z negated.
+            if out.local[i].x.abs() > 1e-3 || out.local[i].z.abs() > 1e-3 {
+                turned += 1;
+            }
+        }
+        let at = output::SIDES + output::SIDE_STRIDE;
+        let t = out.ik_targets[1].expect("right wrist target");
+        let pos = &buf[at + output::side::TARGET_POSITION..][..3];
+        assert_eq!(pos, &t.position.to_array());
+        // The target is where the app put it, in the model's frame.
+        assert!(
+            (t.position - Vec3::new(0.5, 1.3, -0.25)).length() < 0.2,
+            "{}",
+            t.position
+        );
+    }
+    assert!(turned > 0, "some solved rotations have x or z");
 }
 
 #[test]
@@ -166,6 +210,7 @@ fn invalid_frames_are_rejected_naming_the_field_and_leave_the_rig_usable() {
         "frame.hands[0].score: must be a number in 0..1"
     );
     rig.solve(&frame_with(label, world), &mut out).unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     assert!(out.solved[HumanBone::RightHand.index()]);
     for q in out.local {
         assert!(q.is_finite() && (q.length() - 1.0).abs() < 1e-4);
@@ -183,15 +228,18 @@ fn duplicate_hands_pick_the_higher_score_and_low_scores_are_ignored() {
     f.hands[1] = hand(label, 0.99, b);
     f.hand_count = 2;
     rig.solve(&f, &mut out).unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     let both = out.local;
     let mut only_b = frame_with(label, b);
     only_b.hands[0].score = 0.99;
     rig.solve(&only_b, &mut out).unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     assert_eq!(both, out.local, "the 0.99 hand wins");
 
     let mut weak = frame_with(label, a);
     weak.hands[0].score = 0.2;
     rig.solve(&weak, &mut out).unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     assert!(!out.solved[HumanBone::RightHand.index()]);
 }
 
@@ -210,6 +258,7 @@ fn the_reported_world_pose_is_the_forward_kinematics_of_the_rotations() {
             let mut full = handrig::WorldPose::default();
             for (i, f) in frames.iter().enumerate() {
                 rig.solve(f, &mut out).expect("solve");
+                out.turn_to_internal_frame(rig.skeleton().version());
                 avatar.forward(&out.local, &mut full);
                 for bone in HumanBone::ALL.iter().filter(|b| avatar.has(**b)) {
                     let k = bone.index();
@@ -269,7 +318,9 @@ fn pose_landmarks_outside_the_read_list_change_nothing() {
             let (mut out_a, mut out_b) = (SolveOutput::default(), SolveOutput::default());
             for (i, (fa, fb)) in frames.iter().zip(&moved).enumerate() {
                 a.solve(fa, &mut out_a).expect("solve");
+                out_a.turn_to_internal_frame(a.skeleton().version());
                 b.solve(fb, &mut out_b).expect("solve");
+                out_b.turn_to_internal_frame(b.skeleton().version());
                 assert!(same(&out_a, &out_b), "frame {i}: the output changed");
             }
         }
@@ -373,10 +424,12 @@ fn points_beyond_the_coordinate_limit_are_rejected_and_points_at_it_give_finite_
                 let mut at = *frame;
                 if probe(&mut at, i, sign * COORDINATE_LIMIT).is_some() {
                     rig.solve(&at, &mut out).expect("a point at the limit");
+                    out.turn_to_internal_frame(rig.skeleton().version());
                     assert!(finite(&out), "frame {i}: {out:?}");
                     at_limit += 1;
                 }
                 rig.solve(frame, &mut out).expect("the real frame");
+                out.turn_to_internal_frame(rig.skeleton().version());
                 assert!(finite(&out), "frame {i}, unchanged");
             }
         }
@@ -404,6 +457,7 @@ fn the_alignment_error_is_measured_on_the_shown_pose() {
             let mut out = SolveOutput::default();
             for (i, frame) in frames.iter().enumerate() {
                 rig.solve(frame, &mut out).expect("solve");
+                out.turn_to_internal_frame(rig.skeleton().version());
                 for side in Side::BOTH {
                     let Some(report) = out.alignment[side.index()] else {
                         continue;

@@ -152,6 +152,7 @@ fn tracked_torso_is_the_users_and_both_hands_align() {
                 for k in 0..8 {
                     let f = user_frame(&pose, k, &video);
                     rig.solve(&f, &mut out).unwrap();
+                    out.turn_to_internal_frame(rig.skeleton().version());
                     let what = format!("{path} mirror {mirror} {} frame {k}", pose.name);
                     let upper = avatar_upper(&rig, &out);
                     let want = shown(pose.upper(), mirror);
@@ -223,6 +224,7 @@ fn body_joints_give_the_same_torso() {
                 ..FrameInput::default()
             };
             rig.solve(&f, &mut out).unwrap();
+            out.turn_to_internal_frame(rig.skeleton().version());
             let upper = avatar_upper(&rig, &out);
             let a = angle_deg(upper, pose.upper());
             assert!(a < 0.01, "{path} {}: {a}", pose.name);
@@ -233,7 +235,7 @@ fn body_joints_give_the_same_torso() {
                 pose.name
             );
             // Output in the model's own frame, like every other bone.
-            let q = rig.export_rotation(out.local[B::Hips.index()]);
+            let q = version.rotation_to_internal(out.local[B::Hips.index()]);
             let want = version.rotation_to_internal(pose.hips());
             assert!(angle_deg(q, want) < 0.01, "{path} {}", pose.name);
         }
@@ -289,6 +291,7 @@ fn the_apps_torso_is_used_as_given() {
                     });
                 }
                 rig.solve(&f, &mut out).unwrap();
+                out.turn_to_internal_frame(rig.skeleton().version());
                 let mut shown = out.local;
                 for b in TORSO_BONES {
                     shown[b.index()] = app[b.index()];
@@ -322,6 +325,7 @@ fn the_apps_torso_is_used_as_given() {
                 let mut f = user_frame(&pose, k, &video);
                 f.torso = given;
                 rig.solve(&f, &mut out).unwrap();
+                out.turn_to_internal_frame(rig.skeleton().version());
                 let avatar_frame =
                     world.rotation[rig.torso().top().index()] * rig.torso().rest_upper();
                 let turn = avatar_frame * pose.upper().inverse();
@@ -374,6 +378,7 @@ fn a_lean_is_not_read_as_a_reach() {
         let mut rig = Rig::new(skel.clone(), opts).unwrap();
         let mut out = SolveOutput::default();
         rig.solve(&user_frame(pose, 3, &video), &mut out).unwrap();
+        out.turn_to_internal_frame(rig.skeleton().version());
         let [_, upper, lower, hand] = Side::Right.arm();
         [upper, lower, hand].map(|b| out.local[b.index()])
     };
@@ -418,6 +423,7 @@ fn body_scale_is_the_same_whatever_the_torso() {
         let mut out = SolveOutput::default();
         for k in 0..30 {
             rig.solve(&user_frame(pose, k, &video), &mut out).unwrap();
+            out.turn_to_internal_frame(rig.skeleton().version());
         }
         rig.body().scale()
     };
@@ -445,6 +451,7 @@ fn a_shrug_raises_the_shoulders() {
     for k in 0..5 {
         rig.solve(&user_frame(&TorsoPose::REST, k, &video), &mut out)
             .unwrap();
+        out.turn_to_internal_frame(rig.skeleton().version());
         for side in Side::BOTH {
             let q = out.local[side.arm()[0].index()];
             assert!(angle_deg(q, Quat::IDENTITY) < 1e-3, "calibrating: no shrug");
@@ -463,6 +470,7 @@ fn a_shrug_raises_the_shoulders() {
             ..TorsoPose::REST
         };
         rig.solve(&user_frame(&pose, 6, &video), &mut out).unwrap();
+        out.turn_to_internal_frame(rig.skeleton().version());
         let mut lifts = [0.0; 2];
         for side in Side::BOTH {
             let [shoulder, upper, ..] = side.arm();
@@ -520,6 +528,7 @@ fn lost_landmarks_hold_then_ease_to_rest() {
     let mut f = user_frame(&pose, 0, &video);
     f.time_ms = 0.0;
     rig.solve(&f, &mut out).unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     let tracked = out.local[B::Spine.index()];
     assert!(angle_deg(tracked, Quat::IDENTITY) > 5.0);
     // The shoulders vanish (visibility 0): spine and shoulders are no longer measured.
@@ -534,6 +543,7 @@ fn lost_landmarks_hold_then_ease_to_rest() {
     let mut t = 33.0;
     while t < f64::from(d.hold_ms) {
         rig.solve(&lost(t), &mut out).unwrap();
+        out.turn_to_internal_frame(rig.skeleton().version());
         assert_eq!(out.local[B::Spine.index()], tracked, "held at {t} ms");
         assert!(!out.solved[B::Spine.index()] && rig.drives(B::Spine));
         t += 33.0;
@@ -541,6 +551,7 @@ fn lost_landmarks_hold_then_ease_to_rest() {
     let mut last = 0.0;
     while t < f64::from(d.hold_ms + d.fade_out_ms) + 100.0 {
         rig.solve(&lost(t), &mut out).unwrap();
+        out.turn_to_internal_frame(rig.skeleton().version());
         for q in out.local.iter().chain(out.world.rotation.iter()) {
             assert!(q.is_finite());
         }
@@ -569,9 +580,11 @@ fn lost_landmarks_hold_then_ease_to_rest() {
     let mut f = user_frame(&pose, 0, &video);
     f.time_ms = t;
     rig.solve(&f, &mut out).unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     assert!(angle_deg(out.local[B::Spine.index()], Quat::IDENTITY) < 1e-3);
     f.time_ms = t + f64::from(d.fade_in_ms) + 1.0;
     rig.solve(&f, &mut out).unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     assert!(angle_deg(out.local[B::Spine.index()], tracked) < 1e-3);
 }
 
@@ -597,6 +610,7 @@ fn limits_hold_and_odd_input_is_finite() {
                 ..TorsoPose::REST
             };
             rig.solve(&user_frame(&pose, 1, &video), &mut out).unwrap();
+            out.turn_to_internal_frame(rig.skeleton().version());
             let hips = out.local[B::Hips.index()];
             let rel = (hips.inverse() * out.world.rotation[rig.torso().top().index()]).normalize();
             let (swing, twist) = handrig::kinematics::swing_twist(rel, Vec3::Y);
@@ -628,12 +642,14 @@ fn limits_hold_and_odd_input_is_finite() {
         let p = f.pose.as_mut().unwrap();
         p.world = [Vec3::new(0.1, -0.5, 0.0); 33];
         rig.solve(&f, &mut out).unwrap();
+        out.turn_to_internal_frame(rig.skeleton().version());
         let mut f = user_frame(&TorsoPose::REST, 3, &video);
         f.pose.as_mut().unwrap().world[11] = Vec3::splat(1e30);
         let e = rig.solve(&f, &mut out).unwrap_err().to_string();
         assert!(e.starts_with("frame.pose.worldLandmarks[11]:"), "{e}");
         f.pose.as_mut().unwrap().world[11] = Vec3::splat(handrig::COORDINATE_LIMIT);
         rig.solve(&f, &mut out).unwrap();
+        out.turn_to_internal_frame(rig.skeleton().version());
         for q in out.local.iter().chain(out.world.rotation.iter()) {
             assert!(q.is_finite(), "{path}");
         }
@@ -675,5 +691,6 @@ fn bad_torso_input_is_an_error_naming_the_field() {
         "frame.body.hips.confidence: must be a number in 0..1"
     );
     rig.solve(&FrameInput::default(), &mut out).unwrap();
+    out.turn_to_internal_frame(rig.skeleton().version());
     let _ = HAND_LANDMARKS;
 }

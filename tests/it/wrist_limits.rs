@@ -61,6 +61,7 @@ fn pass(skel: &Skeleton, frames: &[FrameInput], options: RigOptions, side: Side)
     let distal = side.finger(Finger::Index)[2];
     for f in frames {
         rig.solve(f, &mut out).unwrap();
+        out.turn_to_internal_frame(rig.skeleton().version());
         let s = side.index();
         let fresh = out.hands[s].is_some_and(|h| h.status == HandStatus::Solved);
         if !fresh || !out.solved[upper.index()] {
@@ -183,6 +184,7 @@ fn alignment_weight_keeps_its_meaning_under_the_limits() {
     let mut checked = 0;
     for f in &frames {
         rig.solve(f, &mut out).unwrap();
+        out.turn_to_internal_frame(rig.skeleton().version());
         let (Some(a), Some(_)) = (out.alignment[1], rig.arms().last_wrist(side)) else {
             continue;
         };
@@ -224,7 +226,9 @@ fn hands_only_input_is_not_limited() {
     let hand = Side::Right.hand().index();
     for f in &frames {
         on.solve(f, &mut a).unwrap();
+        a.turn_to_internal_frame(on.skeleton().version());
         off.solve(f, &mut b).unwrap();
+        b.turn_to_internal_frame(off.skeleton().version());
         assert!(angle(a.local[hand], b.local[hand]) < 1e-6);
         assert!(on.arms().last_wrist(Side::Right).is_none());
     }
