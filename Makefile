@@ -108,7 +108,7 @@ test-www: pkg
 	  echo "test-www: www/ has no test script; skipped"; \
 	fi
 
-# The measured figures of the README ("Hand solver", "Fingertip alignment and arm IK"):
+# The measured figures of docs/measurements.md and the method pages (docs/hand-solver.md, docs/alignment-ik.md, ...):
 # hand accuracy vs Kalidokit, the alignment acceptance table, and wasm solve time vs Kalidokit.
 eval: pkg eval/node_modules/.package-lock.json
 	cargo run --quiet --release --example eval_hands

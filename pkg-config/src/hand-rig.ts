@@ -91,7 +91,7 @@ export class HandRig {
     return cleanDescriptions();
   }
 
-  /** The flat frame layout (same as the `LAYOUT` export): offsets of the input and output arrays; see the README. */
+  /** The flat frame layout (same as the `LAYOUT` export): offsets of the input and output arrays; see docs/flat-layout.md. */
   static get layout(): FlatLayout {
     return LAYOUT;
   }
@@ -162,7 +162,7 @@ export class HandRig {
   }
 
   /**
-   * Solves one frame (see the README for the frame and result shapes). Returns the rig's own
+   * Solves one frame (see docs/frames.md and docs/results.md for the frame and result shapes). Returns the rig's own
    * result object, updated in place by the next call (a warmed-up frame allocates nothing); pass
    * `target` (e.g. `{}`) to fill an object of your own instead, for results you keep.
    * @throws Error naming the field (e.g. "frame.hands[0].worldLandmarks: must have 21 points, got 20"); the rig is unchanged and keeps working.

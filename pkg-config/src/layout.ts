@@ -34,7 +34,7 @@ export type BodyJointName =
   | "hips" | "leftUpperLeg" | "rightUpperLeg" | "leftUpperArm" | "rightUpperArm"
   | "nose" | "leftEye" | "rightEye" | "leftEar" | "rightEar";
 
-/** Offsets of the flat frame layout (`LAYOUT`): indices into the input and output Float32Arrays. See the README. */
+/** Offsets of the flat frame layout (`LAYOUT`): indices into the input and output Float32Arrays. See docs/flat-layout.md. */
 export interface FlatLayout {
   /** Bumped whenever an offset or meaning changes. */
   readonly version: number;

@@ -30,7 +30,7 @@ pub type TorsoRotations = [Option<Quat>; TORSO_BONE_COUNT];
 pub const BODY_JOINT_COUNT: usize = 10;
 
 /// The joints of `frame.body`: named by the avatar bone whose joint they are (plus the face
-/// points), so one table maps any body tracker onto them (README: "Torso").
+/// points), so one table maps any body tracker onto them (docs/torso.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BodyJoint {
     /// `hips`: the hip center (pelvis).

@@ -1,4 +1,5 @@
-// The README's "Quick start: Node" runs as written: its two blocks are saved as main.mjs and
+// The README's "Quick start: Node" runs as written (and its "Quick start: HolisticLandmarker",
+// below): its two blocks are saved as main.mjs and
 // main.cjs in a folder inside the consumer project (so "handrig" resolves to the installed
 // package) next to avatar.vrm (the shared robot) and right-hand-video-mediapipe.json (the shared
 // recording), and run with `node`, unchanged. A preloaded probe (`--import`) wraps
@@ -75,5 +76,84 @@ describe("README quick start (Node)", () => {
     assert.equal(q.length, 4);
     assert.ok(Math.abs(Math.hypot(...q) - 1) < 1e-5, printed);
     assert.deepEqual(q, probe.rightIndex);
+  });
+});
+
+// The README's "Quick start: HolisticLandmarker" block (the tracker and the loop of main.js) runs
+// as written in Node, on the shared `thanks` sign-language clip: the names it takes from main.js
+// (vision, video, rig, vrm, renderer, scene, camera, clock, applyToVRM) are defined before it,
+// HolisticLandmarker is a stand-in whose detectForVideo returns the clip's frames as tasks-vision
+// HolisticLandmarkerResults (hands by the subject's side), and the rig is the quick start's
+// (`mirror: true`, the robot).
+const HOLISTIC_HARNESS = (clipPath, robotPath) => `
+import { readFileSync } from "node:fs";
+import { HandRig } from "handrig";
+const clip = JSON.parse(readFileSync(${JSON.stringify(clipPath)}, "utf8"));
+const pt = ([x, y, z, visibility]) => (visibility === undefined ? { x, y, z } : { x, y, z, visibility });
+let next = 0;
+class HolisticLandmarker {
+  static async createFromOptions(fileset, options) {
+    if (options.runningMode !== "VIDEO" || !/holistic_landmarker\\.task$/.test(options.baseOptions.modelAssetPath)) {
+      throw new Error("unexpected options " + JSON.stringify(options));
+    }
+    return new HolisticLandmarker();
+  }
+  detectForVideo(video, timestamp) {
+    if (!(timestamp > (this.last ?? -Infinity))) throw new Error("detectForVideo: timestamps must increase");
+    this.last = timestamp;
+    const f = clip.frames[next++];
+    // Holistic names hands by the subject's side: the hand MediaPipe Hands labels "Left" is its right.
+    const side = (label) => f.hands.filter((h) => h.handedness === label).slice(0, 1);
+    return {
+      faceLandmarks: [], faceBlendshapes: [], poseSegmentationMasks: [],
+      poseLandmarks: [f.pose.landmarks.map(pt)],
+      poseWorldLandmarks: [f.pose.worldLandmarks.map(pt)],
+      leftHandLandmarks: side("Right").map((h) => h.landmarks.map(pt)),
+      leftHandWorldLandmarks: side("Right").map((h) => h.worldLandmarks.map(pt)),
+      rightHandLandmarks: side("Left").map((h) => h.landmarks.map(pt)),
+      rightHandWorldLandmarks: side("Left").map((h) => h.worldLandmarks.map(pt)),
+    };
+  }
+}
+const vision = {};
+const video = {};
+const scene = {};
+const camera = {};
+const vrm = { update() {} };
+const clock = { getDelta: () => 1 / 30 };
+let t = 0;
+const performance = { now: () => (t += 1000 / 30) };
+const renderer = { setAnimationLoop(loop) { for (const _ of clip.frames) loop(); }, render() {} };
+const rig = HandRig.fromVrm(readFileSync(${JSON.stringify(robotPath)}), { mirror: true });
+const seen = { frames: clip.frames.length, applied: 0, handsInClip: 0, handsSolved: 0, armRaised: 0 };
+function applyToVRM(vrm, result) {
+  seen.applied++;
+  for (const side of ["left", "right"]) if (result.hands[side]?.status === "solved") seen.handsSolved++;
+  // An upper arm turned more than 20 degrees from rest: the pose drives the arms.
+  for (const side of ["left", "right"]) {
+    const q = result.bones[side + "UpperArm"];
+    if (q && 2 * Math.acos(Math.min(1, Math.abs(q[3]))) > (20 * Math.PI) / 180) { seen.armRaised++; break; }
+  }
+  return 0;
+}
+for (const f of clip.frames) seen.handsInClip += Math.min(1, f.hands.filter((h) => h.handedness === "Left").length) + Math.min(1, f.hands.filter((h) => h.handedness === "Right").length);
+`;
+
+describe("README quick start (HolisticLandmarker)", () => {
+  it("has one block, and it runs on a recorded clip: every frame applied, hands solved, arms moved", async () => {
+    const { shared } = await import("./support.mjs");
+    const holistic = codeBlocks(readme, "## Quick start: HolisticLandmarker (arms and hands)");
+    assert.equal(holistic.length, 1);
+    const clipPath = path.join(shared, "data", "asl", "thanks.json");
+    const code = `${HOLISTIC_HARNESS(clipPath, avatars.robot)}\n${holistic[0]}\nconsole.log("SEEN " + JSON.stringify(seen));\n`;
+    fs.writeFileSync(path.join(dir, "holistic.mjs"), code);
+    const res = spawnSync(process.execPath, ["holistic.mjs"], { cwd: dir, encoding: "utf8" });
+    assert.equal(res.status, 0, `holistic.mjs exited ${res.status}:\n${res.stderr}`);
+    const line = res.stdout.split("\n").find((l) => l.startsWith("SEEN "));
+    assert.ok(line, res.stdout);
+    const seen = JSON.parse(line.slice(5));
+    assert.equal(seen.applied, seen.frames);
+    assert.ok(seen.handsSolved >= 0.8 * seen.handsInClip, JSON.stringify(seen));
+    assert.ok(seen.armRaised >= 0.5 * seen.frames, JSON.stringify(seen));
   });
 });

@@ -80,8 +80,14 @@ describe("options reference (docs/options.md) against the running module", () =>
   }
 });
 
-describe("README flat layout table", () => {
-  const section = readme.split(/^### Flat frame layout/m)[1]?.split(/^##+ /m)[0];
+describe("flat layout table (docs/flat-layout.md, linked from the README)", () => {
+  const page = fs.readFileSync(path.join(repoRoot, "docs", "flat-layout.md"), "utf8");
+  const section = page.split(/^# Flat frame layout/m)[1]?.split(/^##+ /m)[0];
+
+  it("the README links to it", () => {
+    assert.match(readme, /\(docs\/flat-layout\.md\)/);
+  });
+
   const rows = {};
   for (const line of (section ?? "").split("\n")) {
     const m = line.match(/^\| `((?:input|output)\.[A-Za-z.]+)` \| \+?(\d+) \|/);
@@ -103,7 +109,7 @@ describe("README flat layout table", () => {
     const strides = leaves.filter(([p]) => /Stride$/.test(p));
     for (const [p, v] of leaves) {
       if (/Stride$/.test(p)) continue;
-      assert.equal(rows[p], v, `README row \`${p}\``);
+      assert.equal(rows[p], v, `docs/flat-layout.md row \`${p}\``);
     }
     for (const [p, v] of strides) assert.match(section, new RegExp(`\`${p.replace(".", "\\.")}\` = ${v}\\b`), p);
     assert.equal(Object.keys(rows).length, leaves.length - strides.length, "no rows for fields LAYOUT lacks");

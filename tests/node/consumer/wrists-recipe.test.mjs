@@ -1,4 +1,4 @@
-// The README's "Wrists from a body tracker" recipe, run as written on the shared Azure Kinect
+// The "Wrists from a body tracker" recipe of docs/frames.md (linked from the README), run as written on the shared Azure Kinect
 // session: its two code blocks are saved as wrists.mjs and main.mjs next to avatar.vrm and
 // kinect-upper-body.json (copies), inside the consumer project so that "handrig" resolves to the
 // installed package, and imported. The only addition is an export line at the end of main.mjs,
@@ -19,7 +19,7 @@ import path from "node:path";
 import { pathToFileURL } from "node:url";
 import { describe, it } from "node:test";
 
-import { codeBlocks, readme } from "./readme-blocks.mjs";
+import { codeBlocks, docPage } from "./readme-blocks.mjs";
 import { avatars, fixtureVrms, shared } from "./support.mjs";
 
 const kinectPath = path.join(shared, "data", "pose", "kinect-upper-body.json");
@@ -35,7 +35,7 @@ function closestOnSegment(p, a, b) {
 
 /** Runs the recipe for `vrmFile` (with `mirror` edited into the call when asked). */
 async function runRecipe(vrmFile, { mirror = false } = {}) {
-  const [wristsJs, mainJs] = codeBlocks(readme, "### Wrists from a body tracker");
+  const [wristsJs, mainJs] = codeBlocks(docPage("frames.md"), "## Wrists from a body tracker");
   assert.ok(wristsJs && mainJs, "two code blocks");
   assert.match(wristsJs, /^\/\/ wrists\.mjs/, "the first block is wrists.mjs");
   let main = mainJs;
@@ -51,7 +51,7 @@ async function runRecipe(vrmFile, { mirror = false } = {}) {
   fs.copyFileSync(vrmFile, path.join(dir, "avatar.vrm"));
   fs.copyFileSync(kinectPath, path.join(dir, "kinect-upper-body.json"));
   const cwd = process.cwd();
-  process.chdir(dir); // the README reads its files relative to the working directory
+  process.chdir(dir); // the recipe reads its files relative to the working directory
   try {
     return await import(pathToFileURL(path.join(dir, "main.mjs")).href);
   } finally {
@@ -62,9 +62,9 @@ async function runRecipe(vrmFile, { mirror = false } = {}) {
 
 const avatarsToRun = [avatars.robot, ...fixtureVrms()];
 
-describe("README: wrists from a body tracker, on the Kinect session", () => {
-  it("the README has the recipe's two blocks", () => {
-    assert.equal(codeBlocks(readme, "### Wrists from a body tracker").length, 2);
+describe("docs/frames.md: wrists from a body tracker, on the Kinect session", () => {
+  it("docs/frames.md has the recipe's two blocks", () => {
+    assert.equal(codeBlocks(docPage("frames.md"), "## Wrists from a body tracker").length, 2);
   });
 
   for (const file of avatarsToRun) {
