@@ -82,7 +82,7 @@ impl Blend {
         } else if self.weight <= 0.0 {
             *anchor
         } else {
-            crate::pipeline::nlerp(*anchor, target, self.weight)
+            nlerp(*anchor, target, self.weight)
         };
         if q.dot(shown) < 0.0 {
             -q
@@ -201,6 +201,13 @@ fn fade(elapsed: f64, duration: f32) -> f32 {
     } else {
         ease(elapsed / f64::from(duration))
     }
+}
+
+/// Normalized linear interpolation from `a` to `b` (the short way): for easing it looks like a
+/// slerp, and costs no trigonometry (software `acos`/`sin` are slow in wasm).
+pub(crate) fn nlerp(a: Quat, b: Quat, t: f32) -> Quat {
+    let b = if a.dot(b) < 0.0 { -b } else { b };
+    (a * (1.0 - t) + b * t).normalize()
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@ use glam::Quat;
 
 use crate::bones::{HumanBone, Side};
 use crate::hand::HandStatus;
+use crate::filter::nlerp;
 
 use super::{Rig, SolveOutput};
 
@@ -108,11 +109,4 @@ impl Rig {
         out.local[i] = q;
         self.shown[i] = q;
     }
-}
-
-/// Normalized linear interpolation from `a` to `b` (the short way): for easing it looks like a
-/// slerp, and costs no trigonometry (software `acos`/`sin` are slow in wasm).
-pub(crate) fn nlerp(a: Quat, b: Quat, t: f32) -> Quat {
-    let b = if a.dot(b) < 0.0 { -b } else { b };
-    (a * (1.0 - t) + b * t).normalize()
 }

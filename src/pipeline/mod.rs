@@ -60,7 +60,6 @@ use crate::skeleton::Skeleton;
 use crate::torso::{TorsoSolver, TorsoSource, BODY_JOINT_COUNT, TORSO_BONES};
 
 pub use crate::input::validate::COORDINATE_LIMIT;
-pub(crate) use ease::nlerp;
 pub use output::{HandUse, IkTarget, SolveOutput, TrackedHand};
 pub use select::CONTRADICTION_RATIO;
 
