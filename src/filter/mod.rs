@@ -29,8 +29,8 @@ pub mod one_euro;
 
 use glam::Vec3;
 
-pub use dropout::{Blend, DropoutOptions, Presence};
 pub(crate) use dropout::nlerp;
+pub use dropout::{Blend, DropoutOptions, Presence};
 pub use one_euro::{OneEuroOptions, OneEuroQuat, OneEuroVec3};
 
 /// Landmark smoothing (JS: `options.filter`; `filter: false` turns it off).

@@ -5,8 +5,8 @@
 use glam::Quat;
 
 use crate::bones::{HumanBone, Side};
-use crate::hand::HandStatus;
 use crate::filter::nlerp;
+use crate::hand::HandStatus;
 
 use super::{Rig, SolveOutput};
 
