@@ -311,6 +311,13 @@ impl Rig {
     /// its previous rotations are kept.
     pub fn solve(&mut self, frame: &FrameInput, out: &mut SolveOutput) -> Result<()> {
         validate_frame(frame)?;
+        self.solve_valid(frame, out);
+        Ok(())
+    }
+
+    /// [`Rig::solve`] on a frame already checked by [`crate::input::validate`] (the flat
+    /// decoder runs the same check, so the wasm path does not check a frame twice).
+    pub(crate) fn solve_valid(&mut self, frame: &FrameInput, out: &mut SolveOutput) {
         let camera = self.options.camera();
         let dt = self.clock.advance(frame.time_ms);
         if dt.is_none() {
@@ -346,7 +353,6 @@ impl Rig {
         }
         let eased = self.ease(frame.time_ms, out);
         self.report(eased, out);
-        Ok(())
     }
 
     /// Converts a rotation from the internal frame (the [`Skeleton`]'s, the contact model's,

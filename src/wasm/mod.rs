@@ -160,7 +160,7 @@ impl HandRig {
     #[wasm_bindgen(js_name = solveFlat)]
     pub fn solve_flat(&mut self, time_ms: f64) -> u32 {
         let solved = flat::read_input(&self.input, time_ms, &mut self.frame)
-            .and_then(|()| self.rig.solve(&self.frame, &mut self.out));
+            .map(|()| self.rig.solve_valid(&self.frame, &mut self.out));
         match solved {
             Ok(()) => {
                 flat::write_output(&self.rig, &self.out, &mut self.output);
