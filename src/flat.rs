@@ -33,6 +33,48 @@ use crate::pipeline::{HandUse, Rig, SolveOutput};
 /// (`input.face`) and the per-side contact report (`output.side.contact*`, side stride 72).
 pub const VERSION: u32 = 5;
 
+/// The names of `output.side.handStatus`'s codes, indexed by code (`LAYOUT.handStatus`; 0: no
+/// hand this frame): what the JS result's `hand.status` reads.
+pub const HAND_STATUS_NAMES: [&str; 4] = ["none", "solved", "held", "skipped"];
+
+/// The names of `output.handUse`'s codes, indexed by code (`LAYOUT.handUse`; 0: no such hand):
+/// what became of each tracked hand, as the JS result's `handUse` reads it.
+pub const HAND_USE_NAMES: [&str; 6] = [
+    "none",
+    "left",
+    "right",
+    "lowScore",
+    "duplicate",
+    "contradicted",
+];
+
+/// The code of `name` in `names` (the tables above), as the output stores it.
+const fn code(names: &[&str], name: &str) -> f32 {
+    let mut k = 0;
+    while k < names.len() {
+        if const_str_eq(names[k], name) {
+            return k as f32;
+        }
+        k += 1;
+    }
+    panic!("no such code name")
+}
+
+const fn const_str_eq(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
 /// Input offsets (indices into the input `f32` array).
 pub mod input {
     use super::{HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS};
@@ -559,12 +601,14 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
         let at = output::SIDES + side.index() * output::SIDE_STRIDE;
         let s = side.index();
         let (status, score) = match &out.hands[s] {
-            None => (0.0, 0.0),
+            None => (const { code(&HAND_STATUS_NAMES, "none") }, 0.0),
             Some(h) => (
                 match h.status {
-                    HandStatus::Solved => 1.0,
-                    HandStatus::Held => 2.0,
-                    HandStatus::Skipped | HandStatus::NotSolved => 3.0,
+                    HandStatus::Solved => const { code(&HAND_STATUS_NAMES, "solved") },
+                    HandStatus::Held => const { code(&HAND_STATUS_NAMES, "held") },
+                    HandStatus::Skipped | HandStatus::NotSolved => {
+                        const { code(&HAND_STATUS_NAMES, "skipped") }
+                    }
                 },
                 h.score,
             ),
@@ -635,12 +679,12 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
     }
     for (slot, using) in out.hand_use.iter().enumerate() {
         buf[output::HAND_USE + slot] = match using {
-            HandUse::Unused => 0.0,
-            HandUse::Drove(Side::Left) => 1.0,
-            HandUse::Drove(Side::Right) => 2.0,
-            HandUse::LowScore => 3.0,
-            HandUse::Duplicate => 4.0,
-            HandUse::Contradicted => 5.0,
+            HandUse::Unused => const { code(&HAND_USE_NAMES, "none") },
+            HandUse::Drove(Side::Left) => const { code(&HAND_USE_NAMES, "left") },
+            HandUse::Drove(Side::Right) => const { code(&HAND_USE_NAMES, "right") },
+            HandUse::LowScore => const { code(&HAND_USE_NAMES, "lowScore") },
+            HandUse::Duplicate => const { code(&HAND_USE_NAMES, "duplicate") },
+            HandUse::Contradicted => const { code(&HAND_USE_NAMES, "contradicted") },
         };
     }
 }

@@ -45,8 +45,6 @@ export interface ChainSolution {
   iterations: number;
 }
 
-const CHAIN_KEYS = ["method", "joints", "constraints", "iterations", "tolerance", "maxStepAngle"];
-
 // ChainSolver's joints, targets and poles lie within this of the origin, as Rust checks
 // (chain_solver.rs COORDINATE_LIMIT): any unit of length, but squares must stay finite.
 const CHAIN_LIMIT = 1e9;
@@ -59,10 +57,10 @@ function chainOptions(options: unknown): object {
   if (!isObject(options) || Array.isArray(options)) {
     fail("options", `must be an object { method?, joints, constraints?, iterations?, tolerance? }, got ${describe(options)}`);
   }
-  for (const k of Object.keys(options)) {
-    if (!CHAIN_KEYS.includes(k)) fail(`options.${k}`, "unknown option");
-  }
+  // Fields this function does not read go to Rust as given: its reader (serde, unknown fields
+  // denied) names them and lists the known ones, so no list of names is kept here.
   const out: { [key: string]: unknown } = {};
+  for (const k of Object.keys(options)) out[k] = options[k];
   const method = options.method;
   if (method !== undefined) {
     if (method !== "fabrik" && method !== "ccd") fail("options.method", `must be "fabrik" or "ccd", got ${describe(method)}`);
@@ -79,13 +77,13 @@ function chainOptions(options: unknown): object {
       const field = `options.constraints[${i}]`;
       if (c === null || c === undefined) return null;
       if (!isObject(c)) fail(field, `must be { type: "cone", maxAngle } or { type: "hinge", axis, min, max } or null, got ${describe(c)}`);
+      // Unread fields pass through to Rust, which names them (as above).
       if (c.type === "cone") {
-        for (const k of Object.keys(c)) if (k !== "type" && k !== "maxAngle") fail(`${field}.${k}`, "unknown field");
-        return { type: "cone", maxAngle: finite(c.maxAngle, `${field}.maxAngle`) };
+        return { ...c, type: "cone", maxAngle: finite(c.maxAngle, `${field}.maxAngle`) };
       }
       if (c.type === "hinge") {
-        for (const k of Object.keys(c)) if (!["type", "axis", "min", "max"].includes(k)) fail(`${field}.${k}`, "unknown field");
         return {
+          ...c,
           type: "hinge",
           axis: point3(c.axis, `${field}.axis`),
           min: finite(c.min, `${field}.min`),

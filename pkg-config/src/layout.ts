@@ -1,7 +1,8 @@
 // The flat frame layout (src/flat.rs): offsets of the input and output Float32Arrays in wasm
 // memory, and the name lists of the bones, torso bones and body joints. build.mjs reads it from
 // the wasm it just built (`HandRig.layout()`) and esbuild inlines it as `__HANDRIG_LAYOUT__`, so
-// it is there before `init()` (and in the three-vrm adapter) and cannot drift from Rust. The
+// it is there before `init()` (and in the three-vrm adapter) and cannot drift from Rust; so are
+// the face points and the names of the output's hand status and hand-use codes. The
 // finger and face-anchor names come from `optionDescriptions()` (their option rows list them in
 // Rust's order), read once the module is initialized. No name list is retyped here.
 
@@ -33,6 +34,9 @@ export type TorsoBoneName =
 export type BodyJointName =
   | "hips" | "leftUpperLeg" | "rightUpperLeg" | "leftUpperArm" | "rightUpperArm"
   | "nose" | "leftEye" | "rightEye" | "leftEar" | "rightEar";
+
+/** Face points a body tracker may give (`frame.face`, `LAYOUT.facePoints`). */
+export type FacePointName = "nose" | "leftEye" | "rightEye" | "leftEar" | "rightEar" | "mouth";
 
 /** Offsets of the flat frame layout (`LAYOUT`): indices into the input and output Float32Arrays. See docs/flat-layout.md. */
 export interface FlatLayout {
@@ -126,6 +130,12 @@ export interface FlatLayout {
   readonly torsoBones: readonly TorsoBoneName[];
   /** The body section's joints, in order. */
   readonly bodyJoints: readonly BodyJointName[];
+  /** The face section's points (`frame.face`), in order. */
+  readonly facePoints: readonly FacePointName[];
+  /** The names of `output.side.handStatus`'s codes, by code (0: `"none"`, no hand this frame). */
+  readonly handStatus: readonly string[];
+  /** The names of `output.handUse`'s codes, by code (0: `"none"`, no such hand). */
+  readonly handUse: readonly string[];
 }
 
 // Defined by build.mjs (esbuild `define`): `HandRig.layout()` of the wasm just built.

@@ -4,7 +4,7 @@
 
 import { isObject, type Bag } from "./errors.js";
 import { TIME } from "./frame.js";
-import { BONES, LI, LO, SIDES, optionNames } from "./layout.js";
+import { BONES, LAYOUT, LI, LO, SIDES, optionNames } from "./layout.js";
 
 type Mutable = { [key: string | symbol]: unknown };
 type Vec = [number, number, number];
@@ -25,9 +25,10 @@ export function quat(out: Float32Array, at: number, dst: number[]): number[] {
   return dst;
 }
 
-// The output's enumerations (src/flat.rs): hand status per side, and what became of each hand.
-const STATUS = [undefined, "solved", "held", "skipped"];
-const HAND_USE = [null, "left", "right", "lowScore", "duplicate", "contradicted"];
+// The output's enumerations, named by Rust (src/flat.rs, `LAYOUT.handStatus` / `LAYOUT.handUse`):
+// hand status per side, and what became of each hand. Code 0 ("none") reads as undefined / null.
+const STATUS: readonly (string | undefined)[] = [undefined, ...LAYOUT.handStatus.slice(1)];
+const HAND_USE: readonly (string | null)[] = [null, ...LAYOUT.handUse.slice(1)];
 
 /** Per-finger points: `thumb` ... `little` (names from `optionNames()`), the reused arrays hidden. */
 type FingerSet = Mutable & { points: Vec[] };

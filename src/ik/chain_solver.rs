@@ -174,9 +174,12 @@ impl Default for ChainSolverOptions {
 }
 
 /// The JSON form of [`ChainSolverOptions`] (serde): `joints` required, every other field
-/// optional (`null` for an unset optional number), no other field.
+/// optional (`null` for an unset optional number), no other field. Other fields are collected
+/// rather than denied by serde: serde-wasm-bindgen reads a struct by looking up its declared
+/// fields only, so `deny_unknown_fields` would never see them; a flattened map makes every
+/// reader go through all of the object's keys.
 #[derive(serde::Deserialize)]
-#[serde(rename_all = "camelCase", deny_unknown_fields)]
+#[serde(rename_all = "camelCase")]
 struct ChainSolverJson {
     #[serde(default)]
     method: ChainMethod,
@@ -189,7 +192,12 @@ struct ChainSolverJson {
     tolerance: Option<f32>,
     #[serde(default)]
     max_step_angle: Option<f32>,
+    #[serde(flatten)]
+    unknown: std::collections::BTreeMap<String, serde::de::IgnoredAny>,
 }
+
+/// The fields of [`ChainSolverJson`], for the error naming an unknown one.
+const CHAIN_FIELDS: &str = "method, joints, constraints, iterations, tolerance, maxStepAngle";
 
 impl ChainSolverOptions {
     /// Reads the options from JSON text: `{ method, joints, constraints, iterations,
@@ -223,6 +231,12 @@ impl ChainSolverOptions {
             };
             Error::invalid(field, e.inner().to_string())
         })?;
+        if let Some(key) = o.unknown.keys().next() {
+            return Err(Error::invalid(
+                format!("options.{key}"),
+                format!("unknown option (expected one of {CHAIN_FIELDS})"),
+            ));
+        }
         Ok(ChainSolverOptions {
             method: o.method,
             joints: o.joints.into_iter().map(Vec3::from_array).collect(),

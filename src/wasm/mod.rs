@@ -180,9 +180,10 @@ impl HandRig {
     }
 
     /// The flat layout: `{ version, input: {...}, output: {...}, bones: [...], requiredBones,
-    /// torsoBones, bodyJoints }` (offsets of [`crate::flat::FIELDS`], nested by their dotted
+    /// torsoBones, bodyJoints, facePoints, handStatus, handUse }` (offsets of [`crate::flat::FIELDS`], nested by their dotted
     /// paths; the 55 bone names in output order; the torso section's bones and the body
-    /// section's joints in their order).
+    /// section's joints in their order; the face section's points; the names of the hand status
+    /// and hand-use codes by code).
     pub fn layout() -> Object {
         let root = Object::new();
         set(&root, "version", &JsValue::from(flat::VERSION));
@@ -228,6 +229,15 @@ impl HandRig {
             .map(|j| JsValue::from_str(j.as_str()))
             .collect();
         set(&root, "bodyJoints", &joints);
+        let names =
+            |list: &[&str]| -> Array { list.iter().map(|n| JsValue::from_str(n)).collect() };
+        set(
+            &root,
+            "facePoints",
+            &names(&crate::mediapipe::TrackerFace::NAMES),
+        );
+        set(&root, "handStatus", &names(&flat::HAND_STATUS_NAMES));
+        set(&root, "handUse", &names(&flat::HAND_USE_NAMES));
         root
     }
 

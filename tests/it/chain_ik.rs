@@ -636,7 +636,7 @@ fn options_deserialize_from_the_js_shape() {
         (
             r#"{ "joints": [], "extra": 1 }"#,
             "options.extra",
-            "unknown field `extra`",
+            "unknown option (expected one of method, joints,",
         ),
         (
             r#"{ "method": "ccd" }"#,

@@ -13,6 +13,7 @@ mod alignment;
 mod arm_body;
 mod arm_ik;
 mod arm_solvers;
+mod bad_frames;
 mod chain_ik;
 mod contact;
 mod fuzz;

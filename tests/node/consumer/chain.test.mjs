@@ -54,7 +54,7 @@ describe("ChainSolver", () => {
     throwsWith(() => new ChainSolver({ joints, constraints: [{ type: "cone", maxAngle: -1 }, null, null, null] }), /^options\.constraints\[0\]\.maxAngle/);
     throwsWith(() => new ChainSolver({ joints, constraints: [{ type: "ball" }] }), /^options\.constraints\[0\]\.type/);
     throwsWith(() => new ChainSolver({ joints, method: "jacobian" }), /^options\.method/);
-    throwsWith(() => new ChainSolver({ joints, iteration: 3 }), /^options\.iteration: unknown option/);
+    throwsWith(() => new ChainSolver({ joints, iteration: 3 }), /^options\.iteration: unknown option \(expected one of method, joints, /);
     const s = new ChainSolver({ joints });
     throwsWith(() => s.solve({ target: [Number.NaN, 0, 0] }), /^target\[0\]/);
     assert.ok(s.solve({ target: [0.2, 0.5, 0] }).reached, "works after a rejected goal");
