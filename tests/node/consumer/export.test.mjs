@@ -18,6 +18,9 @@ import { BVHLoader } from "three/examples/jsm/loaders/BVHLoader.js";
 import { VRMAnimationLoaderPlugin, VRMLookAtQuaternionProxy, createVRMAnimationClip } from "@pixiv/three-vrm-animation";
 import validator from "gltf-validator";
 
+import { spawnSync } from "node:child_process";
+
+import { codeBlocks, docPage } from "./readme-blocks.mjs";
 import { avatarFiles, avatars, loadVRM, readBytes, shared } from "./support.mjs";
 
 const DEG = Math.PI / 180;
@@ -396,5 +399,40 @@ describe("MotionRecorder: input and state", () => {
     for (let i = 0; i < 1000; i++) recorder.add(i * 33, r);
     assert.equal(recorder.frameCount, 1000);
     assert.ok(recorder.toVRMA().length > 1000 * 4 * 40);
+  });
+});
+
+describe("docs/export.md: a recording in Node", () => {
+  it("runs as written: thanks.vrma plays through three-vrm-animation, thanks.bvh has every frame", async () => {
+    const [block] = codeBlocks(docPage("export.md"), "### A recording in Node");
+    assert.ok(block, "the block");
+    // Inside the consumer project, so that "handrig" resolves to the installed package.
+    const dir = fs.mkdtempSync(path.join(process.cwd(), "export-doc-"));
+    try {
+      const avatar = people.find((f) => f.endsWith("woman-vrm1.vrm"));
+      fs.copyFileSync(avatar, path.join(dir, "avatar.vrm"));
+      fs.copyFileSync(path.join(aslDir, "thanks.json"), path.join(dir, "thanks.json"));
+      fs.writeFileSync(path.join(dir, "record.mjs"), block);
+      const run = spawnSync(process.execPath, ["record.mjs"], { cwd: dir, encoding: "utf8" });
+      assert.equal(run.status, 0, run.stderr);
+      const frames = clips.find((c) => c.name === "thanks.json").frames;
+      assert.equal(run.stdout.trim(), `${frames.length} frames, ${frames.at(-1).timeMs - frames[0].timeMs} ms`);
+      const vrm = await loadVRM(avatar);
+      let moved = 0;
+      const clip = await play(
+        new Uint8Array(fs.readFileSync(path.join(dir, "thanks.vrma"))),
+        vrm,
+        frames.map((f) => f.timeMs),
+        (i, node) => {
+          if (angle(node("rightLowerArm").quaternion.toArray(), [0, 0, 0, 1]) > 20 * DEG) moved++;
+        },
+      );
+      assert.ok(clip.tracks.length >= 40, `${clip.tracks.length} tracks`);
+      assert.ok(moved > frames.length / 2, `the right elbow bent in ${moved} frames`);
+      const bvh = new BVHLoader().parse(fs.readFileSync(path.join(dir, "thanks.bvh"), "utf8"));
+      assert.equal(bvh.clip.tracks[0].times.length, frames.length);
+    } finally {
+      fs.rmSync(dir, { recursive: true, force: true });
+    }
   });
 });
