@@ -890,6 +890,8 @@ async function playVrmaFile(file) {
     for (const r of document.querySelectorAll('input[name="source"]')) r.checked = false;
     demo.vrmaPlaying = true;
     lastTick = performance.now();
+    // The readouts are handrig's; nothing is solved while the file plays.
+    for (const key of VIEW_KEYS) $(`err-${key}`).textContent = `playing ${file.name} (VRM Animation)`;
     status(`playing ${file.name} (${player.duration.toFixed(2)} s, VRM Animation) on the avatar; pick a source to stop`);
   } catch (e) {
     status(`could not play ${file.name}: ${e.message}`, true);
