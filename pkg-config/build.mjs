@@ -25,6 +25,7 @@
 //                     WebAssembly instance (no dual-package hazard).
 //   index.d.ts/.d.cts types (emitted from src/index.ts; .d.cts without the default export);
 //                     three-vrm.{js,cjs,d.ts,d.cts} the three-vrm adapter (src/three-vrm.ts).
+//   cli.mjs           the `handrig` command (bin): `handrig export` (pkg-config/cli.mjs, copied).
 //   wasm/             wasm-bindgen output: handrig_wasm.js (--target web glue),
 //                     handrig_wasm.cjs (--target nodejs glue), handrig_bg.wasm (shared; the
 //                     package exports it as "handrig/handrig_bg.wasm") and
@@ -453,6 +454,9 @@ async function main() {
     if (!fs.existsSync(path.join(root, f))) fail(`${f} missing at the repository root`);
     fs.copyFileSync(path.join(root, f), path.join(out, f));
   }
+  // The command line (`bin`: handrig export ...), plain JavaScript loading ./index.cjs.
+  fs.copyFileSync(path.join(here, "cli.mjs"), path.join(out, "cli.mjs"));
+  fs.chmodSync(path.join(out, "cli.mjs"), 0o755);
 
   // Every file the manifest lists exists, and the Node entry loads and has the API.
   for (const f of manifest.files) {

@@ -31,6 +31,8 @@ export type {
 } from "./frame-types.js";
 export { HandRig } from "./hand-rig.js";
 export { LAYOUT } from "./layout.js";
+export { MotionRecorder } from "./motion-recorder.js";
+export type { BVHOptions, RecordableResult, RecordableRig, VRMAOptions } from "./motion-recorder.js";
 export type { BodyJointName, FlatLayout, HumanBoneName, TorsoBoneName } from "./layout.js";
 export type { HandRigOptions, OptionDescription } from "./options.js";
 export type {

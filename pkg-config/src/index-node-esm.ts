@@ -13,6 +13,7 @@ export const ChainSolver = cjs.ChainSolver;
 export const wasmBuild = cjs.wasmBuild;
 export const wasmFile = cjs.wasmFile;
 export const LAYOUT = cjs.LAYOUT;
+export const MotionRecorder = cjs.MotionRecorder;
 export const init = cjs.init;
 export const initSync = cjs.initSync;
 export const version = cjs.version;

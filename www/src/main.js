@@ -13,6 +13,7 @@ import { loadRecordings } from "./recording.js";
 import { buildOptionsPanel, getPath } from "./options-panel.js";
 import { LOCAL_WASM_BASE, Webcam, WebcamStopped, modelSource } from "./webcam.js";
 import { RecordingBuilder } from "./recording-format.js";
+import { MotionCapture, VrmaPlayer, download } from "./motion-export.js";
 
 const $ = (id) => document.getElementById(id);
 const VIEW_KEYS = ["without", "with"];
@@ -497,6 +498,8 @@ async function loadAvatar(bytes, name) {
   const parser = compareWithParser(bytes, a.rest);
   demo.avatar = { name, vrmVersion: a.version, boneCount: a.boneCount, armLength: a.armLength, hasBody: a.hasBody, parser };
   demo.avatarLoads++;
+  // A .vrma playing goes on playing on the new avatar.
+  if (vrmaPlayer) vrmaPlayer.bind(VIEW_KEYS.map((k) => views[k].avatar.vrm));
   $("avatar-info").textContent =
     `${name}: VRM ${a.version === "0" ? "0.x" : "1.0"}, ${a.boneCount} humanoid bones, arm ${(a.armLength * 100).toFixed(1)} cm ` +
     `(handrig's ${demo.wasmBuild} WebAssembly build). ` +
@@ -606,7 +609,10 @@ function wireUi() {
   window.addEventListener("drop", (e) => {
     e.preventDefault();
     stage.classList.remove("dragging");
-    const file = [...(e.dataTransfer?.files ?? [])].find((f) => /\.(vrm|glb)$/i.test(f.name)) ?? e.dataTransfer?.files?.[0];
+    const files = [...(e.dataTransfer?.files ?? [])];
+    const vrma = files.find((f) => /\.vrma$/i.test(f.name));
+    if (vrma) return void playVrmaFile(vrma);
+    const file = files.find((f) => /\.(vrm|glb)$/i.test(f.name)) ?? files[0];
     if (file) loadAvatarFile(file);
   });
   $("vrm-file").addEventListener("change", (e) => {
@@ -644,6 +650,8 @@ function wireUi() {
   $("webcam-stop").addEventListener("click", stopWebcam);
   $("record").addEventListener("click", toggleRecording);
   $("download-recording").addEventListener("click", downloadRecording);
+  $("download-vrma").addEventListener("click", () => downloadMotion("vrma"));
+  $("download-bvh").addEventListener("click", () => downloadMotion("bvh"));
 }
 
 function setBodyView(v) {
@@ -660,6 +668,10 @@ function showWebcamMode() {
 }
 
 function setSource(src) {
+  if (src !== "vrma" && vrmaPlayer) {
+    vrmaPlayer.stop();
+    vrmaPlayer = null;
+  }
   demo.source = src;
   $("recording-controls").hidden = src !== "recording";
   $("webcam-controls").hidden = src !== "webcam";
@@ -759,6 +771,7 @@ function onWebcamFrame(frame, info) {
     const { hands, pose } = webcam.recordParts();
     if (recorder.length === 0) recordT0 = info.timeMs;
     recorder.add(recorder.length, info.timeMs - recordT0, hands, pose);
+    motion?.add(info.timeMs - recordT0, views.with.rig, demo.results.with);
     w.recordedFrames = recorder.length;
     if (recorder.length >= MAX_RECORDED_FRAMES) stopRecording(`stopped at ${MAX_RECORDED_FRAMES} frames (the in-memory limit)`);
   }
@@ -796,6 +809,8 @@ function toggleRecording() {
   if (recorder) return stopRecording();
   if (!webcam) return;
   const { width, height } = webcam.size;
+  // The solved motion of the "with" view, for .vrma and .bvh (handrig's MotionRecorder).
+  motion = views.with.rig ? new MotionCapture(views.with.rig) : null;
   recorder = new RecordingBuilder({
     source: "webcam",
     width,
@@ -810,19 +825,30 @@ function toggleRecording() {
   demo.webcam.recordedFrames = 0;
   $("record").textContent = "Stop recording";
   $("download-recording").disabled = true;
+  $("download-vrma").disabled = true;
+  $("download-bvh").disabled = true;
   $("record-status").textContent = "recording: 0 frames";
 }
 
 let lastRecording = null;
+let motion = null;
+let lastMotion = null;
 
 function stopRecording(why = "") {
   if (!recorder) return;
   lastRecording = recorder;
   recorder = null;
+  lastMotion = motion;
+  motion = null;
+  const motionFrames = lastMotion?.recorder.frameCount ?? 0;
+  $("download-vrma").disabled = motionFrames === 0;
+  $("download-bvh").disabled = motionFrames === 0;
   demo.webcam.recording = false;
   $("record").textContent = "Record";
   $("download-recording").disabled = lastRecording.length === 0;
-  $("record-status").textContent = `recorded ${lastRecording.length} frames${why ? ` (${why})` : ""}: download it as JSON`;
+  $("record-status").textContent =
+    `recorded ${lastRecording.length} frames${why ? ` (${why})` : ""}: download the landmarks as JSON, ` +
+    `or the avatar's motion (${motionFrames} frames) as .vrma or .bvh${lastMotion?.error ? ` (${lastMotion.error})` : ""}`;
 }
 
 function downloadRecording() {
@@ -837,6 +863,52 @@ function downloadRecording() {
   a.click();
   a.remove();
   setTimeout(() => URL.revokeObjectURL(a.href), 10_000);
+}
+
+/** The "with" view's motion of the last recording as a .vrma (VRM Animation) or .bvh file. */
+function downloadMotion(format) {
+  if (recorder) stopRecording();
+  if (!lastMotion || lastMotion.recorder.frameCount === 0) return;
+  const r = lastMotion.recorder;
+  const stamp = new Date().toISOString().replace(/[:.]/g, "-").slice(0, 19);
+  if (format === "vrma") download(r.toVRMA(), `handrig-webcam-${stamp}.vrma`, "model/gltf-binary");
+  else download(r.toBVH(), `handrig-webcam-${stamp}.bvh`, "text/plain");
+}
+
+// ---------------------------------------------------------------- .vrma playback
+
+let vrmaPlayer = null;
+
+/** Plays a dropped .vrma on the loaded avatar (both views), through three-vrm-animation. */
+async function playVrmaFile(file) {
+  try {
+    const player = await VrmaPlayer.load(new Uint8Array(await file.arrayBuffer()), file.name);
+    if (!views.with.avatar) throw new Error("load an avatar first");
+    setSource("vrma");
+    vrmaPlayer = player;
+    player.bind(VIEW_KEYS.map((k) => views[k].avatar.vrm));
+    for (const r of document.querySelectorAll('input[name="source"]')) r.checked = false;
+    demo.vrmaPlaying = true;
+    lastTick = performance.now();
+    // The readouts are handrig's; nothing is solved while the file plays.
+    for (const key of VIEW_KEYS) $(`err-${key}`).textContent = `playing ${file.name} (VRM Animation)`;
+    status(`playing ${file.name} (${player.duration.toFixed(2)} s, VRM Animation) on the avatar; pick a source to stop`);
+  } catch (e) {
+    status(`could not play ${file.name}: ${e.message}`, true);
+    console.warn("vrma failed:", e);
+  }
+}
+
+/** Poses both views from the .vrma player's mixers (already set to its time). */
+function showVrma() {
+  for (const key of VIEW_KEYS) {
+    const a = views[key].avatar;
+    if (!a) continue;
+    a.vrm.update(0);
+    a.vrm.scene.updateMatrixWorld(true);
+    a.updateSkeleton();
+    a.updateMarkers(null);
+  }
 }
 
 function onOptionsChanged(opts, path) {
@@ -871,6 +943,18 @@ function tick(now) {
       solveAndShow(currentFrame());
       solvedFrame = demo.frame;
       solvedRigs = rigs;
+      render();
+      dirty = false;
+    }
+  } else if (demo.source === "vrma" && vrmaPlayer) {
+    if (demo.vrmaPlaying) {
+      const t = vrmaPlayer.time + (now - lastTick) / 1000;
+      vrmaPlayer.seek(t > vrmaPlayer.duration ? 0 : t);
+      dirty = true;
+    }
+    lastTick = now;
+    if (dirty) {
+      showVrma();
       render();
       dirty = false;
     }
@@ -943,6 +1027,21 @@ Object.assign(demo, {
     createRigs();
     for (const f of frames) solveAndShow(f);
     return nextRender();
+  },
+  /** The .vrma playing (dropped), or null: { name, duration, time }. */
+  vrma: () => (vrmaPlayer ? { name: vrmaPlayer.name, duration: vrmaPlayer.duration, time: vrmaPlayer.time } : null),
+  /** Pauses the .vrma at `t` seconds and shows it. */
+  seekVrma: (t) => {
+    demo.vrmaPlaying = false;
+    vrmaPlayer?.seek(t);
+    return nextRender();
+  },
+  /** The normalized bones' rotations of a view's avatar, [x, y, z, w] by bone name. */
+  normalizedRotations: (key = "with") => {
+    const h = views[key].avatar?.vrm.humanoid;
+    const out = {};
+    for (const name of Object.keys(h?.normalizedRestPose ?? {})) out[name] = h.getNormalizedBoneNode(name).quaternion.toArray();
+    return out;
   },
   play: () => setPlaying(true),
   pause: () => setPlaying(false),

@@ -162,6 +162,23 @@ test("hands mode: the live session downloads as a recording in the shared format
   for (const f of rec.frames) if (rig.solve(f).hands.right?.status === "solved") solved++;
   rig.free();
   assert.equal(solved, sum.framesWithHands, "every recorded hand drives the avatar's right hand");
+  // The avatar's motion in the same session (the "with" view's results in handrig's
+  // MotionRecorder), saved as VRM Animation and BVH.
+  const motionFrames = Number((await page.textContent("#record-status")).match(/motion \((\d+) frames\)/)?.[1]);
+  assert.equal(motionFrames, sum.frames, "the motion of every recorded frame");
+  const [vrmaDownload] = await Promise.all([page.waitForEvent("download"), page.click("#download-vrma")]);
+  assert.match(vrmaDownload.suggestedFilename(), /^handrig-webcam-.*\.vrma$/);
+  const vrma = readFileSync(await vrmaDownload.path());
+  assert.equal(vrma.toString("latin1", 0, 4), "glTF");
+  const gltf = JSON.parse(vrma.toString("utf8", 20, 20 + vrma.readUInt32LE(12)));
+  assert.equal(gltf.extensions.VRMC_vrm_animation.specVersion, "1.0");
+  assert.ok(gltf.extensions.VRMC_vrm_animation.humanoid.humanBones.rightIndexProximal, "the fingers are in the file");
+  assert.equal(gltf.accessors[gltf.animations[0].samplers[0].input].count, sum.frames, "one key per recorded frame");
+  const [bvhDownload] = await Promise.all([page.waitForEvent("download"), page.click("#download-bvh")]);
+  assert.match(bvhDownload.suggestedFilename(), /^handrig-webcam-.*\.bvh$/);
+  const bvh = readFileSync(await bvhDownload.path(), "utf8");
+  assert.match(bvh, /^HIERARCHY\nROOT hips\n/);
+  assert.match(bvh, /\nMOTION\nFrames: \d+\nFrame Time: /);
   await page.click("#webcam-stop");
   assert.equal(await page.evaluate(() => window.__handrigDemo.webcam.running), false);
   assert.deepEqual(errors, []);

@@ -15,10 +15,11 @@ const installed = path.dirname(require.resolve("handrig/package.json"));
 describe("the packed tarball", () => {
   const files = pack.files.map((f) => f.path).sort();
 
-  it("holds exactly the entry points, types, wasm, README and LICENSE", () => {
+  it("holds exactly the entry points, types, wasm, the command line, README and LICENSE", () => {
     assert.deepEqual(files, [
       "LICENSE",
       "README.md",
+      "cli.mjs",
       "index.cjs",
       "index.d.cts",
       "index.d.ts",
@@ -66,6 +67,11 @@ describe("package.json", () => {
     assert.equal(manifest.license, "MIT");
     assert.equal(manifest.sideEffects, false);
     assert.equal(manifest.type, "module");
+  });
+
+  it("bin: the handrig command (cli.mjs, executable)", () => {
+    assert.deepEqual(manifest.bin, { handrig: "cli.mjs" });
+    assert.ok(fs.statSync(path.join(installed, "cli.mjs")).mode & 0o100, "cli.mjs is executable");
   });
 
   it("main, module, types and every export target exist in the package", () => {

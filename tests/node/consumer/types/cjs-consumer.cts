@@ -7,6 +7,7 @@ const result: handrig.SolveResult = rig.solve({ timeMs: 0 });
 const init: Promise<void> = handrig.init();
 const rest: adapter.VRMRestPose = { bones: {}, vrmVersion: "1" };
 new handrig.HandRig(rest);
-void [result, init, handrig.version];
+const vrma: Uint8Array = new handrig.MotionRecorder(rig).toVRMA();
+void [result, init, handrig.version, vrma];
 // @ts-expect-error CommonJS has no default export
 void handrig.default;

@@ -1,7 +1,7 @@
 // Type-checked (not run) by types.test.mjs: the ES module API as an app would write it, with no
 // DOM lib and no @types/node (tsconfig.strict.json).
-import init, { HandRig, initSync, version } from "handrig";
-import type { Frame, HandRigOptions, OptionDescription, Quat, RestPose, SolveResult, Vec3 } from "handrig";
+import init, { HandRig, MotionRecorder, initSync, version } from "handrig";
+import type { BVHOptions, Frame, HandRigOptions, OptionDescription, Quat, RestPose, SolveResult, VRMAOptions, Vec3 } from "handrig";
 
 declare const bytes: Uint8Array;
 declare const buffer: ArrayBuffer;
@@ -53,6 +53,17 @@ for (const frame of frames) {
   const error: number | null | undefined = r.alignment.right?.error;
   void [q, p, target, error];
 }
+const recorder = new MotionRecorder(rig);
+recorder.add(0, rig.solve({ timeMs: 0 }));
+const vrmaOptions: VRMAOptions = { tolerance: 0.005 };
+const bvhOptions: BVHOptions = { unit: "m", fps: 30 };
+const vrma: Uint8Array = recorder.toVRMA(vrmaOptions);
+const bvh: string = recorder.toBVH(bvhOptions);
+const recorded: number = recorder.frameCount + recorder.duration;
+recorder.clear();
+void [vrma, bvh, recorded];
+// @ts-expect-error the BVH unit is "cm" or "m"
+recorder.toBVH({ unit: "mm" });
 const names: string[] = rig.boneNames();
 const scale: number = rig.bodyScale;
 rig.resetCalibration();

@@ -1,0 +1,275 @@
+#!/usr/bin/env node
+// The handrig command line (the package's `bin`, copied into the package by build.mjs):
+//
+//   handrig export RECORDING.json... --avatar AVATAR.vrm (--out OUT.vrma|OUT.bvh | --out-dir DIR)
+//
+// Solves recordings in the shared JSON format (tools/record-video.mjs, the demo's recorder) on
+// an avatar and writes VRM Animation (.vrma) or BVH files through MotionRecorder. Many
+// recordings run on worker_threads, one per core. Progress and errors go to stderr (an error
+// names the file and the frame, and does not stop the other files); the summary to stdout.
+// Exit status: 0 all written, 1 some recording failed, 2 bad command line or avatar.
+
+import fs from "node:fs";
+import { createRequire } from "node:module";
+import os from "node:os";
+import path from "node:path";
+import { parseArgs } from "node:util";
+import { Worker, isMainThread, parentPort, workerData } from "node:worker_threads";
+
+const { HandRig, MotionRecorder, version } = createRequire(import.meta.url)("./index.cjs");
+
+const USAGE = `usage: handrig export RECORDING.json|DIR... --avatar AVATAR.vrm (--out OUT.vrma|OUT.bvh | --out-dir DIR) [options]
+
+  --avatar FILE      the avatar (.vrm, VRM 1.0 or 0.x) the recordings are solved on
+  --out FILE         the file to write, for one recording: .vrma (VRM Animation) or .bvh
+  --out-dir DIR      for any number of recordings: DIR/NAME.vrma (or .bvh with --format bvh)
+  --format F         vrma (default) or bvh, with --out-dir
+  --options JSON     handrig rig options, e.g. '{"torso":"pose"}' (see docs/options.md)
+  --tolerance DEG    .vrma key reduction: drop keys interpolation reproduces within DEG degrees (default 0: every frame)
+  --fps N            .bvh frame rate (default: the recording's)
+  --unit cm|m        .bvh length unit (default cm)
+  --jobs N           worker threads (default: one per core)
+  --quiet            no progress lines
+  --version, --help
+
+A directory stands for the .json files in it. Recordings are the shared format: an array of
+frames or { width, height, frames: [{ timeMs, hands, pose }] } (docs/export.md).`;
+
+class UsageError extends Error {}
+
+/** Exports one recording; returns its figures. Throws an Error naming the file (and frame). */
+function exportOne(task, avatar) {
+  const { file, out, format, rigOptions, tolerance, fps, unit } = task;
+  const name = path.basename(file);
+  let rec;
+  try {
+    rec = JSON.parse(fs.readFileSync(file, "utf8"));
+  } catch (e) {
+    throw new Error(`${file}: ${e.code === "ENOENT" ? "no such file" : e instanceof SyntaxError ? `not JSON (${e.message})` : e.message}`);
+  }
+  const frames = Array.isArray(rec) ? rec : rec !== null && typeof rec === "object" ? rec.frames : undefined;
+  if (!Array.isArray(frames)) {
+    throw new Error(`${file}: not a recording (expected an array of frames or an object with "frames")`);
+  }
+  if (frames.length === 0) throw new Error(`${file}: the recording has no frames`);
+  const aspect = rec.width > 0 && rec.height > 0 ? rec.width / rec.height : undefined;
+  const rig = HandRig.fromVrm(avatar, rigOptions);
+  try {
+    const recorder = new MotionRecorder(rig);
+    const result = {};
+    for (let i = 0; i < frames.length; i++) {
+      const f = frames[i];
+      const where = () => `${file}: frames[${i}]${f && Number.isInteger(f.frame) && f.frame !== i ? ` (frame ${f.frame})` : ""}`;
+      if (f === null || typeof f !== "object" || Array.isArray(f)) throw new Error(`${where()}: not a frame object`);
+      if (aspect !== undefined && f.imageAspect === undefined) f.imageAspect = aspect;
+      try {
+        rig.solve(f, result);
+        recorder.add(f.timeMs, result);
+      } catch (e) {
+        throw new Error(`${where()}: ${e.message}`);
+      }
+    }
+    const data = format === "bvh" ? recorder.toBVH({ fps, unit }) : recorder.toVRMA({ tolerance });
+    fs.mkdirSync(path.dirname(path.resolve(out)), { recursive: true });
+    fs.writeFileSync(out, data);
+    return { file: name, out, frames: recorder.frameCount, seconds: recorder.duration / 1000, bytes: fs.statSync(out).size };
+  } finally {
+    rig.free();
+  }
+}
+
+if (!isMainThread) {
+  // A worker: the avatar and options once, then one recording per message.
+  const { avatar } = workerData;
+  parentPort.on("message", (task) => {
+    const t = process.hrtime.bigint();
+    try {
+      const r = exportOne(task, avatar);
+      parentPort.postMessage({ ok: true, ...r, ms: Number(process.hrtime.bigint() - t) / 1e6 });
+    } catch (e) {
+      parentPort.postMessage({ ok: false, file: task.file, message: e.message });
+    }
+  });
+} else {
+  process.exitCode = await main(process.argv.slice(2)).catch((e) => {
+    process.stderr.write(`handrig: ${e instanceof UsageError ? e.message : e.stack || e.message}\n`);
+    return 2;
+  });
+}
+
+function parse(argv) {
+  let parsed;
+  try {
+    parsed = parseArgs({
+      args: argv,
+      allowPositionals: true,
+      strict: true,
+      options: {
+        avatar: { type: "string" },
+        out: { type: "string" },
+        "out-dir": { type: "string" },
+        format: { type: "string" },
+        options: { type: "string" },
+        tolerance: { type: "string" },
+        fps: { type: "string" },
+        unit: { type: "string" },
+        jobs: { type: "string" },
+        quiet: { type: "boolean" },
+        help: { type: "boolean", short: "h" },
+        version: { type: "boolean" },
+      },
+    });
+  } catch (e) {
+    // Node's message, e.g. "Unknown option '--avatr'. To specify a positional argument ...": its first sentence.
+    throw new UsageError(`${String(e.message).split(". ")[0]} (handrig --help lists the options)`);
+  }
+  return parsed;
+}
+
+function number(v, flag, ok) {
+  if (v === undefined) return undefined;
+  const n = Number(v);
+  if (!Number.isFinite(n) || !ok(n)) throw new UsageError(`${flag}: not a valid value: ${JSON.stringify(v)}`);
+  return n;
+}
+
+/** The .json files of the arguments (a directory: its .json files, sorted). */
+function recordings(positionals) {
+  const files = [];
+  for (const p of positionals) {
+    let st;
+    try {
+      st = fs.statSync(p);
+    } catch {
+      files.push(p); // reported as that file's error, without stopping the others
+      continue;
+    }
+    if (st.isDirectory()) {
+      const inDir = fs.readdirSync(p).filter((f) => f.endsWith(".json")).sort();
+      if (inDir.length === 0) throw new UsageError(`${p}: no .json recordings in this directory`);
+      files.push(...inDir.map((f) => path.join(p, f)));
+    } else files.push(p);
+  }
+  return files;
+}
+
+async function main(argv) {
+  const { values: v, positionals } = parse(argv);
+  if (v.help) {
+    process.stdout.write(`${USAGE}\n`);
+    return 0;
+  }
+  if (v.version) {
+    process.stdout.write(`handrig ${version}\n`);
+    return 0;
+  }
+  const [command, ...inputs] = positionals;
+  if (command !== "export") {
+    throw new UsageError(command === undefined ? `no command\n${USAGE}` : `unknown command ${JSON.stringify(command)} (the command is "export")`);
+  }
+  if (inputs.length === 0) throw new UsageError("export: no recording given");
+  if (v.avatar === undefined) throw new UsageError("export: --avatar AVATAR.vrm is required");
+  if ((v.out === undefined) === (v["out-dir"] === undefined)) throw new UsageError("export: give --out FILE (one recording) or --out-dir DIR");
+  let rigOptions;
+  if (v.options !== undefined) {
+    try {
+      rigOptions = JSON.parse(v.options);
+    } catch (e) {
+      throw new UsageError(`--options: not JSON (${e.message})`);
+    }
+  }
+  const tolerance = (number(v.tolerance, "--tolerance", (n) => n >= 0 && n < 180) ?? 0) * (Math.PI / 180);
+  const fps = number(v.fps, "--fps", (n) => n > 0 && n <= 1000);
+  const unit = v.unit ?? "cm";
+  if (unit !== "cm" && unit !== "m") throw new UsageError(`--unit: must be cm or m, got ${JSON.stringify(unit)}`);
+  const cores = typeof os.availableParallelism === "function" ? os.availableParallelism() : os.cpus().length;
+  const jobs = number(v.jobs, "--jobs", (n) => Number.isInteger(n) && n >= 1) ?? cores;
+
+  let avatar;
+  try {
+    avatar = new Uint8Array(fs.readFileSync(v.avatar));
+  } catch (e) {
+    throw new UsageError(`--avatar ${v.avatar}: ${e.code === "ENOENT" ? "no such file" : e.message}`);
+  }
+  // The avatar and the options, checked once here: the rig's Error names the bad field.
+  try {
+    HandRig.fromVrm(avatar, rigOptions).free();
+  } catch (e) {
+    throw new UsageError(`${/^vrm:/.test(e.message) ? `--avatar ${v.avatar}` : "--options"}: ${e.message}`);
+  }
+
+  const files = recordings(inputs);
+  let tasks;
+  if (v.out !== undefined) {
+    if (files.length !== 1) throw new UsageError(`--out takes one recording (got ${files.length}); use --out-dir DIR for many`);
+    const ext = path.extname(v.out).toLowerCase();
+    if (ext !== ".vrma" && ext !== ".bvh") throw new UsageError(`--out ${v.out}: must end in .vrma or .bvh`);
+    if (v.format !== undefined) throw new UsageError("--format goes with --out-dir (with --out the extension says it)");
+    tasks = [{ file: files[0], out: v.out, format: ext.slice(1) }];
+  } else {
+    const format = v.format ?? "vrma";
+    if (format !== "vrma" && format !== "bvh") throw new UsageError(`--format: must be vrma or bvh, got ${JSON.stringify(format)}`);
+    const seen = new Map();
+    tasks = files.map((file) => {
+      const out = path.join(v["out-dir"], `${path.basename(file).replace(/\.json$/i, "")}.${format}`);
+      if (seen.has(out)) throw new UsageError(`--out-dir: ${seen.get(out)} and ${file} would both write ${out}`);
+      seen.set(out, file);
+      return { file, out, format };
+    });
+  }
+  for (const t of tasks) Object.assign(t, { rigOptions, tolerance, fps, unit });
+
+  const t0 = process.hrtime.bigint();
+  const workers = Math.max(1, Math.min(jobs, tasks.length));
+  const done = [];
+  const failed = [];
+  const report = (r) => {
+    if (r.ok) done.push(r);
+    else failed.push(r);
+    if (!r.ok) process.stderr.write(`handrig: ${r.message}\n`);
+    else if (!v.quiet) {
+      process.stderr.write(
+        `[${done.length + failed.length}/${tasks.length}] ${r.file} -> ${r.out}: ${r.frames} frames, ${r.seconds.toFixed(2)} s, ${r.bytes} bytes (${(r.ms / 1000).toFixed(2)} s)\n`,
+      );
+    }
+  };
+  if (workers === 1) {
+    for (const task of tasks) {
+      const t = process.hrtime.bigint();
+      try {
+        report({ ok: true, ...exportOne(task, avatar), ms: Number(process.hrtime.bigint() - t) / 1e6 });
+      } catch (e) {
+        report({ ok: false, file: task.file, message: e.message });
+      }
+    }
+  } else {
+    await new Promise((resolve, reject) => {
+      let next = 0;
+      let running = workers;
+      for (let w = 0; w < workers; w++) {
+        const worker = new Worker(new URL(import.meta.url), { workerData: { avatar } });
+        const feed = () => {
+          if (next < tasks.length) worker.postMessage(tasks[next++]);
+          else {
+            worker.terminate();
+            if (--running === 0) resolve();
+          }
+        };
+        worker.on("message", (r) => {
+          report(r);
+          feed();
+        });
+        worker.on("error", reject);
+        feed();
+      }
+    });
+  }
+  const wall = Number(process.hrtime.bigint() - t0) / 1e9;
+  const sum = (k) => done.reduce((s, r) => s + r[k], 0);
+  process.stdout.write(
+    `handrig export: ${done.length} of ${tasks.length} written: ${sum("frames")} frames, ${sum("seconds").toFixed(2)} s of motion, ` +
+      `${sum("bytes")} bytes, ${wall.toFixed(2)} s wall time on ${workers} worker${workers > 1 ? " threads" : " (main thread)"} (${cores} cores)` +
+      `${failed.length ? `; ${failed.length} failed` : ""}\n`,
+  );
+  return failed.length ? 1 : 0;
+}
