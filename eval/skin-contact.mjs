@@ -10,6 +10,8 @@
 //   make pkg (or copy a built pkg/) && npm ci --prefix tests/node
 //   node eval/skin-contact.mjs [--avatars woman-vrm1,man-vrm0,...] [--clips eat,please] [--json]
 //
+// --json also writes every row to target/skin-contact.json.
+//
 // Takes about 10-15 minutes for the six generated avatars (about 0.1-0.2 s per frame and setting
 // on one core: 401 frames x 2 settings x 6 avatars); `--avatars woman-vrm1` about 2 minutes.
 
@@ -55,6 +57,7 @@ for (const a of avatars) {
     console.log(`| ${a} | all | - | no skinned body or hands (rigid meshes only): not measurable | | | | | | |`);
     continue;
   }
+  const perAvatar = { on: measure.newScore(), off: measure.newScore() };
   for (const clip of clips) {
     const frames = JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", `${clip}.json`), "utf8")).frames;
     const labels = measure.readLabels(repo, clip);
@@ -64,6 +67,7 @@ for (const a of avatars) {
       rig.free();
       const s = measure.score(m, labels);
       measure.score(m, labels, {}, totals[contact ? "on" : "off"]);
+      measure.score(m, labels, {}, perAvatar[contact ? "on" : "off"]);
       const f = measure.figures(s);
       rows.push({ avatar: a, clip, contact, ...f });
       console.log(
@@ -71,13 +75,24 @@ for (const a of avatars) {
       );
     }
   }
+  for (const k of ["on", "off"]) {
+    const f = measure.figures(perAvatar[k]);
+    rows.push({ avatar: a, clip: "all", contact: k === "on", ...f });
+    console.log(
+      `| **${a}** | all | ${k} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f0(f.falseTouch.pct)}% (${f.falseTouch.n}) | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f1(f.alignmentMedianMm)} |`,
+    );
+  }
 }
 for (const k of ["on", "off"]) {
   const f = measure.figures(totals[k]);
   console.log(
-    `| all | all | ${k} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f0(f.falseTouch.pct)}% (${f.falseTouch.n}) | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f1(f.alignmentMedianMm)} |`,
+    `| **all** | all | ${k} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f0(f.falseTouch.pct)}% (${f.falseTouch.n}) | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f1(f.alignmentMedianMm)} |`,
   );
   rows.push({ avatar: "all", clip: "all", contact: k === "on", ...f });
 }
 console.log(`(${((performance.now() - started) / 1000).toFixed(0)} s)`);
-if (asJson) fs.writeFileSync(path.join(repo, "target", "skin-contact.json"), JSON.stringify(rows, null, 2));
+if (asJson) {
+  fs.mkdirSync(path.join(repo, "target"), { recursive: true });
+  fs.writeFileSync(path.join(repo, "target", "skin-contact.json"), JSON.stringify(rows, null, 2));
+  console.log("rows written to target/skin-contact.json");
+}
