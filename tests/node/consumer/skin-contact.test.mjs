@@ -185,7 +185,7 @@ describe("skin measurement (issue 26)", () => {
       moveHand(body, "rightHand", tip, inner.toArray());
       const m = body.measure();
       assert.ok(m.right.depth >= 0.027 && m.right.depth < 0.2, `hand depth ${m.right.depth}`);
-      assert.equal(m.right.face, 0, "a hand inside the head has no gap to it");
+      assert.ok(m.right.face < 0.005, `a hand crossing the head's skin has (almost) no gap to it: ${m.right.face}`);
       body.update();
       assert.equal(body.measure().right.depth, 0, "at rest no hand vertex is inside");
     });
