@@ -2,7 +2,7 @@
 // posed through its normalized humanoid, skinned on the CPU (three's
 // SkinnedMesh.getVertexPosition), its vertices sorted into body parts by the dominant bone of
 // their skin weights, and per frame: the gap between each hand's surface and the face, chest and
-// other hand surfaces (three-mesh-bvh, geometry to geometry), and how deep hand vertices are
+// other hand surfaces (three-mesh-bvh point queries), and how deep hand vertices are
 // inside the head and torso (generalized winding number; depth = distance to that surface).
 //
 // Shared by eval/skin-contact.mjs (the tables of docs/contact.md) and
