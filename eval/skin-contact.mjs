@@ -12,8 +12,9 @@
 //
 // --json also writes every row to target/skin-contact.json.
 //
-// Takes about 10-15 minutes for the six generated avatars (about 0.1-0.2 s per frame and setting
-// on one core: 401 frames x 2 settings x 6 avatars); `--avatars woman-vrm1` about 2 minutes.
+// Takes about 8 minutes for the six generated avatars (494 s measured: about 0.1 s per frame and
+// setting, 400 frames x 2 settings x 6 avatars, on one core), longer on a busy machine;
+// `--avatars woman-vrm1` about 1.5 minutes.
 
 import fs from "node:fs";
 import path from "node:path";
@@ -40,6 +41,7 @@ const fileOf = (a) =>
   a === "debug-robot" ? path.join(shared, "avatars", "debug-robot.vrm") : path.join(repo, "tests", "fixtures", "avatars", `${a}.vrm`);
 
 const f1 = (x) => (Number.isFinite(x) ? x.toFixed(1) : "-");
+const f2 = (x) => (Number.isFinite(x) ? x.toFixed(2) : "-");
 const f0 = (x) => (Number.isFinite(x) ? x.toFixed(0) : "-");
 const cell = (t) => (t.n ? `${f0(t.pct)}% (${t.n}) ${f0(t.medianMm)}` : "-");
 
@@ -71,7 +73,7 @@ for (const a of avatars) {
       const f = measure.figures(s);
       rows.push({ avatar: a, clip, contact, ...f });
       console.log(
-        `| ${a} | ${clip} | ${contact ? "on" : "off"} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f.falseTouch.n ? `${f0(f.falseTouch.pct)}% (${f.falseTouch.n})` : "-"} | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f1(f.alignmentMedianMm)} |`,
+        `| ${a} | ${clip} | ${contact ? "on" : "off"} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f.falseTouch.n ? `${f0(f.falseTouch.pct)}% (${f.falseTouch.n})` : "-"} | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f2(f.alignmentMedianMm)} |`,
       );
     }
   }
@@ -79,14 +81,14 @@ for (const a of avatars) {
     const f = measure.figures(perAvatar[k]);
     rows.push({ avatar: a, clip: "all", contact: k === "on", ...f });
     console.log(
-      `| **${a}** | all | ${k} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f0(f.falseTouch.pct)}% (${f.falseTouch.n}) | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f1(f.alignmentMedianMm)} |`,
+      `| **${a}** | all | ${k} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f0(f.falseTouch.pct)}% (${f.falseTouch.n}) | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f2(f.alignmentMedianMm)} |`,
     );
   }
 }
 for (const k of ["on", "off"]) {
   const f = measure.figures(totals[k]);
   console.log(
-    `| **all** | all | ${k} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f0(f.falseTouch.pct)}% (${f.falseTouch.n}) | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f1(f.alignmentMedianMm)} |`,
+    `| **all** | all | ${k} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f0(f.falseTouch.pct)}% (${f.falseTouch.n}) | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f2(f.alignmentMedianMm)} |`,
   );
   rows.push({ avatar: "all", clip: "all", contact: k === "on", ...f });
 }
