@@ -200,6 +200,13 @@ describe("skin measurement (issue 26)", () => {
     assert.equal(m.length, 4);
     for (const x of m) for (const side of ["left", "right"]) for (const k of ["face", "chest", "hand", "depth"]) assert.ok(Number.isFinite(x[side][k]));
     assert.ok(m.every((x) => x.right.tracked), "the right hand is tracked in these frames");
+    // The vertex-based gaps against three-mesh-bvh's triangle-to-triangle distance on this pose
+    // (the hand at the chest): never below it, at most a millimetre above.
+    for (const [a, b] of [["chest", "rightHand"], ["head", "rightHand"], ["leftHand", "rightHand"]]) {
+      const tri = body.bvh[a].closestPointToGeometry(body.geometry[b], new THREE.Matrix4(), {}, {}).distance;
+      const g = body.gap(a, b);
+      assert.ok(g >= tri - 1e-9 && g - tri < 0.001, `${a}-${b}: ${g} vs ${tri}`);
+    }
     // Synthetic measures against synthetic labels: counts and shares are exact.
     const g = (face, chest, hand, depth) => ({ face, chest, hand, depth, alignmentError: 0.001 });
     const measures = [
