@@ -240,4 +240,28 @@ describe("skin measurement (issue 26)", () => {
     }
     assert.deepEqual([...seen].sort(), ["chest", "face", "hand", "none", "unsure"]);
   });
+
+  it("the face labels agree with the image landmarks: the right hand within 1/3 head breadth of the face exactly there", () => {
+    // Image distance from the signer's right hand (MediaPipe "Left") to the pose's face points
+    // (nose, eyes, ears, mouth), in ear-to-ear distances; frames without that hand are skipped.
+    let face = 0;
+    let none = 0;
+    for (const c of labeledClips(repo)) {
+      const l = readLabels(repo, c);
+      const rec = JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", `${c}.json`), "utf8"));
+      rec.frames.forEach((f, i) => {
+        const hand = f.hands.find((h) => h.handedness === "Left");
+        if (!hand || !f.pose || (l.right[i] !== "face" && l.right[i] !== "none")) return;
+        const px = ([x, y]) => [x * rec.width, y * rec.height];
+        const P = f.pose.landmarks.map(px);
+        const breadth = Math.hypot(P[7][0] - P[8][0], P[7][1] - P[8][1]);
+        let d = Infinity;
+        for (const h of hand.landmarks.map(px)) for (const q of P.slice(0, 11)) d = Math.min(d, Math.hypot(h[0] - q[0], h[1] - q[1]));
+        const near = d / breadth < 1 / 3;
+        if (l.right[i] === "face") assert.ok(near, `${c} frame ${i}: labeled face, hand ${(d / breadth).toFixed(2)} head breadths away`), face++;
+        else assert.ok(!near, `${c} frame ${i}: labeled none, hand ${(d / breadth).toFixed(2)} head breadths from the face`), none++;
+      });
+    }
+    assert.ok(face >= 30 && none >= 50, `${face} face and ${none} none frames checked`);
+  });
 });
