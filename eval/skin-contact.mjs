@@ -49,14 +49,14 @@ const rows = [];
 const totals = { on: measure.newScore(), off: measure.newScore() };
 const started = performance.now();
 console.log(
-  "| avatar | clip | contact | face: within 2 cm (hand-frames) median gap mm | chest | hands | false touches | frames > 1 cm inside | max depth mm | alignment median mm (none) |",
+  "| avatar | clip | contact | face: within 2 cm (hand-frames) median gap mm | chest | hands | false touches | frames > 1 cm inside | max depth mm | alignment median mm (none) | touches tracked |",
 );
-console.log("| --- | --- | --- | --- | --- | --- | --- | ---: | ---: | ---: |");
+console.log("| --- | --- | --- | --- | --- | --- | --- | ---: | ---: | ---: | ---: |");
 for (const a of avatars) {
   const vrm = await measure.loadVrm(fileOf(a));
   const body = new measure.SkinBody(vrm);
   if (!body.hasBody || body.vertices.leftHand.length === 0) {
-    console.log(`| ${a} | all | - | no skinned body or hands (rigid meshes only): not measurable | | | | | | |`);
+    console.log(`| ${a} | all | - | no skinned body or hands (rigid meshes only): not measurable | | | | | | | |`);
     continue;
   }
   const perAvatar = { on: measure.newScore(), off: measure.newScore() };
@@ -73,7 +73,7 @@ for (const a of avatars) {
       const f = measure.figures(s);
       rows.push({ avatar: a, clip, contact, ...f });
       console.log(
-        `| ${a} | ${clip} | ${contact ? "on" : "off"} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f.falseTouch.n ? `${f0(f.falseTouch.pct)}% (${f.falseTouch.n})` : "-"} | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f2(f.alignmentMedianMm)} |`,
+        `| ${a} | ${clip} | ${contact ? "on" : "off"} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f.falseTouch.n ? `${f0(f.falseTouch.pct)}% (${f.falseTouch.n})` : "-"} | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f2(f.alignmentMedianMm)} | ${f0(f.touchTracked)}% |`,
       );
     }
   }
@@ -81,14 +81,14 @@ for (const a of avatars) {
     const f = measure.figures(perAvatar[k]);
     rows.push({ avatar: a, clip: "all", contact: k === "on", ...f });
     console.log(
-      `| **${a}** | all | ${k} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f0(f.falseTouch.pct)}% (${f.falseTouch.n}) | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f2(f.alignmentMedianMm)} |`,
+      `| **${a}** | all | ${k} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f0(f.falseTouch.pct)}% (${f.falseTouch.n}) | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f2(f.alignmentMedianMm)} | ${f0(f.touchTracked)}% |`,
     );
   }
 }
 for (const k of ["on", "off"]) {
   const f = measure.figures(totals[k]);
   console.log(
-    `| **all** | all | ${k} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f0(f.falseTouch.pct)}% (${f.falseTouch.n}) | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f2(f.alignmentMedianMm)} |`,
+    `| **all** | all | ${k} | ${cell(f.face)} | ${cell(f.chest)} | ${cell(f.hand)} | ${f0(f.falseTouch.pct)}% (${f.falseTouch.n}) | ${f1(f.deep.pct)}% | ${f0(f.deep.maxMm)} | ${f2(f.alignmentMedianMm)} | ${f0(f.touchTracked)}% |`,
   );
   rows.push({ avatar: "all", clip: "all", contact: k === "on", ...f });
 }

@@ -208,7 +208,7 @@ describe("skin measurement (issue 26)", () => {
       assert.ok(g >= tri - 1e-9 && g - tri < 0.001, `${a}-${b}: ${g} vs ${tri}`);
     }
     // Synthetic measures against synthetic labels: counts and shares are exact.
-    const g = (face, chest, hand, depth) => ({ face, chest, hand, depth, alignmentError: 0.001 });
+    const g = (face, chest, hand, depth) => ({ face, chest, hand, depth, alignmentError: 0.001, tracked: face < 0.04 });
     const measures = [
       { right: g(0.01, 0.3, 0.5, 0), left: g(0.5, 0.3, 0.5, 0) },
       { right: g(0.05, 0.3, 0.5, 0.02), left: g(0.5, 0.3, 0.5, 0) },
@@ -221,6 +221,7 @@ describe("skin measurement (issue 26)", () => {
     assert.deepEqual([fs_.falseTouch.n, fs_.falseTouch.pct], [4, 25]);
     assert.deepEqual([fs_.deep.frames, fs_.deep.pct, fs_.deep.maxMm], [4, 25, 20]);
     assert.equal(fs_.alignmentMedianMm, 1);
+    assert.equal(fs_.touchTracked, 100 / 3);
   });
 
   it("the visual labels cover every frame of their clips, with known labels", () => {

@@ -504,7 +504,7 @@ const median = (xs) => {
  * hand-frames, the share within `touch` (m) of that surface and the median gap; false touches
  * (labeled none, within `touch` of face, chest or other hand); frames with a hand vertex deeper
  * than `deep` (m) inside head/torso and the deepest; the median alignment error on "none"
- * hand-frames (m). Accumulates into `acc` when given (for totals).
+ * hand-frames (m); how many touch hand-frames had the hand tracked (`tracked` in the measures). Accumulates into `acc` when given (for totals).
  */
 export function score(measures, labels, { touch = 0.02, deep = 0.01 } = {}, acc = newScore()) {
   measures.forEach((m, i) => {
@@ -514,6 +514,7 @@ export function score(measures, labels, { touch = 0.02, deep = 0.01 } = {}, acc 
       const g = m[side];
       if (l === "face" || l === "chest" || l === "hand") {
         acc[l].n++;
+        if (g.tracked) acc[l].tracked++;
         if (g[l] <= touch) acc[l].hit++;
         acc[l].gaps.push(g[l]);
       } else if (l === "none") {
@@ -531,7 +532,7 @@ export function score(measures, labels, { touch = 0.02, deep = 0.01 } = {}, acc 
 }
 
 export function newScore() {
-  const t = () => ({ n: 0, hit: 0, gaps: [] });
+  const t = () => ({ n: 0, hit: 0, tracked: 0, gaps: [] });
   return { face: t(), chest: t(), hand: t(), none: t(), frames: 0, deepFrames: 0, maxDepth: 0, alignment: [] };
 }
 
@@ -543,6 +544,11 @@ export function figures(s) {
     chest: { n: s.chest.n, pct: pct(s.chest), medianMm: 1000 * median(s.chest.gaps) },
     hand: { n: s.hand.n, pct: pct(s.hand), medianMm: 1000 * median(s.hand.gaps) },
     falseTouch: { n: s.none.n, pct: pct(s.none) },
+    // Touch hand-frames where the rig had a tracked hand on that side (the others are held or eased).
+    touchTracked: (() => {
+      const n = s.face.n + s.chest.n + s.hand.n;
+      return n ? (100 * (s.face.tracked + s.chest.tracked + s.hand.tracked)) / n : NaN;
+    })(),
     deep: { frames: s.frames, pct: s.frames ? (100 * s.deepFrames) / s.frames : NaN, maxMm: 1000 * s.maxDepth },
     alignmentMedianMm: 1000 * median(s.alignment),
   };
