@@ -12,7 +12,7 @@
 //
 // --json also writes every row to target/skin-contact.json.
 //
-// Takes about 8 minutes for the six generated avatars (494 s measured: about 0.1 s per frame and
+// Takes 8-12 minutes for the six generated avatars (494 and 705 s measured: 0.1-0.15 s per frame and
 // setting, 400 frames x 2 settings x 6 avatars, on one core), longer on a busy machine;
 // `--avatars woman-vrm1` about 1.5 minutes.
 
