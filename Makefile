@@ -110,13 +110,14 @@ test-www: pkg
 
 # The measured figures of docs/measurements.md and the method pages (docs/hand-solver.md, docs/alignment-ik.md, ...):
 # hand accuracy vs Kalidokit, the alignment acceptance table, and wasm solve time vs Kalidokit.
-eval: pkg eval/node_modules/.package-lock.json
+eval: pkg eval/node_modules/.package-lock.json tests/node/node_modules/.package-lock.json
 	cargo run --quiet --release --example eval_hands
 	cargo run --quiet --release --example eval_live
 	cargo run --quiet --release --example eval_wrist
 	cargo run --quiet --release --example eval_torso
 	cargo run --quiet --release --example eval_contact
 	node eval/table.mjs --verbose
+	node eval/skin-contact.mjs
 
 # Native per-frame cost of Rig::solve (criterion).
 bench: setup
