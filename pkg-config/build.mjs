@@ -447,7 +447,15 @@ async function main() {
   manifest.version = v;
   manifest.description = cargo.description ?? "";
   manifest.license = cargo.license ?? "MIT";
-  if (cargo.repository) manifest.repository = { type: "git", url: cargo.repository };
+  // repository and homepage: package.template.json spells them as npm wants them; they must
+  // name the same place as Cargo.toml's.
+  const sameRepo = (url) => url?.replace(/^git\+/, "").replace(/\.git$/, "");
+  if (sameRepo(manifest.repository?.url) !== cargo.repository) {
+    fail(`package.template.json repository.url ${manifest.repository?.url} is not Cargo.toml's repository ${cargo.repository}`);
+  }
+  if (manifest.homepage !== cargo.homepage) {
+    fail(`package.template.json homepage ${manifest.homepage} is not Cargo.toml's homepage ${cargo.homepage}`);
+  }
   fs.writeFileSync(path.join(out, "package.json"), `${JSON.stringify(manifest, null, 2)}\n`);
   for (const f of ["README.md", "LICENSE"]) {
     if (!fs.existsSync(path.join(root, f))) fail(`${f} missing at the repository root`);

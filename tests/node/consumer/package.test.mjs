@@ -68,6 +68,20 @@ describe("package.json", () => {
     assert.equal(manifest.type, "module");
   });
 
+  it("repository, homepage and bugs name Cargo.toml's repository; keywords; engines", () => {
+    const cargo = fs.readFileSync(path.join(process.env.HANDRIG_REPO, "Cargo.toml"), "utf8");
+    const repository = cargo.match(/^repository\s*=\s*"([^"]+)"/m)?.[1];
+    assert.ok(repository?.startsWith("https://github.com/"), `Cargo.toml repository: ${repository}`);
+    assert.deepEqual(manifest.repository, { type: "git", url: `git+${repository}.git` });
+    assert.equal(manifest.homepage, `${repository}#readme`);
+    assert.deepEqual(manifest.bugs, { url: `${repository}/issues` });
+    assert.ok(manifest.keywords.includes("vrm") && manifest.keywords.includes("mediapipe"));
+    assert.equal(manifest.engines.node, ">=18");
+    // node10 resolution (no exports) reads `types`: the CommonJS declarations, as `main` is CommonJS.
+    assert.equal(manifest.main, "./index.cjs");
+    assert.equal(manifest.types, "./index.d.cts");
+  });
+
   it("main, module, types and every export target exist in the package", () => {
     const targets = [manifest.main, manifest.module, manifest.types];
     const walk = (v) => {
