@@ -19,6 +19,10 @@ describe("the packed tarball", () => {
     assert.deepEqual(files, [
       "LICENSE",
       "README.md",
+      "compat.cjs",
+      "compat.d.cts",
+      "compat.d.ts",
+      "compat.js",
       "index.cjs",
       "index.d.cts",
       "index.d.ts",
@@ -93,6 +97,7 @@ describe("package.json", () => {
     assert.deepEqual(Object.keys(manifest.exports), [
       ".",
       "./three-vrm",
+      "./compat",
       "./handrig_bg.wasm",
       "./handrig_simd_bg.wasm",
       "./package.json",
@@ -102,9 +107,11 @@ describe("package.json", () => {
   it("resolves to the Node builds under Node's conditions", () => {
     assert.equal(require.resolve("handrig"), path.join(installed, "index.cjs"));
     assert.equal(require.resolve("handrig/three-vrm"), path.join(installed, "three-vrm.cjs"));
+    assert.equal(require.resolve("handrig/compat"), path.join(installed, "compat.cjs"));
     if (import.meta.resolve) {
       assert.equal(import.meta.resolve("handrig"), `file://${path.join(installed, "index.mjs")}`);
       assert.equal(import.meta.resolve("handrig/three-vrm"), `file://${path.join(installed, "three-vrm.js")}`);
+      assert.equal(import.meta.resolve("handrig/compat"), `file://${path.join(installed, "compat.js")}`);
     }
   });
 
