@@ -2,7 +2,8 @@
 #
 #   make demo    build the npm package and serve the demo page on 127.0.0.1 (URL printed)
 #   make test    every test: cargo test, wasm-pack test --node, Node tests of the packed
-#                package, and the demo's browser tests
+#                package (with publint and attw), the demo's browser tests, the API docs build
+#                and the docs' link check
 #
 # Both run `make setup` first, which installs what a fresh Debian machine lacks and skips what is
 # there already. Smaller targets: make help.
@@ -24,7 +25,7 @@ NODE_DIRS := pkg-config tests/node $(if $(wildcard www/package-lock.json),www)
 NODE_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NODE_DIRS))
 
 .PHONY: help setup setup-system setup-rust setup-node pkg pkg-dev \
-        test test-rust test-wasm test-node test-www demo eval bench record-check avatars clean
+        test test-rust test-wasm test-node test-www test-docs docs demo eval bench record-check avatars clean
 
 help:
 	@echo "make demo       build the package (pkg/) and serve the demo on 127.0.0.1"
@@ -35,6 +36,8 @@ help:
 	@echo "make test-wasm  wasm-pack test --node (wasm-bindgen-test)"
 	@echo "make test-node  npm pack pkg/, install it in a temp project, node --test from ESM and CJS"
 	@echo "make test-www   the demo's browser tests (Playwright + Debian chromium), when www/ has them"
+	@echo "make test-docs  make docs, and the links of README.md and docs/*.md (files and #anchors) resolve"
+	@echo "make docs       the JS API reference from the TypeScript sources (TypeDoc) into target/docs/api/"
 	@echo "make eval       every evaluation, then one table of all methods (eval/table.mjs)"
 	@echo "make bench      criterion benchmarks: Rig::solve, chain IK, retargeting (native)"
 	@echo "make avatars    regenerate the human avatars in tests/fixtures/avatars/ from ../shared/data/makehuman (tools/avatars/)"
@@ -86,7 +89,7 @@ pkg: setup
 pkg-dev: setup
 	node pkg-config/build.mjs --dev
 
-test: setup test-rust test-wasm test-www test-node
+test: setup test-docs test-rust test-wasm test-www test-node
 
 # The property tests' random cases come from a fixed seed here, so that `make test` (and CI) is
 # reproducible; plain `cargo test` explores new cases each run (failures are kept in the
@@ -99,6 +102,16 @@ test-wasm: setup
 
 test-node: pkg
 	node tests/node/run.mjs
+
+# The JS API reference: TypeDoc over pkg-config/src (pkg-config/typedoc.json; warnings are
+# errors), into target/docs/api/ (not committed).
+docs: setup-node
+	pkg-config/node_modules/.bin/typedoc --options pkg-config/typedoc.json --logLevel Warn
+	@echo "docs: target/docs/api/index.html"
+
+# Every relative link and #anchor of the README, CHANGELOG and docs/ resolves (remark-validate-links).
+test-docs: docs
+	node tests/node/check-links.mjs
 
 # The demo's own tests, run when www/ defines an npm test script.
 test-www: pkg

@@ -26,6 +26,8 @@
 //   index.d.ts/.d.cts types (emitted from src/index.ts; .d.cts without the default export);
 //                     three-vrm.{js,cjs,d.ts,d.cts} the three-vrm adapter (src/three-vrm.ts).
 //   cli.mjs           the `handrig` command (bin): `handrig export` (pkg-config/cli.mjs, copied).
+//   compat.{js,cjs,d.ts,d.cts}  `handrig/compat` (src/compat.ts): the web glue and the baseline
+//                     .wasm inlined as base64 in one file (no fetch, no .wasm to serve).
 //   wasm/             wasm-bindgen output: handrig_wasm.js (--target web glue),
 //                     handrig_wasm.cjs (--target nodejs glue), handrig_bg.wasm (shared; the
 //                     package exports it as "handrig/handrig_bg.wasm") and
@@ -198,6 +200,9 @@ function tool(name) {
 // pasted core had); the wasm-bindgen glue stays a file of its own, imported by the entry under
 // the names that src/glue.d.ts declares.
 const GLUE = { "handrig:wasm-web": "./wasm/handrig_wasm.js", "handrig:wasm-node": "./wasm/handrig_wasm.cjs" };
+// handrig/compat's glue: the web glue with the baseline .wasm inlined as base64 (compatGlue),
+// bundled into the entry (not external), so compat.js and compat.cjs are single files.
+const COMPAT_GLUE = "handrig:wasm-compat";
 const ENTRIES = [
   // Browsers and bundlers (ES module): `await init()` once, then HandRig.
   { src: "index.ts", out: "index.js", format: "esm", platform: "browser" },
@@ -208,6 +213,9 @@ const ENTRIES = [
   // The three-vrm adapter (`handrig/three-vrm`), which needs no wasm.
   { src: "three-vrm.ts", out: "three-vrm.js", format: "esm", platform: "neutral" },
   { src: "three-vrm.ts", out: "three-vrm.cjs", format: "cjs", platform: "neutral" },
+  // `handrig/compat`: the wasm inlined (no fetch, no .wasm file); `await init()` everywhere.
+  { src: "compat.ts", out: "compat.js", format: "esm", platform: "neutral" },
+  { src: "compat.ts", out: "compat.cjs", format: "cjs", platform: "neutral" },
 ];
 // The public types, emitted from the same sources (one bundled .d.ts per entry): index.d.ts and
 // three-vrm.d.ts for ES modules, .d.cts (without the default export) for CommonJS.
@@ -219,6 +227,13 @@ const DECLARATIONS = [
       "// Types of the handrig package. Conventions: meters, radians, milliseconds; right-handed, +Y up;\n" +
       "// the avatar faces +Z (VRM 1.0; VRM 0.x models face -Z and everything is in the model's own\n" +
       "// frame); quaternions [x, y, z, w].\n",
+  },
+  {
+    src: "compat.ts",
+    out: "compat",
+    about:
+      "// Types of `handrig/compat`: the package's API with the WebAssembly inlined (`await init()` once,\n" +
+      "// everywhere; no .wasm file, no fetch). Conventions as in handrig's index.d.ts.\n",
   },
   {
     src: "three-vrm.ts",
@@ -277,8 +292,37 @@ ${names(layout.bones, "HumanBoneName")}${names(layout.torsoBones, "TorsoBoneName
   run(tsc, ["-p", path.join(dir, "tsconfig.json")]);
 }
 
+/**
+ * handrig/compat's glue (written to `work`/compat/): the package's web glue with its default
+ * `new URL(...wasm, import.meta.url)` replaced by the baseline .wasm's bytes, decoded from
+ * base64 (rapier's -compat pattern). Returns its path.
+ */
+function compatGlue(work, out) {
+  const glue = fs.readFileSync(path.join(out, "wasm", "handrig_wasm.js"), "utf8");
+  const from = `(handrigSimd() ? new URL('${WASM_SIMD_NAME}', import.meta.url) : new URL('${WASM_NAME}', import.meta.url))`;
+  if (!glue.includes(from)) fail("web glue: cannot find the .wasm URL to inline for handrig/compat");
+  const base64 = fs.readFileSync(path.join(out, "wasm", WASM_NAME)).toString("base64");
+  const inlined =
+    `// handrig/compat (pkg-config/build.mjs): ${WASM_NAME} inlined as base64.\n` +
+    `const HANDRIG_WASM_BASE64 = "${base64}";\n` +
+    "function __handrigInlineWasm() {\n" +
+    "  const s = atob(HANDRIG_WASM_BASE64);\n" +
+    "  const bytes = new Uint8Array(s.length);\n" +
+    "  for (let i = 0; i < s.length; i++) bytes[i] = s.charCodeAt(i);\n" +
+    "  return bytes;\n" +
+    "}\n" +
+    "export { __handrigInlineWasm };\n" +
+    glue.replace(from, "__handrigInlineWasm()");
+  if (inlined.includes("import.meta")) fail("handrig/compat glue still uses import.meta");
+  const dir = path.join(work, "compat");
+  fs.mkdirSync(dir, { recursive: true });
+  const file = path.join(dir, "handrig_wasm_compat.js");
+  fs.writeFileSync(file, inlined);
+  return file;
+}
+
 /** The entry points, bundled by esbuild with the layout and the version inlined. */
-async function bundle(out, version, layout) {
+async function bundle(out, version, layout, compatFile) {
   let esbuild;
   try {
     esbuild = await import("esbuild");
@@ -288,7 +332,11 @@ async function bundle(out, version, layout) {
   const glue = {
     name: "handrig-glue",
     setup(b) {
-      b.onResolve({ filter: /^handrig:wasm-/ }, (a) => ({ path: GLUE[a.path] ?? fail(`unknown glue ${a.path}`), external: true }));
+      b.onResolve({ filter: /^handrig:wasm-/ }, (a) =>
+        a.path === COMPAT_GLUE
+          ? { path: compatFile }
+          : { path: GLUE[a.path] ?? fail(`unknown glue ${a.path}`), external: true },
+      );
     },
   };
   for (const e of ENTRIES) {
@@ -441,14 +489,22 @@ async function main() {
 
   const v = cargo.version;
   typeCheck(work, layout);
-  await bundle(out, v, layout);
+  await bundle(out, v, layout, compatGlue(work, out));
   declarations(work, out, v);
 
   const manifest = JSON.parse(fs.readFileSync(path.join(here, "package.template.json"), "utf8"));
   manifest.version = v;
   manifest.description = cargo.description ?? "";
   manifest.license = cargo.license ?? "MIT";
-  if (cargo.repository) manifest.repository = { type: "git", url: cargo.repository };
+  // repository and homepage: package.template.json spells them as npm wants them; they must
+  // name the same place as Cargo.toml's.
+  const sameRepo = (url) => url?.replace(/^git\+/, "").replace(/\.git$/, "");
+  if (sameRepo(manifest.repository?.url) !== cargo.repository) {
+    fail(`package.template.json repository.url ${manifest.repository?.url} is not Cargo.toml's repository ${cargo.repository}`);
+  }
+  if (manifest.homepage !== cargo.homepage) {
+    fail(`package.template.json homepage ${manifest.homepage} is not Cargo.toml's homepage ${cargo.homepage}`);
+  }
   fs.writeFileSync(path.join(out, "package.json"), `${JSON.stringify(manifest, null, 2)}\n`);
   for (const f of ["README.md", "LICENSE"]) {
     if (!fs.existsSync(path.join(root, f))) fail(`${f} missing at the repository root`);
@@ -472,9 +528,14 @@ async function main() {
     const gz = zlib.gzipSync(bytes, { level: 9 }).length;
     return `${kib(bytes.length)} raw, ${kib(gz)} gzip` + (gz > WASM_GZIP_BUDGET ? ` (OVER by ${kib(gz - WASM_GZIP_BUDGET)})` : "");
   };
+  const compatSize = (f) => {
+    const bytes = fs.readFileSync(path.join(out, f));
+    return `${f} ${kib(bytes.length)} raw, ${kib(zlib.gzipSync(bytes, { level: 9 }).length)} gzip`;
+  };
   console.log(
     `build.mjs: ${path.relative(root, out) || "."}/ ready: handrig ${v} (${args.dev ? "dev" : "release"}); ` +
-      `wasm (budget ${kib(WASM_GZIP_BUDGET)} gzip): baseline ${size(shippedWasm)}; simd128 ${size(shippedSimd)}`,
+      `wasm (budget ${kib(WASM_GZIP_BUDGET)} gzip): baseline ${size(shippedWasm)}; simd128 ${size(shippedSimd)}; ` +
+      `handrig/compat (baseline inlined): ${compatSize("compat.js")} (index.js ${compatSize("index.js").split(" ").slice(1).join(" ")} + ${WASM_NAME})`,
   );
 }
 

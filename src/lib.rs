@@ -76,7 +76,7 @@ pub use input::mediapipe;
 
 pub use bones::{Finger, HumanBone, Side, BONE_COUNT};
 pub use error::{Error, Result};
-pub use input::COORDINATE_LIMIT;
+pub use input::{COORDINATE_LIMIT, HAND_CENTER_LIMIT, POSE_REACH_LIMIT};
 pub use mediapipe::{CameraMapping, FrameInput, HandObservation, Handedness, PoseObservation};
 pub use options::RigOptions;
 pub use pipeline::{Rig, SolveOutput};

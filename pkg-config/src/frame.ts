@@ -48,6 +48,9 @@ const KNOWN_FRAME_KEYS = [
   "leftHandLandmarks", "rightHandLandmarks", "poseWorldLandmarks", "poseLandmarks",
   "faceLandmarks", "image", "segmentationMask",
   "leftHandWorldLandmarks", "rightHandWorldLandmarks", "faceBlendshapes", "poseSegmentationMasks",
+  // Other MediaPipe results' fields (PoseLandmarker, FaceLandmarker, GestureRecognizer, legacy
+  // FaceMesh): not read, but no mistake either.
+  "segmentationMasks", "facialTransformationMatrixes", "gestures", "multiFaceLandmarks", "multiFaceGeometry",
 ];
 
 // Fields a frame may carry by mistake for one handrig reads under another name: silently
@@ -71,6 +74,27 @@ function misnamed(frame: Bag, aliases: readonly string[], hint: string): void {
   for (let k = 0; k < aliases.length; k++) {
     const v = frame[aliases[k]!];
     if (v !== undefined && v !== null) fail(`frame.${aliases[k]}`, `unknown field: ${hint}`);
+  }
+}
+
+/**
+ * A field handrig does not read holding an object or array: a result nested under a name of the
+ * app's (`{ timeMs, holistic: result }`), silently leaving the frame empty. Looked for in a rig's
+ * first frames (an app's frames all have one shape); names of one or two letters are a legacy
+ * result's minified fields.
+ */
+function checkUnknownObjects(frame: Bag): void {
+  for (const key in frame) {
+    if (key.length <= 2 || KNOWN_FRAME_KEYS.includes(key)) continue;
+    const v = frame[key];
+    if (isObject(v)) {
+      fail(
+        `frame.${key}`,
+        `unknown field holding ${describe(v)}: handrig reads ${KNOWN_FRAME_KEYS.slice(0, 7).join(", ")} and ` +
+          "MediaPipe results' own fields from the frame itself (a HolisticLandmarker result is spread into it: " +
+          "rig.solve({ timeMs, ...result }); a HandLandmarker result goes in frame.hands, a PoseLandmarker result in frame.pose)",
+      );
+    }
   }
 }
 
@@ -175,4 +199,5 @@ export function packFrame(frame: unknown, input: Float32Array, lookAround: boole
       fail("frame", `has none of timeMs, hands, pose, wrists (nor a MediaPipe result's fields); got keys ${keys.slice(0, 8).join(", ")}`);
     }
   }
+  if (lookAround) checkUnknownObjects(frame);
 }

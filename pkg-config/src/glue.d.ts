@@ -18,6 +18,19 @@ declare module "handrig:wasm-web" {
   export function wasmBuild(): string;
 }
 
+declare module "handrig:wasm-compat" {
+  // The `--target web` glue with the baseline .wasm inlined (build.mjs, for handrig/compat).
+  /** wasm-bindgen's init: instantiates the module (no argument: the inlined one). */
+  export default function init(input?: never): Promise<unknown>;
+  /** wasm-bindgen's synchronous init (`{ module }`). */
+  export function initSync(module: never): unknown;
+  /** build.mjs: the inlined .wasm's bytes (decoded from base64 on each call). */
+  export function __handrigInlineWasm(): Uint8Array;
+  export const HandRig: import("./wasm.js").RawHandRigClass;
+  export const RawChainSolver: import("./wasm.js").RawChainSolverClass;
+  export function wasmBuild(): string;
+}
+
 declare module "handrig:wasm-node" {
   /** build.mjs: the .wasm file this process loaded. */
   export function __handrigWasmFile(): string;

@@ -18,6 +18,50 @@ import { addDispose, ensureReady, wasm, wasmMemory, type RawHandRig } from "./wa
 // Constructor token for wrapping a raw rig made by a static factory (fromVrm).
 const ADOPT = {};
 
+/**
+ * `solve(landmarks, "Right")`: Kalidokit's `Hand.solve(landmarks, side)` call shape. Blame the
+ * frame (the string is only a symptom), and say what handrig takes instead.
+ */
+function kalidokitCall(frame: unknown, side: string): never {
+  const plainFrame = isObject(frame) && !Array.isArray(frame) && !ArrayBuffer.isView(frame);
+  if (plainFrame) {
+    throw new TypeError(
+      `target: must be an object to fill with the result, got ${describe(side)}; handrig takes no ` +
+        "side argument (Kalidokit's Hand.solve(landmarks, side) call shape): each hand's side is its handedness in the frame",
+    );
+  }
+  throw new TypeError(
+    `frame: must be a frame object { timeMs, hands?, pose?, wrists? }, got ${describe(frame)} with ${describe(side)} as ` +
+      "a second argument: that is Kalidokit's Hand.solve(landmarks, side) call shape, not handrig's. Pass the " +
+      "MediaPipe result in one frame: rig.solve({ timeMs, hands: handLandmarkerResult }) or " +
+      "rig.solve({ timeMs, ...holisticLandmarkerResult })",
+  );
+}
+
+// A timeMs step (ms) this small, this many frames in a row, is seconds given for milliseconds:
+// 30 fps is 0.033 s a frame. (Real milliseconds advance by ~10-70 a frame.)
+const SECONDS_STEP_MIN = 0.004;
+const SECONDS_STEP_MAX = 0.15;
+const SECONDS_FRAMES = 5;
+
+/** Warns once per rig when timeMs advances like seconds (clock: last time, run length, warned). */
+function secondsCheck(clock: Float64Array, t: number): void {
+  const step = t - clock[0]!;
+  clock[0] = t;
+  if (!(step >= SECONDS_STEP_MIN && step <= SECONDS_STEP_MAX)) {
+    clock[1] = 0;
+    return;
+  }
+  if (++clock[1]! < SECONDS_FRAMES) return;
+  clock[2] = 1;
+  const log = (globalThis as { console?: { warn?: (message: string) => void } }).console;
+  log?.warn?.(
+    `handrig: frame.timeMs advanced by ${step.toFixed(3)} a frame for ${SECONDS_FRAMES} frames: it looks like seconds. ` +
+      "timeMs is milliseconds (performance.now(), or a video frame's time * 1000); in seconds the filters and the " +
+      "dropout hold see frames microseconds apart. (Said once per rig.)",
+  );
+}
+
 /** The solver for one avatar. Create once, `solve` every frame, `free()` when done. */
 export class HandRig {
   #raw: RawHandRig | null = null;
@@ -27,6 +71,9 @@ export class HandRig {
   #driven: number[] = [];
   #present: number[] = [];
   #framesRead = 0;
+  // The last frame's timeMs, how many frames in a row advanced it by a step that looks like
+  // seconds, and whether that was said (a typed array: a double field would be boxed per frame).
+  #clock = new Float64Array([Number.NaN, 0, 0]);
 
   /**
    * `new HandRig(restPose, options?)`: a solver for one avatar. `restPose.bones` maps VRM 1.0
@@ -169,6 +216,7 @@ export class HandRig {
    */
   solve(frame: FrameInput, target?: object): SolveResult {
     const r = this.#views("solve");
+    if (typeof target === "string") kalidokitCall(frame, target);
     // The target is checked first: a rejected call leaves the rig where it was.
     let result: unknown = target;
     if (result === undefined || result === null) {
@@ -193,6 +241,7 @@ export class HandRig {
       throw new Error("frame: reading it changed wasm memory (a getter created or freed rigs); the frame was not solved, solve it again");
     }
     if (r.solveFlat(TIME[0]!) !== 0) throw new Error(r.takeError());
+    if (this.#clock[2] === 0) secondsCheck(this.#clock, TIME[0]!);
     return fillResult(result as object, this.#output, this.#input, this.#driven, this.#present) as SolveResult;
   }
 

@@ -2,6 +2,12 @@
 // then HandRig. Its declarations are the package's types (pkg/index.d.ts; index.d.cts without the
 // default export). The glue is wasm-bindgen's `--target web` output (pkg/wasm/handrig_wasm.js).
 
+/**
+ * The `handrig` entry point (TypeDoc: `make docs`).
+ * @packageDocumentation
+ * @module handrig
+ */
+
 /// <reference path="glue.d.ts" />
 
 import * as glue from "handrig:wasm-web";

@@ -10,6 +10,12 @@
 // they are written as they are: do NOT negate x and z here or in user code (that negation is for
 // poses authored for VRM 1.0's +Z facing, which handrig already handles).
 
+/**
+ * The `handrig/three-vrm` entry point (TypeDoc: `make docs`).
+ * @packageDocumentation
+ * @module handrig/three-vrm
+ */
+
 import { LAYOUT } from "./layout.js";
 
 /** A normalized bone node: the parts of three's `Object3D` the adapter uses. */

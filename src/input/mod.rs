@@ -17,4 +17,4 @@ pub use mediapipe::{
     WristObservation,
 };
 pub use torso::{BodyJoint, BodyObservation, TorsoRotations};
-pub use validate::COORDINATE_LIMIT;
+pub use validate::{COORDINATE_LIMIT, HAND_CENTER_LIMIT, POSE_REACH_LIMIT};

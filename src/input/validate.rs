@@ -45,13 +45,40 @@ pub(crate) fn points_problem(points: &[Vec3]) -> Option<(usize, &'static str)> {
 /// hand's reach.
 pub const HAND_SPAN_LIMIT: f32 = 1.0;
 
+/// Distance (m) from the origin beyond which a hand's world landmarks that lie within the image
+/// (x and y near `0..=1`) are image-normalized landmarks given as world ones: MediaPipe centers a
+/// hand's world landmarks on the hand (their mean is within a few centimeters of the origin),
+/// while image landmarks are centered near (0.5, 0.5).
+pub const HAND_CENTER_LIMIT: f32 = 0.2;
+
+/// Largest distance (m) of a pose world landmark from the origin, which MediaPipe puts between
+/// the hips: twice a tall person's height. Pixels given for meters are far beyond it.
+pub const POSE_REACH_LIMIT: f32 = 4.0;
+
+/// Whether a hand's world landmarks look image-normalized: x and y of every point within
+/// `-0.5..=1.5` (the image, give or take half of it: a hand partly out of view has image
+/// landmarks below 0 or above 1), z within `-1..=1`, and their mean farther than
+/// [`HAND_CENTER_LIMIT`] from the origin.
+fn looks_image_normalized(world: &[Vec3]) -> bool {
+    let mut sum = Vec3::ZERO;
+    let mut unit = true;
+    for p in world {
+        unit &= (-0.5..=1.5).contains(&p.x) & (-0.5..=1.5).contains(&p.y) & (p.z.abs() <= 1.0);
+        sum += *p;
+    }
+    let n = world.len().max(1) as f32;
+    unit && (sum / n).length_squared() > HAND_CENTER_LIMIT * HAND_CENTER_LIMIT
+}
+
 /// Checks a frame before any state changes: the one check every path runs ([`crate::Rig::solve`]
 /// natively, and [`crate::flat::read_input`] after decoding the typed-array layout). Errors
 /// name the field as the object API spells it (`frame.hands[1].worldLandmarks[7]`).
 ///
 /// # Errors
 /// Non-finite numbers, points beyond [`COORDINATE_LIMIT`], a hand's world landmarks more than
-/// [`HAND_SPAN_LIMIT`] from its wrist (centimeters given for meters), scores, visibilities or
+/// [`HAND_SPAN_LIMIT`] from its wrist (centimeters given for meters) or image-normalized
+/// ([`HAND_CENTER_LIMIT`]), pose world landmarks beyond [`POSE_REACH_LIMIT`] (pixels given for
+/// meters), scores, visibilities or
 /// confidences outside `0..=1`, non-unit wrist or torso rotations.
 pub(crate) fn validate_frame(frame: &FrameInput) -> Result<()> {
     validate_frame_with(frame, [true; MAX_HANDS])
@@ -91,6 +118,14 @@ pub(crate) fn validate_frame_with(
                 "the hand is more than 1 m across: world landmarks are meters (centimeters given?)",
             ));
         }
+        if metric_world[i] && looks_image_normalized(&h.world) {
+            return Err(crate::Error::invalid(
+                format!("frame.hands[{i}].worldLandmarks"),
+                "these look like image-normalized landmarks (within the image's 0..1, centered \
+                 far from the origin): world landmarks are meters centered on the hand, MediaPipe's \
+                 result.worldLandmarks (its result.landmarks go in landmarks)",
+            ));
+        }
         if let Some((k, e)) = h.image.as_ref().and_then(|p| points_problem(p)) {
             return Err(crate::Error::invalid(
                 format!("frame.hands[{i}].landmarks[{k}]"),
@@ -109,6 +144,19 @@ pub(crate) fn validate_frame_with(
             return Err(crate::Error::invalid(
                 format!("frame.pose.worldLandmarks[{k}]"),
                 e,
+            ));
+        }
+        // Points within the coordinate limit but beyond a body's reach: pixels for meters.
+        let reach = p
+            .world
+            .iter()
+            .fold(0.0f32, |m, q| m.max(q.length_squared()));
+        if reach > POSE_REACH_LIMIT * POSE_REACH_LIMIT {
+            return Err(crate::Error::invalid(
+                "frame.pose.worldLandmarks",
+                "a point is more than 4 m from the hips: pose world landmarks are meters \
+                 centered between the hips (pixels given? MediaPipe's result.worldLandmarks go \
+                 here, its result.landmarks in frame.pose.landmarks)",
             ));
         }
         for (k, v) in p.visibility.iter().enumerate() {

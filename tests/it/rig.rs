@@ -351,7 +351,8 @@ fn same(a: &SolveOutput, b: &SolveOutput) -> bool {
 /// turned into infinite IK targets. Points beyond `COORDINATE_LIMIT` are rejected naming the
 /// field, the rig stays usable, and points at the limit give finite output: on the ASL clips,
 /// one coordinate of one hand landmark (world or image; the whole hand moved there for world
-/// landmarks), pose landmark (world or image) or tracker wrist per frame set to the limit, on four avatars (the odd-armature one included), with the
+/// landmarks), pose image landmark or tracker wrist per frame set to the limit (a pose world
+/// landmark there is refused as pixels given for meters), on four avatars (the odd-armature one included), with the
 /// largest body scale and with the torso tracked.
 #[test]
 fn points_beyond_the_coordinate_limit_are_rejected_and_points_at_it_give_finite_output() {
@@ -422,7 +423,14 @@ fn points_beyond_the_coordinate_limit_are_rejected_and_points_at_it_give_finite_
                     );
                 }
                 let mut at = *frame;
-                if probe(&mut at, i, sign * COORDINATE_LIMIT).is_some() {
+                if let Some("frame.pose.worldLandmarks[") =
+                    probe(&mut at, i, sign * COORDINATE_LIMIT)
+                {
+                    // Pose world landmarks are refused long before the limit: a body does not
+                    // reach 4 m from its hips (pixels given for meters).
+                    let e = rig.solve(&at, &mut out).unwrap_err().to_string();
+                    assert!(e.contains("more than 4 m from the hips"), "frame {i}: {e}");
+                } else if probe(&mut at, i, sign * COORDINATE_LIMIT).is_some() {
                     rig.solve(&at, &mut out).expect("a point at the limit");
                     out.turn_to_internal_frame(rig.skeleton().version());
                     assert!(finite(&out), "frame {i}: {out:?}");
@@ -482,4 +490,62 @@ fn the_alignment_error_is_measured_on_the_shown_pose() {
         checked > 1000 && blending > 10,
         "{checked} side-frames, {blending} blending"
     );
+}
+
+/// Issue 30: landmarks given in the wrong units are refused, saying so, and real ones are not.
+/// On the ASL clips: every hand's image landmarks given as its world landmarks are refused as
+/// image-normalized, the pose's image landmarks in pixels (640 x 480) given as its world
+/// landmarks as pixels; the real frames are all accepted, with a margin (printed) to both limits.
+#[test]
+fn image_normalized_hands_and_pose_pixels_are_refused_as_such() {
+    use handrig::{HAND_CENTER_LIMIT, POSE_REACH_LIMIT};
+    let frames = asl_frames();
+    let mut rig = Rig::new(body(VrmVersion::V1), RigOptions::default()).unwrap();
+    let mut out = SolveOutput::default();
+    let (mut hands, mut poses) = (0, 0);
+    let (mut real_center, mut image_center, mut real_reach) = (0.0f32, f32::MAX, 0.0f32);
+    for frame in &frames {
+        rig.solve(frame, &mut out).expect("a real frame");
+        for i in 0..frame.hand_count {
+            let h = &frame.hands[i];
+            let Some(image) = h.image else { continue };
+            let mean = |p: &[Vec3]| p.iter().copied().sum::<Vec3>() / p.len() as f32;
+            real_center = real_center.max(mean(&h.world).length());
+            image_center = image_center.min(mean(&image).length());
+            let mut bad = *frame;
+            bad.hands[i].world = image;
+            let e = rig.solve(&bad, &mut out).unwrap_err().to_string();
+            assert!(
+                e.starts_with(&format!(
+                    "frame.hands[{i}].worldLandmarks: these look like image-normalized"
+                )),
+                "{e}"
+            );
+            hands += 1;
+        }
+        if let (Some(pose), Some(image)) = (frame.pose, frame.pose_image) {
+            real_reach = pose.world.iter().fold(real_reach, |m, p| m.max(p.length()));
+            let mut bad = *frame;
+            let px = bad.pose.as_mut().unwrap();
+            for (w, p) in px.world.iter_mut().zip(image) {
+                *w = p * Vec3::new(640.0, 480.0, 640.0);
+            }
+            let e = rig.solve(&bad, &mut out).unwrap_err().to_string();
+            assert!(
+                e.starts_with("frame.pose.worldLandmarks: a point is more than 4 m from the hips"),
+                "{e}"
+            );
+            poses += 1;
+        }
+    }
+    println!(
+        "{hands} hands: world landmark mean at most {real_center:.3} m from the origin, image \
+         landmark mean at least {image_center:.3} (limit {HAND_CENTER_LIMIT}); {poses} poses \
+         reach at most {real_reach:.2} m (limit {POSE_REACH_LIMIT})"
+    );
+    assert!(hands > 250 && poses > 200, "{hands} hands, {poses} poses");
+    assert!(real_center < HAND_CENTER_LIMIT / 2.0 && image_center > HAND_CENTER_LIMIT * 1.5);
+    assert!(real_reach < POSE_REACH_LIMIT / 2.0);
+    // The rig is still usable.
+    rig.solve(&frames[0], &mut out).unwrap();
 }

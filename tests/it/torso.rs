@@ -647,7 +647,12 @@ fn limits_hold_and_odd_input_is_finite() {
         f.pose.as_mut().unwrap().world[11] = Vec3::splat(1e30);
         let e = rig.solve(&f, &mut out).unwrap_err().to_string();
         assert!(e.starts_with("frame.pose.worldLandmarks[11]:"), "{e}");
+        // Within the coordinate limit but beyond a body's reach: pixels for meters (issue 30).
         f.pose.as_mut().unwrap().world[11] = Vec3::splat(handrig::COORDINATE_LIMIT);
+        let e = rig.solve(&f, &mut out).unwrap_err().to_string();
+        assert!(e.contains("more than 4 m from the hips"), "{e}");
+        // Far, but within reach: finite output.
+        f.pose.as_mut().unwrap().world[11] = Vec3::splat(2.3);
         rig.solve(&f, &mut out).unwrap();
         out.turn_to_internal_frame(rig.skeleton().version());
         for q in out.local.iter().chain(out.world.rotation.iter()) {

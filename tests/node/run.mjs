@@ -7,7 +7,9 @@
 //   3. the node:test files in tests/node/consumer/ are copied there and run with `node --test`,
 //      so `import "handrig"` / `require("handrig")` resolve through the package's own exports.
 //
-//   node tests/node/run.mjs [--pkg DIR] [--keep] [-- extra node --test args]
+//   node tests/node/run.mjs [--pkg DIR] [--keep] [--only REGEXP] [-- extra node --test args]
+//
+// --only runs the test files whose names match (the linters run whatever it says).
 //
 // Environment passed to the tests: HANDRIG_SHARED (the shared/ folder: avatars and recordings;
 // default <repo>/../shared), HANDRIG_REPO (the repository, for tests/fixtures), HANDRIG_PACK
@@ -30,10 +32,12 @@ function fail(msg) {
 const argv = process.argv.slice(2);
 let pkgDir = path.join(repo, "pkg");
 let keep = Boolean(process.env.HANDRIG_KEEP_TMP);
+let only = /./;
 const extra = [];
 for (let i = 0; i < argv.length; i++) {
   if (argv[i] === "--pkg") pkgDir = path.resolve(argv[++i]);
   else if (argv[i] === "--keep") keep = true;
+  else if (argv[i] === "--only") only = new RegExp(argv[++i] ?? fail("--only needs a pattern"));
   else if (argv[i] === "--") extra.push(...argv.slice(i + 1)), (i = argv.length);
   else fail(`unknown argument ${argv[i]}`);
 }
@@ -47,6 +51,29 @@ if (!fs.existsSync(path.join(shared, "avatars", "debug-robot.vrm"))) {
 }
 
 const npm = process.platform === "win32" ? "npm.cmd" : "npm";
+
+// The package linters (devDependencies of tests/node, run from here, not installed in the
+// consumer project): publint (package.json against the files, exports order and formats) and
+// @arethetypeswrong/cli (what TypeScript resolves for every entry point under node10, node16
+// CJS and ESM, and bundler resolution). attw's "strict" profile; the .wasm entry points carry no
+// types by design and are excluded.
+const LINTERS = ["publint", "@arethetypeswrong/cli", "remark-cli", "remark-validate-links"];
+const WASM_ENTRYPOINTS = ["./handrig_bg.wasm", "./handrig_simd_bg.wasm"];
+
+function lint(tarball) {
+  const bin = (name) => {
+    const p = path.join(here, "node_modules", ".bin", name);
+    if (!fs.existsSync(p)) fail(`${p} is missing: run \`make setup\` (npm ci --prefix tests/node)`);
+    return p;
+  };
+  const runLinter = (name, args) => {
+    console.log(`# ${name} ${args.map((a) => (path.isAbsolute(a) ? path.relative(repo, a) : a)).join(" ")}`);
+    const res = spawnSync(bin(name), args, { stdio: "inherit", cwd: tmp });
+    if (res.status !== 0) fail(`${name} found problems in the package (above)`);
+  };
+  runLinter("publint", ["--strict", pkgDir]);
+  runLinter("attw", ["--profile", "strict", "--no-emoji", "--no-color", "--exclude-entrypoints", ...WASM_ENTRYPOINTS, "--", tarball]);
+}
 const tmp = fs.mkdtempSync(path.join(os.tmpdir(), "handrig-node-tests-"));
 const cleanup = () => {
   if (keep) console.log(`tests/node/run.mjs: kept ${tmp}`);
@@ -63,13 +90,15 @@ try {
   const pack = JSON.parse(packJson)[0];
   const tarball = path.join(tmp, pack.filename);
   console.log(`# packed ${pack.filename}: ${pack.entryCount} files, ${pack.size} bytes`);
+  lint(tarball);
 
   // 2. A fresh consumer project.
   const project = path.join(tmp, "consumer");
   fs.mkdirSync(project);
   // Same test tooling as tests/node (devDependencies and lockfile, so three, three-vrm,
   // typescript and esbuild resolve to the locked versions), plus handrig from the tarball.
-  const tools = JSON.parse(fs.readFileSync(path.join(here, "package.json"), "utf8")).devDependencies;
+  const tools = { ...JSON.parse(fs.readFileSync(path.join(here, "package.json"), "utf8")).devDependencies };
+  for (const name of LINTERS) delete tools[name];
   fs.writeFileSync(
     path.join(project, "package.json"),
     `${JSON.stringify(
@@ -97,7 +126,7 @@ try {
   fs.cpSync(consumerSrc, path.join(project, "test"), { recursive: true });
   const files = fs
     .readdirSync(path.join(project, "test"))
-    .filter((f) => /\.test\.(c|m)?js$/.test(f))
+    .filter((f) => /\.test\.(c|m)?js$/.test(f) && only.test(f))
     .sort()
     .map((f) => path.join("test", f));
   if (files.length === 0) fail("no tests in tests/node/consumer");

@@ -247,13 +247,17 @@ describe("the second fuzz round's findings (2026-12-02)", () => {
         f.hands[0].worldLandmarks = f.hands[0].worldLandmarks.map(([x, y, z]) => [x, y - 1000 - low, z]);
       }],
       ["a hand image landmark", (f) => (f.hands[0].landmarks[8][0] = 1000)],
-      ["a pose world landmark", (f) => (f.pose.worldLandmarks[16][2] = 1000)],
       ["a tracker wrist", (f) => (f.wrists = { right: { position: [1000, 1, 0] } })],
     ]) {
       const f = structuredClone(brother[20]);
       set(f);
       assert.ok(finiteResult(rig.solve(f, {})), `${where} at the limit: finite output`);
     }
+    // A pose world landmark is refused long before the limit: no body reaches 4 m from its hips
+    // (pixels given for meters, issue 30).
+    const far = structuredClone(brother[20]);
+    far.pose.worldLandmarks[16][2] = 1000;
+    assert.throws(() => rig.solve(far), message(/^frame\.pose\.worldLandmarks: a point is more than 4 m from the hips/));
     const cm = structuredClone(brother[20]);
     cm.hands[0].worldLandmarks = cm.hands[0].worldLandmarks.map((p) => p.map((c) => c * 100));
     assert.throws(() => rig.solve(cm), message(/^frame\.hands\[0\]\.worldLandmarks: the hand is more than 1 m across: world landmarks are meters \(centimeters given\?\)$/));

@@ -4,7 +4,7 @@
 import assert from "node:assert/strict";
 import { describe, it } from "node:test";
 
-import { HandRig } from "handrig";
+import { HandRig, LAYOUT } from "handrig";
 import { applyToVRM } from "handrig/three-vrm";
 import { avatars, editedRobot, isIdentity, loadVRM, readBytes, readRecording } from "./support.mjs";
 
@@ -318,6 +318,104 @@ describe("legacy Holistic results", () => {
       assert.ok(driven > clip.frames.length / 2, `the pose drives the arms in ${driven} frames`);
       plain.free();
       holistic.free();
+    }
+  });
+});
+
+describe("issue 30: mistakes a new user makes, named", () => {
+  const asl = async (clip) => {
+    const fs = await import("node:fs");
+    const path = await import("node:path");
+    const { shared } = await import("./support.mjs");
+    return JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", `${clip}.json`), "utf8")).frames;
+  };
+  const pt = ([x, y, z, visibility]) => (visibility === undefined ? { x, y, z } : { x, y, z, visibility });
+
+  it("a result nested under a field of the app's own (holistic, results): an Error naming the field", async () => {
+    const f = (await asl("thanks"))[20];
+    const result = {
+      poseLandmarks: [f.pose.landmarks.map(pt)],
+      poseWorldLandmarks: [f.pose.worldLandmarks.map(pt)],
+      leftHandLandmarks: [],
+      leftHandWorldLandmarks: [],
+      rightHandLandmarks: [],
+      rightHandWorldLandmarks: [],
+    };
+    const rig = HandRig.fromVrm(robotBytes);
+    throwsWith(() => rig.solve({ timeMs: 1, holistic: result }), /^frame\.holistic: unknown field holding an object: handrig reads timeMs, hands, pose, .*rig\.solve\(\{ timeMs, \.\.\.result \}\)/);
+    throwsWith(() => rig.solve({ timeMs: 1, results: [hand] }), /^frame\.results: unknown field holding an array of 1: /);
+    // Spread into the frame, the same result drives the arms; numbers and strings of the app's
+    // own ride along unremarked.
+    const good = rig.solve({ timeMs: 1, frame: 20, source: "webcam", ...result }, {});
+    assert.ok(!isIdentity(good.bones.rightUpperArm) || !isIdentity(good.bones.leftUpperArm), "the pose drove an arm");
+    rig.free();
+  });
+
+  it("image landmarks given as hand world landmarks: an Error saying they look image-normalized (object, result and flat paths)", () => {
+    const rig = HandRig.fromVrm(robotBytes);
+    const message = /^frame\.hands\[0\]\.worldLandmarks: these look like image-normalized landmarks \(within the image's 0\.\.1, centered far from the origin\): world landmarks are meters/;
+    throwsWith(() => rig.solve({ timeMs: 1, hands: [{ ...hand, worldLandmarks: hand.landmarks }] }), message);
+    const result = { landmarks: [hand.landmarks.map(pt)], worldLandmarks: [hand.landmarks.map(pt)], handedness: [[{ categoryName: hand.handedness, score: 0.9 }]] };
+    throwsWith(() => rig.solve({ timeMs: 1, hands: result }), message);
+    // The flat path: the same check, in Rust.
+    rig.input.fill(0);
+    const L = LAYOUT.input;
+    rig.input[L.handCount] = 1;
+    const h = L.hands;
+    rig.input[h + L.hand.handedness] = hand.handedness === "Right" ? 1 : 0;
+    rig.input[h + L.hand.score] = 1;
+    rig.input[h + L.hand.hasWorld] = 1;
+    hand.landmarks.forEach((p, k) => rig.input.set(p.slice(0, 3), h + L.hand.world + 3 * k));
+    throwsWith(() => rig.solveFlat(1), message);
+    // Real world landmarks, on every frame of the recording: accepted.
+    for (const f of frames) rig.solve(f);
+    rig.free();
+  });
+
+  it("pose world landmarks in pixels: an Error saying so", async () => {
+    const f = (await asl("eat"))[30];
+    const rig = HandRig.fromVrm(robotBytes, { torso: "pose" });
+    const pixels = f.pose.landmarks.map(([x, y, z, v]) => [x * 640, y * 480, z * 640, v]);
+    throwsWith(
+      () => rig.solve({ timeMs: 1, pose: { worldLandmarks: pixels, landmarks: f.pose.landmarks } }),
+      /^frame\.pose\.worldLandmarks: a point is more than 4 m from the hips: pose world landmarks are meters centered between the hips \(pixels given\?/,
+    );
+    assert.ok(rig.solve({ timeMs: 2, pose: f.pose }, {}).bones.chest, "the real pose is read");
+    rig.free();
+  });
+
+  it("solve(landmarks, \"Right\"), Kalidokit's call shape: the frame is blamed, with what handrig takes", () => {
+    const rig = HandRig.fromVrm(robotBytes);
+    throwsWith(
+      () => rig.solve(hand.landmarks, "Right"),
+      /^frame: must be a frame object \{ timeMs, hands\?, pose\?, wrists\? \}, got an array of 21 with string "Right" as a second argument: that is Kalidokit's Hand\.solve\(landmarks, side\) call shape, not handrig's\. Pass the MediaPipe result in one frame: rig\.solve\(\{ timeMs, hands: handLandmarkerResult \}\)/,
+    );
+    throwsWith(() => rig.solve(frames[10], "Left"), /^target: must be an object to fill with the result, got string "Left"; handrig takes no side argument/);
+    assert.equal(rig.solve(frames[10]).hands.right.status, "solved", "the rig still works");
+    rig.free();
+  });
+
+  it("timeMs in seconds (0.033 a frame): one console warning per rig; milliseconds: none", () => {
+    const warned = [];
+    const warn = console.warn;
+    console.warn = (m) => warned.push(String(m));
+    try {
+      const seconds = HandRig.fromVrm(robotBytes);
+      for (let i = 0; i < 40; i++) seconds.solve({ ...frames[100 + i], timeMs: i / 30 });
+      assert.equal(warned.length, 1, warned.join("\n"));
+      assert.match(warned[0], /^handrig: frame\.timeMs advanced by 0\.033 a frame for 5 frames: it looks like seconds\. timeMs is milliseconds/);
+      const ms = HandRig.fromVrm(robotBytes);
+      for (const f of frames.slice(100, 400)) ms.solve(f);
+      // Repeated times (a frame solved twice) and a paused clock are not seconds either.
+      for (let i = 0; i < 20; i++) ms.solve({ ...frames[400], timeMs: frames[400].timeMs + (i >> 1) * 33 });
+      assert.equal(warned.length, 1, warned.join("\n"));
+      // Three seconds-like steps at a time, then a millisecond one: not enough.
+      const few = HandRig.fromVrm(robotBytes);
+      for (let i = 0; i < 40; i++) few.solve({ ...frames[100 + i], timeMs: Math.floor(i / 4) * 100 + (i % 4) * 0.033 });
+      assert.equal(warned.length, 1, warned.join("\n"));
+      [seconds, ms, few].forEach((r) => r.free());
+    } finally {
+      console.warn = warn;
     }
   });
 });

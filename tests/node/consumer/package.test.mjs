@@ -20,6 +20,10 @@ describe("the packed tarball", () => {
       "LICENSE",
       "README.md",
       "cli.mjs",
+      "compat.cjs",
+      "compat.d.cts",
+      "compat.d.ts",
+      "compat.js",
       "index.cjs",
       "index.d.cts",
       "index.d.ts",
@@ -74,6 +78,20 @@ describe("package.json", () => {
     assert.ok(fs.statSync(path.join(installed, "cli.mjs")).mode & 0o100, "cli.mjs is executable");
   });
 
+  it("repository, homepage and bugs name Cargo.toml's repository; keywords; engines", () => {
+    const cargo = fs.readFileSync(path.join(process.env.HANDRIG_REPO, "Cargo.toml"), "utf8");
+    const repository = cargo.match(/^repository\s*=\s*"([^"]+)"/m)?.[1];
+    assert.ok(repository?.startsWith("https://github.com/"), `Cargo.toml repository: ${repository}`);
+    assert.deepEqual(manifest.repository, { type: "git", url: `git+${repository}.git` });
+    assert.equal(manifest.homepage, `${repository}#readme`);
+    assert.deepEqual(manifest.bugs, { url: `${repository}/issues` });
+    assert.ok(manifest.keywords.includes("vrm") && manifest.keywords.includes("mediapipe"));
+    assert.equal(manifest.engines.node, ">=18");
+    // node10 resolution (no exports) reads `types`: the CommonJS declarations, as `main` is CommonJS.
+    assert.equal(manifest.main, "./index.cjs");
+    assert.equal(manifest.types, "./index.d.cts");
+  });
+
   it("main, module, types and every export target exist in the package", () => {
     const targets = [manifest.main, manifest.module, manifest.types];
     const walk = (v) => {
@@ -85,6 +103,7 @@ describe("package.json", () => {
     assert.deepEqual(Object.keys(manifest.exports), [
       ".",
       "./three-vrm",
+      "./compat",
       "./handrig_bg.wasm",
       "./handrig_simd_bg.wasm",
       "./package.json",
@@ -94,9 +113,11 @@ describe("package.json", () => {
   it("resolves to the Node builds under Node's conditions", () => {
     assert.equal(require.resolve("handrig"), path.join(installed, "index.cjs"));
     assert.equal(require.resolve("handrig/three-vrm"), path.join(installed, "three-vrm.cjs"));
+    assert.equal(require.resolve("handrig/compat"), path.join(installed, "compat.cjs"));
     if (import.meta.resolve) {
       assert.equal(import.meta.resolve("handrig"), `file://${path.join(installed, "index.mjs")}`);
       assert.equal(import.meta.resolve("handrig/three-vrm"), `file://${path.join(installed, "three-vrm.js")}`);
+      assert.equal(import.meta.resolve("handrig/compat"), `file://${path.join(installed, "compat.js")}`);
     }
   });
 
