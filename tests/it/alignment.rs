@@ -89,11 +89,13 @@ fn label_for(side: Side) -> Handedness {
 }
 
 fn frame(skel: &Skeleton, side: Side, rotation: Quat, wrist_model: Vec3) -> FrameInput {
-    let mut f = frame_of(&[hand(
-        label_for(side),
-        0.95,
-        user_hand(skel, side, 1.25, rotation),
-    )]);
+    // Centered on the hand, as MediaPipe's world landmarks are (handrig reads only their
+    // offsets; a hand placed where the avatar's is would read as image landmarks given as world
+    // ones when its wrist has z = 0).
+    let mut points = user_hand(skel, side, 1.25, rotation);
+    let center = points.iter().copied().sum::<Vec3>() / points.len() as f32;
+    points.iter_mut().for_each(|p| *p -= center);
+    let mut f = frame_of(&[hand(label_for(side), 0.95, points)]);
     f.wrists[side.index()] = Some(WristObservation {
         position: wrist_model,
         rotation: None,
