@@ -16,6 +16,7 @@ mod arm_solvers;
 mod chain_ik;
 mod contact;
 mod fuzz;
+mod gltf;
 mod golden;
 mod hand_props;
 mod hand_real;
