@@ -25,6 +25,7 @@
 //                     WebAssembly instance (no dual-package hazard).
 //   index.d.ts/.d.cts types (emitted from src/index.ts; .d.cts without the default export);
 //                     three-vrm.{js,cjs,d.ts,d.cts} the three-vrm adapter (src/three-vrm.ts).
+//                     three.{js,cjs,d.ts,d.cts} the plain three.js adapter (src/three.ts).
 //   wasm/             wasm-bindgen output: handrig_wasm.js (--target web glue),
 //                     handrig_wasm.cjs (--target nodejs glue), handrig_bg.wasm (shared; the
 //                     package exports it as "handrig/handrig_bg.wasm") and
@@ -207,6 +208,9 @@ const ENTRIES = [
   // The three-vrm adapter (`handrig/three-vrm`), which needs no wasm.
   { src: "three-vrm.ts", out: "three-vrm.js", format: "esm", platform: "neutral" },
   { src: "three-vrm.ts", out: "three-vrm.cjs", format: "cjs", platform: "neutral" },
+  // The plain three.js adapter (`handrig/three`), which needs no wasm either.
+  { src: "three.ts", out: "three.js", format: "esm", platform: "neutral" },
+  { src: "three.ts", out: "three.cjs", format: "cjs", platform: "neutral" },
 ];
 // The public types, emitted from the same sources (one bundled .d.ts per entry): index.d.ts and
 // three-vrm.d.ts for ES modules, .d.cts (without the default export) for CommonJS.
@@ -225,6 +229,13 @@ const DECLARATIONS = [
     about:
       "// Types of `handrig/three-vrm`. The VRM is typed structurally (the members the adapter uses),\n" +
       "// so neither three nor @pixiv/three-vrm is needed to type-check; a three-vrm `VRM` fits.\n",
+  },
+  {
+    src: "three.ts",
+    out: "three",
+    about:
+      "// Types of `handrig/three`. Scene objects are typed structurally (the members the adapter uses),\n" +
+      "// so three is not needed to type-check; a three `Object3D` fits.\n",
   },
 ];
 

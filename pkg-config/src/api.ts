@@ -30,6 +30,7 @@ export type {
   WristInput,
 } from "./frame-types.js";
 export { HandRig } from "./hand-rig.js";
+export type { GltfOptions } from "./hand-rig.js";
 export { LAYOUT } from "./layout.js";
 export type { BodyJointName, FlatLayout, HumanBoneName, TorsoBoneName } from "./layout.js";
 export type { HandRigOptions, OptionDescription } from "./options.js";

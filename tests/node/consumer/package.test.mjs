@@ -29,6 +29,10 @@ describe("the packed tarball", () => {
       "three-vrm.d.cts",
       "three-vrm.d.ts",
       "three-vrm.js",
+      "three.cjs",
+      "three.d.cts",
+      "three.d.ts",
+      "three.js",
       "wasm/handrig_bg.wasm",
       "wasm/handrig_simd_bg.wasm",
       "wasm/handrig_wasm.cjs",
@@ -79,6 +83,7 @@ describe("package.json", () => {
     assert.deepEqual(Object.keys(manifest.exports), [
       ".",
       "./three-vrm",
+      "./three",
       "./handrig_bg.wasm",
       "./handrig_simd_bg.wasm",
       "./package.json",
@@ -88,9 +93,11 @@ describe("package.json", () => {
   it("resolves to the Node builds under Node's conditions", () => {
     assert.equal(require.resolve("handrig"), path.join(installed, "index.cjs"));
     assert.equal(require.resolve("handrig/three-vrm"), path.join(installed, "three-vrm.cjs"));
+    assert.equal(require.resolve("handrig/three"), path.join(installed, "three.cjs"));
     if (import.meta.resolve) {
       assert.equal(import.meta.resolve("handrig"), `file://${path.join(installed, "index.mjs")}`);
       assert.equal(import.meta.resolve("handrig/three-vrm"), `file://${path.join(installed, "three-vrm.js")}`);
+      assert.equal(import.meta.resolve("handrig/three"), `file://${path.join(installed, "three.js")}`);
     }
   });
 
