@@ -232,6 +232,20 @@ describe("handrig/three: a GLTFLoader Mixamo body driven like three-vrm drives i
       const { worst, worstAngle } = await compareWithVrm(THREE, {
         vrmFile: file(c.vrm), scene, rig, binding: rest.boneMap, frames,
       });
+      if (c.roll) {
+        // Control: the same rotations written as they are (no P^-1 q P B) put the bones far off,
+        // so the comparison above can fail.
+        const result = rig.solve(frameOf(frames[frames.length - 1]));
+        for (const [bone, q] of Object.entries(result.bones)) {
+          const node = rest.boneMap[bone] && scene.getObjectByName(rest.boneMap[bone]);
+          if (node) node.quaternion.fromArray(q);
+        }
+        scene.updateMatrixWorld(true);
+        const hand = scene.getObjectByName(rest.boneMap.rightHand).getWorldPosition(new THREE.Vector3());
+        const want = result.worldPositions.rightHand;
+        const off = Math.hypot(hand.x - want[0], hand.y - want[1], hand.z - want[2]);
+        assert.ok(off > 0.01, `naive write: right hand only ${off} m off`);
+      }
       rig.free();
       t.diagnostic(`largest distance ${(worst.d * 1000).toFixed(6)} mm (${worst.bone}, frame ${worst.frame}); result.bones vs the VRM's: ${worstAngle.toExponential(2)} deg`);
       assert.ok(worst.d < 1e-4, `${worst.bone} is ${worst.d} m from the VRM's on frame ${worst.frame}`);
