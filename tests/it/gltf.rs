@@ -465,6 +465,19 @@ fn bindings_name_their_source_and_nodes() {
     );
 }
 
+#[test]
+fn shared_vrms_read_by_from_gltf_as_by_from_vrm() {
+    for file in [recordings::ROBOT, "../shared/avatars/odd-armature-vrm0.vrm"] {
+        let bytes = std::fs::read(recordings::path(file)).unwrap();
+        let (a, _) = gltf::load_skeleton(&bytes, &[]).unwrap();
+        let b = handrig::vrm::load_skeleton(&bytes).unwrap();
+        assert_eq!(a.version(), b.version(), "{file}");
+        for bone in HumanBone::ALL {
+            assert_eq!(a.rest_world(bone), b.rest_world(bone), "{file}: {bone}");
+        }
+    }
+}
+
 /// A bone map over the Unreal file, built from the automatic binding, renamed.
 fn unreal_map() -> Vec<(String, String)> {
     let g = gltf::parse(&avatar("woman-unreal.glb"), &[]).unwrap();
