@@ -428,7 +428,8 @@ fn from_gltf_binds_mixamo_names_and_reports_the_bone_map() {
         get(&map, "leftUpperArm").as_string().as_deref(),
         Some("mixamorig:LeftArm")
     );
-    assert_eq!(js_sys::Object::keys(map.unchecked_ref()).length(), 54);
+    let keys = js_sys::Object::keys(map.unchecked_ref::<js_sys::Object>());
+    assert_eq!(keys.length(), 54);
     assert!(vrm.bone_map().is_none());
     // Same rest pose (through the Armature's turn and 0.01 scale), same solve.
     let (ra, rb) = (mixamo.rest_positions(), vrm.rest_positions());
