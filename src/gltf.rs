@@ -437,11 +437,17 @@ pub fn parse(bytes: &[u8], bone_map: &[(String, String)]) -> Result<GltfHumanoid
         (naming, None, e)
     };
     check_binding(&doc, &entries)?;
-    let mut binding: Vec<(HumanBone, usize, String)> = entries
+    // In bone order, by each bone's slot (check_binding made every bone appear once): no sort,
+    // whose code would be one more copy of the standard library's sort in the `.wasm`.
+    let mut slot: [Option<usize>; BONE_COUNT] = [None; BONE_COUNT];
+    for (b, n, _) in &entries {
+        slot[b.index()] = Some(*n);
+    }
+    let binding: Vec<(HumanBone, usize, String)> = HumanBone::ALL
         .iter()
-        .map(|(b, n, _)| (*b, *n, node_name(&doc, *n).to_string()))
+        .zip(slot)
+        .filter_map(|(b, n)| Some((*b, n?, node_name(&doc, n?).to_string())))
         .collect();
-    binding.sort_by_key(|(b, _, _)| b.index());
     let mut humanoid = vrm::humanoid_from_map(&doc, version.unwrap_or(VrmVersion::V1), entries)
         .map_err(as_gltf)?;
     if version.is_none() {
