@@ -28,6 +28,7 @@
 //   cli.mjs           the `handrig` command (bin): `handrig export` (pkg-config/cli.mjs, copied).
 //   compat.{js,cjs,d.ts,d.cts}  `handrig/compat` (src/compat.ts): the web glue and the baseline
 //                     .wasm inlined as base64 in one file (no fetch, no .wasm to serve).
+//                     three.{js,cjs,d.ts,d.cts} the plain three.js adapter (src/three.ts).
 //   wasm/             wasm-bindgen output: handrig_wasm.js (--target web glue),
 //                     handrig_wasm.cjs (--target nodejs glue), handrig_bg.wasm (shared; the
 //                     package exports it as "handrig/handrig_bg.wasm") and
@@ -216,6 +217,9 @@ const ENTRIES = [
   // `handrig/compat`: the wasm inlined (no fetch, no .wasm file); `await init()` everywhere.
   { src: "compat.ts", out: "compat.js", format: "esm", platform: "neutral" },
   { src: "compat.ts", out: "compat.cjs", format: "cjs", platform: "neutral" },
+  // The plain three.js adapter (`handrig/three`), which needs no wasm either.
+  { src: "three.ts", out: "three.js", format: "esm", platform: "neutral" },
+  { src: "three.ts", out: "three.cjs", format: "cjs", platform: "neutral" },
 ];
 // The public types, emitted from the same sources (one bundled .d.ts per entry): index.d.ts and
 // three-vrm.d.ts for ES modules, .d.cts (without the default export) for CommonJS.
@@ -241,6 +245,13 @@ const DECLARATIONS = [
     about:
       "// Types of `handrig/three-vrm`. The VRM is typed structurally (the members the adapter uses),\n" +
       "// so neither three nor @pixiv/three-vrm is needed to type-check; a three-vrm `VRM` fits.\n",
+  },
+  {
+    src: "three.ts",
+    out: "three",
+    about:
+      "// Types of `handrig/three`. Scene objects are typed structurally (the members the adapter uses),\n" +
+      "// so three is not needed to type-check; a three `Object3D` fits.\n",
   },
 ];
 

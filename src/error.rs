@@ -20,6 +20,8 @@ pub enum Error {
     MissingRequiredBones(Vec<&'static str>),
     /// A `.vrm` file could not be read.
     Vrm(String),
+    /// A glTF humanoid (`HandRig.fromGltf`: `.glb` or `.vrm`) could not be read or bound.
+    Gltf(String),
     /// The input is well-formed but geometrically unusable (e.g. a collapsed palm).
     Degenerate {
         /// Path of the field.
@@ -61,6 +63,7 @@ impl fmt::Display for Error {
                 names.join(", ")
             ),
             Error::Vrm(msg) => write!(f, "vrm: {msg}"),
+            Error::Gltf(msg) => write!(f, "gltf: {msg}"),
             Error::Degenerate { field, problem } => write!(f, "{field}: degenerate input: {problem}"),
         }
     }

@@ -24,6 +24,7 @@
 //!
 //! * [`bones`]: the 55 humanoid bones, parent map, sides and fingers.
 //! * [`skeleton`]: rest pose and forward kinematics over normalized bones.
+//! * [`gltf`]: reading any glTF humanoid (Mixamo, Unreal names, a bone map, or a VRM).
 //! * [`vrm`]: reading `.vrm` (glTF binary) files, VRM 1.0 and 0.x (the JSON chunk through
 //!   serde_json).
 //! * [`input`]: what a frame carries in, at the bottom of the imports: [`input::mediapipe`]
@@ -57,6 +58,7 @@ pub mod contact;
 pub mod error;
 pub mod filter;
 pub mod flat;
+pub mod gltf;
 pub mod hand;
 pub mod ik;
 pub mod input;

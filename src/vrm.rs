@@ -60,12 +60,46 @@ pub struct VrmHumanoid {
 /// extension, an unknown or duplicate bone name, a bone node index out of range, two bones
 /// on one node, or a bone whose world position is not finite (e.g. a zero-scale `matrix`).
 pub fn parse(bytes: &[u8]) -> Result<VrmHumanoid> {
-    let glb = Glb::parse(bytes)?;
-    let json = glb.json.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(glb.json);
-    let top = read_top_level(json)?;
-    let nodes = NodeTree::parse(&top.nodes.0)?;
-    let ext = top.extensions.as_ref();
-    let (version, map) = humanoid_map(ext, nodes.len())?;
+    let doc = Document::read(bytes)?;
+    let (version, map) = humanoid_map(doc.extensions.as_ref(), doc.tree.len())?;
+    humanoid_from_map(&doc, version, map)
+}
+
+/// A GLB's node hierarchy and extensions, checked (what [`parse`] and [`crate::gltf`] read).
+pub(crate) struct Document {
+    /// The `nodes` as written (for their names).
+    pub(crate) nodes: Vec<Json>,
+    /// The checked hierarchy with each node's local transform.
+    pub(crate) tree: NodeTree,
+    /// The top-level `extensions`, if any.
+    pub(crate) extensions: Option<Json>,
+}
+
+impl Document {
+    /// Reads the container, the JSON chunk's `nodes` and `extensions`, and checks the
+    /// hierarchy (every error an [`Error::Vrm`]).
+    pub(crate) fn read(bytes: &[u8]) -> Result<Document> {
+        let glb = Glb::parse(bytes)?;
+        let json = glb.json.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(glb.json);
+        let top = read_top_level(json)?;
+        let tree = NodeTree::parse(&top.nodes.0)?;
+        Ok(Document {
+            nodes: top.nodes.0,
+            tree,
+            extensions: top.extensions,
+        })
+    }
+}
+
+/// The humanoid of a bone map (bone, node, field for errors) over a read document: world
+/// positions in bone order and the look-at offset.
+pub(crate) fn humanoid_from_map(
+    doc: &Document,
+    version: VrmVersion,
+    map: Vec<BoneEntry>,
+) -> Result<VrmHumanoid> {
+    let nodes = &doc.tree;
+    let ext = doc.extensions.as_ref();
 
     let mut world = vec![None; nodes.len()];
     let head_node = map
@@ -398,9 +432,9 @@ impl<'a> Glb<'a> {
 // Node hierarchy
 
 /// `nodes` with their local transforms and the parent of each node, validated to be a forest.
-struct NodeTree {
+pub(crate) struct NodeTree {
     local: Vec<Affine>,
-    parent: Vec<Option<usize>>,
+    pub(crate) parent: Vec<Option<usize>>,
 }
 
 impl NodeTree {
@@ -453,7 +487,7 @@ impl NodeTree {
         Ok(tree)
     }
 
-    fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.local.len()
     }
 
@@ -617,7 +651,7 @@ fn numbers<const N: usize>(
 /// An affine transform in f64 (three.js computes in doubles; so do we, to agree to the last
 /// digits): `p -> m * p + t`, `m` stored as columns.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Affine {
+pub(crate) struct Affine {
     m: [[f64; 3]; 3],
     t: [f64; 3],
 }
@@ -745,10 +779,10 @@ fn quat_from_rotation_columns(c0: [f64; 3], c1: [f64; 3], c2: [f64; 3]) -> [f64;
 // Humanoid bone map
 
 /// One mapped bone: which bone, which node, and the JSON path to cite in errors.
-type BoneEntry = (HumanBone, usize, String);
+pub(crate) type BoneEntry = (HumanBone, usize, String);
 
 /// Reads the humanoid bone map of `VRMC_vrm` (preferred) or `VRM`.
-fn humanoid_map(ext: Option<&Json>, n: usize) -> Result<(VrmVersion, Vec<BoneEntry>)> {
+pub(crate) fn humanoid_map(ext: Option<&Json>, n: usize) -> Result<(VrmVersion, Vec<BoneEntry>)> {
     let v1 = ext.and_then(|e| e.get("VRMC_vrm"));
     let v0 = ext.and_then(|e| e.get("VRM"));
     let (version, entries) = match (v1, v0) {

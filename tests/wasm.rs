@@ -46,6 +46,8 @@ const ROBOT: &[u8] = include_bytes!("../../shared/avatars/debug-robot.vrm");
 const ODD_VRM0: &[u8] = include_bytes!("../../shared/avatars/odd-armature-vrm0.vrm");
 const HUGE_SCALE: &[u8] = include_bytes!("../../shared/repro/huge-scale-robot.vrm");
 const VRM0_FINGERS: &[u8] = include_bytes!("fixtures/vrm0-fingers.vrm");
+const MIXAMO_MAN: &[u8] = include_bytes!("fixtures/avatars/man-mixamo.glb");
+const VRM1_MAN: &[u8] = include_bytes!("fixtures/avatars/man-vrm1.vrm");
 
 /// A JSON value as the plain JS object the JS layer would pass.
 fn js(v: Value) -> JsValue {
@@ -414,6 +416,50 @@ fn from_vrm_reads_vrm1_and_vrm0_and_rejects_broken_files() {
     let m = failure(HandRig::from_vrm(HUGE_SCALE, JsValue::UNDEFINED));
     assert!(m.contains("position out of range"), "{m}");
     assert!(HandRig::from_vrm(ROBOT, JsValue::UNDEFINED).is_ok());
+}
+
+#[wasm_bindgen_test]
+fn from_gltf_binds_mixamo_names_and_reports_the_bone_map() {
+    let mut mixamo = HandRig::from_gltf(MIXAMO_MAN, Array::new(), JsValue::UNDEFINED).unwrap();
+    let mut vrm = HandRig::from_vrm(VRM1_MAN, JsValue::UNDEFINED).unwrap();
+    assert_eq!(mixamo.vrm_version(), "1");
+    let map: JsValue = mixamo.bone_map().expect("a bone map").into();
+    assert_eq!(
+        get(&map, "leftUpperArm").as_string().as_deref(),
+        Some("mixamorig:LeftArm")
+    );
+    let keys = js_sys::Object::keys(map.unchecked_ref::<js_sys::Object>());
+    assert_eq!(keys.length(), 54);
+    assert!(vrm.bone_map().is_none());
+    // Same rest pose (through the Armature's turn and 0.01 scale), same solve.
+    let (ra, rb) = (mixamo.rest_positions(), vrm.rest_positions());
+    assert!(ra.iter().zip(&rb).all(|(a, b)| (a - b).abs() < 1e-6));
+    write_frame(&mixamo, &recording_frame(5));
+    write_frame(&vrm, &recording_frame(5));
+    assert_eq!(mixamo.solve_flat(5.0), 0);
+    assert_eq!(vrm.solve_flat(5.0), 0);
+    let (a, b) = (read_output(&mixamo), read_output(&vrm));
+    let bone = HumanBone::RightIndexIntermediate;
+    assert!(rotation(&a, bone).angle_between(rotation(&b, bone)) < 1e-6);
+
+    // A bone map (pairs of strings) naming a node twice: an error naming both bones.
+    let pairs = Array::of4(
+        &"leftHand".into(),
+        &"mixamorig:LeftHand".into(),
+        &"rightHand".into(),
+        &"mixamorig:LeftHand".into(),
+    );
+    let m = failure(HandRig::from_gltf(MIXAMO_MAN, pairs, JsValue::UNDEFINED));
+    assert!(
+        m.starts_with("gltf: duplicate binding: leftHand and rightHand"),
+        "{m}"
+    );
+    let m = failure(HandRig::from_gltf(
+        b"not a glb",
+        Array::new(),
+        JsValue::UNDEFINED,
+    ));
+    assert!(m.starts_with("gltf: not a glTF binary"), "{m}");
 }
 
 #[wasm_bindgen_test]

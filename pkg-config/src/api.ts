@@ -30,6 +30,7 @@ export type {
   WristInput,
 } from "./frame-types.js";
 export { HandRig } from "./hand-rig.js";
+export type { GltfOptions } from "./hand-rig.js";
 export { LAYOUT } from "./layout.js";
 export { MotionRecorder } from "./motion-recorder.js";
 export type { BVHOptions, RecordableResult, RecordableRig, VRMAOptions } from "./motion-recorder.js";

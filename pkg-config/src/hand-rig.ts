@@ -5,15 +5,55 @@
 // builds the result object from the output view (results.ts), reusing one object per rig (or
 // the caller's), so that a frame allocates nothing once warmed up.
 
-import { asError, describe, isObject, readError } from "./errors.js";
+import { asError, describe, fail, isObject, readError, readUser, reading } from "./errors.js";
 import type { BoneMap, FrameInput, RestPose, Vec3 } from "./frame-types.js";
 import { TIME, packFrame } from "./frame.js";
-import { BONES, BONE_COUNT, LAYOUT, LI, LO, optionNames, type FlatLayout, type HumanBoneName } from "./layout.js";
+import { BONES, BONE_COUNT, BONE_INDEX, LAYOUT, LI, LO, optionNames, type FlatLayout, type HumanBoneName } from "./layout.js";
 import { cleanDescriptions, optionsValue, type HandRigOptions, type OptionDescription } from "./options.js";
 import type { ContactModel, SolveResult } from "./result-types.js";
 import { fillResult } from "./results.js";
 import { restPoseToFlat, vrmBytes } from "./rest-pose.js";
 import { addDispose, ensureReady, wasm, wasmMemory, type RawHandRig } from "./wasm.js";
+
+/** The options only `HandRig.fromGltf` reads. */
+export interface GltfOptions {
+  skeleton?: {
+    /** `{ humanBoneName: nodeName }`: binds the humanoid by node names (the whole binding). */
+    boneMap?: BoneMap<string>;
+  };
+}
+
+/** `options.skeleton.boneMap` as pairs of strings, and the other options. */
+function splitSkeletonOptions(options: unknown): { boneMap: string[]; rest: unknown } {
+  return readUser("options", () => {
+    if (!isObject(options) || !("skeleton" in options)) return { boneMap: [], rest: options };
+    const { skeleton, ...rest } = options as { skeleton?: unknown };
+    const pairs: string[] = [];
+    if (skeleton === undefined) return { boneMap: pairs, rest };
+    reading.part = "options.skeleton";
+    if (!isObject(skeleton) || Array.isArray(skeleton)) fail("options.skeleton", `must be an object { boneMap }, got ${describe(skeleton)}`);
+    for (const key of Object.keys(skeleton)) {
+      if (key !== "boneMap") fail(`options.skeleton.${key}`, "unknown option (options.skeleton has boneMap only)");
+    }
+    const map = skeleton.boneMap;
+    if (map === undefined) return { boneMap: pairs, rest };
+    reading.part = "options.skeleton.boneMap";
+    if (!isObject(map) || Array.isArray(map)) {
+      fail("options.skeleton.boneMap", `must be an object { [humanBoneName]: nodeName }, got ${describe(map)}`);
+    }
+    for (const bone of Object.keys(map)) {
+      const field = `options.skeleton.boneMap.${bone}`;
+      reading.part = field;
+      if (!BONE_INDEX.has(bone)) {
+        fail("options.skeleton.boneMap", `unknown bone name ${JSON.stringify(bone)} (expected a VRM 1.0 humanoid bone name such as "leftHand")`);
+      }
+      const node = map[bone];
+      if (typeof node !== "string") fail(field, `must be a node name (a string), got ${describe(node)}`);
+      pairs.push(bone, node);
+    }
+    return { boneMap: pairs, rest };
+  });
+}
 
 // Constructor token for wrapping a raw rig made by a static factory (fromVrm).
 const ADOPT = {};
@@ -126,6 +166,36 @@ export class HandRig {
       throw asError(e);
     }
     return new HandRig(ADOPT as RestPose, r as unknown as HandRigOptions);
+  }
+
+  /**
+   * A rig for any glTF humanoid (`.glb`, or a `.vrm`), read from the file's bytes (in wasm). The
+   * humanoid is `options.skeleton.boneMap` (`{ leftHand: "nodeName", ... }`, the whole binding)
+   * when given, else the VRM extension, else Mixamo (`mixamorig:LeftHandIndex1`) or Unreal
+   * (`upperarm_l`, `index_01_l`) node names. The model may face +Z or -Z (found from its
+   * skeleton); bone rest rotations (rolls) do not matter. `rig.boneMap()` reports the binding.
+   * @throws Error starting with "gltf:" naming the bone (missing required bones, duplicate
+   * bindings, a chain out of order, no humanoid found) or the part of the file.
+   */
+  static fromGltf(bytes: Uint8Array | ArrayBuffer | ArrayBufferView, options?: HandRigOptions & GltfOptions): HandRig {
+    ensureReady("HandRig.fromGltf()");
+    let r: RawHandRig;
+    try {
+      const { boneMap, rest } = splitSkeletonOptions(options);
+      r = wasm().HandRig.fromGltf(vrmBytes(bytes), boneMap, optionsValue(rest));
+    } catch (e) {
+      throw asError(e);
+    }
+    return new HandRig(ADOPT as RestPose, r as unknown as HandRigOptions);
+  }
+
+  /**
+   * Which node each humanoid bone is bound to, `{ hips: "mixamorig:Hips", ... }` (node names as
+   * written in the file), for a rig made by `HandRig.fromGltf`; `null` for other rigs.
+   */
+  boneMap(): BoneMap<string> | null {
+    const m = this.#live("boneMap").boneMap();
+    return m === undefined ? null : (m as BoneMap<string>);
   }
 
   /**

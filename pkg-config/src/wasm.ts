@@ -17,6 +17,7 @@ export interface RawHandRig {
   resetCalibration(): void;
   reset(): void;
   calibrateHandScale(): Float32Array;
+  boneMap(): object | undefined;
   free(): void;
 }
 
@@ -38,6 +39,7 @@ export interface RawOptionDescription {
 export interface RawHandRigClass {
   new (rest: Float64Array, vrmVersion: number, options: unknown): RawHandRig;
   fromVrm(bytes: Uint8Array, options: unknown): RawHandRig;
+  fromGltf(bytes: Uint8Array, boneMap: string[], options: unknown): RawHandRig;
   memory(): unknown;
   layout(): unknown;
   optionDescriptions(): unknown[];

@@ -74,6 +74,8 @@ pub struct HandRig {
     input: Box<[f32]>,
     output: Box<[f32]>,
     error: Option<String>,
+    /// `HandRig.fromGltf` rigs: each bound bone's node name (`boneMap()`).
+    binding: Vec<(HumanBone, String)>,
 }
 
 #[wasm_bindgen]
@@ -122,6 +124,43 @@ impl HandRig {
         Self::with_skeleton(skeleton, options)
     }
 
+    /// `HandRig.fromGltf(bytes, boneMap, options)`: reads a glTF binary (`.glb`, or a `.vrm`)
+    /// whose humanoid is found by [`crate::gltf`]. `boneMap`: an array of strings, pairs of
+    /// humanoid bone name and node name (empty: find the humanoid by the VRM extension or by
+    /// Mixamo / Unreal names); the JS layer read it from `options.skeleton.boneMap`.
+    #[wasm_bindgen(js_name = fromGltf)]
+    pub fn from_gltf(bytes: &[u8], bone_map: Array, options: JsValue) -> JsResult<HandRig> {
+        let strings: Vec<String> = bone_map.iter().filter_map(|v| v.as_string()).collect();
+        if strings.len() != bone_map.length() as usize || strings.len() % 2 != 0 {
+            return Err(js_err(Error::invalid(
+                "options.skeleton.boneMap",
+                "internal: expected pairs of strings",
+            )));
+        }
+        let pairs: Vec<(String, String)> = strings
+            .chunks_exact(2)
+            .map(|p| (p[0].clone(), p[1].clone()))
+            .collect();
+        let (skeleton, g) = crate::gltf::load_skeleton(bytes, &pairs).map_err(js_err)?;
+        let mut rig = Self::with_skeleton(skeleton, options)?;
+        rig.binding = g.binding.into_iter().map(|(b, _, n)| (b, n)).collect();
+        Ok(rig)
+    }
+
+    /// `{ humanBone: nodeName }` of a `fromGltf` rig (every bound bone); `undefined` for rigs
+    /// made otherwise.
+    #[wasm_bindgen(js_name = boneMap)]
+    pub fn bone_map(&self) -> Option<Object> {
+        if self.binding.is_empty() {
+            return None;
+        }
+        let o = Object::new();
+        for (b, n) in &self.binding {
+            set(&o, b.as_str(), &JsValue::from_str(n));
+        }
+        Some(o)
+    }
+
     fn with_skeleton(skeleton: Skeleton, options: JsValue) -> JsResult<HandRig> {
         let options = rig_options(options).map_err(js_err)?;
         let rig = Rig::new(skeleton, options).map_err(js_err)?;
@@ -132,6 +171,7 @@ impl HandRig {
             input: vec![0.0; flat::input::LEN].into_boxed_slice(),
             output: vec![0.0; flat::output::LEN].into_boxed_slice(),
             error: None,
+            binding: Vec::new(),
         })
     }
 

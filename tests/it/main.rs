@@ -17,6 +17,7 @@ mod bad_frames;
 mod chain_ik;
 mod contact;
 mod fuzz;
+mod gltf;
 mod golden;
 mod hand_props;
 mod hand_real;

@@ -10,7 +10,9 @@
 
 import * as THREE from "three";
 import { GLTFLoader } from "three/addons/loaders/GLTFLoader.js";
-import { VRMLoaderPlugin, VRMUtils } from "@pixiv/three-vrm";
+import { VRM, VRMHumanoid, VRMLoaderPlugin, VRMUtils } from "@pixiv/three-vrm";
+import { HandRig } from "handrig";
+import { sanitizeNodeName } from "handrig/three";
 // The package's three-vrm adapter: the rest pose handrig wants, and writing results back.
 import { applyToVRM, restPoseFromVRM } from "handrig/three-vrm";
 
@@ -55,8 +57,36 @@ export async function parseVrm(bytes) {
   const buffer = bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength);
   const gltf = await new Promise((resolve, reject) => loader.parse(buffer, "", resolve, reject));
   const vrm = gltf.userData.vrm;
-  if (!vrm || !vrm.humanoid) throw new Error("not a VRM file (no VRM humanoid extension)");
-  return vrm;
+  if (vrm && vrm.humanoid) return vrm;
+  return vrmFromPlainGltf(gltf.scene, bytes);
+}
+
+/**
+ * A plain glTF humanoid (Mixamo, Unreal-mannequin names: no VRM extension) as a three-vrm VRM:
+ * handrig binds its bones (`HandRig.fromGltf(bytes).boneMap()`, file node names, which three
+ * sanitizes) and finds its facing; three-vrm's `VRMHumanoid` then builds the normalized rig over
+ * the model's own bones (rest rotations carried through, as for a VRM), so the rest of the demo
+ * drives it like any VRM. A model facing -Z is marked VRM 0.x, as handrig treats it.
+ */
+function vrmFromPlainGltf(scene, bytes) {
+  let rig;
+  let boneMap;
+  let version;
+  try {
+    rig = HandRig.fromGltf(bytes);
+    boneMap = rig.boneMap();
+    version = rig.vrmVersion;
+  } finally {
+    rig?.free();
+  }
+  const humanBones = {};
+  for (const [bone, name] of Object.entries(boneMap)) {
+    const node = scene.getObjectByName(sanitizeNodeName(name)) ?? scene.getObjectByName(name);
+    if (node) humanBones[bone] = { node };
+  }
+  const humanoid = new VRMHumanoid(humanBones);
+  scene.add(humanoid.normalizedHumanBonesRoot);
+  return new VRM({ scene, humanoid, meta: { metaVersion: version, name: "glTF humanoid" } });
 }
 
 /** "0" for VRM 0.x, "1" for VRM 1.0. */

@@ -495,7 +495,7 @@ async function loadAvatar(bytes, name) {
     views[k].avatar.setMeshesVisible(a.hasBody);
     views[k].avatar.setSkeletonVisible(!a.hasBody);
   }
-  const parser = compareWithParser(bytes, a.rest);
+  const parser = compareWithParser(bytes, a.rest, isVrmFile(bytes));
   demo.avatar = { name, vrmVersion: a.version, boneCount: a.boneCount, armLength: a.armLength, hasBody: a.hasBody, parser };
   demo.avatarLoads++;
   // A .vrma playing goes on playing on the new avatar.
@@ -504,11 +504,18 @@ async function loadAvatar(bytes, name) {
     `${name}: VRM ${a.version === "0" ? "0.x" : "1.0"}, ${a.boneCount} humanoid bones, arm ${(a.armLength * 100).toFixed(1)} cm ` +
     `(handrig's ${demo.wasmBuild} WebAssembly build). ` +
     (parser.error
-      ? `handrig's own parser (HandRig.fromVrm) refused it: ${parser.error}`
-      : `HandRig.fromVrm reads the same rest pose as three-vrm to ${(parser.maxDiff * 1e6).toFixed(1)} µm (${parser.bones} bones).`);
+      ? `handrig's own parser (HandRig.${parser.reader}) refused it: ${parser.error}`
+      : `HandRig.${parser.reader} reads the same rest pose as three-vrm to ${(parser.maxDiff * 1e6).toFixed(1)} µm (${parser.bones} bones).`);
   frameCamera(a);
   dirty = true;
   status(`${name} loaded`);
+}
+
+/** Whether a GLB's JSON chunk names a VRM extension (a plain glTF humanoid goes through fromGltf). */
+function isVrmFile(bytes) {
+  const len = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength).getUint32(12, true);
+  const json = new TextDecoder().decode(bytes.subarray(20, 20 + Math.min(len, bytes.byteLength - 20)));
+  return /"(VRMC_vrm|VRM)"\s*:/.test(json);
 }
 
 /**
@@ -516,10 +523,11 @@ async function loadAvatar(bytes, name) {
  * the page gives the rigs (three-vrm's normalized bones via restPoseFromVRM). Both are in the
  * model's own frame. Returns { bones, maxDiff (m), missing, version } or { error }.
  */
-function compareWithParser(bytes, rest) {
+function compareWithParser(bytes, rest, vrmFile) {
   let rig;
+  const reader = vrmFile ? "fromVrm" : "fromGltf";
   try {
-    rig = HandRig.fromVrm(bytes);
+    rig = vrmFile ? HandRig.fromVrm(bytes) : HandRig.fromGltf(bytes);
     const parsed = rig.restWorldPositions();
     let maxDiff = 0;
     const missing = [];
@@ -532,9 +540,9 @@ function compareWithParser(bytes, rest) {
       maxDiff = Math.max(maxDiff, Math.hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]));
     }
     const extra = Object.keys(parsed).filter((n) => !rest.bones[n]);
-    return { bones: Object.keys(parsed).length, maxDiff, missing, extra, version: rig.vrmVersion };
+    return { bones: Object.keys(parsed).length, maxDiff, missing, extra, version: rig.vrmVersion, reader };
   } catch (e) {
-    return { error: String(e?.message ?? e) };
+    return { error: String(e?.message ?? e), reader };
   } finally {
     rig?.free();
   }

@@ -1,4 +1,4 @@
-// Browser tests: dropping .vrm files (VRM 0.x and 1.0) onto the page with a DataTransfer drop
+// Browser tests: dropping .vrm files (VRM 0.x and 1.0) and a plain glTF humanoid (.glb) onto the page with a DataTransfer drop
 // event, and a broken file that must not break the page.
 
 import { after, before, test } from "node:test";
@@ -176,6 +176,29 @@ test("dropping a generated human (tests/fixtures/avatars/child-vrm0.vrm): its bo
   assert.ok(stats.nonBg > 0.03 * stats.pixels, `the body is drawn (${stats.nonBg} of ${stats.pixels} pixels)`);
   assert.ok(s.left.x > s.right.x, `faces the viewer (left hand at x=${s.left.x}, right at x=${s.right.x})`);
   t.diagnostic(`right error with alignment ${s.errorMm.with.right?.toFixed(2)} mm`);
+  assert.deepEqual(errors, []);
+});
+
+test("dropping a plain glTF humanoid (tests/fixtures/avatars/man-mixamo.glb, Mixamo names, bone rolls): bound by HandRig.fromGltf, driven like a VRM", async (t) => {
+  const bytes = readFileSync(join(REPO, "tests", "fixtures", "avatars", "man-mixamo.glb"));
+  const s = await drop(bytes, "man-mixamo.glb");
+  assert.equal(s.avatar?.name, "man-mixamo.glb", s.status);
+  assert.equal(s.avatar.vrmVersion, "1");
+  assert.equal(s.avatar.boneCount, 54);
+  assert.equal(s.avatar.hasBody, true);
+  assert.equal(s.avatar.parser.reader, "fromGltf");
+  assertParserAgrees(s.avatar);
+  assertFiniteResult(s.results.with, "with");
+  // three-vrm's normalized rig over the Mixamo bones and handrig's FK agree.
+  const mm = s.errorMm.with.right;
+  if (Number.isFinite(mm)) {
+    assert.ok(Math.abs(s.shownErrorMm.with.right - mm) < 0.05, `three ${s.shownErrorMm.with.right} vs handrig ${mm} mm`);
+  }
+  const png = await page.screenshot({ path: shot("drop-glb-mixamo-man.png") });
+  const stats = await pixelStats(page, png, s.rects.with.body);
+  assert.ok(stats.nonBg > 0.03 * stats.pixels, `the body is drawn (${stats.nonBg} of ${stats.pixels} pixels)`);
+  assert.ok(s.left.x > s.right.x, `faces the viewer (left hand at x=${s.left.x}, right at x=${s.right.x})`);
+  t.diagnostic(`right error with alignment ${mm?.toFixed(2)} mm`);
   assert.deepEqual(errors, []);
 });
 

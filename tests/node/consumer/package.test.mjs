@@ -34,6 +34,10 @@ describe("the packed tarball", () => {
       "three-vrm.d.cts",
       "three-vrm.d.ts",
       "three-vrm.js",
+      "three.cjs",
+      "three.d.cts",
+      "three.d.ts",
+      "three.js",
       "wasm/handrig_bg.wasm",
       "wasm/handrig_simd_bg.wasm",
       "wasm/handrig_wasm.cjs",
@@ -104,6 +108,7 @@ describe("package.json", () => {
       ".",
       "./three-vrm",
       "./compat",
+      "./three",
       "./handrig_bg.wasm",
       "./handrig_simd_bg.wasm",
       "./package.json",
@@ -114,10 +119,12 @@ describe("package.json", () => {
     assert.equal(require.resolve("handrig"), path.join(installed, "index.cjs"));
     assert.equal(require.resolve("handrig/three-vrm"), path.join(installed, "three-vrm.cjs"));
     assert.equal(require.resolve("handrig/compat"), path.join(installed, "compat.cjs"));
+    assert.equal(require.resolve("handrig/three"), path.join(installed, "three.cjs"));
     if (import.meta.resolve) {
       assert.equal(import.meta.resolve("handrig"), `file://${path.join(installed, "index.mjs")}`);
       assert.equal(import.meta.resolve("handrig/three-vrm"), `file://${path.join(installed, "three-vrm.js")}`);
       assert.equal(import.meta.resolve("handrig/compat"), `file://${path.join(installed, "compat.js")}`);
+      assert.equal(import.meta.resolve("handrig/three"), `file://${path.join(installed, "three.js")}`);
     }
   });
 
