@@ -823,8 +823,9 @@ mod tests {
                 Handedness::Left
             };
             h.score = 0.75;
+            // Meters around the hand, as MediaPipe gives them (not image-normalized).
             for (k, p) in h.world.iter_mut().enumerate() {
-                *p = Vec3::new(k as f32 * 0.01, i as f32, -0.02 * k as f32);
+                *p = Vec3::new(k as f32 * 0.01, 0.1 * i as f32, -0.02 * k as f32 - 0.01);
             }
         }
         frame.hands[1].image = Some([Vec3::splat(0.5); HAND_LANDMARKS]);
