@@ -274,11 +274,13 @@ impl ContactSolver {
 
     /// Moves both sides' wrist targets for contact (face, then hands, then body), filling
     /// `reports` for every side with a target. `world` is the avatar posed by this frame's
-    /// rotations before the arms' IK (the head and torso as they will be shown); `finger`
-    /// the aligned finger, whose tip makes face contact. Allocates nothing.
+    /// rotations before the arms' IK (the head and torso as they will be shown); `fingers`
+    /// per side (`[left, right]`) the finger whose tip slot makes face contact: the aligned
+    /// finger, or what stands in for it ([`crate::align::AlignedPart::touch_finger`]).
+    /// Allocates nothing.
     pub fn solve(
         &self,
-        finger: Finger,
+        fingers: [Finger; 2],
         faces: &UserFaces,
         world: &WorldPose,
         targets: &mut [Option<SideTarget>; 2],
@@ -288,8 +290,8 @@ impl ContactSolver {
         let h = HumanBone::Head.index();
         let avatar_frame = self.face.frame(world.position[h], world.rotation[h]);
         let avatar_local = self.face.local_anchors();
-        let tip = 1 + finger.index();
-        for (target, report) in targets.iter_mut().zip(reports.iter_mut()) {
+        for ((target, report), finger) in targets.iter_mut().zip(reports.iter_mut()).zip(fingers) {
+            let tip = 1 + finger.index();
             let Some(t) = target.as_mut() else {
                 *report = None;
                 continue;
@@ -355,8 +357,11 @@ impl ContactSolver {
 
         if o.colliders {
             let shapes = self.colliders.shapes(world);
-            for (target, report) in targets.iter_mut().zip(reports.iter_mut()) {
+            for ((target, report), finger) in
+                targets.iter_mut().zip(reports.iter_mut()).zip(fingers)
+            {
                 let Some(t) = target.as_mut() else { continue };
+                let tip = 1 + finger.index();
                 let c = &self.colliders;
                 let mut points = [(t.wrist, c.hand_margin); 3];
                 let mut n = 1;

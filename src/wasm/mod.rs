@@ -21,7 +21,7 @@ use glam::Vec3;
 use js_sys::{Array, Object, Reflect};
 use wasm_bindgen::prelude::*;
 
-use crate::bones::{HumanBone, BONE_COUNT};
+use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::Error;
 use crate::flat;
 use crate::mediapipe::FrameInput;
@@ -362,6 +362,24 @@ impl HandRig {
     /// face anchors `x y z` (nose, chin, mouth, leftCheek, rightCheek, leftEar, rightEar,
     /// forehead), the head breadth, then the torso and neck capsules `[present, ax, ay, az,
     /// bx, by, bz, radius]` and the head sphere `[present, cx, cy, cz, radius]`.
+    /// Per side (`[left, right]`), the index (`LAYOUT.bones`) of the bone that carries the
+    /// aligned point: `alignment.finger`'s distal bone, or what stands in for it on an avatar
+    /// without it (another bone of that finger, another finger's, the hand for the palm).
+    #[wasm_bindgen(js_name = alignedBones)]
+    pub fn aligned_bones(&self) -> Vec<u8> {
+        Side::BOTH
+            .iter()
+            .map(|&s| self.rig.aligned_part(s).bone(s).index() as u8)
+            .collect()
+    }
+
+    /// What the avatar lacks for fingertip alignment and what is used instead (one message for
+    /// both sides), or `undefined` when it has `alignment.finger`'s distal bones.
+    #[wasm_bindgen(getter, js_name = alignmentWarning)]
+    pub fn alignment_warning(&self) -> Option<String> {
+        self.rig.alignment_warning()
+    }
+
     #[wasm_bindgen(js_name = contactModel)]
     pub fn contact_model(&self) -> Vec<f32> {
         use crate::contact::Shape;
