@@ -224,15 +224,18 @@ impl AlignedPart {
 /// `Lk` is the segment ending at the chain's joint `k` (fingers: wrist joint to MCP, MCP to
 /// PIP, PIP to DIP; thumb: L0 unused, CMC to MCP, MCP to IP). The segment past the DIP is
 /// `TIP_RATIO * L2`. Phalanges and the thumb's metacarpal: the mean lengths of Buryanov &
-/// Kotiuk 2010 (the source of [`TIP_RATIO`]); wrist-to-MCP: the hand joint to the proximal
-/// joint of the generated adult avatars (MakeHuman, docs/avatars.md), which anatomy tables do
-/// not give (the wrist joint sits inside the carpus).
+/// Kotiuk 2010 (the source of [`TIP_RATIO`]). Wrist joint to MCP, which anatomy tables do not
+/// give (they measure the metacarpal bone; the wrist joint sits inside the carpus): the
+/// human-proportioned test fixture's (tests/fixtures/PROVENANCE.md), scaled to these
+/// phalanges. Avatars differ from it (the generated MakeHuman hands have proximal phalanges
+/// a quarter of the wrist-to-knuckle length, against two fifths here), so a point extrapolated
+/// from the proximal bone alone is approximate; docs/alignment-ik.md has the figures.
 pub const SEGMENT_MM: [[f32; 3]; 5] = [
     [0.0, 46.2, 30.9],
-    [88.0, 39.8, 22.4],
-    [86.0, 44.6, 26.3],
-    [82.0, 41.4, 25.7],
-    [78.0, 32.7, 18.1],
+    [95.6, 39.8, 22.4],
+    [96.2, 44.6, 26.3],
+    [91.1, 41.4, 25.7],
+    [87.3, 32.7, 18.1],
 ];
 
 /// How far past the joint of the chain's bone `depth` the avatar's point (`Dip`: joint 2,

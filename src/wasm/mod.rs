@@ -358,19 +358,17 @@ impl HandRig {
             .collect()
     }
 
-    /// The avatar's self-contact model at rest (meters, the model's own frame), flat: the 8
-    /// face anchors `x y z` (nose, chin, mouth, leftCheek, rightCheek, leftEar, rightEar,
-    /// forehead), the head breadth, then the torso and neck capsules `[present, ax, ay, az,
-    /// bx, by, bz, radius]` and the head sphere `[present, cx, cy, cz, radius]`.
     /// Per side (`[left, right]`), the index (`LAYOUT.bones`) of the bone that carries the
     /// aligned point: `alignment.finger`'s distal bone, or what stands in for it on an avatar
-    /// without it (another bone of that finger, another finger's, the hand for the palm).
+    /// without it (another bone of that finger, another finger's, the hand for the palm); then
+    /// per side `1` when it is such a stand-in, else `0`.
     #[wasm_bindgen(js_name = alignedBones)]
     pub fn aligned_bones(&self) -> Vec<u8> {
-        Side::BOTH
-            .iter()
-            .map(|&s| self.rig.aligned_part(s).bone(s).index() as u8)
-            .collect()
+        let configured = self.rig.options().alignment.finger;
+        let parts = Side::BOTH.map(|s| (s, self.rig.aligned_part(s)));
+        let bones = parts.map(|(s, p)| p.bone(s).index() as u8);
+        let stand_in = parts.map(|(_, p)| u8::from(!p.is_configured(configured)));
+        [bones, stand_in].concat()
     }
 
     /// What the avatar lacks for fingertip alignment and what is used instead (one message for
@@ -380,6 +378,10 @@ impl HandRig {
         self.rig.alignment_warning()
     }
 
+    /// The avatar's self-contact model at rest (meters, the model's own frame), flat: the 8
+    /// face anchors `x y z` (nose, chin, mouth, leftCheek, rightCheek, leftEar, rightEar,
+    /// forehead), the head breadth, then the torso and neck capsules `[present, ax, ay, az,
+    /// bx, by, bz, radius]` and the head sphere `[present, cx, cy, cz, radius]`.
     #[wasm_bindgen(js_name = contactModel)]
     pub fn contact_model(&self) -> Vec<f32> {
         use crate::contact::Shape;
