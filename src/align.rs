@@ -76,7 +76,9 @@ pub struct AlignmentReport {
     pub error: f32,
     /// Whether the arm reached the IK wrist.
     pub reachable: bool,
-    /// Whether the avatar has the aligned finger (otherwise the IK wrist is the pose wrist).
+    /// Whether the avatar has a point to align: the aligned finger or what stands in for it
+    /// ([`AlignmentReport::part`]), so always `true` (before stand-ins, `false` on avatars
+    /// without the finger's distal bone, whose IK wrist was the pose wrist).
     pub aligned: bool,
     /// The avatar's wrist-to-aligned-point vector (world axes) for this frame's hand and
     /// finger rotations ([`part_offset`]); zero when not aligned. With the wrist on

@@ -211,7 +211,8 @@ pub mod output {
         pub const ALIGNMENT_ERROR: usize = 20;
         /// `1` when the arm reached the IK wrist.
         pub const REACHABLE: usize = 21;
-        /// `1` when the avatar has the aligned finger.
+        /// `1` when the avatar has a point to align (the aligned finger or what stands in for
+        /// it, `ALIGNED_BONE`).
         pub const ALIGNED: usize = 22;
         /// Which input hand slot drove this side (`-1` none).
         pub const HAND_INDEX: usize = 23;

@@ -34,7 +34,7 @@ export interface AlignmentReport {
   error: number | null;
   /** Whether the arm reached the IK wrist. */
   reachable: boolean;
-  /** Whether the avatar has a point to align (its aligned finger or what stands in for it; false only with alignment off). */
+  /** Whether the avatar has a point to align: its aligned finger or what stands in for it (`finger`, `bone`), so always true in a report. */
   aligned: boolean;
   /**
    * What carries the aligned point: `alignment.finger`, or on an avatar without its distal bone
