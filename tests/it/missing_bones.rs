@@ -363,3 +363,54 @@ fn contact_touches_in_the_face_touch_frames() {
         }
     }
 }
+
+/// A real avatar without finger bones (the shared odd-armature VRM 0.x, 17 bones): its palm
+/// stands in, alignment is exact and contact touches in `eat`'s face-touch frames (those of
+/// the human-proportioned fixture: the user's side decides them).
+#[test]
+fn an_avatar_without_finger_bones_aligns_and_touches_with_its_palm() {
+    let odd = recordings::vrm("../shared/avatars/odd-armature-vrm0.vrm");
+    assert!(Finger::ALL
+        .iter()
+        .all(|f| Side::Right.finger(*f).iter().all(|b| !odd.has(*b))));
+    let frames = recordings::asl(recordings::ASL[0]);
+    let (rig, outs) = run(&odd, "{}", &frames);
+    for side in Side::BOTH {
+        assert_eq!(rig.aligned_part(side), AlignedPart::Palm);
+    }
+    let (_, full) = run(&recordings::vrm(recordings::FIXTURE_VRM1), "{}", &frames);
+    let mut errors = Vec::new();
+    let (mut reports, mut touches, mut touching) = (0, 0, 0);
+    for (out, reference) in outs.iter().zip(&full) {
+        for side in Side::BOTH {
+            let s = side.index();
+            if let Some(a) = out.alignment[s] {
+                assert!(a.aligned);
+                reports += 1;
+                if a.reachable {
+                    errors.push(a.error * 1e3);
+                }
+            }
+            if reference.contact[s].is_some_and(|c| c.weight > 0.0) {
+                touches += 1;
+                touching += usize::from(out.contact[s].is_some_and(|c| c.weight > 0.0));
+            }
+        }
+    }
+    let median = percentile(&mut errors, 0.5);
+    println!(
+        "odd-armature-vrm0: {reports} aligned hand-frames, {} reachable, error median \
+         {median:.3} mm; contact in {touching} of {touches} face-touch side-frames",
+        errors.len()
+    );
+    assert!(
+        errors.len() >= 20,
+        "{} reachable aligned frames",
+        errors.len()
+    );
+    assert!(median <= 0.5, "median {median:.3} mm");
+    assert!(
+        touches >= 10 && touching == touches,
+        "{touching} of {touches}"
+    );
+}
