@@ -9,9 +9,10 @@
 //! near it:
 //!
 //! 1. **Face** ([`face`]): the user's fingertip (the aligned finger's tip: contact happens at
-//!    the tip, whatever `alignment.point` is) in the user's face frame, in head breadths; the
-//!    nearest face anchor at distance `e`; the tip warped onto the avatar's face frame
-//!    ([`face::warp`]: exact on the anchors). The avatar's fingertip target is
+//!    the tip, whatever `alignment.point` is; on an avatar without that finger's distal bone,
+//!    what stands in for it: [`crate::align::AlignedPart`]) in the user's face frame, in head
+//!    breadths; the nearest face anchor at distance `e`; the tip warped onto the avatar's face
+//!    frame ([`face::warp`]: exact on the anchors). The avatar's fingertip target is
 //!    `plain + w (warped - plain)` with `w = contact.weight x blend(e, contact.radius)`
 //!    ([`face::blend`]: 1 within half the radius, 0 beyond it, smoothstep between), and the
 //!    hand (IK wrist and target DIP) moves by the same translation. The user's face frame is
