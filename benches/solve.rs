@@ -64,12 +64,14 @@ fn bench(c: &mut Criterion) {
         .solve(&skeleton, side, &landmarks[100], &mut local)
         .expect("a solved hand");
     let options = handrig::align::AlignmentOptions::default();
+    let part = handrig::align::AlignedPart::choose(&skeleton, side, options.finger);
     stages.bench_function("fingertip alignment", |b| {
         b.iter(|| {
             handrig::align::wrist_target(
                 &skeleton,
                 side,
                 &options,
+                part,
                 recordings::RIGHT_WRIST,
                 &landmarks[100],
                 1.0,

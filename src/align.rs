@@ -16,8 +16,8 @@
 
 use glam::{Quat, Vec3};
 
-use crate::bones::{Finger, Side, BONE_COUNT};
-use crate::mediapipe::HAND_LANDMARKS;
+use crate::bones::{Finger, HumanBone, Side, BONE_COUNT};
+use crate::mediapipe::{hand_landmark, HAND_LANDMARKS};
 use crate::skeleton::{Skeleton, WorldPose};
 
 /// Which point of the finger is aligned.
@@ -76,12 +76,254 @@ pub struct AlignmentReport {
     pub error: f32,
     /// Whether the arm reached the IK wrist.
     pub reachable: bool,
-    /// Whether the avatar has the aligned finger (otherwise the IK wrist is the pose wrist).
+    /// Whether the avatar has a point to align: the aligned finger or what stands in for it
+    /// ([`AlignmentReport::part`]), so always `true` (before stand-ins, `false` on avatars
+    /// without the finger's distal bone, whose IK wrist was the pose wrist).
     pub aligned: bool,
     /// The avatar's wrist-to-aligned-point vector (world axes) for this frame's hand and
-    /// finger rotations ([`avatar_offset`]); zero when not aligned. With the wrist on
+    /// finger rotations ([`part_offset`]); zero when not aligned. With the wrist on
     /// `ik_wrist` the avatar's point is at `ik_wrist + avatar_offset`.
     pub avatar_offset: Vec3,
+    /// What carries the aligned point on this avatar ([`AlignedPart::choose`]).
+    pub part: AlignedPart,
+}
+
+/// What carries a side's aligned point on the avatar, chosen once at setup
+/// ([`AlignedPart::choose`]) from the bones the avatar has.
+///
+/// Partial finger rigs are common (no distal bones, no fingers at all). Rather than switching
+/// alignment and contact off, the rig aligns with what the avatar has: the configured finger's
+/// distal bone; else that finger's deepest bone with the missing joints extrapolated
+/// ([`extension`]); else another finger; else the palm.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AlignedPart {
+    /// A finger, through its deepest bone the avatar has: `depth` 2 the distal bone (the
+    /// aligned point as designed), 1 the intermediate (thumb: proximal), 0 the proximal
+    /// (fingers only). Missing joints past it are extrapolated ([`extension`]).
+    Finger {
+        /// The finger.
+        finger: Finger,
+        /// Index in the finger's chain ([`Side::finger`]) of its deepest present bone.
+        depth: usize,
+    },
+    /// No usable finger: the palm's front (the middle knuckle, MCP) on the user, on the avatar
+    /// the middle proximal joint or, without it, the hand bone extended by the avatar's palm
+    /// length ([`palm_front`]).
+    Palm,
+}
+
+/// The order in which other fingers stand in for the configured one when the avatar lacks it
+/// (after depth: a finger with its distal bone first): the index, the usual pointing and
+/// touching finger; then the middle, its neighbour and the longest finger (its tip leads the
+/// hand); ring, little; the thumb last (it opposes the others, its tip is not where a pointing
+/// hand touches).
+pub const STAND_IN_ORDER: [Finger; 5] = [
+    Finger::Index,
+    Finger::Middle,
+    Finger::Ring,
+    Finger::Little,
+    Finger::Thumb,
+];
+
+impl AlignedPart {
+    /// The deepest usable bone of `finger` on this side: its index in the finger's chain, or
+    /// `None` (no bone; the thumb's metacarpal alone is not usable: its rest offset from the
+    /// hand points across the palm, not along the thumb).
+    #[must_use]
+    pub fn depth(skeleton: &Skeleton, side: Side, finger: Finger) -> Option<usize> {
+        let bones = side.finger(finger);
+        let depth = (0..3).rev().find(|&k| skeleton.has(bones[k]))?;
+        (finger != Finger::Thumb || depth > 0).then_some(depth)
+    }
+
+    /// The part for `configured` (`alignment.finger`) on this side: that finger's distal
+    /// bone; else its deepest usable bone; else the other finger with the deepest usable
+    /// bone (ties in [`STAND_IN_ORDER`]); else the palm.
+    #[must_use]
+    pub fn choose(skeleton: &Skeleton, side: Side, configured: Finger) -> AlignedPart {
+        if let Some(depth) = Self::depth(skeleton, side, configured) {
+            return AlignedPart::Finger {
+                finger: configured,
+                depth,
+            };
+        }
+        let mut best: Option<(Finger, usize)> = None;
+        for finger in STAND_IN_ORDER {
+            if finger == configured {
+                continue;
+            }
+            if let Some(d) = Self::depth(skeleton, side, finger) {
+                if best.is_none_or(|(_, b)| d > b) {
+                    best = Some((finger, d));
+                }
+            }
+        }
+        best.map_or(AlignedPart::Palm, |(finger, depth)| AlignedPart::Finger {
+            finger,
+            depth,
+        })
+    }
+
+    /// The bone the aligned point is carried by (the palm: the hand bone).
+    #[must_use]
+    pub fn bone(self, side: Side) -> HumanBone {
+        match self {
+            AlignedPart::Finger { finger, depth } => side.finger(finger)[depth],
+            AlignedPart::Palm => side.hand(),
+        }
+    }
+
+    /// The finger, `None` for the palm.
+    #[must_use]
+    pub fn finger(self) -> Option<Finger> {
+        match self {
+            AlignedPart::Finger { finger, .. } => Some(finger),
+            AlignedPart::Palm => None,
+        }
+    }
+
+    /// `"thumb"` ... `"little"`, or `"palm"`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        self.finger().map_or("palm", Finger::as_str)
+    }
+
+    /// Whether this is `configured`'s distal bone: alignment as designed, nothing missing.
+    #[must_use]
+    pub fn is_configured(self, configured: Finger) -> bool {
+        self == AlignedPart::Finger {
+            finger: configured,
+            depth: 2,
+        }
+    }
+
+    /// The finger whose contact point ([`crate::contact::HandPoints`] tip slot) makes face
+    /// contact: this finger, or for the palm the configured finger (whose slot then holds the
+    /// palm's front, the avatar's stand-in for it).
+    #[must_use]
+    pub fn touch_finger(self, configured: Finger) -> Finger {
+        self.finger().unwrap_or(configured)
+    }
+
+    /// The user's point matching the avatar's aligned point: the finger's DIP (thumb: IP) or
+    /// TIP landmark, or for the palm the middle MCP landmark (the palm's front).
+    #[must_use]
+    pub fn user_point(self, point: AlignPoint, landmarks: &[Vec3; HAND_LANDMARKS]) -> Vec3 {
+        match self {
+            AlignedPart::Finger { finger, .. } => {
+                let lm = finger.landmarks();
+                match point {
+                    AlignPoint::Dip => landmarks[lm[2]],
+                    AlignPoint::Tip => landmarks[lm[3]],
+                }
+            }
+            AlignedPart::Palm => landmarks[hand_landmark::MIDDLE_MCP],
+        }
+    }
+}
+
+/// Segment lengths of an average adult finger in millimeters, thumb to little, `[L0, L1, L2]`:
+/// `Lk` is the segment ending at the chain's joint `k` (fingers: wrist joint to MCP, MCP to
+/// PIP, PIP to DIP; thumb: L0 unused, CMC to MCP, MCP to IP). The segment past the DIP is
+/// `TIP_RATIO * L2`. Phalanges and the thumb's metacarpal: the mean lengths of Buryanov &
+/// Kotiuk 2010 (the source of [`TIP_RATIO`]). Wrist joint to MCP, which anatomy tables do not
+/// give (they measure the metacarpal bone; the wrist joint sits inside the carpus): the
+/// human-proportioned test fixture's (tests/fixtures/PROVENANCE.md), scaled to these
+/// phalanges. Avatars differ from it (the generated MakeHuman hands have proximal phalanges
+/// a quarter of the wrist-to-knuckle length, against two fifths here), so a point extrapolated
+/// from the proximal bone alone is approximate; docs/alignment-ik.md has the figures.
+pub const SEGMENT_MM: [[f32; 3]; 5] = [
+    [0.0, 46.2, 30.9],
+    [95.6, 39.8, 22.4],
+    [96.2, 44.6, 26.3],
+    [91.1, 41.4, 25.7],
+    [87.3, 32.7, 18.1],
+];
+
+/// How far past the joint of the chain's bone `depth` the avatar's point (`Dip`: joint 2,
+/// `Tip`: joint 3) lies, in multiples of that bone's rest offset from its parent (the segment
+/// ending at its joint): the missing segments summed in [`SEGMENT_MM`] proportions, straight
+/// on along the last segment present. `depth` 2 with `Tip` is [`TIP_RATIO`]; `depth` 2 with
+/// `Dip` is 0.
+#[must_use]
+pub fn extension(finger: Finger, depth: usize, point: AlignPoint) -> f32 {
+    let f = finger.index();
+    let l = SEGMENT_MM[f];
+    let lengths = [l[0], l[1], l[2], TIP_RATIO[f] * l[2]];
+    let last = match point {
+        AlignPoint::Dip => 2,
+        AlignPoint::Tip => 3,
+    };
+    let d = depth.min(2);
+    lengths[d + 1..=last].iter().sum::<f32>() / lengths[d]
+}
+
+/// The avatar's palm front relative to the hand joint in the hand's rest axes, for an avatar
+/// without finger bones ([`AlignedPart::Palm`]): the hand bone's direction (from its parent)
+/// times the avatar's palm length ([`crate::contact::colliders::avatar_palm_length`], from its
+/// arm), where the middle knuckle would be.
+#[must_use]
+pub fn palm_front(skeleton: &Skeleton, side: Side) -> Vec3 {
+    let middle = side.finger(Finger::Middle)[0];
+    if skeleton.has(middle) {
+        return skeleton.rest_local(middle);
+    }
+    let length = crate::contact::colliders::avatar_palm_length(skeleton);
+    skeleton.rest_local(side.hand()).normalize_or_zero() * length
+}
+
+/// The avatar's aligned point of `part` relative to its wrist joint, in world axes, for a
+/// hand with world rotation `hand_rotation` and finger rotations `local`. For a finger's
+/// distal bone this is [`avatar_offset`]; for a shallower bone forward kinematics down to it,
+/// then [`extension`] times its rest offset, turned by its world rotation (the missing joints
+/// straight); for the palm [`palm_front`] turned by the hand.
+#[must_use]
+pub fn part_offset(
+    skeleton: &Skeleton,
+    side: Side,
+    part: AlignedPart,
+    point: AlignPoint,
+    hand_rotation: Quat,
+    local: &[Quat; BONE_COUNT],
+) -> Vec3 {
+    match part {
+        AlignedPart::Finger { finger, depth: 2 } => {
+            let options = AlignmentOptions {
+                enabled: true,
+                finger,
+                point,
+                weight: 1.0,
+            };
+            avatar_offset(skeleton, side, &options, hand_rotation, local).unwrap_or(Vec3::ZERO)
+        }
+        AlignedPart::Finger { finger, depth } => {
+            let bones = side.finger(finger);
+            let mut position = Vec3::ZERO;
+            let mut rotation = hand_rotation;
+            for bone in bones[..=depth].iter().filter(|b| skeleton.has(**b)) {
+                position += rotation * skeleton.rest_local(*bone);
+                rotation *= local[bone.index()];
+            }
+            let last = skeleton.rest_local(bones[depth]);
+            position + rotation * (last * extension(finger, depth, point))
+        }
+        AlignedPart::Palm => hand_rotation * palm_front(skeleton, side),
+    }
+}
+
+/// World position of `part`'s point in a posed avatar `world` ([`part_offset`] placed on the
+/// hand joint).
+#[must_use]
+pub fn part_world(
+    skeleton: &Skeleton,
+    world: &WorldPose,
+    local: &[Quat; BONE_COUNT],
+    side: Side,
+    part: AlignedPart,
+    point: AlignPoint,
+) -> Vec3 {
+    let hand = side.hand().index();
+    world.position[hand] + part_offset(skeleton, side, part, point, world.rotation[hand], local)
 }
 
 /// The avatar's aligned point relative to its wrist joint, in world axes, for a hand with
@@ -156,45 +398,41 @@ pub fn fingertip(
 /// Places the wrist IK target for one hand.
 ///
 /// `landmarks` are the hand's 21 world landmarks already in the avatar frame; `scale` is the
-/// body scale applied to the user's wrist-to-DIP offset (1 for `wrists` input).
+/// body scale applied to the user's wrist-to-DIP offset (1 for `wrists` input); `part` what
+/// carries the aligned point on this avatar ([`AlignedPart::choose`]).
 #[allow(clippy::too_many_arguments)]
 #[must_use]
 pub fn wrist_target(
     skeleton: &Skeleton,
     side: Side,
     options: &AlignmentOptions,
+    part: AlignedPart,
     pose_wrist: Vec3,
     landmarks: &[Vec3; HAND_LANDMARKS],
     scale: f32,
     hand_rotation: Quat,
     local: &[Quat; BONE_COUNT],
 ) -> AlignmentReport {
-    let lm = options.finger.landmarks();
-    let user_point = match options.point {
-        AlignPoint::Dip => landmarks[lm[2]],
-        AlignPoint::Tip => landmarks[lm[3]],
-    };
+    let user_point = part.user_point(options.point, landmarks);
     let user_offset = scale * (user_point - landmarks[0]);
     let target = pose_wrist + user_offset;
-    let avatar = avatar_offset(skeleton, side, options, hand_rotation, local);
-    let ik_wrist = match avatar {
-        Some(a) => pose_wrist + options.effective_weight() * (user_offset - a),
-        None => pose_wrist,
-    };
+    let avatar = part_offset(skeleton, side, part, options.point, hand_rotation, local);
+    let ik_wrist = pose_wrist + options.effective_weight() * (user_offset - avatar);
     AlignmentReport {
         target_dip: target,
         ik_wrist,
         pose_wrist,
         error: f32::NAN,
         reachable: true,
-        aligned: avatar.is_some(),
-        avatar_offset: avatar.unwrap_or(Vec3::ZERO),
+        aligned: true,
+        avatar_offset: avatar,
+        part,
     }
 }
 
 /// Distance between the avatar's aligned point in the posed avatar and the report's target.
 /// Updates `world` for the side's arm, hand and fingers from `local` (the rest of `world`, the
-/// torso in particular, must be current). `f32::NAN` if the avatar lacks the finger.
+/// torso in particular, must be current).
 pub fn alignment_error(
     skeleton: &Skeleton,
     side: Side,
@@ -204,9 +442,6 @@ pub fn alignment_error(
     world: &mut WorldPose,
 ) -> f32 {
     skeleton.forward_arm(side, local, world);
-    let hand = side.hand().index();
-    match avatar_offset(skeleton, side, options, world.rotation[hand], local) {
-        Some(a) => (world.position[hand] + a - report.target_dip).length(),
-        None => f32::NAN,
-    }
+    let point = part_world(skeleton, world, local, side, report.part, options.point);
+    (point - report.target_dip).length()
 }

@@ -30,8 +30,9 @@ use crate::pipeline::{HandUse, Rig, SolveOutput};
 
 /// Layout version: bumped whenever an offset or meaning below changes. 4: the app's torso
 /// (`input.torso`) and body-tracker joints (`input.body`); 5: the tracker face input
-/// (`input.face`) and the per-side contact report (`output.side.contact*`, side stride 72).
-pub const VERSION: u32 = 5;
+/// (`input.face`) and the per-side contact report (`output.side.contact*`, side stride 72);
+/// 6: what carries the aligned point (`output.side.alignedBone`).
+pub const VERSION: u32 = 6;
 
 /// The names of `output.side.handStatus`'s codes, indexed by code (`LAYOUT.handStatus`; 0: no
 /// hand this frame): what the JS result's `hand.status` reads.
@@ -210,7 +211,8 @@ pub mod output {
         pub const ALIGNMENT_ERROR: usize = 20;
         /// `1` when the arm reached the IK wrist.
         pub const REACHABLE: usize = 21;
-        /// `1` when the avatar has the aligned finger.
+        /// `1` when the avatar has a point to align (the aligned finger or what stands in for
+        /// it, `ALIGNED_BONE`).
         pub const ALIGNED: usize = 22;
         /// Which input hand slot drove this side (`-1` none).
         pub const HAND_INDEX: usize = 23;
@@ -247,6 +249,11 @@ pub mod output {
         pub const CONTACT_HAND_WEIGHT: usize = 63;
         /// How far the body colliders pushed the hand (m).
         pub const CONTACT_PUSH: usize = 64;
+        /// What carries the aligned point (with the alignment report): `0` the distal bone of
+        /// `alignment.finger`, as configured; otherwise `1 +` the index (`LAYOUT.bones`) of the
+        /// bone standing in on an avatar without it: a shallower bone of the same finger
+        /// (its tip extrapolated), another finger's bone, or the hand bone (the palm).
+        pub const ALIGNED_BONE: usize = 65;
     }
     /// What became of each input hand slot (4): `0` unused, `1` drove the left side, `2` the
     /// right side (see `side.handReassigned`), `3` ignored: score below `minHandScore`, `4`
@@ -261,7 +268,7 @@ pub mod output {
 const _: () = {
     assert!(input::hand::IMAGE + 3 * HAND_LANDMARKS <= input::HAND_STRIDE);
     assert!(input::wrist::ROTATION + 4 <= input::WRIST_STRIDE);
-    assert!(output::side::CONTACT_PUSH < output::SIDE_STRIDE);
+    assert!(output::side::ALIGNED_BONE < output::SIDE_STRIDE);
     assert!(output::side::RETARGET_RESIDUAL < output::side::CONTACT_PRESENT);
     assert!(input::face_point::POSITION + 3 <= input::FACE_STRIDE);
     assert!(output::side::FINGERTIPS + 15 <= output::side::RETARGET_PRESENT);
@@ -327,6 +334,7 @@ pub const FIELDS: &[(&str, usize)] = &[
     ("output.side.alignmentError", output::side::ALIGNMENT_ERROR),
     ("output.side.reachable", output::side::REACHABLE),
     ("output.side.aligned", output::side::ALIGNED),
+    ("output.side.alignedBone", output::side::ALIGNED_BONE),
     ("output.side.handIndex", output::side::HAND_INDEX),
     ("output.side.handReassigned", output::side::HAND_REASSIGNED),
     ("output.side.fingertips", output::side::FINGERTIPS),
@@ -644,6 +652,11 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
         buf[at + output::side::ALIGNMENT_ERROR] = if error.is_finite() { error } else { f32::NAN };
         put_flag(buf, at + output::side::REACHABLE, reachable);
         put_flag(buf, at + output::side::ALIGNED, aligned);
+        let configured = rig.options().alignment.finger;
+        buf[at + output::side::ALIGNED_BONE] = match a {
+            Some(a) if !a.part.is_configured(configured) => 1.0 + a.part.bone(side).index() as f32,
+            _ => 0.0,
+        };
         let (index, reassigned) =
             out.hands[s].map_or((-1.0, false), |h| (h.index as f32, h.reassigned));
         buf[at + output::side::HAND_INDEX] = index;

@@ -37,6 +37,7 @@ export type { BVHOptions, RecordableResult, RecordableRig, VRMAOptions } from ".
 export type { BodyJointName, FlatLayout, HumanBoneName, TorsoBoneName } from "./layout.js";
 export type { HandRigOptions, OptionDescription } from "./options.js";
 export type {
+  AlignedBone,
   AlignmentReport,
   ContactModel,
   ContactReport,

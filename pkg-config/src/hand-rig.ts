@@ -10,8 +10,8 @@ import type { BoneMap, FrameInput, RestPose, Vec3 } from "./frame-types.js";
 import { TIME, packFrame } from "./frame.js";
 import { BONES, BONE_COUNT, BONE_INDEX, LAYOUT, LI, LO, optionNames, type FlatLayout, type HumanBoneName } from "./layout.js";
 import { cleanDescriptions, optionsValue, type HandRigOptions, type OptionDescription } from "./options.js";
-import type { ContactModel, SolveResult } from "./result-types.js";
-import { fillResult } from "./results.js";
+import type { AlignedBone, ContactModel, FingerName, SolveResult } from "./result-types.js";
+import { BONE_FINGER, fillResult } from "./results.js";
 import { restPoseToFlat, vrmBytes } from "./rest-pose.js";
 import { addDispose, ensureReady, wasm, wasmMemory, type RawHandRig } from "./wasm.js";
 
@@ -110,6 +110,8 @@ export class HandRig {
   #result: object | undefined;
   #driven: number[] = [];
   #present: number[] = [];
+  // Per side the bone carrying the aligned point, then per side 1 for a stand-in (alignedBones()).
+  #aligned: Uint8Array = new Uint8Array(4);
   #framesRead = 0;
   // The last frame's timeMs, how many frames in a row advanced it by a step that looks like
   // seconds, and whether that was said (a typed array: a double field would be boxed per frame).
@@ -149,6 +151,11 @@ export class HandRig {
     }
     this.#driven = driven;
     this.#present = present;
+    this.#aligned = r.alignedBones();
+    // Once per rig: an avatar without `alignment.finger`'s distal bone aligns and touches with
+    // what it has (docs/alignment-ik.md), never silently off.
+    const warning = r.alignmentWarning;
+    if (typeof warning === "string" && warning.length > 0) (globalThis as { console?: { warn(m: string): void } }).console?.warn(warning);
     this.#input = new Float32Array(0);
     this.#output = new Float32Array(0);
   }
@@ -312,7 +319,7 @@ export class HandRig {
     }
     if (r.solveFlat(TIME[0]!) !== 0) throw new Error(r.takeError());
     if (this.#clock[2] === 0) secondsCheck(this.#clock, TIME[0]!);
-    return fillResult(result as object, this.#output, this.#input, this.#driven, this.#present) as SolveResult;
+    return fillResult(result as object, this.#output, this.#input, this.#driven, this.#present, this.#aligned) as SolveResult;
   }
 
   /**
@@ -336,6 +343,22 @@ export class HandRig {
     }
     if (v[k] === 1) colliders.head = { center: p(k + 1), radius: v[k + 4] };
     return { anchors, headBreadth: v[3 * faceAnchors.length], colliders } as ContactModel;
+  }
+
+  /**
+   * What carries each side's aligned point on this avatar, chosen at construction: `{ left,
+   * right }`, each `{ finger, bone, standIn }`. `alignment.finger`'s distal bone as configured;
+   * on an avatar without it (partial finger rigs), a shallower bone of that finger (its tip
+   * extrapolated), another finger, or the palm (`finger: "palm"`, `bone: "<side>Hand"`); the
+   * rig then warned once with `console.warn`. Same as `result.alignment.<side>.finger`/`.bone`.
+   */
+  alignedBones(): { left: AlignedBone; right: AlignedBone } {
+    this.#live("alignedBones");
+    const side = (s: number): AlignedBone => {
+      const i = this.#aligned[s]!;
+      return { finger: BONE_FINGER[i] as FingerName | "palm", bone: BONES[i]!, standIn: this.#aligned[2 + s] === 1 };
+    };
+    return { left: side(0), right: side(1) };
   }
 
   /** `{ [boneName]: [x, y, z] }`: rest world positions of the avatar's bones, meters, the model's own frame. */

@@ -105,6 +105,7 @@ export interface FlatLayout {
       readonly alignmentError: number;
       readonly reachable: number;
       readonly aligned: number;
+      readonly alignedBone: number;
       readonly handIndex: number;
       readonly handReassigned: number;
       readonly fingertips: number;

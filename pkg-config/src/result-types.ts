@@ -4,6 +4,7 @@
 
 import type { BoneMap, Quat, Vec3 } from "./frame-types.js";
 import type { HandRigOptions } from "./options-types.js";
+import type { HumanBoneName } from "./layout.js";
 
 type Group<T> = Exclude<T, boolean | undefined>;
 
@@ -33,8 +34,15 @@ export interface AlignmentReport {
   error: number | null;
   /** Whether the arm reached the IK wrist. */
   reachable: boolean;
-  /** Whether the avatar has the aligned finger (otherwise the IK wrist is the pose wrist). */
+  /** Whether the avatar has a point to align: its aligned finger or what stands in for it (`finger`, `bone`), so always true in a report. */
   aligned: boolean;
+  /**
+   * What carries the aligned point: `alignment.finger`, or on an avatar without its distal bone
+   * the finger standing in, or `"palm"` (no finger bones). See docs/alignment-ik.md.
+   */
+  finger: FingerName | "palm";
+  /** The bone carrying it (`"rightIndexDistal"` as configured; e.g. `"rightIndexIntermediate"`, `"rightMiddleDistal"`, or `"rightHand"` for the palm). */
+  bone: HumanBoneName;
   /** What self-contact did for this hand (null with `contact.enabled: false`); `targetDip` and `ikWrist` include it. */
   contact: ContactReport | null;
 }
@@ -51,6 +59,16 @@ export interface ContactReport {
   handWeight: number;
   /** How far the body colliders pushed the hand, meters. */
   push: number;
+}
+
+/** What carries one side's aligned point on this avatar (`rig.alignedBones()`). */
+export interface AlignedBone {
+  /** `alignment.finger`, another finger standing in for it, or `"palm"`. */
+  finger: FingerName | "palm";
+  /** The bone carrying the point (the hand bone for the palm). */
+  bone: HumanBoneName;
+  /** False when this is `alignment.finger`'s distal bone (nothing missing); true for a stand-in. */
+  standIn: boolean;
 }
 
 /** The avatar's self-contact model at rest, meters, the model's own frame (`rig.contactModel()`). */

@@ -30,6 +30,13 @@ export function quat(out: Float32Array, at: number, dst: number[]): number[] {
 const STATUS: readonly (string | undefined)[] = [undefined, ...LAYOUT.handStatus.slice(1)];
 const HAND_USE: readonly (string | null)[] = [null, ...LAYOUT.handUse.slice(1)];
 
+/** Per bone (LAYOUT.bones order): the finger it belongs to, "palm" for the hands, "" otherwise. */
+export const BONE_FINGER: readonly string[] = BONES.map((name) => {
+  const m = /(Thumb|Index|Middle|Ring|Little)/.exec(name);
+  if (m) return m[1]!.toLowerCase();
+  return /Hand$/.test(name) ? "palm" : "";
+});
+
 /** Per-finger points: `thumb` ... `little` (names from `optionNames()`), the reused arrays hidden. */
 type FingerSet = Mutable & { points: Vec[] };
 
@@ -42,6 +49,8 @@ interface SideParts {
     error: number | null;
     reachable: boolean;
     aligned: boolean;
+    finger: string;
+    bone: string;
     contact: SideParts["contact"] | null;
   };
   contact: { anchor: string | null; weight: number; distance: number | null; handWeight: number; push: number };
@@ -52,9 +61,17 @@ interface SideParts {
 
 /**
  * Fills `result` (any object; its parts are created on first use and reused after) from the
- * output view. `driven`/`present` are the rig's bone indices.
+ * output view. `driven`/`present` are the rig's bone indices, `aligned` per side the bone
+ * carrying the aligned point (`alignedBones()`: what `output.side.alignedBone` 0 stands for).
  */
-export function fillResult(result: object, out: Float32Array, input: Float32Array, driven: number[], present: number[]): object {
+export function fillResult(
+  result: object,
+  out: Float32Array,
+  input: Float32Array,
+  driven: number[],
+  present: number[],
+  aligned: ArrayLike<number>,
+): object {
   const r = result as Mutable;
   r.timeMs = TIME[0];
   // The per-bone arrays, found by name once per result object and then updated by index: a
@@ -91,6 +108,10 @@ export function fillResult(result: object, out: Float32Array, input: Float32Arra
       a.error = Number.isNaN(err) ? null : err;
       a.reachable = out[at + S.reachable] === 1;
       a.aligned = out[at + S.aligned] === 1;
+      const code = out[at + S.alignedBone]!;
+      const bone = code === 0 ? aligned[s]! : code - 1;
+      a.bone = BONES[bone]!;
+      a.finger = BONE_FINGER[bone]!;
       if (out[at + S.contactPresent] === 1) {
         const c = cache.contact;
         c.anchor = names.faceAnchors[out[at + S.contactAnchor]!] ?? null;
@@ -223,6 +244,8 @@ function sideCache(result: Mutable, s: number): SideParts {
         error: null,
         reachable: false,
         aligned: false,
+        finger: "",
+        bone: "",
         contact: null,
       },
       contact: { anchor: null, weight: 0, distance: null, handWeight: 0, push: 0 },

@@ -11,6 +11,8 @@ export interface RawHandRig {
   takeError(): string | undefined;
   boneStates(): Uint8Array;
   contactModel(): Float32Array;
+  alignedBones(): Uint8Array;
+  readonly alignmentWarning: string | undefined;
   restPositions(): Float32Array;
   readonly vrmVersion: string;
   readonly bodyScale: number;

@@ -41,7 +41,10 @@ pub struct HandPoints {
     /// plus the hand landmarks' offsets from the hand's wrist landmark (avatar axes).
     pub user: [Vec3; POINTS],
     /// The avatar's points relative to the wrist IK target (world axes, this frame's hand
-    /// and finger rotations); `None` where the avatar lacks the finger.
+    /// and finger rotations); `None` where the avatar lacks the finger. A finger without its
+    /// distal bone has its tip extrapolated ([`crate::align::part_offset`]); on an avatar
+    /// without finger bones the aligned finger's slot holds the palm's front, which stands in
+    /// for it ([`crate::align::AlignedPart::Palm`]).
     pub avatar: [Option<Vec3>; POINTS],
     /// The user's palm length (wrist to middle MCP landmark), meters.
     pub user_palm: f32,

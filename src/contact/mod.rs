@@ -9,9 +9,10 @@
 //! near it:
 //!
 //! 1. **Face** ([`face`]): the user's fingertip (the aligned finger's tip: contact happens at
-//!    the tip, whatever `alignment.point` is) in the user's face frame, in head breadths; the
-//!    nearest face anchor at distance `e`; the tip warped onto the avatar's face frame
-//!    ([`face::warp`]: exact on the anchors). The avatar's fingertip target is
+//!    the tip, whatever `alignment.point` is; on an avatar without that finger's distal bone,
+//!    what stands in for it: [`crate::align::AlignedPart`]) in the user's face frame, in head
+//!    breadths; the nearest face anchor at distance `e`; the tip warped onto the avatar's face
+//!    frame ([`face::warp`]: exact on the anchors). The avatar's fingertip target is
 //!    `plain + w (warped - plain)` with `w = contact.weight x blend(e, contact.radius)`
 //!    ([`face::blend`]: 1 within half the radius, 0 beyond it, smoothstep between), and the
 //!    hand (IK wrist and target DIP) moves by the same translation. The user's face frame is
@@ -274,11 +275,13 @@ impl ContactSolver {
 
     /// Moves both sides' wrist targets for contact (face, then hands, then body), filling
     /// `reports` for every side with a target. `world` is the avatar posed by this frame's
-    /// rotations before the arms' IK (the head and torso as they will be shown); `finger`
-    /// the aligned finger, whose tip makes face contact. Allocates nothing.
+    /// rotations before the arms' IK (the head and torso as they will be shown); `fingers`
+    /// per side (`[left, right]`) the finger whose tip slot makes face contact: the aligned
+    /// finger, or what stands in for it ([`crate::align::AlignedPart::touch_finger`]).
+    /// Allocates nothing.
     pub fn solve(
         &self,
-        finger: Finger,
+        fingers: [Finger; 2],
         faces: &UserFaces,
         world: &WorldPose,
         targets: &mut [Option<SideTarget>; 2],
@@ -288,8 +291,8 @@ impl ContactSolver {
         let h = HumanBone::Head.index();
         let avatar_frame = self.face.frame(world.position[h], world.rotation[h]);
         let avatar_local = self.face.local_anchors();
-        let tip = 1 + finger.index();
-        for (target, report) in targets.iter_mut().zip(reports.iter_mut()) {
+        for ((target, report), finger) in targets.iter_mut().zip(reports.iter_mut()).zip(fingers) {
+            let tip = 1 + finger.index();
             let Some(t) = target.as_mut() else {
                 *report = None;
                 continue;
@@ -355,8 +358,11 @@ impl ContactSolver {
 
         if o.colliders {
             let shapes = self.colliders.shapes(world);
-            for (target, report) in targets.iter_mut().zip(reports.iter_mut()) {
+            for ((target, report), finger) in
+                targets.iter_mut().zip(reports.iter_mut()).zip(fingers)
+            {
                 let Some(t) = target.as_mut() else { continue };
+                let tip = 1 + finger.index();
                 let c = &self.colliders;
                 let mut points = [(t.wrist, c.hand_margin); 3];
                 let mut n = 1;

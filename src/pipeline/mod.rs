@@ -75,6 +75,9 @@ pub struct Rig {
     body: BodyMapper,
     arms: ArmSolverState,
     contact: ContactSolver,
+    /// What carries each side's aligned point (`[left, right]`), chosen from the bones the
+    /// avatar has ([`crate::align::AlignedPart::choose`]).
+    aligned_parts: [crate::align::AlignedPart; 2],
     driven: [bool; BONE_COUNT],
     clock: Clock,
     /// Landmark filters per avatar side, the pose's, and the tracker wrists'.
@@ -171,6 +174,9 @@ impl Rig {
             }
         }
         let torso = TorsoSolver::new(&skeleton, options.calibration.frames);
+        let aligned_parts = Side::BOTH.map(|side| {
+            crate::align::AlignedPart::choose(&skeleton, side, options.alignment.finger)
+        });
         Ok(Rig {
             skeleton,
             options,
@@ -178,6 +184,7 @@ impl Rig {
             body,
             arms,
             contact,
+            aligned_parts,
             driven,
             clock: Clock::default(),
             hand_filters: [PointFilters::default(); 2],
@@ -265,6 +272,57 @@ impl Rig {
     }
 
     /// Restarts body-scale calibration (and the torso's neutral shoulder height).
+    /// What carries `side`'s aligned point on this avatar: `alignment.finger`'s distal bone, or
+    /// what stands in for it when the avatar lacks it ([`crate::align::AlignedPart::choose`]).
+    #[must_use]
+    pub fn aligned_part(&self, side: Side) -> crate::align::AlignedPart {
+        self.aligned_parts[side.index()]
+    }
+
+    /// A message naming, per side, what the avatar lacks for `alignment.finger` and what
+    /// alignment and contact use instead; `None` when both sides have the finger's distal
+    /// bone. Built at setup (the npm package prints it once per rig with `console.warn`).
+    #[must_use]
+    pub fn alignment_warning(&self) -> Option<String> {
+        if !self.options.alignment.enabled && !self.options.contact.enabled {
+            return None;
+        }
+        let configured = self.options.alignment.finger;
+        let parts: Vec<String> = Side::BOTH
+            .into_iter()
+            .filter(|s| !self.aligned_parts[s.index()].is_configured(configured))
+            .map(|side| {
+                let part = self.aligned_parts[side.index()];
+                let wanted = side.finger(configured)[2];
+                let using = match part {
+                    crate::align::AlignedPart::Palm => format!(
+                        "the palm (the front of {}, no finger bones)",
+                        side.hand().as_str()
+                    ),
+                    crate::align::AlignedPart::Finger { finger, depth } => {
+                        let bone = part.bone(side).as_str();
+                        if depth == 2 {
+                            format!("the {} finger ({bone})", finger.as_str())
+                        } else {
+                            format!(
+                                "the {} finger's {bone} with its tip extrapolated",
+                                finger.as_str()
+                            )
+                        }
+                    }
+                };
+                format!("{wanted} is missing, {using} is used instead")
+            })
+            .collect();
+        (!parts.is_empty()).then(|| {
+            format!(
+                "handrig: fingertip alignment and self-contact (alignment.finger \"{}\"): {}.",
+                configured.as_str(),
+                parts.join("; ")
+            )
+        })
+    }
+
     /// The avatar's side of self-contact: its face (anchors) and body colliders.
     #[must_use]
     pub fn contact(&self) -> &ContactSolver {

@@ -58,8 +58,9 @@ impl Rig {
                     }
                 };
                 toward(c.hand_meet, c.hand_weight);
-                let tip = 1 + self.options.alignment.finger.index();
-                toward(p.avatar[tip], c.weight);
+                let touch =
+                    self.aligned_parts[side.index()].touch_finger(self.options.alignment.finger);
+                toward(p.avatar[1 + touch.index()], c.weight);
                 pivot
             }
             _ => finger,
@@ -95,13 +96,22 @@ impl Rig {
                 if out.alignment[side.index()].is_none() {
                     self.skeleton.forward_arm(side, &out.local, &mut out.world);
                 }
-                c.distance = align::fingertip(
-                    &self.skeleton,
-                    &out.world,
-                    side,
-                    self.options.alignment.finger,
-                )
-                .map_or(f32::NAN, |tip| {
+                // The touching point: the aligned finger's tip, or what stands in for it.
+                let part = self.aligned_parts[side.index()];
+                let tip = match part {
+                    align::AlignedPart::Finger { finger, depth: 2 } => {
+                        align::fingertip(&self.skeleton, &out.world, side, finger)
+                    }
+                    _ => Some(align::part_world(
+                        &self.skeleton,
+                        &out.world,
+                        &out.local,
+                        side,
+                        part,
+                        align::AlignPoint::Tip,
+                    )),
+                };
+                c.distance = tip.map_or(f32::NAN, |tip| {
                     (tip - self.contact.anchor_world(anchor, &out.world)).length()
                 });
             }

@@ -22,16 +22,15 @@ impl Rig {
             let s = side.index();
             if let (true, Some(report)) = (eased[s], out.alignment[s].as_mut()) {
                 let hand = side.hand().index();
-                report.error = align::avatar_offset(
+                let a = align::part_offset(
                     &self.skeleton,
                     side,
-                    &self.options.alignment,
+                    report.part,
+                    self.options.alignment.point,
                     out.world.rotation[hand],
                     &out.local,
-                )
-                .map_or(f32::NAN, |a| {
-                    (out.world.position[hand] + a - report.target_dip).length()
-                });
+                );
+                report.error = (out.world.position[hand] + a - report.target_dip).length();
             }
             for finger in Finger::ALL {
                 out.fingertips[s][finger.index()] =

@@ -71,6 +71,7 @@ impl Rig {
                 &self.skeleton,
                 side,
                 &self.options.alignment,
+                self.aligned_parts[side.index()],
                 source.position,
                 &self.scratch.landmarks,
                 source.scale,
@@ -131,7 +132,9 @@ impl Rig {
         let mut user = [Vec3::ZERO; crate::contact::POINTS];
         user[0] = wrist + palm_center - lm[hl::WRIST];
         let mut avatar = [None; crate::contact::POINTS];
-        // The avatar's palm center: its hand joint and the proximal joints it has.
+        // The avatar's palm center: its hand joint and the proximal joints it has; without
+        // any, four fifths of the way to its palm front (as the user's: the wrist and four
+        // knuckles).
         let mut sum = Vec3::ZERO;
         let mut n = 1.0;
         for f in [Finger::Index, Finger::Middle, Finger::Ring, Finger::Little] {
@@ -141,7 +144,11 @@ impl Rig {
                 n += 1.0;
             }
         }
-        avatar[0] = Some(hand_rotation * (sum / n));
+        avatar[0] = Some(if n > 1.0 {
+            hand_rotation * (sum / n)
+        } else {
+            hand_rotation * (0.8 * align::palm_front(&self.skeleton, side))
+        });
         let tip_options = align::AlignmentOptions {
             point: align::AlignPoint::Tip,
             ..self.options.alignment
@@ -149,22 +156,46 @@ impl Rig {
         for finger in Finger::ALL {
             let k = 1 + finger.index();
             user[k] = wrist + lm[finger.landmarks()[3]] - lm[hl::WRIST];
-            avatar[k] = align::avatar_offset(
+            avatar[k] = match align::AlignedPart::depth(&self.skeleton, side, finger) {
+                Some(2) | None => align::avatar_offset(
+                    &self.skeleton,
+                    side,
+                    &align::AlignmentOptions {
+                        finger,
+                        ..tip_options
+                    },
+                    hand_rotation,
+                    local,
+                ),
+                // A finger without its distal bone: its tip extrapolated.
+                Some(depth) => Some(align::part_offset(
+                    &self.skeleton,
+                    side,
+                    align::AlignedPart::Finger { finger, depth },
+                    align::AlignPoint::Tip,
+                    hand_rotation,
+                    local,
+                )),
+            };
+        }
+        // Without fingers, the palm's front stands in for the aligned finger's tip.
+        let part = self.aligned_parts[side.index()];
+        let touch = part.touch_finger(self.options.alignment.finger);
+        if part == align::AlignedPart::Palm {
+            avatar[1 + touch.index()] = Some(align::part_offset(
                 &self.skeleton,
                 side,
-                &align::AlignmentOptions {
-                    finger,
-                    ..tip_options
-                },
+                part,
+                align::AlignPoint::Tip,
                 hand_rotation,
                 local,
-            );
+            ));
         }
         let middle = side.finger(Finger::Middle)[0];
         let image_tip = out_hand
             .and_then(|i| frame.hands().get(i))
             .and_then(|h| h.image)
-            .map(|img| img[self.options.alignment.finger.landmarks()[3]]);
+            .map(|img| img[touch.landmarks()[3]]);
         Some(HandPoints {
             image_tip,
             source: kind,
@@ -241,13 +272,13 @@ impl Rig {
                 None
             },
         };
-        self.contact.solve(
-            self.options.alignment.finger,
-            &faces,
-            &out.world,
-            &mut targets,
-            &mut out.contact,
-        );
+        // Each side's touching finger (the aligned part's; the palm stands in the configured
+        // finger's slot): the same on both sides unless the avatar's hands differ.
+        let fingers = Side::BOTH.map(|side| {
+            self.aligned_parts[side.index()].touch_finger(self.options.alignment.finger)
+        });
+        self.contact
+            .solve(fingers, &faces, &out.world, &mut targets, &mut out.contact);
         for (s, (plan, t)) in plans.iter_mut().zip(targets).enumerate() {
             if let (Plan::Reach { target, .. }, Some(t)) = (plan, t) {
                 let delta = t.wrist - *target;

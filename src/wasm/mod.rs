@@ -21,7 +21,7 @@ use glam::Vec3;
 use js_sys::{Array, Object, Reflect};
 use wasm_bindgen::prelude::*;
 
-use crate::bones::{HumanBone, BONE_COUNT};
+use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::Error;
 use crate::flat;
 use crate::mediapipe::FrameInput;
@@ -396,6 +396,26 @@ impl HandRig {
                 },
             )
             .collect()
+    }
+
+    /// Per side (`[left, right]`), the index (`LAYOUT.bones`) of the bone that carries the
+    /// aligned point: `alignment.finger`'s distal bone, or what stands in for it on an avatar
+    /// without it (another bone of that finger, another finger's, the hand for the palm); then
+    /// per side `1` when it is such a stand-in, else `0`.
+    #[wasm_bindgen(js_name = alignedBones)]
+    pub fn aligned_bones(&self) -> Vec<u8> {
+        let configured = self.rig.options().alignment.finger;
+        let parts = Side::BOTH.map(|s| (s, self.rig.aligned_part(s)));
+        let bones = parts.map(|(s, p)| p.bone(s).index() as u8);
+        let stand_in = parts.map(|(_, p)| u8::from(!p.is_configured(configured)));
+        [bones, stand_in].concat()
+    }
+
+    /// What the avatar lacks for fingertip alignment and what is used instead (one message for
+    /// both sides), or `undefined` when it has `alignment.finger`'s distal bones.
+    #[wasm_bindgen(getter, js_name = alignmentWarning)]
+    pub fn alignment_warning(&self) -> Option<String> {
+        self.rig.alignment_warning()
     }
 
     /// The avatar's self-contact model at rest (meters, the model's own frame), flat: the 8

@@ -589,7 +589,13 @@ fn a_turned_avatar_head_carries_its_anchors() {
                     None,
                 ];
                 let mut reports = [None, None];
-                solver.solve(Finger::Index, &faces, &world, &mut targets, &mut reports);
+                solver.solve(
+                    [Finger::Index; 2],
+                    &faces,
+                    &world,
+                    &mut targets,
+                    &mut reports,
+                );
                 let t = targets[0].unwrap();
                 let tip = t.wrist + tip_offset * 0.8;
                 // Colliders may not push a fingertip off an anchor; the user-side estimate

@@ -24,6 +24,7 @@ mod hand_real;
 mod hand_rig;
 mod hand_synthetic;
 mod live;
+mod missing_bones;
 mod no_alloc;
 mod retarget;
 mod rig;
