@@ -3,7 +3,7 @@
 //! hand's palm turns, with every default option on; and the avatar palm's agreement with the
 //! hand-made palm-facing labels (`eval/labels/palm-facing.json`).
 //!
-//! `cargo run --release --example eval_turns [-- --json] [-- --worst N]` (about 20 s in a release
+//! `cargo run --release --example eval_turns [-- --json] [-- --worst N]` (about 1 s in a release
 //! build; `node eval/hand-turns.mjs` adds Kalidokit 1.1.5 and prints the docs table).
 //!
 //! Per side-frame (a side whose hand drove the avatar in this frame and the one before), the
@@ -33,6 +33,7 @@ const AVATARS: [&str; 7] = [
     recordings::ROBOT,
 ];
 const LABELS: &str = "eval/labels/palm-facing.json";
+const BONES: [&str; 3] = ["upperArm", "lowerArm", "hand"];
 
 /// A turn of one side between two frames.
 #[derive(Clone, Debug)]
@@ -41,6 +42,8 @@ struct Turn {
     frame: usize,
     side: Side,
     avatar: f32,
+    /// Which bone turned most: 0 upper arm, 1 forearm, 2 hand.
+    bone: usize,
     input: f32,
 }
 
@@ -163,6 +166,14 @@ fn run(
             rig.solve(f, &mut out).unwrap();
             let mut o = out.clone();
             o.turn_to_internal_frame(version);
+            if std::env::var("TURNS_TRACE").is_ok_and(|c| c == *name) && avatar == recordings::ROBOT
+            {
+                for side in Side::BOTH {
+                    if let Some(t) = o.hands[side.index()] {
+                        eprintln!("{name}:{i} {side:?} {:?} {:?}", t.status, t.check);
+                    }
+                }
+            }
             for side in Side::BOTH {
                 let now = o.hands[side.index()].and_then(|t| {
                     let [_, upper, lower, hand] = side.arm();
@@ -173,12 +184,15 @@ fn run(
                     ))
                 });
                 if let (Some((a, ia)), Some((b, ib))) = (last[side.index()], now) {
-                    let avatar = (0..3).map(|k| angle(a[k], b[k])).fold(0.0, f32::max);
+                    let (bone, avatar) = (0..3)
+                        .map(|k| (k, angle(a[k], b[k])))
+                        .fold((0, 0.0), |m, t| if t.1 > m.1 { t } else { m });
                     turns.push(Turn {
                         clip: name.clone(),
                         frame: i,
                         side,
                         avatar,
+                        bone,
                         input: angle(ia, ib),
                     });
                 }
@@ -271,7 +285,8 @@ fn main() {
                 .map(|t| {
                     json!({ "avatar": name, "clip": t.clip, "frame": t.frame,
                         "side": if t.side == Side::Right { "right" } else { "left" },
-                        "avatar_turn": t.avatar, "input_turn": t.input })
+                        "avatar_turn": t.avatar, "input_turn": t.input,
+                        "bone": BONES[t.bone] })
                 })
                 .collect();
         }
@@ -333,10 +348,11 @@ fn print_table(r: &Value) {
     println!("\nLargest avatar turns (robot):");
     for w in r["worst"].as_array().unwrap() {
         println!(
-            "  {}:{} {} avatar {:.1} input {:.1}",
+            "  {}:{} {} {} avatar {:.1} input {:.1}",
             w["clip"].as_str().unwrap(),
             w["frame"],
             w["side"].as_str().unwrap(),
+            w["bone"].as_str().unwrap(),
             w["avatar_turn"].as_f64().unwrap(),
             w["input_turn"].as_f64().unwrap()
         );

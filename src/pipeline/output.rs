@@ -1,5 +1,6 @@
 //! What [`Rig::solve`](super::Rig::solve) produces: [`SolveOutput`] and the types it reports.
 
+use super::HandCheck;
 use glam::{Quat, Vec3};
 
 use crate::align::AlignmentReport;
@@ -81,6 +82,8 @@ pub struct TrackedHand {
     pub index: usize,
     /// Whether its label contradicted the pose and it was reassigned to this side.
     pub reassigned: bool,
+    /// What the hand checks made of it (mirrored, solved from the image, turned too fast).
+    pub check: HandCheck,
 }
 
 impl Default for SolveOutput {
