@@ -26,16 +26,19 @@ use crate::mediapipe::{
     FrameInput, HandObservation, Handedness, PoseObservation, TrackerFace, WristObservation,
     HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS,
 };
-use crate::pipeline::{HandUse, Rig, SolveOutput};
+use crate::pipeline::{HandCheck, HandUse, Rig, SolveOutput};
 
 /// Layout version: bumped whenever an offset or meaning below changes. 4: the app's torso
 /// (`input.torso`) and body-tracker joints (`input.body`); 5: the tracker face input
 /// (`input.face`) and the per-side contact report (`output.side.contact*`, side stride 72).
-pub const VERSION: u32 = 5;
+pub const VERSION: u32 = 6;
 
 /// The names of `output.side.handStatus`'s codes, indexed by code (`LAYOUT.handStatus`; 0: no
 /// hand this frame): what the JS result's `hand.status` reads.
 pub const HAND_STATUS_NAMES: [&str; 4] = ["none", "solved", "held", "skipped"];
+
+/// The names of `output.side.handCheck`'s codes (JavaScript's `LAYOUT.handCheck`).
+pub const HAND_CHECK_NAMES: [&str; 3] = ["good", "fromImage", "mirrored"];
 
 /// The names of `output.handUse`'s codes, indexed by code (`LAYOUT.handUse`; 0: no such hand):
 /// what became of each tracked hand, as the JS result's `handUse` reads it.
@@ -247,6 +250,12 @@ pub mod output {
         pub const CONTACT_HAND_WEIGHT: usize = 63;
         /// How far the body colliders pushed the hand (m).
         pub const CONTACT_PUSH: usize = 64;
+        /// The tracked hand's confidence, 0 to 1 (0 without a hand; see
+        /// `TrackedHand::confidence`).
+        pub const HAND_CONFIDENCE: usize = 65;
+        /// What the hand checks made of it: `0` good, `1` solved from the image landmarks
+        /// (the world landmarks were mirrored), `2` mirrored and held (0 without a hand).
+        pub const HAND_CHECK: usize = 66;
     }
     /// What became of each input hand slot (4): `0` unused, `1` drove the left side, `2` the
     /// right side (see `side.handReassigned`), `3` ignored: score below `minHandScore`, `4`
@@ -261,7 +270,8 @@ pub mod output {
 const _: () = {
     assert!(input::hand::IMAGE + 3 * HAND_LANDMARKS <= input::HAND_STRIDE);
     assert!(input::wrist::ROTATION + 4 <= input::WRIST_STRIDE);
-    assert!(output::side::CONTACT_PUSH < output::SIDE_STRIDE);
+    assert!(output::side::HAND_CHECK < output::SIDE_STRIDE);
+    assert!(output::side::CONTACT_PUSH < output::side::HAND_CONFIDENCE);
     assert!(output::side::RETARGET_RESIDUAL < output::side::CONTACT_PRESENT);
     assert!(input::face_point::POSITION + 3 <= input::FACE_STRIDE);
     assert!(output::side::FINGERTIPS + 15 <= output::side::RETARGET_PRESENT);
@@ -329,6 +339,8 @@ pub const FIELDS: &[(&str, usize)] = &[
     ("output.side.aligned", output::side::ALIGNED),
     ("output.side.handIndex", output::side::HAND_INDEX),
     ("output.side.handReassigned", output::side::HAND_REASSIGNED),
+    ("output.side.handConfidence", output::side::HAND_CONFIDENCE),
+    ("output.side.handCheck", output::side::HAND_CHECK),
     ("output.side.fingertips", output::side::FINGERTIPS),
     (
         "output.side.retargetPresent",
@@ -648,6 +660,14 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
             out.hands[s].map_or((-1.0, false), |h| (h.index as f32, h.reassigned));
         buf[at + output::side::HAND_INDEX] = index;
         put_flag(buf, at + output::side::HAND_REASSIGNED, reassigned);
+        let (confidence, check) =
+            out.hands[s].map_or((0.0, HandCheck::Good), |h| (h.confidence, h.check));
+        buf[at + output::side::HAND_CONFIDENCE] = confidence;
+        buf[at + output::side::HAND_CHECK] = match check {
+            HandCheck::Good => const { code(&HAND_CHECK_NAMES, "good") },
+            HandCheck::FromImage => const { code(&HAND_CHECK_NAMES, "fromImage") },
+            HandCheck::Mirrored => const { code(&HAND_CHECK_NAMES, "mirrored") },
+        };
         let point = |p: Option<Vec3>| p.map_or(Vec3::NAN, |p| p);
         for (f, tip) in out.fingertips[s].iter().enumerate() {
             put_vec3(buf, at + output::side::FINGERTIPS + 3 * f, point(*tip));

@@ -7,6 +7,7 @@ use glam::{Quat, Vec3};
 
 use crate::bones::Side;
 use crate::hand::flip::{chirality, image_agreement, image_hand, MIRRORED};
+use crate::hand::HandStatus;
 use crate::mediapipe::{FrameInput, HandObservation, HAND_LANDMARKS};
 
 use super::select::Pick;
@@ -51,6 +52,17 @@ impl HandCheck {
     pub fn holds(self) -> bool {
         self == HandCheck::Mirrored
     }
+}
+
+/// [`TrackedHand::confidence`]: the handedness score times how the hand was solved.
+fn confidence(check: HandCheck, status: HandStatus, score: f32) -> f32 {
+    let how = match (status, check) {
+        (HandStatus::Solved, HandCheck::Good) => 1.0,
+        (HandStatus::Solved, HandCheck::FromImage) => 0.6,
+        (HandStatus::Held, _) | (HandStatus::Solved, HandCheck::Mirrored) => 0.3,
+        (HandStatus::Skipped | HandStatus::NotSolved, _) => 0.0,
+    };
+    how * score.clamp(0.0, 1.0)
 }
 
 /// Per side, what the hand checks carry between frames.
@@ -146,8 +158,10 @@ impl Rig {
                 &mut out.local,
             )
         };
+        let status = self.hands.report(side).status;
         out.hands[side.index()] = Some(TrackedHand {
-            status: self.hands.report(side).status,
+            status,
+            confidence: confidence(verdict, status, h.score),
             score: h.score,
             index: pick.index,
             reassigned: pick.reassigned,

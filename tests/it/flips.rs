@@ -55,6 +55,22 @@ fn a_flipped_frame_of_a_real_clip_is_solved_from_the_image() {
     assert_eq!(got[16], Some((HandCheck::FromImage, HandStatus::Solved)));
     assert_eq!(got[15], Some((HandCheck::Good, HandStatus::Solved)));
     assert_eq!(got[17], Some((HandCheck::Good, HandStatus::Solved)));
+    // The confidence: the handedness score times 1 for a good hand, 0.6 from the image.
+    let mut rig = Rig::new(recordings::vrm(recordings::ROBOT), RigOptions::default()).unwrap();
+    let mut out = SolveOutput::default();
+    for (i, f) in frames.iter().enumerate().take(18) {
+        rig.solve(f, &mut out).unwrap();
+        let t = out.hands[Side::Right.index()];
+        if let Some(t) = t.filter(|_| i >= 15) {
+            let score = f.hands()[t.index].score;
+            let want = if i == 16 { 0.6 * score } else { score };
+            assert!(
+                (t.confidence - want).abs() < 1e-6,
+                "frame {i}: {}",
+                t.confidence
+            );
+        }
+    }
 }
 
 /// `frame` with the world depth of the hand driving the avatar's right side mirrored about
@@ -117,6 +133,10 @@ fn a_mirrored_hand_is_undone_from_the_image_or_held() {
     });
     for (i, (t, _)) in held.iter().enumerate().skip(25).take(5) {
         let t = t.unwrap();
+        if t.status == HandStatus::Held {
+            let score = frames[i].hands()[t.index].score;
+            assert!((t.confidence - 0.3 * score).abs() < 1e-6, "frame {i}");
+        }
         let want = if i <= 27 {
             (HandCheck::Mirrored, HandStatus::Held)
         } else if i == 28 {
