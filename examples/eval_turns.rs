@@ -259,6 +259,8 @@ fn main() {
     let labels = labels();
     let mut rows = Vec::new();
     let mut input_rows = None;
+    // The largest turns of the first avatar (woman-vrm1) and of the robot.
+    let mut worst_human = Vec::new();
     let mut worst_rows = Vec::new();
     for avatar in AVATARS {
         let (turns, (agree, total), misses) = run(avatar, &data, &labels);
@@ -276,10 +278,10 @@ fn main() {
             }));
         }
         let name = avatar.rsplit('/').next().unwrap().trim_end_matches(".vrm");
-        if avatar == recordings::ROBOT || worst_rows.is_empty() {
+        if avatar == recordings::ROBOT || worst_human.is_empty() {
             let mut sorted: Vec<&Turn> = turns.iter().collect();
             sorted.sort_by(|a, b| b.avatar.total_cmp(&a.avatar));
-            worst_rows = sorted
+            let list: Vec<Value> = sorted
                 .iter()
                 .take(worst)
                 .map(|t| {
@@ -289,6 +291,11 @@ fn main() {
                         "bone": BONES[t.bone] })
                 })
                 .collect();
+            if worst_human.is_empty() {
+                worst_human = list;
+            } else {
+                worst_rows = list;
+            }
         }
         rows.push(json!({
             "avatar": name,
@@ -297,7 +304,8 @@ fn main() {
             "palm": { "agree": agree, "labelled": total, "misses": misses },
         }));
     }
-    let result = json!({ "input": input_rows, "avatars": rows, "worst": worst_rows });
+    let result = json!({ "input": input_rows, "avatars": rows, "worst": worst_rows,
+        "worstHuman": worst_human });
     if as_json {
         println!("{result}");
         return;
@@ -345,16 +353,18 @@ fn print_table(r: &Value) {
             p["labelled"]
         );
     }
-    println!("\nLargest avatar turns (robot):");
-    for w in r["worst"].as_array().unwrap() {
-        println!(
-            "  {}:{} {} {} avatar {:.1} input {:.1}",
-            w["clip"].as_str().unwrap(),
-            w["frame"],
-            w["side"].as_str().unwrap(),
-            w["bone"].as_str().unwrap(),
-            w["avatar_turn"].as_f64().unwrap(),
-            w["input_turn"].as_f64().unwrap()
-        );
+    for (title, key) in [("robot", "worst"), ("woman-vrm1", "worstHuman")] {
+        println!("\nLargest avatar turns ({title}):");
+        for w in r[key].as_array().unwrap() {
+            println!(
+                "  {}:{} {} {} avatar {:.1} input {:.1}",
+                w["clip"].as_str().unwrap(),
+                w["frame"],
+                w["side"].as_str().unwrap(),
+                w["bone"].as_str().unwrap(),
+                w["avatar_turn"].as_f64().unwrap(),
+                w["input_turn"].as_f64().unwrap()
+            );
+        }
     }
 }

@@ -29,8 +29,8 @@ use crate::mediapipe::{hand_landmark as lm, HAND_LANDMARKS};
 use super::palm_frame;
 
 /// [`chirality`] below this is a mirrored hand (mean flexion of the four fingers, as a
-/// fraction of the palm length: real hands sit at 0.2 to 0.7, flat ones near 0, the mirrored
-/// frames of the ASL clips at -0.25 to -0.9).
+/// fraction of the palm length: real hands sit at about 0.15 to 0.7, flat ones near 0, the
+/// mirrored frames of the ASL clips at about -0.25 to -0.9).
 pub const MIRRORED: f32 = -0.15;
 
 /// The fingers' (index to little) mean palmar offset of the tip from the MCP, over the palm
