@@ -103,7 +103,7 @@ const cell = (f) =>
   `${f.sideFrames} | ${f.over90} | ${f.pctOver45.toFixed(1)} | ${f.median.toFixed(1)} | ${f.max.toFixed(1)}`;
 console.log("| ASL clips (6), turn between frames (deg) | side-frames | > 90 | % > 45 | median | max | palm labels agree |");
 console.log("| --- | ---: | ---: | ---: | ---: | ---: | ---: |");
-console.log(`| input: MediaPipe palm (world landmarks) | ${cell(rust.input.asl)} | |`);
+console.log(`| input: MediaPipe palm (world landmarks) | ${cell(rust.input.asl)} | ${rust.input.palm.agree}/${rust.input.palm.labelled} |`);
 for (const a of rust.avatars) {
   console.log(`| handrig, ${a.avatar} | ${cell(a.asl)} | ${a.palm.agree}/${a.palm.labelled} |`);
 }

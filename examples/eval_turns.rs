@@ -147,16 +147,18 @@ fn signer_hand(f: &FrameInput, signer: Side) -> Option<usize> {
         .map(|(i, _)| i)
 }
 
-/// Per avatar: every side-frame's turn, and the palm-label agreement (agree, total).
+/// Per avatar: every side-frame's turn, the palm-label agreement of the avatar (agree, total)
+/// and of the input hand that drove the side (its world landmarks' palm normal, agree).
 fn run(
     avatar: &str,
     data: &[(String, Vec<FrameInput>)],
     labels: &[Label],
-) -> (Vec<Turn>, (usize, usize), Vec<String>) {
+) -> (Vec<Turn>, (usize, usize, usize), Vec<String>) {
     let skeleton = recordings::vrm(avatar);
     let version = skeleton.version();
     let mut turns = Vec::new();
-    let (mut agree, mut total) = (0, 0);
+    let (mut agree, mut total, mut input_agree) = (0, 0, 0);
+    let camera = handrig::mediapipe::CameraMapping::default();
     let mut misses = Vec::new();
     for (name, frames) in data {
         let mut rig = Rig::new(skeleton.clone(), RigOptions::default()).unwrap();
@@ -206,6 +208,13 @@ fn run(
                     continue;
                 };
                 total += 1;
+                // The input's palm normal in the avatar frame (+Z toward the camera).
+                let w = f.hands()[k].world.map(|p| camera.to_avatar(p));
+                if palm_frame(side, w[0], w[5], w[17], w[9])
+                    .is_some_and(|m| (m.z_axis.z > 0.0) == l.toward)
+                {
+                    input_agree += 1;
+                }
                 let toward = palm_normal(&o, side).z > 0.0;
                 if toward == l.toward {
                     agree += 1;
@@ -223,7 +232,7 @@ fn run(
             }
         }
     }
-    (turns, (agree, total), misses)
+    (turns, (agree, total, input_agree), misses)
 }
 
 fn median(mut v: Vec<f32>) -> f32 {
@@ -263,7 +272,7 @@ fn main() {
     let mut worst_human = Vec::new();
     let mut worst_rows = Vec::new();
     for avatar in AVATARS {
-        let (turns, (agree, total), misses) = run(avatar, &data, &labels);
+        let (turns, (agree, total, input_agree), misses) = run(avatar, &data, &labels);
         let pick = |asl: bool, f: &dyn Fn(&Turn) -> f32| -> Vec<f32> {
             turns
                 .iter()
@@ -273,6 +282,7 @@ fn main() {
         };
         if input_rows.is_none() {
             input_rows = Some(json!({
+                "palm": { "agree": input_agree, "labelled": total },
                 "asl": figures(&pick(true, &|t| t.input)),
                 "video": figures(&pick(false, &|t| t.input)),
             }));
@@ -337,10 +347,12 @@ fn print_table(r: &Value) {
     );
     let input = &r["input"];
     println!(
-        "{:<22} | {} | {} |",
+        "{:<22} | {} | {} | {}/{}",
         "input (MediaPipe palm)",
         cell(&input["asl"]),
-        cell(&input["video"])
+        cell(&input["video"]),
+        input["palm"]["agree"],
+        input["palm"]["labelled"]
     );
     for a in r["avatars"].as_array().unwrap() {
         let p = &a["palm"];
