@@ -26,17 +26,21 @@ use crate::mediapipe::{
     FrameInput, HandObservation, Handedness, PoseObservation, TrackerFace, WristObservation,
     HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS,
 };
-use crate::pipeline::{HandUse, Rig, SolveOutput};
+use crate::pipeline::{HandCheck, HandUse, Rig, SolveOutput};
 
 /// Layout version: bumped whenever an offset or meaning below changes. 4: the app's torso
 /// (`input.torso`) and body-tracker joints (`input.body`); 5: the tracker face input
 /// (`input.face`) and the per-side contact report (`output.side.contact*`, side stride 72);
-/// 6: what carries the aligned point (`output.side.alignedBone`).
+/// 6: what carries the aligned point (`output.side.alignedBone`) and the tracked hand's
+/// confidence and checks (`output.side.handConfidence`, `output.side.handCheck`).
 pub const VERSION: u32 = 6;
 
 /// The names of `output.side.handStatus`'s codes, indexed by code (`LAYOUT.handStatus`; 0: no
 /// hand this frame): what the JS result's `hand.status` reads.
 pub const HAND_STATUS_NAMES: [&str; 4] = ["none", "solved", "held", "skipped"];
+
+/// The names of `output.side.handCheck`'s codes (JavaScript's `LAYOUT.handCheck`).
+pub const HAND_CHECK_NAMES: [&str; 3] = ["good", "fromImage", "mirrored"];
 
 /// The names of `output.handUse`'s codes, indexed by code (`LAYOUT.handUse`; 0: no such hand):
 /// what became of each tracked hand, as the JS result's `handUse` reads it.
@@ -254,6 +258,12 @@ pub mod output {
         /// bone standing in on an avatar without it: a shallower bone of the same finger
         /// (its tip extrapolated), another finger's bone, or the hand bone (the palm).
         pub const ALIGNED_BONE: usize = 65;
+        /// The tracked hand's confidence, 0 to 1 (0 without a hand; see
+        /// `TrackedHand::confidence`).
+        pub const HAND_CONFIDENCE: usize = 66;
+        /// What the hand checks made of it: `0` good, `1` solved from the image landmarks
+        /// (the world landmarks were mirrored), `2` mirrored and held (0 without a hand).
+        pub const HAND_CHECK: usize = 67;
     }
     /// What became of each input hand slot (4): `0` unused, `1` drove the left side, `2` the
     /// right side (see `side.handReassigned`), `3` ignored: score below `minHandScore`, `4`
@@ -268,7 +278,9 @@ pub mod output {
 const _: () = {
     assert!(input::hand::IMAGE + 3 * HAND_LANDMARKS <= input::HAND_STRIDE);
     assert!(input::wrist::ROTATION + 4 <= input::WRIST_STRIDE);
-    assert!(output::side::ALIGNED_BONE < output::SIDE_STRIDE);
+    assert!(output::side::HAND_CHECK < output::SIDE_STRIDE);
+    assert!(output::side::ALIGNED_BONE < output::side::HAND_CONFIDENCE);
+    assert!(output::side::CONTACT_PUSH < output::side::ALIGNED_BONE);
     assert!(output::side::RETARGET_RESIDUAL < output::side::CONTACT_PRESENT);
     assert!(input::face_point::POSITION + 3 <= input::FACE_STRIDE);
     assert!(output::side::FINGERTIPS + 15 <= output::side::RETARGET_PRESENT);
@@ -337,6 +349,8 @@ pub const FIELDS: &[(&str, usize)] = &[
     ("output.side.alignedBone", output::side::ALIGNED_BONE),
     ("output.side.handIndex", output::side::HAND_INDEX),
     ("output.side.handReassigned", output::side::HAND_REASSIGNED),
+    ("output.side.handConfidence", output::side::HAND_CONFIDENCE),
+    ("output.side.handCheck", output::side::HAND_CHECK),
     ("output.side.fingertips", output::side::FINGERTIPS),
     (
         "output.side.retargetPresent",
@@ -661,6 +675,14 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
             out.hands[s].map_or((-1.0, false), |h| (h.index as f32, h.reassigned));
         buf[at + output::side::HAND_INDEX] = index;
         put_flag(buf, at + output::side::HAND_REASSIGNED, reassigned);
+        let (confidence, check) =
+            out.hands[s].map_or((0.0, HandCheck::Good), |h| (h.confidence, h.check));
+        buf[at + output::side::HAND_CONFIDENCE] = confidence;
+        buf[at + output::side::HAND_CHECK] = match check {
+            HandCheck::Good => const { code(&HAND_CHECK_NAMES, "good") },
+            HandCheck::FromImage => const { code(&HAND_CHECK_NAMES, "fromImage") },
+            HandCheck::Mirrored => const { code(&HAND_CHECK_NAMES, "mirrored") },
+        };
         let point = |p: Option<Vec3>| p.map_or(Vec3::NAN, |p| p);
         for (f, tip) in out.fingertips[s].iter().enumerate() {
             put_vec3(buf, at + output::side::FINGERTIPS + 3 * f, point(*tip));

@@ -3,4 +3,6 @@
 
 pub use crate::input::COORDINATE_LIMIT;
 pub use crate::options::{HandednessPolicy, RigOptions};
-pub use crate::pipeline::{HandUse, IkTarget, Rig, SolveOutput, TrackedHand, CONTRADICTION_RATIO};
+pub use crate::pipeline::{
+    HandCheck, HandUse, IkTarget, Rig, SolveOutput, TrackedHand, CONTRADICTION_RATIO,
+};

@@ -108,6 +108,8 @@ export interface FlatLayout {
       readonly alignedBone: number;
       readonly handIndex: number;
       readonly handReassigned: number;
+      readonly handConfidence: number;
+      readonly handCheck: number;
       readonly fingertips: number;
       readonly retargetPresent: number;
       readonly retargetTargets: number;
@@ -135,6 +137,8 @@ export interface FlatLayout {
   readonly facePoints: readonly FacePointName[];
   /** The names of `output.side.handStatus`'s codes, by code (0: `"none"`, no hand this frame). */
   readonly handStatus: readonly string[];
+  /** The names of `output.side.handCheck`'s codes, by code (0: `"good"`). */
+  readonly handCheck: readonly string[];
   /** The names of `output.handUse`'s codes, by code (0: `"none"`, no such hand). */
   readonly handUse: readonly string[];
 }

@@ -96,6 +96,14 @@ export interface TrackedHand {
   index: number;
   /** Its label contradicted the pose wrists and it was reassigned to this side (`handedness: "reassign"`). */
   reassigned: boolean;
+  /** How far to trust this hand this frame, 0..1 (for fading it): the handedness score times
+   * 1 for a hand that passed the checks, 0.6 for one solved from the image landmarks because
+   * its world landmarks were mirrored, 0.3 for a held hand, 0 when skipped. */
+  confidence: number;
+  /** What the mirrored-hand checks made of it: "good"; "fromImage": its world landmarks were
+   * mirrored and its image landmarks were solved instead; "mirrored": held (no usable image
+   * landmarks). See docs/hands-on-video.md. */
+  check: "good" | "fromImage" | "mirrored";
 }
 
 /** What became of one hand of the frame. */

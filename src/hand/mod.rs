@@ -58,6 +58,7 @@ use crate::mediapipe::HAND_LANDMARKS;
 use crate::skeleton::Skeleton;
 
 mod chain;
+pub mod flip;
 pub mod limits;
 pub mod retarget;
 
@@ -455,20 +456,34 @@ impl HandSolver {
                 });
                 Some(rotation)
             }
-            None => match self.held[s] {
-                Some(h) => {
-                    write_fingers(skeleton, side, &h.local, local);
-                    self.report[s].status = HandStatus::Held;
-                    Some(h.rotation)
-                }
-                None => {
-                    self.report[s] = HandReport {
-                        status: HandStatus::Skipped,
-                        ..HandReport::default()
-                    };
-                    None
-                }
-            },
+            None => self.hold(skeleton, side, local),
+        }
+    }
+
+    /// Writes `side`'s last solved rotations again (status `Held`) and returns its hand
+    /// rotation; `None` (status `Skipped`) when nothing was solved yet. What [`HandSolver::solve`]
+    /// does with a degenerate hand, and the rig with a hand its checks reject.
+    pub fn hold(
+        &mut self,
+        skeleton: &Skeleton,
+        side: Side,
+        local: &mut [Quat; BONE_COUNT],
+    ) -> Option<Quat> {
+        let s = side.index();
+        self.retarget[s].report = None;
+        match self.held[s] {
+            Some(h) => {
+                write_fingers(skeleton, side, &h.local, local);
+                self.report[s].status = HandStatus::Held;
+                Some(h.rotation)
+            }
+            None => {
+                self.report[s] = HandReport {
+                    status: HandStatus::Skipped,
+                    ..HandReport::default()
+                };
+                None
+            }
         }
     }
 }

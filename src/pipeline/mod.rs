@@ -60,6 +60,7 @@ use crate::skeleton::Skeleton;
 use crate::torso::{TorsoSolver, TorsoSource, BODY_JOINT_COUNT, TORSO_BONES};
 
 pub use crate::input::validate::COORDINATE_LIMIT;
+pub use hands::HandCheck;
 pub use output::{HandUse, IkTarget, SolveOutput, TrackedHand};
 pub use select::CONTRADICTION_RATIO;
 
@@ -97,6 +98,8 @@ pub struct Rig {
     /// and the anchor of its running blend.
     shoulder_turn_shown: [Quat; 2],
     shoulder_turn_anchor: [Quat; 2],
+    /// The hand checks' history per side (`hands.rs`).
+    flips: [hands::FlipState; 2],
     /// This frame's values passed from stage to stage (not history; see [`Scratch`]).
     scratch: Scratch,
 }
@@ -197,6 +200,7 @@ impl Rig {
             body_filters: PointFilters::default(),
             shoulder_turn_shown: [Quat::IDENTITY; 2],
             shoulder_turn_anchor: [Quat::IDENTITY; 2],
+            flips: [hands::FlipState::default(); 2],
             scratch: Scratch::default(),
         })
     }
@@ -242,6 +246,7 @@ impl Rig {
         self.body_filters.reset();
         self.shoulder_turn_shown = [Quat::IDENTITY; 2];
         self.shoulder_turn_anchor = [Quat::IDENTITY; 2];
+        self.flips = [hands::FlipState::default(); 2];
         self.scratch.pose = None;
         self.scratch.anchors = [None, None];
         self.scratch.turn = None;

@@ -1,5 +1,6 @@
 //! What [`Rig::solve`](super::Rig::solve) produces: [`SolveOutput`] and the types it reports.
 
+use super::HandCheck;
 use glam::{Quat, Vec3};
 
 use crate::align::AlignmentReport;
@@ -81,6 +82,13 @@ pub struct TrackedHand {
     pub index: usize,
     /// Whether its label contradicted the pose and it was reassigned to this side.
     pub reassigned: bool,
+    /// What the hand checks made of it (mirrored, solved from the image).
+    pub check: HandCheck,
+    /// How far an app can trust this side's hand this frame, 0 to 1: the handedness score
+    /// times 1 for a hand that passed the checks, 0.6 for one solved from the image
+    /// landmarks, 0.3 for a held hand (mirrored, or degenerate this frame), 0 when skipped.
+    /// For fading a hand in and out.
+    pub confidence: f32,
 }
 
 impl Default for SolveOutput {

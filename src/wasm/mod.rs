@@ -278,6 +278,7 @@ impl HandRig {
         );
         set(&root, "handStatus", &names(&flat::HAND_STATUS_NAMES));
         set(&root, "handUse", &names(&flat::HAND_USE_NAMES));
+        set(&root, "handCheck", &names(&flat::HAND_CHECK_NAMES));
         root
     }
 

@@ -1,0 +1,382 @@
+//! Hand turns on real video (issue 27): how far the avatar's hand turns between consecutive
+//! 30 fps frames on the shared ASL clips and the hand video, against how far the MediaPipe
+//! hand's palm turns, with every default option on; and the avatar palm's agreement with the
+//! hand-made palm-facing labels (`eval/labels/palm-facing.json`).
+//!
+//! `cargo run --release --example eval_turns [-- --json] [-- --worst N]` (about 1 s in a release
+//! build; `node eval/hand-turns.mjs` adds Kalidokit 1.1.5 and prints the docs table).
+//!
+//! Per side-frame (a side whose hand drove the avatar in this frame and the one before), the
+//! turn is the largest of the world rotations' angles of change of the upper arm, forearm and
+//! hand; the input's is the change of the MediaPipe hand's palm frame (world landmarks, the
+//! palm frame of `handrig::hand::palm_frame`).
+
+#[path = "../tests/support/recordings.rs"]
+mod recordings;
+
+use glam::{Quat, Vec3};
+use handrig::hand::palm_frame;
+use handrig::mediapipe::{FrameInput, HandObservation};
+use handrig::rig::HandUse;
+use handrig::{Rig, RigOptions, Side, SolveOutput};
+use serde_json::{json, Value};
+
+/// The shared ASL clips (all six) and the hand video.
+const CLIPS: [&str; 6] = ["again", "brother", "eat", "please", "sister", "thanks"];
+const AVATARS: [&str; 7] = [
+    "tests/fixtures/avatars/woman-vrm1.vrm",
+    "tests/fixtures/avatars/man-vrm1.vrm",
+    "tests/fixtures/avatars/child-vrm1.vrm",
+    "tests/fixtures/avatars/woman-vrm0.vrm",
+    "tests/fixtures/avatars/man-vrm0.vrm",
+    "tests/fixtures/avatars/child-vrm0.vrm",
+    recordings::ROBOT,
+];
+const LABELS: &str = "eval/labels/palm-facing.json";
+const BONES: [&str; 3] = ["upperArm", "lowerArm", "hand"];
+
+/// A turn of one side between two frames.
+#[derive(Clone, Debug)]
+struct Turn {
+    clip: String,
+    frame: usize,
+    side: Side,
+    avatar: f32,
+    /// Which bone turned most: 0 upper arm, 1 forearm, 2 hand.
+    bone: usize,
+    input: f32,
+}
+
+fn angle(a: Quat, b: Quat) -> f32 {
+    let d = a.dot(b).abs().min(1.0);
+    (2.0 * d.acos()).to_degrees()
+}
+
+/// The palm frame of a MediaPipe hand for the avatar side it drives, as a rotation.
+fn input_palm(side: Side, h: &HandObservation) -> Option<Quat> {
+    let w = &h.world;
+    // The palm frame's forward and palmar axes as a proper rotation (its columns are
+    // forward, radial, palmar: left-handed for one side).
+    palm_frame(side, w[0], w[5], w[17], w[9]).map(|m| {
+        let (f, n) = (m.x_axis, m.z_axis);
+        Quat::from_mat3(&glam::Mat3::from_cols(f, n, f.cross(n)))
+    })
+}
+
+fn hand_video() -> Vec<FrameInput> {
+    recordings::hand_video()
+        .iter()
+        .enumerate()
+        .map(|(i, hands)| {
+            let mut f = recordings::frame_of(&hands[..hands.len().min(2)]);
+            f.time_ms = i as f64 * 1000.0 / 30.0;
+            f
+        })
+        .collect()
+}
+
+/// The data sets: name and frames.
+fn data() -> Vec<(String, Vec<FrameInput>)> {
+    let mut d: Vec<(String, Vec<FrameInput>)> = CLIPS
+        .iter()
+        .map(|c| {
+            (
+                c.to_string(),
+                recordings::asl(&format!("../shared/data/asl/{c}.json")),
+            )
+        })
+        .collect();
+    d.push(("hand-video".into(), hand_video()));
+    d
+}
+
+/// The avatar palm's facing (internal frame: the avatar faces +Z, toward the camera): the
+/// rest palm of a normalized hand faces down (-Y).
+fn palm_normal(out: &SolveOutput, side: Side) -> Vec3 {
+    out.world.rotation[side.hand().index()] * Vec3::NEG_Y
+}
+
+/// One labelled hand-frame.
+struct Label {
+    clip: String,
+    frame: usize,
+    /// The signer's side.
+    signer: Side,
+    toward: bool,
+}
+
+fn labels() -> Vec<Label> {
+    let Ok(text) = std::fs::read_to_string(recordings::path(LABELS)) else {
+        return Vec::new();
+    };
+    let v: Value = serde_json::from_str(&text).expect("labels: JSON");
+    v["labels"]
+        .as_array()
+        .expect("labels: a labels array")
+        .iter()
+        .filter_map(|l| {
+            let toward = match l["facing"].as_str()? {
+                "toward" => true,
+                "away" => false,
+                _ => return None,
+            };
+            Some(Label {
+                clip: l["clip"].as_str()?.to_string(),
+                frame: l["frame"].as_u64()? as usize,
+                signer: if l["hand"].as_str()? == "right" {
+                    Side::Right
+                } else {
+                    Side::Left
+                },
+                toward,
+            })
+        })
+        .collect()
+}
+
+/// The input hand that is the signer's `signer` hand in `f`: the one whose image wrist is
+/// nearest the pose's image wrist of that side (pose 15 left, 16 right).
+fn signer_hand(f: &FrameInput, signer: Side) -> Option<usize> {
+    let pose = f.pose_image?;
+    let w = pose[if signer == Side::Right { 16 } else { 15 }];
+    f.hands()
+        .iter()
+        .enumerate()
+        .filter_map(|(i, h)| h.image.map(|im| (i, (im[0] - w).truncate().length())))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(i, _)| i)
+}
+
+/// Per avatar: every side-frame's turn, the palm-label agreement of the avatar (agree, total)
+/// and of the input hand that drove the side (its world landmarks' palm normal, agree).
+fn run(
+    avatar: &str,
+    data: &[(String, Vec<FrameInput>)],
+    labels: &[Label],
+) -> (Vec<Turn>, (usize, usize, usize), Vec<String>) {
+    let skeleton = recordings::vrm(avatar);
+    let version = skeleton.version();
+    let mut turns = Vec::new();
+    let (mut agree, mut total, mut input_agree) = (0, 0, 0);
+    let camera = handrig::mediapipe::CameraMapping::default();
+    let mut misses = Vec::new();
+    for (name, frames) in data {
+        let mut rig = Rig::new(skeleton.clone(), RigOptions::default()).unwrap();
+        let mut out = SolveOutput::default();
+        let mut last: [Option<([Quat; 3], Quat)>; 2] = [None, None];
+        for (i, f) in frames.iter().enumerate() {
+            rig.solve(f, &mut out).unwrap();
+            let mut o = out.clone();
+            o.turn_to_internal_frame(version);
+            if std::env::var("TURNS_TRACE").is_ok_and(|c| c == *name) && avatar == recordings::ROBOT
+            {
+                for side in Side::BOTH {
+                    if let Some(t) = o.hands[side.index()] {
+                        eprintln!("{name}:{i} {side:?} {:?} {:?}", t.status, t.check);
+                    }
+                }
+            }
+            for side in Side::BOTH {
+                let now = o.hands[side.index()].and_then(|t| {
+                    let [_, upper, lower, hand] = side.arm();
+                    let input = input_palm(side, &f.hands()[t.index])?;
+                    Some((
+                        [upper, lower, hand].map(|b| o.world.rotation[b.index()]),
+                        input,
+                    ))
+                });
+                if let (Some((a, ia)), Some((b, ib))) = (last[side.index()], now) {
+                    let (bone, avatar) = (0..3)
+                        .map(|k| (k, angle(a[k], b[k])))
+                        .fold((0, 0.0), |m, t| if t.1 > m.1 { t } else { m });
+                    turns.push(Turn {
+                        clip: name.clone(),
+                        frame: i,
+                        side,
+                        avatar,
+                        bone,
+                        input: angle(ia, ib),
+                    });
+                }
+                last[side.index()] = now;
+            }
+            for l in labels.iter().filter(|l| &l.clip == name && l.frame == i) {
+                let Some(k) = signer_hand(f, l.signer) else {
+                    continue;
+                };
+                let HandUse::Drove(side) = o.hand_use[k] else {
+                    continue;
+                };
+                total += 1;
+                // The input's palm normal in the avatar frame (+Z toward the camera).
+                let w = f.hands()[k].world.map(|p| camera.to_avatar(p));
+                if palm_frame(side, w[0], w[5], w[17], w[9])
+                    .is_some_and(|m| (m.z_axis.z > 0.0) == l.toward)
+                {
+                    input_agree += 1;
+                }
+                let toward = palm_normal(&o, side).z > 0.0;
+                if toward == l.toward {
+                    agree += 1;
+                } else {
+                    misses.push(format!(
+                        "{name}:{i} {} {}",
+                        if l.signer == Side::Right {
+                            "right"
+                        } else {
+                            "left"
+                        },
+                        if l.toward { "toward" } else { "away" }
+                    ));
+                }
+            }
+        }
+    }
+    (turns, (agree, total, input_agree), misses)
+}
+
+fn median(mut v: Vec<f32>) -> f32 {
+    if v.is_empty() {
+        return f32::NAN;
+    }
+    v.sort_by(f32::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Count, > 90, % > 45, median, max of a set of turns.
+fn figures(v: &[f32]) -> Value {
+    let n = v.len();
+    json!({
+        "sideFrames": n,
+        "over90": v.iter().filter(|a| **a > 90.0).count(),
+        "pctOver45": 100.0 * v.iter().filter(|a| **a > 45.0).count() as f64 / n.max(1) as f64,
+        "median": median(v.to_vec()),
+        "max": v.iter().copied().fold(0.0, f32::max),
+    })
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let as_json = args.iter().any(|a| a == "--json");
+    let worst = args
+        .iter()
+        .position(|a| a == "--worst")
+        .and_then(|i| args.get(i + 1))
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(10usize);
+    let data = data();
+    let labels = labels();
+    let mut rows = Vec::new();
+    let mut input_rows = None;
+    // The largest turns of the first avatar (woman-vrm1) and of the robot.
+    let mut worst_human = Vec::new();
+    let mut worst_rows = Vec::new();
+    for avatar in AVATARS {
+        let (turns, (agree, total, input_agree), misses) = run(avatar, &data, &labels);
+        let pick = |asl: bool, f: &dyn Fn(&Turn) -> f32| -> Vec<f32> {
+            turns
+                .iter()
+                .filter(|t| (t.clip != "hand-video") == asl)
+                .map(f)
+                .collect()
+        };
+        if input_rows.is_none() {
+            input_rows = Some(json!({
+                "palm": { "agree": input_agree, "labelled": total },
+                "asl": figures(&pick(true, &|t| t.input)),
+                "video": figures(&pick(false, &|t| t.input)),
+            }));
+        }
+        let name = avatar.rsplit('/').next().unwrap().trim_end_matches(".vrm");
+        if avatar == recordings::ROBOT || worst_human.is_empty() {
+            let mut sorted: Vec<&Turn> = turns.iter().collect();
+            sorted.sort_by(|a, b| b.avatar.total_cmp(&a.avatar));
+            let list: Vec<Value> = sorted
+                .iter()
+                .take(worst)
+                .map(|t| {
+                    json!({ "avatar": name, "clip": t.clip, "frame": t.frame,
+                        "side": if t.side == Side::Right { "right" } else { "left" },
+                        "avatar_turn": t.avatar, "input_turn": t.input,
+                        "bone": BONES[t.bone] })
+                })
+                .collect();
+            if worst_human.is_empty() {
+                worst_human = list;
+            } else {
+                worst_rows = list;
+            }
+        }
+        rows.push(json!({
+            "avatar": name,
+            "asl": figures(&pick(true, &|t| t.avatar)),
+            "video": figures(&pick(false, &|t| t.avatar)),
+            "palm": { "agree": agree, "labelled": total, "misses": misses },
+        }));
+    }
+    let result = json!({ "input": input_rows, "avatars": rows, "worst": worst_rows,
+        "worstHuman": worst_human });
+    if as_json {
+        println!("{result}");
+        return;
+    }
+    print_table(&result);
+}
+
+fn print_table(r: &Value) {
+    let cell = |f: &Value| {
+        format!(
+            "{:>5} {:>4} {:>6.1} {:>6.1} {:>6.1}",
+            f["sideFrames"],
+            f["over90"],
+            f["pctOver45"].as_f64().unwrap_or(0.0),
+            f["median"].as_f64().unwrap_or(f64::NAN),
+            f["max"].as_f64().unwrap_or(0.0)
+        )
+    };
+    println!(
+        "Turn between consecutive frames, degrees (side-frames, count > 90, % > 45, median, max)"
+    );
+    println!(
+        "{:<22} | {:^31} | {:^31} | palm labels",
+        "", "ASL clips (6)", "hand video"
+    );
+    println!(
+        "{:<22} | {:>5} {:>4} {:>6} {:>6} {:>6} | {:>5} {:>4} {:>6} {:>6} {:>6} | agree",
+        "", "n", ">90", "%>45", "med", "max", "n", ">90", "%>45", "med", "max"
+    );
+    let input = &r["input"];
+    println!(
+        "{:<22} | {} | {} | {}/{}",
+        "input (MediaPipe palm)",
+        cell(&input["asl"]),
+        cell(&input["video"]),
+        input["palm"]["agree"],
+        input["palm"]["labelled"]
+    );
+    for a in r["avatars"].as_array().unwrap() {
+        let p = &a["palm"];
+        println!(
+            "{:<22} | {} | {} | {}/{}",
+            a["avatar"].as_str().unwrap(),
+            cell(&a["asl"]),
+            cell(&a["video"]),
+            p["agree"],
+            p["labelled"]
+        );
+    }
+    for (title, key) in [("robot", "worst"), ("woman-vrm1", "worstHuman")] {
+        println!("\nLargest avatar turns ({title}):");
+        for w in r[key].as_array().unwrap() {
+            println!(
+                "  {}:{} {} {} avatar {:.1} input {:.1}",
+                w["clip"].as_str().unwrap(),
+                w["frame"],
+                w["side"].as_str().unwrap(),
+                w["bone"].as_str().unwrap(),
+                w["avatar_turn"].as_f64().unwrap(),
+                w["input_turn"].as_f64().unwrap()
+            );
+        }
+    }
+}
