@@ -5,7 +5,7 @@
 // (`npm pack` of pkg/) is installed into a temporary copy of them.
 
 import { execFileSync } from "node:child_process";
-import { cpSync, mkdirSync, mkdtempSync, readFileSync, rmSync, symlinkSync } from "node:fs";
+import { cpSync, mkdirSync, mkdtempSync, readFileSync, rmSync, symlinkSync, writeFileSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { after, before, test } from "node:test";
@@ -38,17 +38,49 @@ function makeProject() {
     cpSync(join(REPO, "tests", "fixtures", "avatars", "woman-vrm1.vrm"), join(dir, app, "public", "avatar.vrm"));
     cpSync(join(SHARED, "data", "asl", "eat.json"), join(dir, app, "public", "eat.json"));
   }
+  // docs/workers.md's handrig/worker blocks, type-checked (strict) with the worker app.
+  const [workerBlock, pageBlock] = docBlocks("## `handrig/worker`: a rig in a module Worker");
+  writeFileSync(join(dir, "worker", "docs-rig.worker.ts"), workerBlock);
+  writeFileSync(
+    join(dir, "worker", "docs-page.ts"),
+    `${pageBlock.replace('"./rig.worker.ts"', '"./docs-rig.worker.ts"')}\n` +
+      "// What the block leaves to the reader's app:\n" +
+      "declare const vrmBytes: Uint8Array;\n" +
+      'declare const options: import("handrig").HandRigOptions;\n' +
+      "declare const vrm: Parameters<typeof applyToVRM>[0];\n" +
+      "declare const holisticResult: { timeMs: number; poseWorldLandmarks: { x: number; y: number; z: number }[][] };\n",
+  );
+  writeFileSync(
+    join(dir, "worker", "tsconfig.docs.json"),
+    JSON.stringify({ extends: "./tsconfig.json", include: ["docs-*.ts"] }),
+  );
   return dir;
 }
 
+/** The ```ts blocks of docs/workers.md's section under `heading`. */
+function docBlocks(heading) {
+  const text = readFileSync(join(REPO, "docs", "workers.md"), "utf8");
+  const start = text.indexOf(`${heading}\n`);
+  assert.ok(start >= 0, `docs/workers.md has no "${heading}"`);
+  const end = text.indexOf("\n## ", start + heading.length);
+  const section = text.slice(start, end < 0 ? undefined : end);
+  const blocks = [...section.matchAll(/```ts\n([\s\S]*?)```/g)].map((m) => m[1]);
+  assert.equal(blocks.length, 2, "the worker's module and the page");
+  return blocks;
+}
+
 /** tsc --noEmit (strict), vite build, vite preview, the page in Chromium: its window.__result. */
+function typeCheck(config) {
+  try {
+    execFileSync(join(WWW, "node_modules", ".bin", "tsc"), ["--noEmit", "-p", config], { encoding: "utf8" });
+  } catch (e) {
+    throw new Error(`tsc --noEmit (strict) failed for ${config}:\n${e.stdout}${e.stderr}`);
+  }
+}
+
 async function runApp(app) {
   const root = join(project, app);
-  try {
-    execFileSync(join(WWW, "node_modules", ".bin", "tsc"), ["--noEmit", "-p", join(root, "tsconfig.json")], { encoding: "utf8" });
-  } catch (e) {
-    throw new Error(`tsc --noEmit (strict) failed for the ${app} app:\n${e.stdout}${e.stderr}`);
-  }
+  typeCheck(join(root, "tsconfig.json"));
   await build({ root, logLevel: "warn", build: { outDir: join(root, "dist"), emptyOutDir: true, chunkSizeWarningLimit: 1024 } });
   built[app] = execFileSync("find", [join(root, "dist"), "-type", "f", "-printf", "%P %s\n"], { encoding: "utf8" }).trim().split("\n");
   const server = await preview({ root, logLevel: "warn", build: { outDir: join(root, "dist") }, preview: { port: 0, host: "127.0.0.1" } });
@@ -72,6 +104,10 @@ before(async () => {
   project = makeProject();
   env = await launch();
   for (const app of ["compat", "worker"]) reports[app] = await runApp(app);
+});
+
+test("docs/workers.md's handrig/worker blocks type-check (strict) against the package", () => {
+  typeCheck(join(project, "worker", "tsconfig.docs.json"));
 });
 
 after(async () => {
