@@ -6,7 +6,8 @@
 // (and counted as dropped) by a newer one; so the avatar shows the newest frame the worker could
 // solve, never a backlog. Two output buffers go back and forth (one in the worker being filled,
 // one with the page holding the latest result): no per-frame allocation beyond postMessage's
-// structured clone of the frame.
+// (the frame's structured clone, the transferred buffer's handle) and a Float32Array view of
+// the buffer on each side.
 //
 // The worker side, `serveRig(handrig)`, is the module the Worker runs: `await init()`,
 // `HandRig.fromVrm`, then one solve per message. It takes the package's module namespace
