@@ -29,6 +29,8 @@
 //   compat.{js,cjs,d.ts,d.cts}  `handrig/compat` (src/compat.ts): the web glue and the baseline
 //                     .wasm inlined as base64 in one file (no fetch, no .wasm to serve).
 //                     three.{js,cjs,d.ts,d.cts} the plain three.js adapter (src/three.ts).
+//   worker.{js,cjs,d.ts,d.cts}  `handrig/worker` (src/worker.ts): a rig in a module Worker, the
+//                     page side and the worker side (which is given `handrig` or `handrig/compat`).
 //   wasm/             wasm-bindgen output: handrig_wasm.js (--target web glue),
 //                     handrig_wasm.cjs (--target nodejs glue), handrig_bg.wasm (shared; the
 //                     package exports it as "handrig/handrig_bg.wasm") and
@@ -220,6 +222,9 @@ const ENTRIES = [
   // The plain three.js adapter (`handrig/three`), which needs no wasm either.
   { src: "three.ts", out: "three.js", format: "esm", platform: "neutral" },
   { src: "three.ts", out: "three.cjs", format: "cjs", platform: "neutral" },
+  // `handrig/worker`: a rig in a module Worker (page side and worker side), no wasm of its own.
+  { src: "worker.ts", out: "worker.js", format: "esm", platform: "neutral" },
+  { src: "worker.ts", out: "worker.cjs", format: "cjs", platform: "neutral" },
 ];
 // The public types, emitted from the same sources (one bundled .d.ts per entry): index.d.ts and
 // three-vrm.d.ts for ES modules, .d.cts (without the default export) for CommonJS.
@@ -252,6 +257,13 @@ const DECLARATIONS = [
     about:
       "// Types of `handrig/three`. Scene objects are typed structurally (the members the adapter uses),\n" +
       "// so three is not needed to type-check; a three `Object3D` fits.\n",
+  },
+  {
+    src: "worker.ts",
+    out: "worker",
+    about:
+      "// Types of `handrig/worker`: a rig in a module Worker. Workers are typed structurally, so no DOM\n" +
+      "// library is needed to type-check; a DOM `Worker` and a worker's `self` fit.\n",
   },
 ];
 

@@ -43,6 +43,10 @@ describe("the packed tarball", () => {
       "wasm/handrig_wasm.cjs",
       "wasm/handrig_wasm.d.ts",
       "wasm/handrig_wasm.js",
+      "worker.cjs",
+      "worker.d.cts",
+      "worker.d.ts",
+      "worker.js",
     ]);
   });
 
@@ -109,6 +113,7 @@ describe("package.json", () => {
       "./three-vrm",
       "./compat",
       "./three",
+      "./worker",
       "./handrig_bg.wasm",
       "./handrig_simd_bg.wasm",
       "./package.json",
@@ -120,11 +125,13 @@ describe("package.json", () => {
     assert.equal(require.resolve("handrig/three-vrm"), path.join(installed, "three-vrm.cjs"));
     assert.equal(require.resolve("handrig/compat"), path.join(installed, "compat.cjs"));
     assert.equal(require.resolve("handrig/three"), path.join(installed, "three.cjs"));
+    assert.equal(require.resolve("handrig/worker"), path.join(installed, "worker.cjs"));
     if (import.meta.resolve) {
       assert.equal(import.meta.resolve("handrig"), `file://${path.join(installed, "index.mjs")}`);
       assert.equal(import.meta.resolve("handrig/three-vrm"), `file://${path.join(installed, "three-vrm.js")}`);
       assert.equal(import.meta.resolve("handrig/compat"), `file://${path.join(installed, "compat.js")}`);
       assert.equal(import.meta.resolve("handrig/three"), `file://${path.join(installed, "three.js")}`);
+      assert.equal(import.meta.resolve("handrig/worker"), `file://${path.join(installed, "worker.js")}`);
     }
   });
 
