@@ -15,7 +15,7 @@
 
 import * as glue from "handrig:wasm-compat";
 import type { InitInput } from "./api.js";
-import { bindWasm } from "./wasm.js";
+import { bindWasm, initArgument } from "./wasm.js";
 
 export * from "./api.js";
 
@@ -28,13 +28,7 @@ bindWasm(glue, () => ready);
  * `WebAssembly.Module` uses that instead, as `handrig`'s `init` does. Calling it again is a no-op.
  */
 export async function init(input?: InitInput | { module_or_path: InitInput }): Promise<void> {
-  const arg =
-    input === undefined
-      ? undefined
-      : input !== null && Object.getPrototypeOf(input) === Object.prototype
-        ? input
-        : { module_or_path: input };
-  await glue.default(arg as never);
+  await glue.default(initArgument(input) as never);
   ready = true;
 }
 

@@ -12,7 +12,7 @@
 
 import * as glue from "handrig:wasm-web";
 import type { InitInput } from "./api.js";
-import { bindWasm } from "./wasm.js";
+import { bindWasm, initArgument } from "./wasm.js";
 
 export * from "./api.js";
 
@@ -27,13 +27,7 @@ bindWasm(glue, () => ready);
  * WebAssembly.Module); a resolved no-op in Node. Calling it again is a no-op.
  */
 export async function init(input?: InitInput | { module_or_path: InitInput }): Promise<void> {
-  const arg =
-    input === undefined
-      ? undefined
-      : input !== null && Object.getPrototypeOf(input) === Object.prototype
-        ? input
-        : { module_or_path: input };
-  await glue.default(arg as never);
+  await glue.default(initArgument(input) as never);
   ready = true;
 }
 

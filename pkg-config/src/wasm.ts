@@ -108,3 +108,12 @@ export function addDispose(C: { prototype: { free(): void } }): void {
     Object.defineProperty(C.prototype, dispose, { value: C.prototype.free, writable: true, configurable: true });
   }
 }
+
+/**
+ * `init(input)`'s argument as wasm-bindgen's glue takes it: `undefined` (the default file), an
+ * options object as given, or `{ module_or_path: input }` for a URL, Response, bytes or module.
+ */
+export function initArgument(input: unknown): unknown {
+  if (input === undefined) return undefined;
+  return input !== null && Object.getPrototypeOf(input) === Object.prototype ? input : { module_or_path: input };
+}
