@@ -42,21 +42,9 @@ fn gltf_skeleton(bytes: &[u8]) -> Skeleton {
 fn recordings() -> &'static [Vec<FrameInput>] {
     static R: std::sync::OnceLock<Vec<Vec<FrameInput>>> = std::sync::OnceLock::new();
     R.get_or_init(|| {
-        let video: Vec<FrameInput> = recordings::hand_video()
-            .iter()
-            .enumerate()
-            .map(|(i, hands)| {
-                let mut f =
-                    recordings::frame_of(&hands[..hands.len().min(handrig::mediapipe::MAX_HANDS)]);
-                f.time_ms = i as f64 * 1000.0 / 30.0;
-                f
-            })
-            .collect();
+        let video = recordings::hand_video_frames();
         let mut out = vec![video];
-        for clip in recordings::ASL.iter().chain(&[
-            "../shared/data/asl/please.json",
-            "../shared/data/asl/again.json",
-        ]) {
+        for clip in recordings::ASL.iter().chain(&recordings::ASL_MORE) {
             out.push(recordings::asl(clip));
         }
         out

@@ -45,32 +45,17 @@ const OPTION_SETS: [(&str, &str); 3] = [
     ),
 ];
 
-/// The clips shared after [`recordings::ASL`]: a hand on the chest, a hand into the other palm.
-const MORE_CLIPS: [&str; 2] = [
-    "../shared/data/asl/please.json",
-    "../shared/data/asl/again.json",
-];
-
 /// The recordings for one avatar: the hand video alone, the hand video paired with the Kinect
 /// wrists (right side), and the six ASL clips (pose and hands).
 fn recordings_for(skeleton: &handrig::Skeleton) -> Vec<(String, Vec<FrameInput>)> {
     let mut out = Vec::new();
-    let video: Vec<FrameInput> = recordings::hand_video()
-        .iter()
-        .enumerate()
-        .map(|(i, hands)| {
-            let mut f =
-                recordings::frame_of(&hands[..hands.len().min(handrig::mediapipe::MAX_HANDS)]);
-            f.time_ms = i as f64 * 1000.0 / 30.0;
-            f
-        })
-        .collect();
+    let video = recordings::hand_video_frames();
     out.push(("hand-video".to_string(), video));
     out.push((
         "hand-video+kinect".to_string(),
         kinect_wrists::paired_frames(skeleton, Side::Right),
     ));
-    for clip in recordings::ASL.iter().chain(&MORE_CLIPS) {
+    for clip in recordings::ASL.iter().chain(&recordings::ASL_MORE) {
         out.push((clip.to_string(), recordings::asl(clip)));
     }
     out

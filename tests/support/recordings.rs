@@ -115,6 +115,26 @@ pub const ASL: [&str; 4] = [
     "../shared/data/asl/sister.json",
 ];
 
+/// The two clips shared after the first four ([`ASL`]): a hand on the chest (`please`) and a
+/// hand into the other palm (`again`).
+pub const ASL_MORE: [&str; 2] = [
+    "../shared/data/asl/please.json",
+    "../shared/data/asl/again.json",
+];
+
+/// The hand video ([`hand_video`]) as rig input at 30 fps, hands only.
+pub fn hand_video_frames() -> Vec<FrameInput> {
+    hand_video()
+        .iter()
+        .enumerate()
+        .map(|(i, hands)| {
+            let mut f = frame_of(&hands[..hands.len().min(MAX_HANDS)]);
+            f.time_ms = i as f64 * 1000.0 / 30.0;
+            f
+        })
+        .collect()
+}
+
 /// Every frame of an ASL clip at `path` as rig input: its hands (at most [`MAX_HANDS`], in
 /// file order, world and image landmarks), the pose world landmarks with their visibilities
 /// and its image landmarks, and the time.
