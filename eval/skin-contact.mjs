@@ -8,7 +8,7 @@
 // off (`contact.enabled: false`).
 //
 //   make pkg (or copy a built pkg/) && npm ci --prefix tests/node
-//   node eval/skin-contact.mjs [--avatars woman-vrm1,man-vrm0,...] [--clips eat,please] [--json]
+//   node eval/skin-contact.mjs [--pkg DIR] [--avatars woman-vrm1,man-vrm0,...] [--clips eat,please] [--json]
 //
 // --json also writes every row to target/skin-contact.json.
 //
@@ -23,15 +23,15 @@ import { fileURLToPath, pathToFileURL } from "node:url";
 const here = path.dirname(fileURLToPath(import.meta.url));
 const repo = path.resolve(here, "..");
 const shared = path.resolve(process.env.HANDRIG_SHARED || path.join(repo, "..", "shared"));
-const measure = await import(pathToFileURL(path.join(repo, "tests", "node", "consumer", "skin-measure.mjs")).href);
-const { HandRig } = await import(pathToFileURL(path.join(repo, "pkg", "index.mjs")).href);
-const { restPoseFromVRM, applyToVRM } = await import(pathToFileURL(path.join(repo, "pkg", "three-vrm.js")).href);
-
 const argv = process.argv.slice(2);
 const arg = (name) => {
   const i = argv.indexOf(name);
   return i >= 0 ? argv[i + 1] : undefined;
 };
+const pkg = path.resolve(arg("--pkg") ?? path.join(repo, "pkg"));
+const measure = await import(pathToFileURL(path.join(repo, "tests", "node", "consumer", "skin-measure.mjs")).href);
+const { HandRig } = await import(pathToFileURL(path.join(pkg, "index.mjs")).href);
+const { restPoseFromVRM, applyToVRM } = await import(pathToFileURL(path.join(pkg, "three-vrm.js")).href);
 const ALL = ["woman-vrm1", "woman-vrm0", "man-vrm1", "man-vrm0", "child-vrm1", "child-vrm0", "debug-robot"];
 const avatars = (arg("--avatars") ?? ALL.join(",")).split(",");
 const clips = (arg("--clips") ?? measure.labeledClips(repo).join(",")).split(",");

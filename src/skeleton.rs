@@ -94,6 +94,8 @@ pub struct Skeleton {
     version: VrmVersion,
     /// The look-at point (between the eyes) relative to the head bone at rest, internal frame.
     look_at: Option<Vec3>,
+    /// The avatar's skin at rest (internal frame), when the app or the file gave it.
+    skin: Option<std::sync::Arc<crate::contact::skin::SkinMesh>>,
     /// Per side, the present bones of the arm from its root (shoulder, else upper arm) down
     /// to the fingers, parent first, and how many: [`Skeleton::forward_arm`]'s walk.
     arm_order: [([HumanBone; ARM_BONES], usize); 2],
@@ -189,6 +191,7 @@ impl Skeleton {
             rest_local,
             version,
             look_at: None,
+            skin: None,
             arm_order,
         })
     }
@@ -205,6 +208,29 @@ impl Skeleton {
             .filter(|o| o.is_finite() && o.abs().max_element() <= MAX_REST_COORDINATE)
             .map(|o| self.version.position_to_internal(o));
         self
+    }
+
+    /// The same skeleton with its skin at rest ([`crate::contact::skin::SkinMesh`], positions
+    /// **in the model's own frame**, converted here): self-contact learns the body's surface
+    /// from it ([`crate::contact::skin`]). An empty skin is ignored.
+    #[must_use]
+    pub fn with_skin(mut self, mut skin: crate::contact::skin::SkinMesh) -> Self {
+        if skin.positions.is_empty() {
+            self.skin = None;
+            return self;
+        }
+        for p in &mut skin.positions {
+            *p = self.version.position_to_internal(*p);
+        }
+        self.skin = Some(std::sync::Arc::new(skin));
+        self
+    }
+
+    /// The skin at rest (internal frame), if given.
+    #[inline]
+    #[must_use]
+    pub fn skin(&self) -> Option<&crate::contact::skin::SkinMesh> {
+        self.skin.as_deref()
     }
 
     /// The look-at point relative to the head bone at rest (internal frame), if known.

@@ -25,6 +25,7 @@ export type {
   Quat,
   QuatLike,
   RestPose,
+  SkinRest,
   TorsoInput,
   Vec3,
   WristInput,

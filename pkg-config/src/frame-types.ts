@@ -19,6 +19,22 @@ export interface RestPose {
   bones: BoneMap<Vec3> | Record<string, Vec3>;
   /** VRM version of the model: "0" models face -Z. Default "1". */
   vrmVersion?: "0" | "1" | 0 | 1;
+  /**
+   * The avatar's skin at rest, from which self-contact learns the body's surface (face, chest,
+   * hands: docs/contact.md); `restPoseFromVRM` fills it from three-vrm's meshes. Without it the
+   * rig models the body from its bones.
+   */
+  skin?: SkinRest;
+}
+
+/** An avatar's skin at rest (`RestPose.skin`). */
+export interface SkinRest {
+  /** Rest positions, 3 numbers per vertex (meters, the model's own frame, as `bones`). */
+  positions: Float32Array | ArrayLike<number>;
+  /** Each vertex's dominant humanoid bone, as its index in `LAYOUT.bones` (a non-humanoid bone counts as its nearest humanoid ancestor). */
+  bones: Uint8Array | ArrayLike<number>;
+  /** Triangles, 3 vertex indices each (optional: without them only the vertices are used). */
+  triangles?: Uint32Array | ArrayLike<number>;
 }
 
 /** A point as MediaPipe gives it; pose landmarks carry `visibility`. */

@@ -132,8 +132,8 @@ export class HandRig {
     ensureReady("new HandRig()");
     let r: RawHandRig;
     try {
-      const { rest, version } = restPoseToFlat(restPose);
-      r = new (wasm().HandRig)(rest, version, optionsValue(options));
+      const { rest, version, skin } = restPoseToFlat(restPose);
+      r = new (wasm().HandRig)(rest, version, optionsValue(options), skin?.positions, skin?.bones, skin?.triangles);
     } catch (e) {
       throw asError(e);
     }

@@ -10,6 +10,8 @@ import { readVec3 } from "./points.js";
 export interface FlatRestPose {
   rest: Float64Array;
   version: number;
+  /** `restPose.skin` as typed arrays (checked further in Rust). */
+  skin?: { positions: Float32Array; bones: Uint8Array; triangles: Uint32Array };
 }
 
 export function restPoseToFlat(restPose: unknown): FlatRestPose {
@@ -41,7 +43,38 @@ function readRestPose(restPose: unknown): FlatRestPose {
     reading.part = `restPose.bones.${name}`;
     readVec3(bones[name], reading.part, rest, 4 * i + 1);
   }
-  return { rest, version };
+  const skin = restPose.skin;
+  if (skin === undefined || skin === null) return { rest, version };
+  reading.part = "restPose.skin";
+  if (!isObject(skin) || Array.isArray(skin)) {
+    fail("restPose.skin", "must be an object { positions, bones, triangles } (see restPoseFromVRM)");
+  }
+  return {
+    rest,
+    version,
+    skin: {
+      positions: typedArray(skin.positions, "restPose.skin.positions", Float32Array),
+      bones: typedArray(skin.bones, "restPose.skin.bones", Uint8Array),
+      triangles: typedArray(skin.triangles ?? [], "restPose.skin.triangles", Uint32Array),
+    },
+  };
+}
+
+/** A number list as the typed array the raw constructor takes (copied only when needed). */
+function typedArray<T extends Float32Array | Uint8Array | Uint32Array>(
+  v: unknown,
+  field: string,
+  Type: { new (n: number | ArrayLike<number>): T; name: string },
+): T {
+  if (v instanceof Type) return v;
+  if (Array.isArray(v) || ArrayBuffer.isView(v)) {
+    const list = v as ArrayLike<unknown>;
+    for (let i = 0; i < list.length; i++) {
+      if (typeof list[i] !== "number" || !Number.isFinite(list[i])) fail(field, `entry ${i} is not a finite number (got ${describe(list[i])})`);
+    }
+    return new Type(list as ArrayLike<number>);
+  }
+  return fail(field, `must be a ${Type.name} or an array of numbers, got ${describe(v)}`);
 }
 
 /** Accepts what file/fetch/fs APIs hand out; checks by tag so other realms' buffers work. */

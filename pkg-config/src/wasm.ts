@@ -39,7 +39,14 @@ export interface RawOptionDescription {
 }
 
 export interface RawHandRigClass {
-  new (rest: Float64Array, vrmVersion: number, options: unknown): RawHandRig;
+  new (
+    rest: Float64Array,
+    vrmVersion: number,
+    options: unknown,
+    skinPositions?: Float32Array,
+    skinBones?: Uint8Array,
+    skinTriangles?: Uint32Array,
+  ): RawHandRig;
   fromVrm(bytes: Uint8Array, options: unknown): RawHandRig;
   fromGltf(bytes: Uint8Array, boneMap: string[], options: unknown): RawHandRig;
   memory(): unknown;

@@ -46,6 +46,10 @@ pub struct HandPoints {
     /// without finger bones the aligned finger's slot holds the palm's front, which stands in
     /// for it ([`crate::align::AlignedPart::Palm`]).
     pub avatar: [Option<Vec3>; POINTS],
+    /// The avatar's finger joints relative to the wrist IK target (world axes, this frame's
+    /// rotations): per finger (thumb first) its three bones' joints, base first; `None` where
+    /// the avatar lacks the bone. For keeping the whole hand out of the body.
+    pub joints: [Option<Vec3>; 15],
     /// The user's palm length (wrist to middle MCP landmark), meters.
     pub user_palm: f32,
     /// The avatar's palm length (hand joint to middle proximal joint), meters.

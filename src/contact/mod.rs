@@ -47,10 +47,11 @@
 pub mod colliders;
 pub mod face;
 pub mod hands;
+pub mod skin;
 
 use glam::Vec3;
 
-use crate::bones::{Finger, HumanBone};
+use crate::bones::{Finger, HumanBone, Side};
 use crate::mediapipe::CameraMapping;
 use crate::skeleton::{Skeleton, WorldPose};
 
@@ -207,6 +208,9 @@ pub struct ContactSolver {
     options: ContactOptions,
     face: AvatarFace,
     colliders: BodyColliders,
+    /// The body learned from the avatar's skin, when the rig has one ([`skin`]): replaces
+    /// the colliders and lands touching hands on the skin.
+    surface: Option<skin::BodySurface>,
 }
 
 impl ContactSolver {
@@ -222,14 +226,38 @@ impl ContactSolver {
                 .get(a)
                 .map(|p| version.position_to_internal(p))
         });
-        let face = AvatarFace::from_rig(skeleton, &given);
+        let mut face = AvatarFace::from_rig(skeleton, &given);
+        let surface = skeleton
+            .skin()
+            .and_then(|mesh| skin::BodySurface::new(skeleton, mesh));
+        if let Some(surface) = &surface {
+            if surface.maps[skin::HEAD_MAP].is_some() {
+                for a in FaceAnchor::ALL {
+                    if !face.given[a.index()] {
+                        let side = match a {
+                            FaceAnchor::LeftEar => 1.0,
+                            FaceAnchor::RightEar => -1.0,
+                            _ => 0.0,
+                        };
+                        face.anchors[a.index()] = surface.onto_face(face.anchors[a.index()], side);
+                    }
+                }
+            }
+        }
         let colliders =
             BodyColliders::from_rig(skeleton, &face, options.torso_radius, options.head_radius);
         ContactSolver {
             options: *options,
             face,
             colliders,
+            surface,
         }
+    }
+
+    /// The body learned from the avatar's skin, if the rig has one.
+    #[must_use]
+    pub fn surface(&self) -> Option<&skin::BodySurface> {
+        self.surface.as_ref()
     }
 
     /// The avatar's face (head-bone relative, internal frame).
@@ -356,7 +384,32 @@ impl ContactSolver {
             }
         }
 
-        if o.colliders {
+        if let Some(surface) = &self.surface {
+            for ((target, report), side) in
+                targets.iter_mut().zip(reports.iter_mut()).zip(Side::BOTH)
+            {
+                let Some(t) = target.as_mut() else { continue };
+                let mut points = [(Vec3::ZERO, 0.0); skin::HAND_SPHERES];
+                let n = skin::hand_spheres(surface, side, t, &mut points);
+                let points = &points[..n];
+                let face = report.as_ref().map_or(0.0, |r| r.weight);
+                // Landing: a hand in face contact settles onto the head's skin (its nearest
+                // point resting on it: moved in when above, out when inside).
+                if face > 0.0 {
+                    let mut only = [false; skin::MAP_BONES.len()];
+                    only[skin::HEAD_MAP] = true;
+                    let settle = surface.settle(t.wrist, points, world, only);
+                    t.wrist += face * settle;
+                }
+                if o.colliders {
+                    let push = surface.push(t.wrist, points, world);
+                    t.wrist += push;
+                    if let Some(r) = report.as_mut() {
+                        r.push = push.length();
+                    }
+                }
+            }
+        } else if o.colliders {
             let shapes = self.colliders.shapes(world);
             for ((target, report), finger) in
                 targets.iter_mut().zip(reports.iter_mut()).zip(fingers)

@@ -191,6 +191,19 @@ impl Rig {
                 local,
             ));
         }
+        // Every finger joint, for keeping the whole hand out of the body.
+        let mut joints = [None; 15];
+        for finger in Finger::ALL {
+            let mut at = Vec3::ZERO;
+            let mut rotation = hand_rotation;
+            for (k, b) in side.finger(finger).into_iter().enumerate() {
+                if self.skeleton.has(b) {
+                    at += rotation * self.skeleton.rest_local(b);
+                    joints[3 * finger.index() + k] = Some(at);
+                    rotation *= local[b.index()];
+                }
+            }
+        }
         let middle = side.finger(Finger::Middle)[0];
         let image_tip = out_hand
             .and_then(|i| frame.hands().get(i))
@@ -201,6 +214,7 @@ impl Rig {
             source: kind,
             user,
             avatar,
+            joints,
             user_palm: (lm[hl::MIDDLE_MCP] - lm[hl::WRIST]).length(),
             avatar_palm: if self.skeleton.has(middle) {
                 self.skeleton.rest_local(middle).length()

@@ -85,8 +85,20 @@ impl HandRig {
     /// positions of three-vrm's normalized bones, meters, the model's own frame); `vrmVersion`
     /// 0 or 1; `options` the options object (the JS layer's plain copy of the user's) or
     /// undefined.
+    ///
+    /// `skinPositions`, `skinBones`, `skinTriangles` (optional, together): the avatar's skin
+    /// at rest (`restPose.skin`: 3 floats per vertex in the model's own frame, each vertex's
+    /// dominant bone as a `LAYOUT.bones` index, 3 vertex indices per triangle), from which
+    /// self-contact learns the body ([`crate::contact::skin`]).
     #[wasm_bindgen(constructor)]
-    pub fn new(rest: &[f64], vrm_version: u8, options: JsValue) -> JsResult<HandRig> {
+    pub fn new(
+        rest: &[f64],
+        vrm_version: u8,
+        options: JsValue,
+        skin_positions: Option<Vec<f32>>,
+        skin_bones: Option<Vec<u8>>,
+        skin_triangles: Option<Vec<u32>>,
+    ) -> JsResult<HandRig> {
         if rest.len() != 4 * BONE_COUNT {
             return Err(js_err(Error::invalid(
                 "restPose",
@@ -113,7 +125,16 @@ impl HandRig {
             .filter(|(_, r)| r[0] != 0.0)
             .map(|(b, r)| (*b, Vec3::new(r[1] as f32, r[2] as f32, r[3] as f32)))
             .collect();
-        let skeleton = Skeleton::new(&bones, version).map_err(js_err)?;
+        let mut skeleton = Skeleton::new(&bones, version).map_err(js_err)?;
+        if let (Some(p), Some(b)) = (skin_positions, skin_bones) {
+            let mesh = crate::contact::skin::SkinMesh::from_flat(
+                &p,
+                &b,
+                skin_triangles.as_deref().unwrap_or(&[]),
+            )
+            .map_err(js_err)?;
+            skeleton = skeleton.with_skin(mesh);
+        }
         Self::with_skeleton(skeleton, options)
     }
 

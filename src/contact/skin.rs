@@ -1,0 +1,704 @@
+//! The avatar's skin as contact surfaces: what the rig learns from the skinned meshes of the
+//! avatar (`HandRig.fromVrm` / `fromGltf` read them from the file, `restPoseFromVRM` passes
+//! them from three-vrm's loaded meshes: [`SkinMesh`]).
+//!
+//! The meshes' rest positions are sorted into parts by each vertex's dominant humanoid bone
+//! (head with eyes and jaw, neck, upper chest, chest, spine, hips; a shoulder's skin counts as
+//! its parent's; the hands for their thickness); a triangle belongs to the part of most of its
+//! corners, and is sampled every [`SPACING`] so that large triangles leave no holes. From the
+//! samples, at setup ([`BodySurface::new`]):
+//!
+//! * **Radial maps**, one per torso bone and one for the head, hung on that bone and placed
+//!   every frame by forward kinematics: per height (1 cm rows) and direction around a vertical
+//!   axis (48 sectors), the skin's largest distance from the axis (the torso bones: a
+//!   cylindrical height map), and for the head per direction from the head's center (24 x 48
+//!   bins: a spherical one). A point is inside the body where it is nearer the axis (center)
+//!   than the skin in its direction; the depth is the difference, the outward direction the
+//!   radial one. Body parts are close to star-shaped about these axes (a torso's cross
+//!   section, a head), so the maps keep the skin to about a bin's size (1 cm; the largest
+//!   radius in a bin: a concave spot such as under the nose counts as filled). Bins no sample
+//!   falls in take their neighbours' mean.
+//! * **Face anchors on the skin**: each derived anchor ([`super::face::AvatarFace::from_rig`]:
+//!   the average face placed on the eye bones) is moved onto the head's skin along the face's
+//!   forward axis (nose, chin, mouth, cheeks, forehead: the foremost skin point within 5 mm
+//!   across) or sideways (the ears: the outermost within 6 mm).
+//! * **The hands' thickness**: the finger radius (median distance of finger-bone skin from its
+//!   bone) and the palm's half-thickness (median distance of the hand bone's skin from the
+//!   palm's plane), the margins of the hand's contact points.
+//!
+//! Nothing here runs per frame except [`BodySurface::depth`] (no allocation).
+
+use glam::{Quat, Vec3};
+
+use crate::bones::{Finger, HumanBone, Side};
+use crate::error::{Error, Result};
+use crate::skeleton::{Skeleton, WorldPose};
+
+/// Triangles are sampled at most this far apart (m).
+pub const SPACING: f32 = 0.006;
+/// Most vertices a skin may have.
+pub const MAX_VERTICES: usize = 2_000_000;
+/// Most triangles a skin may have.
+pub const MAX_TRIANGLES: usize = 4_000_000;
+/// Row height of the torso maps (m).
+pub const ROW: f32 = 0.01;
+/// Sectors around each map's axis.
+pub const SECTORS: usize = 48;
+/// Rows (polar angle bins) of the head's map.
+pub const HEAD_ROWS: usize = 24;
+/// Most rows of a torso map (a torso part over 1.2 m tall is clipped).
+const MAX_ROWS: usize = 120;
+/// Most samples per triangle side.
+const MAX_SPLITS: usize = 16;
+
+/// An avatar's skin at rest (what self-contact learns the body from): every vertex's rest
+/// position and dominant humanoid bone (non-humanoid bones count as their nearest humanoid
+/// ancestor), and the triangles. Internal frame (see [`Skeleton::with_skin`]).
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct SkinMesh {
+    /// Rest positions (m).
+    pub positions: Vec<Vec3>,
+    /// Each vertex's dominant humanoid bone.
+    pub bones: Vec<HumanBone>,
+    /// Triangles, indices into `positions`.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl SkinMesh {
+    /// A skin from flat arrays as JS passes them (`restPose.skin`): `positions` 3 per vertex
+    /// (meters, the model's own frame), `bones` one [`HumanBone::index`] per vertex,
+    /// `triangles` 3 vertex indices each.
+    ///
+    /// # Errors
+    /// Lengths that do not match, non-finite or out-of-range positions, unknown bone
+    /// indices, triangle indices beyond the vertices (the field named: `restPose.skin.*`).
+    pub fn from_flat(positions: &[f32], bones: &[u8], triangles: &[u32]) -> Result<SkinMesh> {
+        if positions.len() % 3 != 0 || positions.len() / 3 != bones.len() {
+            return Err(Error::invalid(
+                "restPose.skin.positions",
+                "must hold 3 numbers per vertex, one vertex per entry of restPose.skin.bones",
+            ));
+        }
+        if bones.len() > MAX_VERTICES {
+            return Err(Error::invalid(
+                "restPose.skin.positions",
+                "too many vertices (at most 2,000,000)",
+            ));
+        }
+        if triangles.len() % 3 != 0 || triangles.len() / 3 > MAX_TRIANGLES {
+            return Err(Error::invalid(
+                "restPose.skin.triangles",
+                "must hold 3 vertex indices per triangle (at most 4,000,000 triangles)",
+            ));
+        }
+        let mut mesh = SkinMesh {
+            positions: Vec::with_capacity(bones.len()),
+            bones: Vec::with_capacity(bones.len()),
+            triangles: Vec::with_capacity(triangles.len() / 3),
+        };
+        for (p, &b) in positions.chunks_exact(3).zip(bones) {
+            let p = Vec3::new(p[0], p[1], p[2]);
+            if !p.is_finite() || p.abs().max_element() > crate::skeleton::MAX_REST_COORDINATE {
+                return Err(Error::invalid(
+                    "restPose.skin.positions",
+                    "every coordinate must be finite and within 1000 m of the origin",
+                ));
+            }
+            let Some(bone) = HumanBone::ALL.get(usize::from(b)) else {
+                return Err(Error::invalid(
+                    "restPose.skin.bones",
+                    "each entry must be a bone index of LAYOUT.bones",
+                ));
+            };
+            mesh.positions.push(p);
+            mesh.bones.push(*bone);
+        }
+        let n = bones.len() as u32;
+        for t in triangles.chunks_exact(3) {
+            if t.iter().any(|&i| i >= n) {
+                return Err(Error::invalid(
+                    "restPose.skin.triangles",
+                    "a vertex index is beyond the vertices",
+                ));
+            }
+            mesh.triangles.push([t[0], t[1], t[2]]);
+        }
+        Ok(mesh)
+    }
+}
+
+/// Which surface a sample belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Part {
+    /// A torso or head map: index into [`MAP_BONES`].
+    Map(usize),
+    /// A hand (for its thickness).
+    Hand(Side),
+    /// Arms, legs, ...: not a contact surface.
+    Other,
+}
+
+/// The bones carrying a map, the head's first.
+pub const MAP_BONES: [HumanBone; 6] = [
+    HumanBone::Head,
+    HumanBone::Neck,
+    HumanBone::UpperChest,
+    HumanBone::Chest,
+    HumanBone::Spine,
+    HumanBone::Hips,
+];
+
+/// Index of the head's map in [`MAP_BONES`].
+pub const HEAD_MAP: usize = 0;
+
+fn part_of(skeleton: &Skeleton, bone: HumanBone) -> Part {
+    use HumanBone as B;
+    let mut b = match bone {
+        B::Jaw | B::LeftEye | B::RightEye => B::Head,
+        B::LeftShoulder | B::RightShoulder => match skeleton.parent(bone) {
+            Some(p) => p,
+            None => return Part::Other,
+        },
+        b => b,
+    };
+    for side in Side::BOTH {
+        if b == side.hand() || Finger::ALL.iter().any(|f| side.finger(*f).contains(&b)) {
+            return Part::Hand(side);
+        }
+    }
+    // A map bone the avatar lacks: its skin goes to the nearest present one above it.
+    loop {
+        if let Some(k) = MAP_BONES.iter().position(|m| *m == b) {
+            if skeleton.has(b) {
+                return Part::Map(k);
+            }
+            match MAP_BONES.get(k + 1) {
+                Some(next) => b = *next,
+                None => return Part::Other,
+            }
+        } else {
+            return Part::Other;
+        }
+    }
+}
+
+/// How a map measures directions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MapKind {
+    /// Rows of height, sectors around the vertical axis (torso bones).
+    Cylinder,
+    /// Rows of polar angle from +Y, sectors around it (the head).
+    Sphere,
+}
+
+/// One radial map (see the module docs), in its bone's rest frame (internal axes).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RadialMap {
+    /// The bone it hangs on.
+    pub bone: HumanBone,
+    /// Cylinder or sphere.
+    pub kind: MapKind,
+    /// The axis's point (cylinder: its x and z) or the sphere's center, rest world.
+    pub center: Vec3,
+    /// The lowest row's bottom (cylinder; m, rest world).
+    pub bottom: f32,
+    /// Rows.
+    pub rows: usize,
+    /// Largest skin radius per bin, `rows x SECTORS`.
+    pub radius: Vec<f32>,
+    /// The bone's rest position (world).
+    rest: Vec3,
+}
+
+/// Sector of direction `(x, z)` around +Y, continuous (0 at -Z, increasing toward +X...).
+#[inline]
+fn sector(x: f32, z: f32) -> f32 {
+    (x.atan2(z) + core::f32::consts::PI) / core::f32::consts::TAU * SECTORS as f32
+}
+
+impl RadialMap {
+    fn empty(bone: HumanBone, kind: MapKind, center: Vec3, bottom: f32, rows: usize) -> Self {
+        RadialMap {
+            bone,
+            kind,
+            center,
+            bottom,
+            rows,
+            radius: vec![-1.0; rows * SECTORS],
+            rest: Vec3::ZERO,
+        }
+    }
+
+    /// Row coordinate (continuous) and radius of a rest-frame point.
+    #[inline]
+    fn coordinates(&self, q: Vec3) -> (f32, f32, f32) {
+        let d = q - self.center;
+        match self.kind {
+            MapKind::Cylinder => {
+                let r = (d.x * d.x + d.z * d.z).sqrt();
+                ((q.y - self.bottom) / ROW, sector(d.x, d.z), r)
+            }
+            MapKind::Sphere => {
+                let r = d.length();
+                let polar = if r > 1e-9 {
+                    (d.y / r).clamp(-1.0, 1.0).acos()
+                } else {
+                    0.0
+                };
+                (
+                    polar / core::f32::consts::PI * HEAD_ROWS as f32,
+                    sector(d.x, d.z),
+                    r,
+                )
+            }
+        }
+    }
+
+    fn add(&mut self, q: Vec3) {
+        let (row, sec, r) = self.coordinates(q);
+        if !(row.is_finite() && sec.is_finite() && r.is_finite()) {
+            return;
+        }
+        let i = (row.max(0.0) as usize).min(self.rows - 1);
+        let j = (sec.max(0.0) as usize) % SECTORS;
+        let cell = &mut self.radius[i * SECTORS + j];
+        *cell = cell.max(r);
+    }
+
+    /// Fills bins no sample fell in with their filled neighbours' mean (repeatedly), the
+    /// rest with 0 (nothing is inside there).
+    fn fill(&mut self) {
+        for _ in 0..32 {
+            let before = self.radius.clone();
+            let mut empty = false;
+            for i in 0..self.rows {
+                for j in 0..SECTORS {
+                    if before[i * SECTORS + j] >= 0.0 {
+                        continue;
+                    }
+                    let mut sum = 0.0;
+                    let mut n = 0.0;
+                    for di in [-1i32, 0, 1] {
+                        let ii = i as i32 + di;
+                        if ii < 0 || ii >= self.rows as i32 {
+                            continue;
+                        }
+                        for dj in [SECTORS - 1, 0, 1] {
+                            let v = before[ii as usize * SECTORS + (j + dj) % SECTORS];
+                            if v >= 0.0 {
+                                sum += v;
+                                n += 1.0;
+                            }
+                        }
+                    }
+                    if n > 0.0 {
+                        self.radius[i * SECTORS + j] = sum / n;
+                    } else {
+                        empty = true;
+                    }
+                }
+            }
+            if !empty {
+                return;
+            }
+        }
+        for v in &mut self.radius {
+            if *v < 0.0 {
+                *v = 0.0;
+            }
+        }
+    }
+
+    /// The skin's radius at continuous bin coordinates (bilinear, sectors wrap).
+    #[inline]
+    fn lookup(&self, row: f32, sec: f32) -> f32 {
+        let u = (row - 0.5).clamp(0.0, (self.rows - 1) as f32);
+        let i0 = u as usize;
+        let i1 = (i0 + 1).min(self.rows - 1);
+        let fu = u - i0 as f32;
+        let v = sec - 0.5;
+        let v = v.rem_euclid(SECTORS as f32);
+        let j0 = (v as usize) % SECTORS;
+        let j1 = (j0 + 1) % SECTORS;
+        let fv = v - v.floor();
+        let at = |i: usize, j: usize| self.radius[i * SECTORS + j];
+        let a = at(i0, j0) + (at(i0, j1) - at(i0, j0)) * fv;
+        let b = at(i1, j0) + (at(i1, j1) - at(i1, j0)) * fv;
+        a + (b - a) * fu
+    }
+
+    /// Depth of a ball (radius `margin`) at world point `p` inside this map's skin with the
+    /// bone posed at `position` / `rotation`, and the outward direction (world); `None`
+    /// beyond the map's rows (a cylinder's band, with `margin` to spare).
+    #[inline]
+    #[must_use]
+    pub fn depth(
+        &self,
+        p: Vec3,
+        margin: f32,
+        position: Vec3,
+        rotation: Quat,
+    ) -> Option<(f32, Vec3)> {
+        let q = self.rest + rotation.inverse() * (p - position);
+        let (row, sec, r) = self.coordinates(q);
+        if self.kind == MapKind::Cylinder
+            && (row < -margin / ROW || row > self.rows as f32 + margin / ROW)
+        {
+            return None;
+        }
+        let skin = self.lookup(row, sec);
+        let d = q - self.center;
+        let radial = match self.kind {
+            MapKind::Cylinder => Vec3::new(d.x, 0.0, d.z),
+            MapKind::Sphere => d,
+        };
+        let n = radial.try_normalize().unwrap_or(Vec3::Z);
+        Some((skin + margin - r, rotation * n))
+    }
+
+    /// The skin point of this map in rest-world direction `dir` from the center at height
+    /// `y` (cylinder) or along `dir` (sphere); for drawing and tests.
+    #[must_use]
+    pub fn rest_surface(&self, q: Vec3) -> Vec3 {
+        let (row, sec, _) = self.coordinates(q);
+        let skin = self.lookup(row, sec);
+        let d = q - self.center;
+        match self.kind {
+            MapKind::Cylinder => {
+                let h = Vec3::new(d.x, 0.0, d.z).try_normalize().unwrap_or(Vec3::Z);
+                Vec3::new(self.center.x, q.y, self.center.z) + h * skin
+            }
+            MapKind::Sphere => self.center + d.try_normalize().unwrap_or(Vec3::Z) * skin,
+        }
+    }
+}
+
+/// Everything self-contact learned from the skin (see the module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodySurface {
+    /// Per [`MAP_BONES`] entry, its map (`None`: the avatar lacks the bone or it has no skin).
+    pub maps: [Option<RadialMap>; MAP_BONES.len()],
+    /// Finger radius (m), per side `[left, right]`.
+    pub finger_radius: [f32; 2],
+    /// Palm half-thickness (m), per side.
+    pub palm_half: [f32; 2],
+    /// Head samples relative to the head bone (rest, internal frame), kept for placing the
+    /// face anchors at setup.
+    head_samples: Vec<Vec3>,
+    /// Skin vertices and samples used.
+    pub samples: usize,
+}
+
+impl BodySurface {
+    /// Learns the body from `mesh` (internal frame) on `skeleton`; `None` when the skin has
+    /// no head or torso.
+    #[must_use]
+    pub fn new(skeleton: &Skeleton, mesh: &SkinMesh) -> Option<BodySurface> {
+        let parts: Vec<Part> = mesh.bones.iter().map(|b| part_of(skeleton, *b)).collect();
+        // Samples per part: vertices, plus triangle samples.
+        let mut per_map: [Vec<Vec3>; MAP_BONES.len()] = Default::default();
+        let mut hand_vertices: [Vec<(Vec3, HumanBone)>; 2] = Default::default();
+        for (i, part) in parts.iter().enumerate() {
+            match part {
+                Part::Map(k) => per_map[*k].push(mesh.positions[i]),
+                Part::Hand(s) => hand_vertices[s.index()].push((mesh.positions[i], mesh.bones[i])),
+                Part::Other => {}
+            }
+        }
+        for t in &mesh.triangles {
+            let [a, b, c] = t.map(|i| i as usize);
+            let part = if parts[b] == parts[c] {
+                parts[b]
+            } else {
+                parts[a]
+            };
+            let Part::Map(k) = part else { continue };
+            let (pa, pb, pc) = (mesh.positions[a], mesh.positions[b], mesh.positions[c]);
+            let longest = (pb - pa)
+                .length()
+                .max((pc - pb).length())
+                .max((pa - pc).length());
+            let n = ((longest / SPACING).ceil() as usize).clamp(1, MAX_SPLITS);
+            if n == 1 {
+                continue;
+            }
+            let inv = 1.0 / n as f32;
+            for i in 0..=n {
+                for j in 0..=(n - i) {
+                    if (i == 0 && j == 0) || i == n || j == n {
+                        continue; // the corners are vertices already
+                    }
+                    per_map[k]
+                        .push(pa + (pb - pa) * (i as f32 * inv) + (pc - pa) * (j as f32 * inv));
+                }
+            }
+        }
+        let samples = per_map.iter().map(Vec::len).sum::<usize>();
+        let mut maps: [Option<RadialMap>; MAP_BONES.len()] = Default::default();
+        for (k, points) in per_map.iter().enumerate() {
+            let bone = MAP_BONES[k];
+            let Some(rest) = skeleton.rest_world(bone) else {
+                continue;
+            };
+            if points.len() < 16 {
+                continue;
+            }
+            let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+            for p in points {
+                lo = lo.min(*p);
+                hi = hi.max(*p);
+            }
+            let mid = 0.5 * (lo + hi);
+            let mut map = if k == HEAD_MAP {
+                RadialMap::empty(bone, MapKind::Sphere, mid, lo.y, HEAD_ROWS)
+            } else {
+                let rows = (((hi.y - lo.y) / ROW).ceil() as usize).clamp(1, MAX_ROWS);
+                RadialMap::empty(
+                    bone,
+                    MapKind::Cylinder,
+                    Vec3::new(mid.x, 0.0, mid.z),
+                    lo.y,
+                    rows,
+                )
+            };
+            map.rest = rest;
+            for p in points {
+                map.add(*p);
+            }
+            map.fill();
+            maps[k] = Some(map);
+        }
+        if maps.iter().all(Option::is_none) {
+            return None;
+        }
+        let head_samples = match skeleton.rest_world(HumanBone::Head) {
+            Some(h) => per_map[HEAD_MAP].iter().map(|p| *p - h).collect(),
+            None => Vec::new(),
+        };
+        let palm = super::colliders::avatar_palm_length(skeleton);
+        let mut finger_radius = [super::colliders::TIP_MARGIN * palm; 2];
+        let mut palm_half = [super::colliders::HAND_MARGIN * palm; 2];
+        for side in Side::BOTH {
+            if let Some((f, p)) = hand_thickness(skeleton, side, &hand_vertices[side.index()]) {
+                finger_radius[side.index()] = f;
+                palm_half[side.index()] = p;
+            }
+        }
+        Some(BodySurface {
+            maps,
+            finger_radius,
+            palm_half,
+            head_samples,
+            samples,
+        })
+    }
+
+    /// The deepest a ball of radius `margin` at `p` is inside the body (head and torso maps,
+    /// posed as `world`), its outward direction, and which map; `None` when no map is near.
+    /// `only`: restrict to the maps whose flag is set. Allocates nothing.
+    #[must_use]
+    pub fn depth(
+        &self,
+        p: Vec3,
+        margin: f32,
+        world: &WorldPose,
+        only: [bool; MAP_BONES.len()],
+    ) -> Option<(f32, Vec3, usize)> {
+        let mut best: Option<(f32, Vec3, usize)> = None;
+        for (k, map) in self.maps.iter().enumerate() {
+            let Some(map) = map else { continue };
+            if !only[k] {
+                continue;
+            }
+            let b = map.bone.index();
+            if let Some((d, n)) = map.depth(p, margin, world.position[b], world.rotation[b]) {
+                if best.is_none_or(|(bd, _, _)| d > bd) {
+                    best = Some((d, n, k));
+                }
+            }
+        }
+        best
+    }
+
+    /// Moves `anchor` (relative to the head bone, rest, internal frame) onto the head's skin:
+    /// forward for anchors on the face, sideways for ears (`side`: +1 left, -1 right, 0 the
+    /// face). Unchanged when no skin sample lies on that line.
+    #[must_use]
+    pub fn onto_face(&self, anchor: Vec3, side: f32) -> Vec3 {
+        let mut best: Option<f32> = None;
+        for s in &self.head_samples {
+            if side == 0.0 {
+                if (s.x - anchor.x).abs() < 0.005 && (s.y - anchor.y).abs() < 0.005 {
+                    best = Some(best.map_or(s.z, |b| b.max(s.z)));
+                }
+            } else if (s.y - anchor.y).abs() < 0.006 && (s.z - anchor.z).abs() < 0.006 {
+                let x = s.x * side;
+                best = Some(best.map_or(x, |b| b.max(x)));
+            }
+        }
+        match best {
+            None => anchor,
+            Some(v) if side == 0.0 => Vec3::new(anchor.x, anchor.y, v),
+            Some(v) => Vec3::new(v * side, anchor.y, anchor.z),
+        }
+    }
+}
+
+/// The finger radius and palm half-thickness of one hand's skin, or `None` without enough
+/// skin or bones.
+fn hand_thickness(
+    skeleton: &Skeleton,
+    side: Side,
+    vertices: &[(Vec3, HumanBone)],
+) -> Option<(f32, f32)> {
+    let hand = skeleton.rest_world(side.hand())?;
+    let mut finger = Vec::new();
+    let mut palm = Vec::new();
+    let index = skeleton.rest_world(side.finger(Finger::Index)[0]);
+    let little = skeleton.rest_world(side.finger(Finger::Little)[0]);
+    let normal = index
+        .zip(little)
+        .and_then(|(i, l)| (i - hand).cross(l - hand).try_normalize());
+    for &(p, bone) in vertices {
+        if bone == side.hand() {
+            if let Some(n) = normal {
+                palm.push((p - hand).dot(n).abs());
+            }
+            continue;
+        }
+        let Some(a) = skeleton.rest_world(bone) else {
+            continue;
+        };
+        // The bone's segment: to its child joint, else continued as long as the bone itself.
+        let child = HumanBone::ALL
+            .iter()
+            .find(|c| skeleton.has(**c) && skeleton.parent(**c) == Some(bone))
+            .and_then(|c| skeleton.rest_world(*c));
+        let b = match child {
+            Some(c) => c,
+            None => {
+                let parent = skeleton.parent(bone).and_then(|q| skeleton.rest_world(q))?;
+                a + (a - parent) * 0.8
+            }
+        };
+        let ab = b - a;
+        let t = if ab.length_squared() > 1e-12 {
+            ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        finger.push((p - (a + ab * t)).length());
+    }
+    let median = |v: &mut Vec<f32>| -> Option<f32> {
+        if v.len() < 8 {
+            return None;
+        }
+        v.sort_by(f32::total_cmp);
+        Some(v[v.len() / 2])
+    };
+    let f = median(&mut finger)?;
+    let p = median(&mut palm).unwrap_or(1.6 * f);
+    (f > 1e-4 && p > 1e-4).then_some((f, p))
+}
+
+/// Most contact spheres of a hand: wrist, palm center, three joints and a tip per finger.
+pub const HAND_SPHERES: usize = 2 + 5 * 4;
+
+/// A hand's contact spheres (center relative to the wrist target... placed at `target.wrist`,
+/// world; radius) into `out`: the wrist and palm center and each finger's joints with the
+/// palm's half-thickness at the palm, the finger radius along the fingers. Returns how many.
+pub fn hand_spheres(
+    surface: &BodySurface,
+    side: Side,
+    target: &super::SideTarget,
+    out: &mut [(Vec3, f32); HAND_SPHERES],
+) -> usize {
+    let s = side.index();
+    let (palm, finger) = (surface.palm_half[s], surface.finger_radius[s]);
+    out[0] = (target.wrist, palm);
+    let mut n = 1;
+    if let Some(hand) = &target.hand {
+        if let Some(c) = hand.avatar[0] {
+            out[n] = (target.wrist + c, palm);
+            n += 1;
+        }
+        for (k, j) in hand.joints.iter().enumerate() {
+            if let Some(j) = j {
+                // Each finger's first joint is in the palm (the thumb's: at its root).
+                let r = if k % 3 == 0 { palm } else { finger };
+                out[n] = (target.wrist + *j, r);
+                n += 1;
+            }
+        }
+        for t in hand.avatar[1..].iter().flatten() {
+            out[n] = (target.wrist + *t, finger);
+            n += 1;
+        }
+    }
+    n
+}
+
+impl BodySurface {
+    /// The translation that moves the hand spheres (world, with `wrist` their reference:
+    /// unused but kept for symmetry) out of the body: each sphere in turn pushed straight out
+    /// of the map it is deepest in (Gauss-Seidel, three passes).
+    #[must_use]
+    pub fn push(&self, _wrist: Vec3, points: &[(Vec3, f32)], world: &WorldPose) -> Vec3 {
+        let mut total = Vec3::ZERO;
+        for _ in 0..3 {
+            let mut moved = false;
+            for (p, margin) in points {
+                if let Some((d, n, _)) =
+                    self.depth(*p + total, *margin, world, [true; MAP_BONES.len()])
+                {
+                    if d > 0.0 {
+                        total += n * d;
+                        moved = true;
+                    }
+                }
+            }
+            if !moved {
+                break;
+            }
+        }
+        if total.is_finite() {
+            total
+        } else {
+            Vec3::ZERO
+        }
+    }
+
+    /// The translation that lands the hand on the skin of the `only` maps: its sphere nearest
+    /// the skin (or deepest inside) moved along that skin's normal until it rests on it
+    /// (three passes, each against the sphere then nearest).
+    #[must_use]
+    pub fn settle(
+        &self,
+        _wrist: Vec3,
+        points: &[(Vec3, f32)],
+        world: &WorldPose,
+        only: [bool; MAP_BONES.len()],
+    ) -> Vec3 {
+        let mut total = Vec3::ZERO;
+        for _ in 0..3 {
+            let mut best: Option<(f32, Vec3)> = None;
+            for (p, margin) in points {
+                if let Some((d, n, _)) = self.depth(*p + total, *margin, world, only) {
+                    if best.is_none_or(|(bd, _)| d > bd) {
+                        best = Some((d, n));
+                    }
+                }
+            }
+            let Some((d, n)) = best else { break };
+            total += n * d;
+            if d.abs() < 1e-4 {
+                break;
+            }
+        }
+        if total.is_finite() {
+            total
+        } else {
+            Vec3::ZERO
+        }
+    }
+}
