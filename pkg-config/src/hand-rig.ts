@@ -326,8 +326,9 @@ export class HandRig {
    * The avatar's self-contact model at rest (meters, the model's own frame): `{ anchors: { nose,
    * chin, mouth, leftCheek, rightCheek, leftEar, rightEar, forehead: [x, y, z] }, headBreadth,
    * colliders: { torso?, neck?: { a, b, radius }, head?: { center, radius } } }` (from
-   * `contact.faceAnchors` where given, derived from the rig elsewhere). Anchors relative to the
-   * head bone are `anchors[name] - restWorldPositions().head`.
+   * `contact.faceAnchors` where given, derived from the rig elsewhere: on the skin when the rest
+   * pose has one, `skin` then says what was learned from it; with a skin the colliders are not
+   * used, the skin is). Anchors relative to the head bone are `anchors[name] - restWorldPositions().head`.
    */
   contactModel(): ContactModel {
     const v = this.#live("contactModel").contactModel();
@@ -342,7 +343,12 @@ export class HandRig {
       k += 8;
     }
     if (v[k] === 1) colliders.head = { center: p(k + 1), radius: v[k + 4] };
-    return { anchors, headBreadth: v[3 * faceAnchors.length], colliders } as ContactModel;
+    k += 5;
+    const skin =
+      v[k] === 1
+        ? { samples: v[k + 1]!, fingerRadius: [v[k + 2]!, v[k + 3]!] as [number, number], palmHalfThickness: [v[k + 4]!, v[k + 5]!] as [number, number] }
+        : null;
+    return { anchors, headBreadth: v[3 * faceAnchors.length], colliders, skin } as ContactModel;
   }
 
   /**

@@ -83,6 +83,18 @@ export interface ContactModel {
     neck?: { a: Vec3; b: Vec3; radius: number };
     head?: { center: Vec3; radius: number };
   };
+  /**
+   * What self-contact learned from the avatar's skin (`restPose.skin`, or the file's skinned
+   * meshes), or `null` when the rig models the body from its bones (docs/contact.md).
+   */
+  skin: {
+    /** Triangle samples and vertices of the head and torso used for the body's surface. */
+    samples: number;
+    /** Finger radius per side `[left, right]`, meters (the margin of finger joints and tips). */
+    fingerRadius: [number, number];
+    /** Palm half-thickness per side `[left, right]`, meters. */
+    palmHalfThickness: [number, number];
+  } | null;
 }
 
 /** The tracked hand that drove one avatar side this frame. */

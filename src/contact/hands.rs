@@ -57,6 +57,8 @@ pub struct HandPoints {
     /// The aligned fingertip's image landmark (normalized, MediaPipe's), when the hand has
     /// image landmarks: with pose input, where on the face the finger is.
     pub image_tip: Option<Vec3>,
+    /// What the image says about the hand for chest contact, when it has image landmarks.
+    pub cue: Option<super::chest::HandCue>,
 }
 
 /// The hand-to-hand correction of one frame (see [`solve`]).
@@ -138,4 +140,25 @@ pub fn solve(
         weight: beta,
         meet,
     })
+}
+
+/// How far apart two hands are in the image: the smallest distance between a landmark of
+/// one and a landmark of the other over the larger image palm length (wrist to middle
+/// knuckle); `None` for a degenerate hand. On the labeled sign-language clips, hands that
+/// touch measure at most 0.35 (90% under 0.24); hands apart almost always over 0.5.
+#[must_use]
+pub fn image_apart(a: &[Vec3; 21], b: &[Vec3; 21]) -> Option<f32> {
+    let palm = |h: &[Vec3; 21]| (h[9] - h[0]).truncate().length();
+    let size = palm(a).max(palm(b));
+    if size.is_nan() || size <= 1e-6 {
+        return None;
+    }
+    let mut min = f32::INFINITY;
+    for p in a {
+        for q in b {
+            min = min.min((*p - *q).truncate().length());
+        }
+    }
+    let r = min / size;
+    r.is_finite().then_some(r)
 }

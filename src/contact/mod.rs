@@ -44,6 +44,7 @@
 //! The avatar's face and colliders are attached to the head (and torso) bones and placed from
 //! forward kinematics of the frame's rotations, so they follow the head once it moves.
 
+pub mod chest;
 pub mod colliders;
 pub mod face;
 pub mod hands;
@@ -153,6 +154,8 @@ pub struct ContactReport {
     pub hand_meet: Option<Vec3>,
     /// How far the body colliders pushed the hand (m).
     pub push: f32,
+    /// The chest blend applied, 0..1 (a hand resting on the torso: [`chest`]).
+    pub chest_weight: f32,
 }
 
 impl Default for ContactReport {
@@ -164,6 +167,7 @@ impl Default for ContactReport {
             hand_weight: 0.0,
             hand_meet: None,
             push: 0.0,
+            chest_weight: 0.0,
         }
     }
 }
@@ -188,6 +192,12 @@ pub struct UserFaces {
     pub pose_image: Option<ImageFit>,
     /// How MediaPipe input maps onto the avatar (for the pose's camera axes).
     pub camera: CameraMapping,
+    /// The user's torso in the image (pose image shoulders and hips), for chest contact.
+    pub torso_image: Option<chest::TorsoImage>,
+    /// With both hands' image landmarks: the smallest image distance between the two hands'
+    /// landmarks over the larger hand's image palm length (wrist to middle knuckle); under
+    /// about 0.3 the hands touch (docs/contact.md).
+    pub hands_apart: Option<f32>,
 }
 
 impl UserFaces {
@@ -284,6 +294,139 @@ impl ContactSolver {
         let h = HumanBone::Head.index();
         self.face
             .anchor_world(a, world.position[h], world.rotation[h])
+    }
+
+    /// Contact on the avatar's skin ([`skin`]), after the face and hands steps: a hand the
+    /// image shows resting on the torso lands on the chest ([`chest`]); a hand in face contact
+    /// settles onto the head's skin (its nearest point resting on it: moved in when above, out
+    /// when inside); hands the image shows touching are closed onto each other
+    /// ([`hands::image_touch`]); then every hand is pushed out of the body. Allocates nothing.
+    fn on_skin(
+        &self,
+        surface: &skin::BodySurface,
+        faces: &UserFaces,
+        world: &WorldPose,
+        targets: &mut [Option<SideTarget>; 2],
+        reports: &mut [Option<ContactReport>; 2],
+    ) {
+        let o = &self.options;
+        let mut spheres = [[(Vec3::ZERO, 0.0); skin::HAND_SPHERES]; 2];
+        let mut count = [0; 2];
+        for side in Side::BOTH {
+            if let Some(t) = &targets[side.index()] {
+                count[side.index()] =
+                    skin::hand_spheres(surface, side, t, &mut spheres[side.index()]);
+            }
+        }
+        let cues = [0, 1].map(|k| targets[k].and_then(|t| t.hand).and_then(|h| h.cue));
+        for ((target, report), side) in targets.iter_mut().zip(reports.iter_mut()).zip(Side::BOTH) {
+            let Some(t) = target.as_mut() else { continue };
+            let points = &spheres[side.index()][..count[side.index()]];
+            let face = report.as_ref().map_or(0.0, |r| r.weight);
+            if let (Some(torso), Some(hand), Some(cue)) =
+                (&faces.torso_image, &t.hand, &cues[side.index()])
+            {
+                let (w, u, v) = chest::weight(torso, cue, cues[1 - side.index()].as_ref());
+                let w = o.weight * w * (1.0 - face);
+                if w > 0.0 {
+                    if let Some(shift) =
+                        self.chest_shift(surface, faces.camera, world, t.wrist, hand, points, u, v)
+                    {
+                        t.wrist += w * shift;
+                    }
+                }
+                if let Some(r) = report.as_mut() {
+                    r.chest_weight = w;
+                }
+            }
+            if face > 0.0 {
+                let mut only = [false; skin::MAP_BONES.len()];
+                only[skin::HEAD_MAP] = true;
+                t.wrist += face * surface.settle(t.wrist, points, world, only);
+            }
+        }
+        if o.hands {
+            if let ([Some(l), Some(r)], Some(apart)) = (&mut *targets, faces.hands_apart) {
+                let w = o.weight * (1.0 - chest::smooth(0.3, 0.5, apart));
+                if w > 0.0 {
+                    let shift = skin::close(
+                        l.wrist,
+                        &spheres[0][..count[0]],
+                        r.wrist,
+                        &spheres[1][..count[1]],
+                    );
+                    l.wrist += 0.5 * w * shift;
+                    r.wrist -= 0.5 * w * shift;
+                    for rep in reports.iter_mut().flatten() {
+                        rep.hand_weight = rep.hand_weight.max(w);
+                    }
+                }
+            }
+        }
+        if o.colliders {
+            for ((target, report), side) in
+                targets.iter_mut().zip(reports.iter_mut()).zip(Side::BOTH)
+            {
+                let Some(t) = target.as_mut() else { continue };
+                let push = surface.push(
+                    t.wrist,
+                    &spheres[side.index()][..count[side.index()]],
+                    world,
+                );
+                t.wrist += push;
+                if let Some(r) = report.as_mut() {
+                    r.push = push.length();
+                }
+            }
+        }
+    }
+
+    /// The translation that puts a hand resting on the user's torso at `(u, v)` on the
+    /// avatar's: its palm center carried to the same place across the avatar's torso (upper-arm
+    /// joints for the shoulders, upper-leg joints for the hips), then settled onto the torso's
+    /// skin. `None` without those joints.
+    #[allow(clippy::too_many_arguments)]
+    fn chest_shift(
+        &self,
+        surface: &skin::BodySurface,
+        camera: CameraMapping,
+        world: &WorldPose,
+        wrist: Vec3,
+        hand: &HandPoints,
+        points: &[(Vec3, f32)],
+        u: f32,
+        v: f32,
+    ) -> Option<Vec3> {
+        use crate::bones::Side as S;
+        let avatar_of = |pose: S| {
+            if camera.pose_side_for(S::Left) == pose {
+                S::Left
+            } else {
+                S::Right
+            }
+        };
+        let (l, r) = (avatar_of(S::Left), avatar_of(S::Right));
+        let at = |b: HumanBone| world.position[b.index()];
+        let leg = |s: S| match s {
+            S::Left => HumanBone::LeftUpperLeg,
+            S::Right => HumanBone::RightUpperLeg,
+        };
+        let (hips_l, hips_r) = (leg(l), leg(r));
+        let (sl, sr) = (at(l.arm()[1]), at(r.arm()[1]));
+        let mid = 0.5 * (sl + sr);
+        let hips = 0.5 * (at(hips_l) + at(hips_r));
+        let place = mid + (sl - sr) * u + (hips - mid) * v;
+        let palm = wrist + hand.avatar[0]?;
+        let c = HumanBone::Chest.index();
+        let forward = (world.rotation[c] * Vec3::Z).normalize_or(Vec3::Z);
+        let mut shift = place - palm;
+        shift -= forward * shift.dot(forward);
+        let mut only = [true; skin::MAP_BONES.len()];
+        only[skin::HEAD_MAP] = false;
+        only[1] = false; // the neck
+        let settle = surface.settle(wrist + shift, points, world, only);
+        let total = shift + settle;
+        total.is_finite().then_some(total)
     }
 
     /// The avatar's anchors and colliders with the avatar at rest (internal frame): for
@@ -385,30 +528,7 @@ impl ContactSolver {
         }
 
         if let Some(surface) = &self.surface {
-            for ((target, report), side) in
-                targets.iter_mut().zip(reports.iter_mut()).zip(Side::BOTH)
-            {
-                let Some(t) = target.as_mut() else { continue };
-                let mut points = [(Vec3::ZERO, 0.0); skin::HAND_SPHERES];
-                let n = skin::hand_spheres(surface, side, t, &mut points);
-                let points = &points[..n];
-                let face = report.as_ref().map_or(0.0, |r| r.weight);
-                // Landing: a hand in face contact settles onto the head's skin (its nearest
-                // point resting on it: moved in when above, out when inside).
-                if face > 0.0 {
-                    let mut only = [false; skin::MAP_BONES.len()];
-                    only[skin::HEAD_MAP] = true;
-                    let settle = surface.settle(t.wrist, points, world, only);
-                    t.wrist += face * settle;
-                }
-                if o.colliders {
-                    let push = surface.push(t.wrist, points, world);
-                    t.wrist += push;
-                    if let Some(r) = report.as_mut() {
-                        r.push = push.length();
-                    }
-                }
-            }
+            self.on_skin(surface, faces, world, targets, reports);
         } else if o.colliders {
             let shapes = self.colliders.shapes(world);
             for ((target, report), finger) in

@@ -22,9 +22,9 @@
 //!   the average face placed on the eye bones) is moved onto the head's skin along the face's
 //!   forward axis (nose, chin, mouth, cheeks, forehead: the foremost skin point within 5 mm
 //!   across) or sideways (the ears: the outermost within 6 mm).
-//! * **The hands' thickness**: the finger radius (median distance of finger-bone skin from its
-//!   bone) and the palm's half-thickness (median distance of the hand bone's skin from the
-//!   palm's plane), the margins of the hand's contact points.
+//! * **The hands' thickness**: the finger radius (upper quartile of the distances of
+//!   finger-bone skin from its bone) and the palm's half-thickness (upper quartile of the hand
+//!   bone's skin's distances from the palm's plane), the margins of the hand's contact points.
 //!
 //! Nothing here runs per frame except [`BodySurface::depth`] (no allocation).
 
@@ -589,12 +589,14 @@ fn hand_thickness(
         };
         finger.push((p - (a + ab * t)).length());
     }
+    // The upper quartile: the hand's thicker parts count (a median let the palm's ball sink
+    // into the chest by up to 17 mm on the generated avatars).
     let median = |v: &mut Vec<f32>| -> Option<f32> {
         if v.len() < 8 {
             return None;
         }
         v.sort_by(f32::total_cmp);
-        Some(v[v.len() / 2])
+        Some(v[v.len() * 3 / 4])
     };
     let f = median(&mut finger)?;
     let p = median(&mut palm).unwrap_or(1.6 * f);
@@ -604,9 +606,9 @@ fn hand_thickness(
 /// Most contact spheres of a hand: wrist, palm center, three joints and a tip per finger.
 pub const HAND_SPHERES: usize = 2 + 5 * 4;
 
-/// A hand's contact spheres (center relative to the wrist target... placed at `target.wrist`,
-/// world; radius) into `out`: the wrist and palm center and each finger's joints with the
-/// palm's half-thickness at the palm, the finger radius along the fingers. Returns how many.
+/// A hand's contact spheres (center relative to the wrist target, world axes; radius) into
+/// `out`: the wrist and palm center and each finger's joints with the palm's half-thickness at
+/// the palm, the finger radius along the fingers. Returns how many.
 pub fn hand_spheres(
     surface: &BodySurface,
     side: Side,
@@ -615,23 +617,23 @@ pub fn hand_spheres(
 ) -> usize {
     let s = side.index();
     let (palm, finger) = (surface.palm_half[s], surface.finger_radius[s]);
-    out[0] = (target.wrist, palm);
+    out[0] = (Vec3::ZERO, palm);
     let mut n = 1;
     if let Some(hand) = &target.hand {
         if let Some(c) = hand.avatar[0] {
-            out[n] = (target.wrist + c, palm);
+            out[n] = (c, palm);
             n += 1;
         }
         for (k, j) in hand.joints.iter().enumerate() {
             if let Some(j) = j {
                 // Each finger's first joint is in the palm (the thumb's: at its root).
                 let r = if k % 3 == 0 { palm } else { finger };
-                out[n] = (target.wrist + *j, r);
+                out[n] = (*j, r);
                 n += 1;
             }
         }
         for t in hand.avatar[1..].iter().flatten() {
-            out[n] = (target.wrist + *t, finger);
+            out[n] = (*t, finger);
             n += 1;
         }
     }
@@ -639,17 +641,17 @@ pub fn hand_spheres(
 }
 
 impl BodySurface {
-    /// The translation that moves the hand spheres (world, with `wrist` their reference:
-    /// unused but kept for symmetry) out of the body: each sphere in turn pushed straight out
+    /// The translation that moves the hand spheres (centers relative to `wrist`, world axes)
+    /// out of the body: each sphere in turn pushed straight out
     /// of the map it is deepest in (Gauss-Seidel, three passes).
     #[must_use]
-    pub fn push(&self, _wrist: Vec3, points: &[(Vec3, f32)], world: &WorldPose) -> Vec3 {
+    pub fn push(&self, wrist: Vec3, points: &[(Vec3, f32)], world: &WorldPose) -> Vec3 {
         let mut total = Vec3::ZERO;
         for _ in 0..3 {
             let mut moved = false;
             for (p, margin) in points {
                 if let Some((d, n, _)) =
-                    self.depth(*p + total, *margin, world, [true; MAP_BONES.len()])
+                    self.depth(wrist + *p + total, *margin, world, [true; MAP_BONES.len()])
                 {
                     if d > 0.0 {
                         total += n * d;
@@ -668,37 +670,105 @@ impl BodySurface {
         }
     }
 
-    /// The translation that lands the hand on the skin of the `only` maps: its sphere nearest
-    /// the skin (or deepest inside) moved along that skin's normal until it rests on it
-    /// (three passes, each against the sphere then nearest).
+    /// The translation that lands the hand on the skin of the `only` maps: along the skin's
+    /// normal at the hand's sphere nearest the skin (or deepest inside), as far as makes the
+    /// hand's deepest sphere rest on the skin (bisection: moving one sphere onto the skin
+    /// may push another one in).
     #[must_use]
     pub fn settle(
         &self,
-        _wrist: Vec3,
+        wrist: Vec3,
         points: &[(Vec3, f32)],
         world: &WorldPose,
         only: [bool; MAP_BONES.len()],
     ) -> Vec3 {
-        let mut total = Vec3::ZERO;
-        for _ in 0..3 {
+        let deepest = |shift: Vec3| -> Option<(f32, Vec3)> {
             let mut best: Option<(f32, Vec3)> = None;
             for (p, margin) in points {
-                if let Some((d, n, _)) = self.depth(*p + total, *margin, world, only) {
+                if let Some((d, n, _)) = self.depth(wrist + *p + shift, *margin, world, only) {
                     if best.is_none_or(|(bd, _)| d > bd) {
                         best = Some((d, n));
                     }
                 }
             }
-            let Some((d, n)) = best else { break };
-            total += n * d;
-            if d.abs() < 1e-4 {
-                break;
+            best
+        };
+        let Some((d0, n)) = deepest(Vec3::ZERO) else {
+            return Vec3::ZERO;
+        };
+        // f(s) = the deepest sphere's depth with the hand moved by -s n (in for s > 0).
+        let f = |s: f32| deepest(-n * s).map_or(f32::NEG_INFINITY, |(d, _)| d);
+        let (mut lo, mut hi) = if d0 < 0.0 {
+            (0.0, -2.0 * d0 + 0.01)
+        } else {
+            (-2.0 * d0 - 0.01, 0.0)
+        };
+        if d0 < 0.0 && f(hi) < 0.0 {
+            return -n * hi;
+        }
+        if d0 >= 0.0 && f(lo) > 0.0 {
+            return -n * lo;
+        }
+        for _ in 0..16 {
+            let mid = 0.5 * (lo + hi);
+            if f(mid) > 0.0 {
+                hi = mid;
+            } else {
+                lo = mid;
             }
         }
+        let total = -n * lo;
         if total.is_finite() {
             total
         } else {
             Vec3::ZERO
         }
+    }
+}
+
+/// The translation `D` that closes the gap between two hands' spheres (centers relative to
+/// their wrists `left` and `right`, world axes): with the left hand moved by `D / 2` and the
+/// right by `-D / 2`, their nearest spheres touch (along the line between the spheres nearest
+/// now; bisection, as one pair closing may bring another into overlap). Zero when either hand
+/// has no spheres.
+#[must_use]
+pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> Vec3 {
+    // The smallest surface gap with the hands moved together by s along u.
+    let gap = |u: Vec3, s: f32| -> (f32, Vec3) {
+        let mut best = (f32::INFINITY, Vec3::Z);
+        for (a, ra) in l {
+            for (b, rb) in r {
+                let d = (right + *b - 0.5 * s * u) - (left + *a + 0.5 * s * u);
+                let g = d.length() - ra - rb;
+                if g < best.0 {
+                    best = (g, d);
+                }
+            }
+        }
+        best
+    };
+    let (g0, d0) = gap(Vec3::ZERO, 0.0);
+    if !g0.is_finite() {
+        return Vec3::ZERO;
+    }
+    let u = d0.try_normalize().unwrap_or(Vec3::Z);
+    let (mut lo, mut hi) = if g0 > 0.0 {
+        (0.0, 2.0 * g0 + 0.01)
+    } else {
+        (2.0 * g0 - 0.01, 0.0)
+    };
+    for _ in 0..16 {
+        let mid = 0.5 * (lo + hi);
+        if gap(u, mid).0 > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let total = u * lo;
+    if total.is_finite() {
+        total
+    } else {
+        Vec3::ZERO
     }
 }

@@ -209,7 +209,35 @@ impl Rig {
             .and_then(|i| frame.hands().get(i))
             .and_then(|h| h.image)
             .map(|img| img[touch.landmarks()[3]]);
+        let cue = out_hand.and_then(|i| frame.hands().get(i)).and_then(|h| {
+            let img = h.image?;
+            let palm = (img[hl::WRIST]
+                + img[hl::INDEX_MCP]
+                + img[hl::MIDDLE_MCP]
+                + img[hl::RING_MCP]
+                + img[hl::PINKY_MCP])
+                / 5.0;
+            let a = (img[hl::INDEX_MCP] - img[hl::WRIST]).truncate();
+            let b = (img[hl::PINKY_MCP] - img[hl::WRIST]).truncate();
+            let sine = a.perp_dot(b) / (a.length() * b.length()).max(1e-9);
+            let sign = match h.handedness {
+                crate::mediapipe::Handedness::Left => 1.0,
+                crate::mediapipe::Handedness::Right => -1.0,
+            };
+            let palm_length = (lm[hl::MIDDLE_MCP] - lm[hl::WRIST]).length().max(1e-6);
+            let extension = [hl::INDEX_TIP, 12, 16, 20]
+                .iter()
+                .map(|&k| (lm[k] - lm[hl::WRIST]).length())
+                .sum::<f32>()
+                / (4.0 * palm_length);
+            Some(crate::contact::chest::HandCue {
+                palm,
+                facing: sign * sine,
+                extension,
+            })
+        });
         Some(HandPoints {
+            cue,
             image_tip,
             source: kind,
             user,
@@ -277,6 +305,29 @@ impl Rig {
                 _ => None,
             },
             camera: self.options.camera(),
+            torso_image: match (&self.scratch.pose, &frame.pose_image) {
+                (Some(pose), Some(image)) if needs(Source::Pose) => {
+                    let seen = [11, 12, 23, 24]
+                        .iter()
+                        .all(|&k| pose.visibility[k] >= self.options.calibration.min_visibility);
+                    seen.then(|| crate::contact::chest::TorsoImage {
+                        shoulders: [image[11], image[12]],
+                        hips: [image[23], image[24]],
+                    })
+                }
+                _ => None,
+            },
+            hands_apart: {
+                let image = |side: Side| {
+                    out.hands[side.index()]
+                        .and_then(|h| frame.hands().get(h.index))
+                        .and_then(|h| h.image)
+                };
+                match (image(Side::Left), image(Side::Right)) {
+                    (Some(a), Some(b)) => crate::contact::hands::image_apart(&a, &b),
+                    _ => None,
+                }
+            },
             tracker: if needs(Source::Tracker) {
                 frame
                     .face

@@ -473,6 +473,17 @@ impl HandRig {
                 }
             }
         }
+        // The skin's model, when the rig has one: flag, samples, finger radius and palm
+        // half-thickness per side (left, right).
+        match self.rig.contact().surface() {
+            Some(s) => {
+                v.push(1.0);
+                v.push(s.samples as f32);
+                v.extend(s.finger_radius);
+                v.extend(s.palm_half);
+            }
+            None => v.extend([0.0; 6]),
+        }
         v
     }
 

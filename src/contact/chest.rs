@@ -1,0 +1,104 @@
+//! Chest contact: a hand resting on the user's chest or belly rests on the avatar's.
+//!
+//! MediaPipe's depth cannot tell a hand on the chest from one in front of it: on the shared
+//! sign-language clips the pose puts the wrist of a hand flat on the chest 32-35 cm in front
+//! of the shoulders, farther than the hands signing in front of the body (median 26 cm), and
+//! the hand's apparent size against the shoulders' separates the two no better. What the
+//! camera does see reliably decides instead ([`weight`]), each cue a smooth ramp:
+//!
+//! * **over the torso** in the image: the palm's center within the shoulders' width of the
+//!   torso's middle (`|u| <= 0.5`, fading out by 0.6) and between the shoulders' and 45% of the
+//!   way to the hips (`v` in -0.05..0.45, fading over 0.05), `u`, `v` measured along the
+//!   image's shoulder line and shoulder-to-hip line ([`TorsoImage::coordinates`]);
+//! * **the palm turned to the body** (its back to the camera): the hand's image chirality
+//!   against its label ([`HandCue::facing`]);
+//! * **a flat hand**: the fingertips' mean distance from the wrist at least 1.55 palm
+//!   lengths (fading from 1.35), from the world landmarks; a bent hand in front of the chest
+//!   (the other hand's palm in `again`) is not resting on it;
+//! * **the other hand away**: its palm center more than 0.5 shoulder widths off (fading from
+//!   0.4): two hands together over the torso are touching each other (hand-to-hand contact).
+//!
+//! Measured on the labeled clips (eval/labels): these cues select all 50 hand-frames labeled
+//! chest and 1 of the 290 labeled none whose hand is in the image (docs/contact.md). A fist or
+//! a curved hand on the chest is not recognized (a documented limit).
+//!
+//! Where: the palm's `(u, v)` carried onto the avatar's torso (its upper-arm joints for the
+//! shoulders, upper-leg joints for the hips), then the hand settled onto the chest skin along
+//! the torso's normal ([`super::skin::BodySurface::settle`]).
+
+use glam::Vec3;
+
+use crate::kinematics::clamp;
+
+/// The user's torso in the image: the pose's image shoulders and hips (normalized image
+/// coordinates), `[pose left, pose right]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TorsoImage {
+    /// Pose landmarks 11 and 12.
+    pub shoulders: [Vec3; 2],
+    /// Pose landmarks 23 and 24.
+    pub hips: [Vec3; 2],
+}
+
+impl TorsoImage {
+    /// `(u, v)` of an image point: `u` along the shoulder line from its middle, in shoulder
+    /// widths, positive toward the pose's left shoulder; `v` down from the shoulders' middle
+    /// toward the hips' middle, in that distance. `None` for a degenerate torso.
+    #[must_use]
+    pub fn coordinates(&self, p: Vec3) -> Option<(f32, f32)> {
+        let mid = 0.5 * (self.shoulders[0] + self.shoulders[1]);
+        let across = (self.shoulders[0] - self.shoulders[1]).truncate();
+        let down = (0.5 * (self.hips[0] + self.hips[1]) - mid).truncate();
+        let (a2, d2) = (across.length_squared(), down.length_squared());
+        if a2.is_nan() || d2.is_nan() || a2 <= 1e-8 || d2 <= 1e-8 {
+            return None;
+        }
+        let q = (p - mid).truncate();
+        Some((q.dot(across) / a2, q.dot(down) / d2))
+    }
+}
+
+/// What the image says about one hand, for chest contact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HandCue {
+    /// The palm's center in the image (normalized; the mean of the wrist and four knuckles).
+    pub palm: Vec3,
+    /// How much the palm faces away from the camera: the image-plane sine between the
+    /// wrist-to-index and wrist-to-little knuckle lines, signed by the hand's label (positive:
+    /// the palm turned away from the camera, toward the body).
+    pub facing: f32,
+    /// The four fingertips' mean distance from the wrist over the palm's length (world
+    /// landmarks): about 1.9 for a flat hand, under 1 for a fist.
+    pub extension: f32,
+}
+
+/// Smoothstep from 0 at `edge0` to 1 at `edge1` (0 for NaN).
+#[must_use]
+pub fn smooth(edge0: f32, edge1: f32, x: f32) -> f32 {
+    let t = clamp((x - edge0) / (edge1 - edge0), 0.0, 1.0);
+    if t.is_nan() {
+        return 0.0;
+    }
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// How sure the image is that this hand rests on the torso (0..1; see the module docs), and
+/// its `(u, v)`; `other`: the other hand's cue, if seen.
+#[must_use]
+pub fn weight(torso: &TorsoImage, hand: &HandCue, other: Option<&HandCue>) -> (f32, f32, f32) {
+    let Some((u, v)) = torso.coordinates(hand.palm) else {
+        return (0.0, 0.0, 0.0);
+    };
+    let over =
+        (1.0 - smooth(0.5, 0.6, u.abs())) * smooth(-0.1, -0.05, v) * (1.0 - smooth(0.45, 0.5, v));
+    let facing = smooth(0.05, 0.25, hand.facing);
+    let flat = smooth(1.35, 1.55, hand.extension);
+    let apart = other
+        .and_then(|o| torso.coordinates(o.palm))
+        .map_or(1.0, |(ou, ov)| {
+            let d = ((ou - u).powi(2) + (1.4 * (ov - v)).powi(2)).sqrt();
+            smooth(0.4, 0.5, d)
+        });
+    let w = over * facing * flat * apart;
+    (if w.is_finite() { w } else { 0.0 }, u, v)
+}
