@@ -577,9 +577,11 @@ fn a_turned_avatar_head_carries_its_anchors() {
                     source: Source::Tracker,
                     user,
                     avatar,
+                    joints: [None; 15],
                     user_palm: 0.09,
                     avatar_palm: 0.08,
                     image_tip: None,
+                    cue: None,
                 };
                 let mut targets = [
                     Some(SideTarget {

@@ -1,0 +1,212 @@
+//! The body learned from an avatar's skin ([`handrig::contact::skin`]), on synthetic skins with
+//! known answers: a ball for the head and upright cylinders for the torso bones, hung on the
+//! human-proportioned fixture's bones; hands given as spheres.
+
+use glam::{Quat, Vec3};
+use handrig::bones::{HumanBone as B, BONE_COUNT};
+use handrig::contact::skin::{self, BodySurface, SkinMesh, MAP_BONES};
+use handrig::skeleton::WorldPose;
+use handrig::Skeleton;
+
+use crate::support::recordings;
+
+const HEAD_R: f32 = 0.09;
+const TORSO_R: f32 = 0.14;
+
+/// A ball of radius `HEAD_R` about `center` (head vertices) and, per torso bone from its joint
+/// to the next one up, a cylinder of radius `TORSO_R` about the vertical line through x = z = 0;
+/// vertices only (a dense enough grid), internal frame = model frame (VRM 1.0).
+fn synthetic(skel: &Skeleton, center: Vec3) -> SkinMesh {
+    let mut m = SkinMesh::default();
+    for i in 0..=40 {
+        let polar = std::f32::consts::PI * i as f32 / 40.0;
+        for j in 0..96 {
+            let az = std::f32::consts::TAU * j as f32 / 96.0;
+            let d = Vec3::new(polar.sin() * az.sin(), polar.cos(), polar.sin() * az.cos());
+            m.positions.push(center + d * HEAD_R);
+            m.bones.push(B::Head);
+        }
+    }
+    let chain = [B::Hips, B::Spine, B::Chest, B::UpperChest, B::Neck];
+    for w in chain.windows(2) {
+        let (y0, y1) = (
+            skel.rest_world(w[0]).unwrap().y,
+            skel.rest_world(w[1]).unwrap().y,
+        );
+        let rows = ((y1 - y0) / 0.005).ceil() as usize;
+        for i in 0..rows {
+            let y = y0 + (y1 - y0) * (i as f32 + 0.5) / rows as f32;
+            for j in 0..96 {
+                let az = std::f32::consts::TAU * j as f32 / 96.0;
+                m.positions
+                    .push(Vec3::new(az.sin() * TORSO_R, y, az.cos() * TORSO_R));
+                m.bones.push(w[0]);
+            }
+        }
+    }
+    m
+}
+
+fn rest_world(skel: &Skeleton) -> WorldPose {
+    let mut world = WorldPose::default();
+    skel.forward(&[Quat::IDENTITY; BONE_COUNT], &mut world);
+    world
+}
+
+fn fixture() -> (Skeleton, Vec3, BodySurface) {
+    let skel = recordings::vrm(recordings::FIXTURE_VRM1);
+    let center = skel.rest_world(B::Head).unwrap() + Vec3::new(0.0, 0.08, 0.02);
+    let surface = BodySurface::new(&skel, &synthetic(&skel, center)).expect("a body");
+    (skel, center, surface)
+}
+
+#[test]
+fn maps_measure_depth_inside_a_known_head_and_torso() {
+    let (skel, center, surface) = fixture();
+    let world = rest_world(&skel);
+    let head = {
+        let mut only = [false; MAP_BONES.len()];
+        only[skin::HEAD_MAP] = true;
+        only
+    };
+    // Points along several directions at known distances from the ball's center.
+    for dir in [
+        Vec3::Z,
+        Vec3::X,
+        -Vec3::X,
+        Vec3::new(0.3, 0.5, 0.8).normalize(),
+    ] {
+        for r in [0.05, 0.085, 0.1, 0.12] {
+            let (d, n, map) = surface
+                .depth(center + dir * r, 0.0, &world, head)
+                .expect("the head map");
+            assert_eq!(map, skin::HEAD_MAP);
+            assert!(
+                (d - (HEAD_R - r)).abs() < 0.004,
+                "dir {dir} r {r}: depth {d}"
+            );
+            assert!(n.dot(dir) > 0.99, "outward normal {n} for {dir}");
+        }
+    }
+    // The chest's cylinder: a point in front of the chest bone at known radii.
+    let chest = skel.rest_world(B::Chest).unwrap() + Vec3::new(0.0, 0.03, 0.0);
+    for r in [0.1, 0.13, 0.16] {
+        let (d, n, _) = surface
+            .depth(
+                Vec3::new(0.0, chest.y, r),
+                0.01,
+                &world,
+                [true; MAP_BONES.len()],
+            )
+            .expect("a torso map");
+        assert!((d - (TORSO_R + 0.01 - r)).abs() < 0.004, "r {r}: depth {d}");
+        assert!(n.z > 0.99);
+    }
+    // Far above the head and beside the hips: nothing inside.
+    let above = center + Vec3::Y * 0.5;
+    assert!(surface
+        .depth(above, 0.0, &world, [true; MAP_BONES.len()])
+        .is_none_or(|(d, _, _)| d < 0.0));
+}
+
+#[test]
+fn maps_follow_a_turned_head() {
+    let (skel, center, surface) = fixture();
+    let mut local = [Quat::IDENTITY; BONE_COUNT];
+    local[B::Neck.index()] = Quat::from_rotation_x(0.6);
+    let mut world = WorldPose::default();
+    skel.forward(&local, &mut world);
+    let h = B::Head.index();
+    let moved =
+        world.position[h] + world.rotation[h] * (center - skel.rest_world(B::Head).unwrap());
+    let mut only = [false; MAP_BONES.len()];
+    only[skin::HEAD_MAP] = true;
+    let (d, _, _) = surface
+        .depth(moved + Vec3::Z * 0.07, 0.0, &world, only)
+        .unwrap();
+    assert!((d - (HEAD_R - 0.07)).abs() < 0.01, "depth {d}");
+    // The rest position of that point is no longer 7 cm from the moved center.
+    let (d_rest, _, _) = surface
+        .depth(center + Vec3::Z * 0.07, 0.0, &world, only)
+        .unwrap();
+    assert!((d_rest - d).abs() > 0.005, "{d_rest} vs {d}");
+}
+
+#[test]
+fn settle_lands_the_nearest_sphere_on_the_skin_and_push_takes_it_out() {
+    let (skel, center, surface) = fixture();
+    let world = rest_world(&skel);
+    let mut only = [false; MAP_BONES.len()];
+    only[skin::HEAD_MAP] = true;
+    // A hand of three spheres in front of the face, 5 cm off; then the same 3 cm inside.
+    let spheres = [
+        (Vec3::ZERO, 0.012),
+        (Vec3::new(0.0, 0.04, -0.02), 0.01),
+        (Vec3::new(0.03, 0.07, -0.04), 0.008),
+    ];
+    for gap in [0.05, -0.03] {
+        let wrist = center + Vec3::new(0.0, -0.07, HEAD_R + 0.04 + gap);
+        let shift = surface.settle(wrist, &spheres, &world, only);
+        let deepest = spheres
+            .iter()
+            .filter_map(|(p, r)| surface.depth(wrist + shift + *p, *r, &world, only))
+            .map(|(d, _, _)| d)
+            .fold(f32::NEG_INFINITY, f32::max);
+        assert!(
+            deepest.abs() < 0.002,
+            "gap {gap}: deepest sphere at {deepest}"
+        );
+        let push = surface.push(wrist, &spheres, &world);
+        let after = spheres
+            .iter()
+            .filter_map(|(p, r)| surface.depth(wrist + push + *p, *r, &world, only))
+            .map(|(d, _, _)| d)
+            .fold(f32::NEG_INFINITY, f32::max);
+        assert!(
+            after < 0.002,
+            "gap {gap}: still {after} inside after the push"
+        );
+        if gap > 0.0 {
+            assert!(push.length() < 1e-6, "a hand outside is not pushed: {push}");
+        }
+    }
+}
+
+#[test]
+fn close_brings_two_hands_into_touch() {
+    let l = [(Vec3::ZERO, 0.01), (Vec3::new(0.05, 0.0, 0.0), 0.015)];
+    let r = [(Vec3::ZERO, 0.01), (Vec3::new(-0.05, 0.02, 0.0), 0.015)];
+    for apart in [0.2, 0.04, 0.0] {
+        let (lw, rw) = (Vec3::ZERO, Vec3::new(0.1 + apart, 0.01, 0.03));
+        let d = skin::close(lw, &l, rw, &r);
+        let gap = l
+            .iter()
+            .flat_map(|(a, ra)| {
+                r.iter().map(move |(b, rb)| {
+                    ((rw - 0.5 * d + *b) - (lw + 0.5 * d + *a)).length() - ra - rb
+                })
+            })
+            .fold(f32::INFINITY, f32::min);
+        assert!(gap.abs() < 0.001, "apart {apart}: gap after closing {gap}");
+    }
+    assert_eq!(skin::close(Vec3::ZERO, &[], Vec3::X, &r), Vec3::ZERO);
+}
+
+#[test]
+fn bad_skins_name_the_field() {
+    let e = |r: Result<SkinMesh, handrig::Error>| r.unwrap_err().to_string();
+    assert!(e(SkinMesh::from_flat(&[0.0; 5], &[0], &[])).contains("restPose.skin.positions"));
+    assert!(e(SkinMesh::from_flat(&[0.0, f32::NAN, 0.0], &[0], &[]))
+        .contains("restPose.skin.positions"));
+    assert!(e(SkinMesh::from_flat(&[0.0; 3], &[200], &[])).contains("restPose.skin.bones"));
+    assert!(
+        e(SkinMesh::from_flat(&[0.0; 6], &[0, 0], &[0, 1, 2])).contains("restPose.skin.triangles")
+    );
+    assert!(e(SkinMesh::from_flat(&[0.0; 6], &[0, 0], &[0, 1])).contains("restPose.skin.triangles"));
+    // A skin with no head or torso teaches nothing; the rig still works from its bones.
+    let skel = recordings::vrm(recordings::FIXTURE_VRM1);
+    let hand_only = SkinMesh::from_flat(&[0.0; 30], &[B::LeftHand.index() as u8; 10], &[]).unwrap();
+    assert!(BodySurface::new(&skel, &hand_only).is_none());
+    let rig = handrig::Rig::new(skel.with_skin(hand_only), handrig::RigOptions::default());
+    assert!(rig.unwrap().contact().surface().is_none());
+}
