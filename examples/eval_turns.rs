@@ -10,6 +10,9 @@
 //! turn is the largest of the world rotations' angles of change of the upper arm, forearm and
 //! hand; the input's is the change of the MediaPipe hand's palm frame (world landmarks, the
 //! palm frame of `handrig::hand::palm_frame`).
+//!
+//! It also counts what the hand selection resolved (`TrackedHand::resolved`: swapped labels,
+//! label jumps, duplicates) per side on the clips and the hand video.
 
 #[path = "../tests/support/recordings.rs"]
 mod recordings;
@@ -17,7 +20,7 @@ mod recordings;
 use glam::{Quat, Vec3};
 use handrig::hand::palm_frame;
 use handrig::mediapipe::{FrameInput, HandObservation};
-use handrig::rig::HandUse;
+use handrig::rig::{HandResolved, HandUse};
 use handrig::{Rig, RigOptions, Side, SolveOutput};
 use serde_json::{json, Value};
 
@@ -147,13 +150,18 @@ fn signer_hand(f: &FrameInput, signer: Side) -> Option<usize> {
         .map(|(i, _)| i)
 }
 
+/// Side-frames per resolution: `[ASL, hand video][left, right][swapped, jumped, duplicate]`.
+type Resolutions = [[[usize; 3]; 2]; 2];
+
 /// Per avatar: every side-frame's turn, the palm-label agreement of the avatar (agree, total)
-/// and of the input hand that drove the side (its world landmarks' palm normal, agree).
+/// and of the input hand that drove the side (its world landmarks' palm normal, agree), the
+/// hand selection's resolutions.
 fn run(
     avatar: &str,
     data: &[(String, Vec<FrameInput>)],
     labels: &[Label],
-) -> (Vec<Turn>, (usize, usize, usize), Vec<String>) {
+) -> (Vec<Turn>, (usize, usize, usize), Vec<String>, Resolutions) {
+    let mut resolutions: Resolutions = [[[0; 3]; 2]; 2];
     let skeleton = recordings::vrm(avatar);
     let version = skeleton.version();
     let mut turns = Vec::new();
@@ -177,6 +185,15 @@ fn run(
                 }
             }
             for side in Side::BOTH {
+                let kind = match o.hands[side.index()].map(|t| t.resolved) {
+                    Some(HandResolved::Swapped) => Some(0),
+                    Some(HandResolved::Jumped) => Some(1),
+                    Some(HandResolved::Duplicate) => Some(2),
+                    _ => None,
+                };
+                if let Some(k) = kind {
+                    resolutions[usize::from(name == "hand-video")][side.index()][k] += 1;
+                }
                 let now = o.hands[side.index()].and_then(|t| {
                     let [_, upper, lower, hand] = side.arm();
                     let input = input_palm(side, &f.hands()[t.index])?;
@@ -232,7 +249,7 @@ fn run(
             }
         }
     }
-    (turns, (agree, total, input_agree), misses)
+    (turns, (agree, total, input_agree), misses, resolutions)
 }
 
 fn median(mut v: Vec<f32>) -> f32 {
@@ -268,11 +285,20 @@ fn main() {
     let labels = labels();
     let mut rows = Vec::new();
     let mut input_rows = None;
+    let mut selection = None;
     // The largest turns of the first avatar (woman-vrm1) and of the robot.
     let mut worst_human = Vec::new();
     let mut worst_rows = Vec::new();
     for avatar in AVATARS {
-        let (turns, (agree, total, input_agree), misses) = run(avatar, &data, &labels);
+        let (turns, (agree, total, input_agree), misses, resolved) = run(avatar, &data, &labels);
+        // The selection reads the input only: the same on every avatar.
+        let counts = |g: usize| {
+            json!(Side::BOTH.map(|s| {
+                let c = resolved[g][s.index()];
+                json!({ "swapped": c[0], "jumped": c[1], "duplicate": c[2] })
+            }))
+        };
+        selection.get_or_insert_with(|| json!({ "asl": counts(0), "video": counts(1) }));
         let pick = |asl: bool, f: &dyn Fn(&Turn) -> f32| -> Vec<f32> {
             turns
                 .iter()
@@ -315,7 +341,7 @@ fn main() {
         }));
     }
     let result = json!({ "input": input_rows, "avatars": rows, "worst": worst_rows,
-        "worstHuman": worst_human });
+        "worstHuman": worst_human, "selection": selection });
     if as_json {
         println!("{result}");
         return;
@@ -363,6 +389,17 @@ fn print_table(r: &Value) {
             cell(&a["video"]),
             p["agree"],
             p["labelled"]
+        );
+    }
+    println!("\nHand selection, side-frames resolved (left / right):");
+    for (title, key) in [("ASL clips (6)", "asl"), ("hand video", "video")] {
+        let c = &r["selection"][key];
+        let pair = |k: &str| format!("{} / {}", c[0][k], c[1][k]);
+        println!(
+            "  {title:<14} swapped {}, jumped {}, duplicate {}",
+            pair("swapped"),
+            pair("jumped"),
+            pair("duplicate")
         );
     }
     for (title, key) in [("robot", "worst"), ("woman-vrm1", "worstHuman")] {
