@@ -3,8 +3,10 @@
 //! hand's palm turns, with every default option on; and the avatar palm's agreement with the
 //! hand-made palm-facing labels (`eval/labels/palm-facing.json`).
 //!
-//! `cargo run --release --example eval_turns [-- --json] [-- --worst N]` (about 1 s in a release
-//! build; `node eval/hand-turns.mjs` adds Kalidokit 1.1.5 and prints the docs table).
+//! `cargo run --release --example eval_turns [-- --json] [-- --worst N] [-- --options JSON]`
+//! (about 1 s in a release build; `node eval/hand-turns.mjs` adds Kalidokit 1.1.5 and prints the
+//! docs table). `--options` replaces the default options (every default on), e.g.
+//! `--options '{"contact":{"enabled":false}}'` to see what self-contact adds.
 //!
 //! Per side-frame (a side whose hand drove the avatar in this frame and the one before), the
 //! turn is the largest of the world rotations' angles of change of the upper arm, forearm and
@@ -157,6 +159,7 @@ type Resolutions = [[[usize; 3]; 2]; 2];
 /// and of the input hand that drove the side (its world landmarks' palm normal, agree), the
 /// hand selection's resolutions.
 fn run(
+    options: RigOptions,
     avatar: &str,
     data: &[(String, Vec<FrameInput>)],
     labels: &[Label],
@@ -169,7 +172,7 @@ fn run(
     let camera = handrig::mediapipe::CameraMapping::default();
     let mut misses = Vec::new();
     for (name, frames) in data {
-        let mut rig = Rig::new(skeleton.clone(), RigOptions::default()).unwrap();
+        let mut rig = Rig::new(skeleton.clone(), options).unwrap();
         let mut out = SolveOutput::default();
         let mut last: [Option<([Quat; 3], Quat)>; 2] = [None, None];
         for (i, f) in frames.iter().enumerate() {
@@ -281,6 +284,13 @@ fn main() {
         .and_then(|i| args.get(i + 1))
         .and_then(|n| n.parse().ok())
         .unwrap_or(10usize);
+    let options = args
+        .iter()
+        .position(|a| a == "--options")
+        .and_then(|i| args.get(i + 1))
+        .map_or_else(RigOptions::default, |json| {
+            RigOptions::from_json(json).unwrap_or_else(|e| panic!("--options: {e}"))
+        });
     let data = data();
     let labels = labels();
     let mut rows = Vec::new();
@@ -290,7 +300,8 @@ fn main() {
     let mut worst_human = Vec::new();
     let mut worst_rows = Vec::new();
     for avatar in AVATARS {
-        let (turns, (agree, total, input_agree), misses, resolved) = run(avatar, &data, &labels);
+        let (turns, (agree, total, input_agree), misses, resolved) =
+            run(options, avatar, &data, &labels);
         // The selection reads the input only: the same on every avatar.
         let counts = |g: usize| {
             json!(Side::BOTH.map(|s| {
