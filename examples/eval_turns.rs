@@ -3,13 +3,18 @@
 //! hand's palm turns, with every default option on; and the avatar palm's agreement with the
 //! hand-made palm-facing labels (`eval/labels/palm-facing.json`).
 //!
-//! `cargo run --release --example eval_turns [-- --json] [-- --worst N]` (about 1 s in a release
-//! build; `node eval/hand-turns.mjs` adds Kalidokit 1.1.5 and prints the docs table).
+//! `cargo run --release --example eval_turns [-- --json] [-- --worst N] [-- --options JSON]`
+//! (about 1 s in a release build; `node eval/hand-turns.mjs` adds Kalidokit 1.1.5 and prints the
+//! docs table). `--options` replaces the default options (every default on), e.g.
+//! `--options '{"contact":{"enabled":false}}'` to see what self-contact adds.
 //!
 //! Per side-frame (a side whose hand drove the avatar in this frame and the one before), the
 //! turn is the largest of the world rotations' angles of change of the upper arm, forearm and
 //! hand; the input's is the change of the MediaPipe hand's palm frame (world landmarks, the
 //! palm frame of `handrig::hand::palm_frame`).
+//!
+//! It also counts what the hand selection resolved (`TrackedHand::resolved`: swapped labels,
+//! label jumps, duplicates) per side on the clips and the hand video.
 
 #[path = "../tests/support/recordings.rs"]
 mod recordings;
@@ -17,7 +22,7 @@ mod recordings;
 use glam::{Quat, Vec3};
 use handrig::hand::palm_frame;
 use handrig::mediapipe::{FrameInput, HandObservation};
-use handrig::rig::HandUse;
+use handrig::rig::{HandResolved, HandUse};
 use handrig::{Rig, RigOptions, Side, SolveOutput};
 use serde_json::{json, Value};
 
@@ -147,13 +152,19 @@ fn signer_hand(f: &FrameInput, signer: Side) -> Option<usize> {
         .map(|(i, _)| i)
 }
 
+/// Side-frames per resolution: `[ASL, hand video][left, right][swapped, jumped, duplicate]`.
+type Resolutions = [[[usize; 3]; 2]; 2];
+
 /// Per avatar: every side-frame's turn, the palm-label agreement of the avatar (agree, total)
-/// and of the input hand that drove the side (its world landmarks' palm normal, agree).
+/// and of the input hand that drove the side (its world landmarks' palm normal, agree), the
+/// hand selection's resolutions.
 fn run(
+    options: RigOptions,
     avatar: &str,
     data: &[(String, Vec<FrameInput>)],
     labels: &[Label],
-) -> (Vec<Turn>, (usize, usize, usize), Vec<String>) {
+) -> (Vec<Turn>, (usize, usize, usize), Vec<String>, Resolutions) {
+    let mut resolutions: Resolutions = [[[0; 3]; 2]; 2];
     let skeleton = recordings::vrm(avatar);
     let version = skeleton.version();
     let mut turns = Vec::new();
@@ -161,7 +172,7 @@ fn run(
     let camera = handrig::mediapipe::CameraMapping::default();
     let mut misses = Vec::new();
     for (name, frames) in data {
-        let mut rig = Rig::new(skeleton.clone(), RigOptions::default()).unwrap();
+        let mut rig = Rig::new(skeleton.clone(), options).unwrap();
         let mut out = SolveOutput::default();
         let mut last: [Option<([Quat; 3], Quat)>; 2] = [None, None];
         for (i, f) in frames.iter().enumerate() {
@@ -177,6 +188,15 @@ fn run(
                 }
             }
             for side in Side::BOTH {
+                let kind = match o.hands[side.index()].map(|t| t.resolved) {
+                    Some(HandResolved::Swapped) => Some(0),
+                    Some(HandResolved::Jumped) => Some(1),
+                    Some(HandResolved::Duplicate) => Some(2),
+                    _ => None,
+                };
+                if let Some(k) = kind {
+                    resolutions[usize::from(name == "hand-video")][side.index()][k] += 1;
+                }
                 let now = o.hands[side.index()].and_then(|t| {
                     let [_, upper, lower, hand] = side.arm();
                     let input = input_palm(side, &f.hands()[t.index])?;
@@ -232,7 +252,7 @@ fn run(
             }
         }
     }
-    (turns, (agree, total, input_agree), misses)
+    (turns, (agree, total, input_agree), misses, resolutions)
 }
 
 fn median(mut v: Vec<f32>) -> f32 {
@@ -264,15 +284,32 @@ fn main() {
         .and_then(|i| args.get(i + 1))
         .and_then(|n| n.parse().ok())
         .unwrap_or(10usize);
+    let options = args
+        .iter()
+        .position(|a| a == "--options")
+        .and_then(|i| args.get(i + 1))
+        .map_or_else(RigOptions::default, |json| {
+            RigOptions::from_json(json).unwrap_or_else(|e| panic!("--options: {e}"))
+        });
     let data = data();
     let labels = labels();
     let mut rows = Vec::new();
     let mut input_rows = None;
+    let mut selection = None;
     // The largest turns of the first avatar (woman-vrm1) and of the robot.
     let mut worst_human = Vec::new();
     let mut worst_rows = Vec::new();
     for avatar in AVATARS {
-        let (turns, (agree, total, input_agree), misses) = run(avatar, &data, &labels);
+        let (turns, (agree, total, input_agree), misses, resolved) =
+            run(options, avatar, &data, &labels);
+        // The selection reads the input only: the same on every avatar.
+        let counts = |g: usize| {
+            json!(Side::BOTH.map(|s| {
+                let c = resolved[g][s.index()];
+                json!({ "swapped": c[0], "jumped": c[1], "duplicate": c[2] })
+            }))
+        };
+        selection.get_or_insert_with(|| json!({ "asl": counts(0), "video": counts(1) }));
         let pick = |asl: bool, f: &dyn Fn(&Turn) -> f32| -> Vec<f32> {
             turns
                 .iter()
@@ -315,7 +352,7 @@ fn main() {
         }));
     }
     let result = json!({ "input": input_rows, "avatars": rows, "worst": worst_rows,
-        "worstHuman": worst_human });
+        "worstHuman": worst_human, "selection": selection });
     if as_json {
         println!("{result}");
         return;
@@ -363,6 +400,17 @@ fn print_table(r: &Value) {
             cell(&a["video"]),
             p["agree"],
             p["labelled"]
+        );
+    }
+    println!("\nHand selection, side-frames resolved (left / right):");
+    for (title, key) in [("ASL clips (6)", "asl"), ("hand video", "video")] {
+        let c = &r["selection"][key];
+        let pair = |k: &str| format!("{} / {}", c[0][k], c[1][k]);
+        println!(
+            "  {title:<14} swapped {}, jumped {}, duplicate {}",
+            pair("swapped"),
+            pair("jumped"),
+            pair("duplicate")
         );
     }
     for (title, key) in [("robot", "worst"), ("woman-vrm1", "worstHuman")] {

@@ -26,14 +26,16 @@ use crate::mediapipe::{
     FrameInput, HandObservation, Handedness, PoseObservation, TrackerFace, WristObservation,
     HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS,
 };
-use crate::pipeline::{HandCheck, HandUse, Rig, SolveOutput};
+use crate::pipeline::{HandCheck, HandResolved, HandUse, Rig, SolveOutput};
 
 /// Layout version: bumped whenever an offset or meaning below changes. 4: the app's torso
 /// (`input.torso`) and body-tracker joints (`input.body`); 5: the tracker face input
 /// (`input.face`) and the per-side contact report (`output.side.contact*`, side stride 72);
 /// 6: what carries the aligned point (`output.side.alignedBone`) and the tracked hand's
-/// confidence and checks (`output.side.handConfidence`, `output.side.handCheck`).
-pub const VERSION: u32 = 6;
+/// confidence and checks (`output.side.handConfidence`, `output.side.handCheck`); 7: what the
+/// hand selection resolved per side (`output.side.handResolved`), `handReassigned` also set
+/// for a label that jumped or a duplicate moved to a free side.
+pub const VERSION: u32 = 7;
 
 /// The names of `output.side.handStatus`'s codes, indexed by code (`LAYOUT.handStatus`; 0: no
 /// hand this frame): what the JS result's `hand.status` reads.
@@ -41,6 +43,10 @@ pub const HAND_STATUS_NAMES: [&str; 4] = ["none", "solved", "held", "skipped"];
 
 /// The names of `output.side.handCheck`'s codes (JavaScript's `LAYOUT.handCheck`).
 pub const HAND_CHECK_NAMES: [&str; 3] = ["good", "fromImage", "mirrored"];
+
+/// The names of `output.side.handResolved`'s codes (JavaScript's `LAYOUT.handResolved`; 0:
+/// nothing resolved, or no hand).
+pub const HAND_RESOLVED_NAMES: [&str; 4] = ["none", "swapped", "jumped", "duplicate"];
 
 /// The names of `output.handUse`'s codes, indexed by code (`LAYOUT.handUse`; 0: no such hand):
 /// what became of each tracked hand, as the JS result's `handUse` reads it.
@@ -220,7 +226,8 @@ pub mod output {
         pub const ALIGNED: usize = 22;
         /// Which input hand slot drove this side (`-1` none).
         pub const HAND_INDEX: usize = 23;
-        /// `1` when that hand's label contradicted the pose and it was reassigned here.
+        /// `1` when that hand drives the side its label does not give (contradicted by the
+        /// pose, a label that jumped, a duplicate moved here; see `HAND_RESOLVED`).
         pub const HAND_REASSIGNED: usize = 24;
         /// The avatar's fingertips, thumb to little, `x y z` each (the distal bone extended by
         /// the anatomical ratio, as `alignment.point: "tip"`); NaN for a finger the avatar
@@ -264,6 +271,11 @@ pub mod output {
         /// What the hand checks made of it: `0` good, `1` solved from the image landmarks
         /// (the world landmarks were mirrored), `2` mirrored and held (0 without a hand).
         pub const HAND_CHECK: usize = 67;
+        /// What the hand selection resolved on this side: `0` nothing (or no hand), `1`
+        /// swapped (the label contradicted the pose wrists), `2` jumped (the label flipped
+        /// between frames, no pose), `3` duplicate (two hands claimed the side); names by
+        /// code: `HAND_RESOLVED_NAMES`.
+        pub const HAND_RESOLVED: usize = 68;
     }
     /// What became of each input hand slot (4): `0` unused, `1` drove the left side, `2` the
     /// right side (see `side.handReassigned`), `3` ignored: score below `minHandScore`, `4`
@@ -278,7 +290,8 @@ pub mod output {
 const _: () = {
     assert!(input::hand::IMAGE + 3 * HAND_LANDMARKS <= input::HAND_STRIDE);
     assert!(input::wrist::ROTATION + 4 <= input::WRIST_STRIDE);
-    assert!(output::side::HAND_CHECK < output::SIDE_STRIDE);
+    assert!(output::side::HAND_RESOLVED < output::SIDE_STRIDE);
+    assert!(output::side::HAND_CHECK < output::side::HAND_RESOLVED);
     assert!(output::side::ALIGNED_BONE < output::side::HAND_CONFIDENCE);
     assert!(output::side::CONTACT_PUSH < output::side::ALIGNED_BONE);
     assert!(output::side::RETARGET_RESIDUAL < output::side::CONTACT_PRESENT);
@@ -351,6 +364,7 @@ pub const FIELDS: &[(&str, usize)] = &[
     ("output.side.handReassigned", output::side::HAND_REASSIGNED),
     ("output.side.handConfidence", output::side::HAND_CONFIDENCE),
     ("output.side.handCheck", output::side::HAND_CHECK),
+    ("output.side.handResolved", output::side::HAND_RESOLVED),
     ("output.side.fingertips", output::side::FINGERTIPS),
     (
         "output.side.retargetPresent",
@@ -682,6 +696,13 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
             HandCheck::Good => const { code(&HAND_CHECK_NAMES, "good") },
             HandCheck::FromImage => const { code(&HAND_CHECK_NAMES, "fromImage") },
             HandCheck::Mirrored => const { code(&HAND_CHECK_NAMES, "mirrored") },
+        };
+        let resolved = out.hands[s].map_or(HandResolved::None, |h| h.resolved);
+        buf[at + output::side::HAND_RESOLVED] = match resolved {
+            HandResolved::None => const { code(&HAND_RESOLVED_NAMES, "none") },
+            HandResolved::Swapped => const { code(&HAND_RESOLVED_NAMES, "swapped") },
+            HandResolved::Jumped => const { code(&HAND_RESOLVED_NAMES, "jumped") },
+            HandResolved::Duplicate => const { code(&HAND_RESOLVED_NAMES, "duplicate") },
         };
         let point = |p: Option<Vec3>| p.map_or(Vec3::NAN, |p| p);
         for (f, tip) in out.fingertips[s].iter().enumerate() {

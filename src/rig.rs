@@ -4,5 +4,6 @@
 pub use crate::input::COORDINATE_LIMIT;
 pub use crate::options::{HandednessPolicy, RigOptions};
 pub use crate::pipeline::{
-    HandCheck, HandUse, IkTarget, Rig, SolveOutput, TrackedHand, CONTRADICTION_RATIO,
+    HandCheck, HandResolved, HandUse, IkTarget, Rig, SolveOutput, TrackedHand, CONTRADICTION_RATIO,
+    DISTINCT_HANDS, MAX_JUMP_FRAMES,
 };

@@ -110,6 +110,7 @@ export interface FlatLayout {
       readonly handReassigned: number;
       readonly handConfidence: number;
       readonly handCheck: number;
+      readonly handResolved: number;
       readonly fingertips: number;
       readonly retargetPresent: number;
       readonly retargetTargets: number;
@@ -139,6 +140,8 @@ export interface FlatLayout {
   readonly handStatus: readonly string[];
   /** The names of `output.side.handCheck`'s codes, by code (0: `"good"`). */
   readonly handCheck: readonly string[];
+  /** The names of `output.side.handResolved`'s codes, by code (0: `"none"`). */
+  readonly handResolved: readonly string[];
   /** The names of `output.handUse`'s codes, by code (0: `"none"`, no such hand). */
   readonly handUse: readonly string[];
 }

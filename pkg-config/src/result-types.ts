@@ -106,7 +106,7 @@ export interface TrackedHand {
   score: number;
   /** Its index among the frame's hands. */
   index: number;
-  /** Its label contradicted the pose wrists and it was reassigned to this side (`handedness: "reassign"`). */
+  /** It drives the side its label does not give: contradicted by the pose wrists (`handedness: "reassign"`), a label that jumped, or a duplicate moved to a free side (see `resolved`). */
   reassigned: boolean;
   /** How far to trust this hand this frame, 0..1 (for fading it): the handedness score times
    * 1 for a hand that passed the checks, 0.6 for one solved from the image landmarks because
@@ -116,6 +116,12 @@ export interface TrackedHand {
    * mirrored and its image landmarks were solved instead; "mirrored": held (no usable image
    * landmarks). See docs/hands-on-video.md. */
   check: "good" | "fromImage" | "mirrored";
+  /** What the hand selection resolved on this side this frame (docs/results.md): null,
+   * nothing; "swapped": its label contradicted the pose wrists and it was reassigned here;
+   * "jumped": no pose, its label flipped between frames and it was kept on the side it was on;
+   * "duplicate": two hands claimed the side and this one kept it (with `reassigned`: the
+   * second, distinct hand, moved to this free side). */
+  resolved: "swapped" | "jumped" | "duplicate" | null;
 }
 
 /** What became of one hand of the frame. */

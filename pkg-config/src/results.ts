@@ -54,7 +54,7 @@ interface SideParts {
     contact: SideParts["contact"] | null;
   };
   contact: { anchor: string | null; weight: number; distance: number | null; handWeight: number; push: number };
-  hand: { status: string; score: number; index: number; reassigned: boolean; confidence: number; check: string };
+  hand: { status: string; score: number; index: number; reassigned: boolean; confidence: number; check: string; resolved: string | null };
   tips: FingerSet;
   retarget: { targets: FingerSet; scale: number; iterations: number; residual: number };
 }
@@ -133,6 +133,8 @@ export function fillResult(
       h.reassigned = out[at + S.handReassigned] === 1;
       h.confidence = out[at + S.handConfidence]!;
       h.check = LAYOUT.handCheck[out[at + S.handCheck]!] ?? "good";
+      const resolved = out[at + S.handResolved]!;
+      h.resolved = resolved > 0 ? (LAYOUT.handResolved[resolved] ?? null) : null;
       hands[side] = h;
     } else if (side in hands) delete hands[side];
   }
@@ -251,7 +253,7 @@ function sideCache(result: Mutable, s: number): SideParts {
         contact: null,
       },
       contact: { anchor: null, weight: 0, distance: null, handWeight: 0, push: 0 },
-      hand: { status: "solved", score: 0, index: 0, reassigned: false, confidence: 0, check: "good" },
+      hand: { status: "solved", score: 0, index: 0, reassigned: false, confidence: 0, check: "good", resolved: null },
       tips: fingerSet(fingerNames),
       retarget: { targets: fingerSet(fingerNames), scale: 0, iterations: 0, residual: 0 },
     });

@@ -165,6 +165,7 @@ impl Rig {
             score: h.score,
             index: pick.index,
             reassigned: pick.reassigned,
+            resolved: pick.resolved,
             check: verdict,
         });
         if hand_rotation.is_some() {

@@ -7,7 +7,8 @@
 //!
 //! 1. **select hands** (`Rig::select_hands`): which tracked hand drives each avatar side;
 //!    low scores ignored, labels that contradict the pose wrists reassigned
-//!    (`options.handedness`), two hands on one side resolved.
+//!    (`options.handedness`), labels that jump sides between frames relabelled, two hands on
+//!    one side resolved; reported per side (`TrackedHand::resolved`).
 //! 2. **pose** (`Rig::observe_pose`): the pose landmarks, One Euro filtered
 //!    ([`crate::filter`]), feed body-scale calibration ([`crate::body`]).
 //! 3. **torso** (`Rig::torso_stage`): the torso bones from the app (`frame.torso`) or tracked
@@ -61,8 +62,8 @@ use crate::torso::{TorsoSolver, TorsoSource, BODY_JOINT_COUNT, TORSO_BONES};
 
 pub use crate::input::validate::COORDINATE_LIMIT;
 pub use hands::HandCheck;
-pub use output::{HandUse, IkTarget, SolveOutput, TrackedHand};
-pub use select::CONTRADICTION_RATIO;
+pub use output::{HandResolved, HandUse, IkTarget, SolveOutput, TrackedHand};
+pub use select::{CONTRADICTION_RATIO, DISTINCT_HANDS, MAX_JUMP_FRAMES};
 
 use targets::Plan;
 
@@ -100,6 +101,8 @@ pub struct Rig {
     shoulder_turn_anchor: [Quat; 2],
     /// The hand checks' history per side (`hands.rs`).
     flips: [hands::FlipState; 2],
+    /// The hand selection's history (`select.rs`).
+    selection: select::SelectState,
     /// This frame's values passed from stage to stage (not history; see [`Scratch`]).
     scratch: Scratch,
 }
@@ -201,6 +204,7 @@ impl Rig {
             shoulder_turn_shown: [Quat::IDENTITY; 2],
             shoulder_turn_anchor: [Quat::IDENTITY; 2],
             flips: [hands::FlipState::default(); 2],
+            selection: select::SelectState::default(),
             scratch: Scratch::default(),
         })
     }
@@ -247,6 +251,7 @@ impl Rig {
         self.shoulder_turn_shown = [Quat::IDENTITY; 2];
         self.shoulder_turn_anchor = [Quat::IDENTITY; 2];
         self.flips = [hands::FlipState::default(); 2];
+        self.selection = select::SelectState::default();
         self.scratch.pose = None;
         self.scratch.anchors = [None, None];
         self.scratch.turn = None;

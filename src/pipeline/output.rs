@@ -69,6 +69,26 @@ pub enum HandUse {
     Contradicted,
 }
 
+/// What the hand selection resolved on an avatar side this frame (see
+/// `src/pipeline/select.rs`): the first that applies, in this order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum HandResolved {
+    /// Nothing: the hand's label, alone on its side, agreed with the pose and the last frame.
+    #[default]
+    None,
+    /// Its label contradicted the pose wrists and it was reassigned to this side
+    /// (`handedness: "reassign"`).
+    Swapped,
+    /// No pose witness: it landed where this side's hand was the frame before, with the
+    /// other side's label (a label flip), and was relabelled to this side (at most
+    /// `MAX_JUMP_FRAMES` in a row).
+    Jumped,
+    /// Two hands claimed this side: this one kept it (nearer the pose wrist, or last frame's
+    /// hand, or the higher score; the other is `HandUse::Duplicate`), or, with `reassigned`,
+    /// it is the second, distinct hand, moved here from a side it lost (no pose witness).
+    Duplicate,
+}
+
 /// Which tracked hand drove an avatar side, and whether its rotations are fresh.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrackedHand {
@@ -80,8 +100,11 @@ pub struct TrackedHand {
     pub score: f32,
     /// Its index in the frame's hands.
     pub index: usize,
-    /// Whether its label contradicted the pose and it was reassigned to this side.
+    /// Whether it drives the side its label does not give (contradicted by the pose, a label
+    /// that jumped, or a distinct duplicate moved to a free side; see `resolved`).
     pub reassigned: bool,
+    /// What the hand selection resolved on this side this frame.
+    pub resolved: HandResolved,
     /// What the hand checks made of it (mirrored, solved from the image).
     pub check: HandCheck,
     /// How far an app can trust this side's hand this frame, 0 to 1: the handedness score

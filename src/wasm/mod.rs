@@ -300,6 +300,7 @@ impl HandRig {
         set(&root, "handStatus", &names(&flat::HAND_STATUS_NAMES));
         set(&root, "handUse", &names(&flat::HAND_USE_NAMES));
         set(&root, "handCheck", &names(&flat::HAND_CHECK_NAMES));
+        set(&root, "handResolved", &names(&flat::HAND_RESOLVED_NAMES));
         root
     }
 

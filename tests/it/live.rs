@@ -138,7 +138,7 @@ fn drop_ignores_contradicted_hands_and_no_pose_image_trusts_labels() {
 }
 
 /// Two hands given the same label: with the pose each is matched to its own wrist; without
-/// it the higher score drives the side and the other is reported as a duplicate.
+/// it they still drive one side each (the second, distinct hand takes the free side).
 #[test]
 fn two_hands_with_one_label_are_resolved() {
     let mut resolved = 0;
@@ -159,13 +159,15 @@ fn two_hands_with_one_label_are_resolved() {
             let mut blind = same;
             blind.pose_image = None;
             let used = sides(&mut r, &blind, &mut out);
-            let winner = if same.hands[0].score >= same.hands[1].score {
-                0
-            } else {
-                1
-            };
-            assert!(matches!(used[winner], HandUse::Drove(_)));
-            assert_eq!(used[1 - winner], HandUse::Duplicate);
+            // Two distinct hands: one keeps the side, the other takes the free one
+            // (tests/it/dups.rs checks which goes where).
+            assert!(
+                matches!(
+                    (used[0], used[1]),
+                    (HandUse::Drove(a), HandUse::Drove(b)) if a != b
+                ),
+                "{used:?}"
+            );
         }
     }
     println!("ASL, two hands with one label: {resolved}/{total} resolved to the right sides");

@@ -16,6 +16,7 @@ mod arm_solvers;
 mod bad_frames;
 mod chain_ik;
 mod contact;
+mod dups;
 mod flips;
 mod fuzz;
 mod gltf;
