@@ -22,6 +22,7 @@
 //! ```text
 //! cargo run --release --example eval_fingers            # tables
 //! cargo run --release --example eval_fingers -- --json  # machine-readable
+//! options: --avatar NAME (one of the five), --detail (per bone, limit-free / limit-active)
 //! ```
 
 #[path = "../tests/support/recordings.rs"]
@@ -31,9 +32,9 @@ mod stats;
 
 use glam::{Quat, Vec3};
 use handrig::align::fingertip;
-use handrig::hand::{palm_frame, HandSolver, HandStrategy};
+use handrig::hand::{flip, palm_frame, Dof, HandSolver, HandStrategy};
 use handrig::mediapipe::{CameraMapping, HandObservation, HAND_LANDMARKS};
-use handrig::{Finger, Side, Skeleton, WorldPose, BONE_COUNT};
+use handrig::{Finger, Rig, RigOptions, Side, Skeleton, SolveOutput, WorldPose, BONE_COUNT};
 use serde_json::{json, Value};
 use stats::{percentile, sorted};
 
@@ -85,7 +86,11 @@ fn load_recordings() -> Vec<Recording> {
             .collect(),
     }];
     for path in recordings::ASL.iter().chain(recordings::ASL_MORE.iter()) {
-        let name = path.rsplit('/').next().unwrap_or(path).trim_end_matches(".json");
+        let name = path
+            .rsplit('/')
+            .next()
+            .unwrap_or(path)
+            .trim_end_matches(".json");
         recs.push(Recording {
             name: format!("asl/{name}"),
             frames: recordings::asl(path)
@@ -99,7 +104,13 @@ fn load_recordings() -> Vec<Recording> {
 
 /// Avatar bone direction by forward kinematics: joint to the next bone's joint; the last bone
 /// continues its parent's rest direction, rotated by its own world rotation.
-fn avatar_bone_dir(skel: &Skeleton, world: &WorldPose, side: Side, finger: Finger, slot: usize) -> Option<Vec3> {
+fn avatar_bone_dir(
+    skel: &Skeleton,
+    world: &WorldPose,
+    side: Side,
+    finger: Finger,
+    slot: usize,
+) -> Option<Vec3> {
     let bones = side.finger(finger);
     let bone = bones[slot];
     let p = skel.rest_world(bone)?;
@@ -113,7 +124,13 @@ fn avatar_bone_dir(skel: &Skeleton, world: &WorldPose, side: Side, finger: Finge
 
 /// The MediaPipe segment matching an avatar bone: its landmark to the next present bone's
 /// landmark (the tip after the last).
-fn mp_segment(skel: &Skeleton, lm: &Landmarks, side: Side, finger: Finger, slot: usize) -> Option<Vec3> {
+fn mp_segment(
+    skel: &Skeleton,
+    lm: &Landmarks,
+    side: Side,
+    finger: Finger,
+    slot: usize,
+) -> Option<Vec3> {
     let bones = side.finger(finger);
     let ids = finger.landmarks();
     let end = (slot + 1..3).find(|s| skel.has(bones[*s])).unwrap_or(3);
@@ -129,6 +146,14 @@ struct Directions {
     /// Bone-frames of fingers with an active limit.
     limited: usize,
     side_frames: usize,
+    /// Angles of bone-frames whose hand the rig's chirality check passes (not mirrored).
+    unmirrored: Vec<f32>,
+    /// Side-frames the chirality check calls mirrored.
+    mirrored_frames: usize,
+    /// Angles per (finger, slot), split limit-free / limit-active (`--detail`).
+    by_bone: [[[Vec<f32>; 2]; 3]; 5],
+    /// Side-frames with each (finger, DOF) limit active (`--detail`).
+    dof_limited: [[usize; 5]; 5],
 }
 
 fn directions(skel: &Skeleton, rec: &Recording) -> Result<Directions, String> {
@@ -140,7 +165,9 @@ fn directions(skel: &Skeleton, rec: &Recording) -> Result<Directions, String> {
         local.fill(Quat::IDENTITY);
         let mut solved = [false; 2];
         for side in Side::BOTH {
-            let Some(lm) = &frame[side.index()] else { continue };
+            let Some(lm) = &frame[side.index()] else {
+                continue;
+            };
             solved[side.index()] = solver.solve(skel, side, lm, &mut local).is_some()
                 && solver.report(side).status == handrig::hand::HandStatus::Solved;
         }
@@ -149,17 +176,32 @@ fn directions(skel: &Skeleton, rec: &Recording) -> Result<Directions, String> {
             if !solved[side.index()] {
                 continue;
             }
-            let Some(lm) = &frame[side.index()] else { continue };
+            let Some(lm) = &frame[side.index()] else {
+                continue;
+            };
             let pos = |b: handrig::HumanBone| world.position[b.index()];
             let fp = |f: Finger| side.finger(f)[0];
             let (Some(avatar_palm), Some(mp_palm)) = (
-                palm_frame(side, pos(side.hand()), pos(fp(Finger::Index)), pos(fp(Finger::Little)), pos(fp(Finger::Middle))),
+                palm_frame(
+                    side,
+                    pos(side.hand()),
+                    pos(fp(Finger::Index)),
+                    pos(fp(Finger::Little)),
+                    pos(fp(Finger::Middle)),
+                ),
                 palm_frame(side, lm[0], lm[5], lm[17], lm[9]),
             ) else {
                 continue;
             };
             d.side_frames += 1;
+            let mirrored = flip::chirality(side, lm).is_some_and(|c| c < flip::MIRRORED);
+            d.mirrored_frames += usize::from(mirrored);
             let rep = *solver.report(side);
+            for (counts, flags) in d.dof_limited.iter_mut().zip(rep.limited.iter()) {
+                for (c, l) in counts.iter_mut().zip(flags) {
+                    *c += usize::from(*l);
+                }
+            }
             for finger in Finger::ALL {
                 let lim = rep.finger_limited(finger);
                 for (slot, bone) in side.finger(finger).into_iter().enumerate() {
@@ -178,6 +220,10 @@ fn directions(skel: &Skeleton, rec: &Recording) -> Result<Directions, String> {
                         .acos()
                         .to_degrees();
                     d.all.push(e);
+                    if !mirrored {
+                        d.unmirrored.push(e);
+                    }
+                    d.by_bone[finger.index()][slot][usize::from(lim)].push(e);
                     d.per_finger[finger.index()].push(e);
                     d.limited += usize::from(lim);
                 }
@@ -198,12 +244,19 @@ fn pinches(skel: &Skeleton, rec: &Recording) -> Result<Pinches, String> {
     let mut solver = HandSolver::new(skel, HandStrategy::Retarget).map_err(|e| e.to_string())?;
     let mut local = [Quat::IDENTITY; BONE_COUNT];
     let mut world = WorldPose::default();
-    let mut out = Pinches { frames: Vec::new(), tips: Vec::new() };
+    let mut out = Pinches {
+        frames: Vec::new(),
+        tips: Vec::new(),
+    };
     for (i, frame) in rec.frames.iter().enumerate() {
         for side in Side::BOTH {
-            let Some(lm) = &frame[side.index()] else { continue };
+            let Some(lm) = &frame[side.index()] else {
+                continue;
+            };
             local.fill(Quat::IDENTITY);
-            let Some(hand) = solver.solve(skel, side, lm, &mut local) else { continue };
+            let Some(hand) = solver.solve(skel, side, lm, &mut local) else {
+                continue;
+            };
             if solver.report(side).status != handrig::hand::HandStatus::Solved {
                 continue;
             }
@@ -220,13 +273,93 @@ fn pinches(skel: &Skeleton, rec: &Recording) -> Result<Pinches, String> {
                     tip[f.index()] = Some(t);
                 }
             }
-            let user = (lm[Finger::Thumb.landmarks()[3]] - lm[Finger::Index.landmarks()[3]]).length();
+            let user =
+                (lm[Finger::Thumb.landmarks()[3]] - lm[Finger::Index.landmarks()[3]]).length();
             if let (true, Some(a), Some(b)) = (user < PINCH, tip[0], tip[1]) {
-                out.frames.push((i, user * 1e3, ((a - b).length() - scale * user).abs() * 1e3));
+                out.frames
+                    .push((i, user * 1e3, ((a - b).length() - scale * user).abs() * 1e3));
             }
         }
     }
     Ok(out)
+}
+
+/// The same pinch frames through the whole rig (`Rig::solve`, every default but
+/// `handStrategy: "retarget"`, the hand video as 30 fps frames): the avatar's right thumb-index
+/// fingertip distance (`SolveOutput::fingertips`) against the user's raw world distance times
+/// the rig's hand scale. (frame, error mm) per pinch frame the rig solved.
+fn rig_pinches(skel: &Skeleton, filter: bool) -> Result<(Vec<(usize, f32)>, f32), String> {
+    let mut options = RigOptions {
+        hand_strategy: HandStrategy::Retarget,
+        ..RigOptions::default()
+    };
+    options.filter.enabled = filter;
+    let mut rig = Rig::new(skel.clone(), options).map_err(|e| e.to_string())?;
+    let mut out = SolveOutput::default();
+    let raw = recordings::hand_video();
+    let mut pinches = Vec::new();
+    let (mut jitter, mut n) = (0.0_f64, 0usize);
+    let mut previous: Option<[Quat; BONE_COUNT]> = None;
+    for (i, frame) in recordings::hand_video_frames().iter().enumerate() {
+        rig.solve(frame, &mut out).map_err(|e| e.to_string())?;
+        // Jitter: mean change of the right finger bones' local rotations between frames.
+        if let Some(prev) = &previous {
+            for b in Finger::ALL.iter().flat_map(|f| Side::Right.finger(*f)) {
+                if skel.has(b) {
+                    let d = prev[b.index()].dot(out.local[b.index()]).abs().min(1.0);
+                    jitter += f64::from((2.0 * d.acos()).to_degrees());
+                    n += 1;
+                }
+            }
+        }
+        previous = Some(out.local);
+        let Some(h) = recordings::best_hand(&raw[i]) else {
+            continue;
+        };
+        let user = (h.world[Finger::Thumb.landmarks()[3]] - h.world[Finger::Index.landmarks()[3]])
+            .length();
+        let s = Side::Right.index();
+        if let (true, Some(rep), Some(a), Some(b)) = (
+            user < PINCH,
+            out.retarget[s],
+            out.fingertips[s][0],
+            out.fingertips[s][1],
+        ) {
+            pinches.push((i, ((a - b).length() - rep.scale * user).abs() * 1e3));
+        }
+    }
+    Ok((pinches, (jitter / n.max(1) as f64) as f32))
+}
+
+/// Gauss-Newton iterations of the retargeting through the rig (`handStrategy: "retarget"`,
+/// every other default) over the hand video and the six ASL clips, both sides: mean, p95,
+/// largest and how many side-frames hit the cap (50).
+fn rig_iterations(skel: &Skeleton) -> Result<Value, String> {
+    let options = RigOptions {
+        hand_strategy: HandStrategy::Retarget,
+        ..RigOptions::default()
+    };
+    let mut it = Vec::new();
+    let mut clips = vec![recordings::hand_video_frames()];
+    for path in recordings::ASL.iter().chain(recordings::ASL_MORE.iter()) {
+        clips.push(recordings::asl(path));
+    }
+    for frames in &clips {
+        let mut rig = Rig::new(skel.clone(), options).map_err(|e| e.to_string())?;
+        let mut out = SolveOutput::default();
+        for frame in frames {
+            rig.solve(frame, &mut out).map_err(|e| e.to_string())?;
+            it.extend(out.retarget.iter().flatten().map(|r| r.iterations as f32));
+        }
+    }
+    let it = sorted(it);
+    Ok(json!({
+        "sideFrames": it.len(),
+        "mean": it.iter().sum::<f32>() / it.len().max(1) as f32,
+        "p95": percentile(&it, 95.0),
+        "max": it.last(),
+        "atCap": it.iter().filter(|v| **v >= 50.0).count(),
+    }))
 }
 
 fn main() {
@@ -238,9 +371,14 @@ fn main() {
 
 fn run() -> Result<(), String> {
     let json_out = std::env::args().any(|a| a == "--json");
+    let detail = std::env::args().any(|a| a == "--detail");
     let recs = load_recordings();
     let mut rows = Vec::new();
+    let only = std::env::args().skip_while(|a| a != "--avatar").nth(1);
     for (avatar, path) in AVATARS {
+        if only.as_deref().is_some_and(|o| o != avatar) {
+            continue;
+        }
         let skel = recordings::vrm(path);
         let mut total = Directions::default();
         let mut per_rec = Vec::new();
@@ -261,7 +399,48 @@ fn run() -> Result<(), String> {
             }
             total.limited += d.limited;
             total.side_frames += d.side_frames;
+            total.unmirrored.extend(&d.unmirrored);
+            total.mirrored_frames += d.mirrored_frames;
+            for f in 0..5 {
+                for k in 0..3 {
+                    for l in 0..2 {
+                        total.by_bone[f][k][l].extend(&d.by_bone[f][k][l]);
+                    }
+                }
+                for k in 0..5 {
+                    total.dof_limited[f][k] += d.dof_limited[f][k];
+                }
+            }
         }
+        if detail {
+            println!("{avatar}: per bone (slot 0..2) median/p95 deg [bone-frames], limit-free | limit-active");
+            for f in Finger::ALL {
+                for k in 0..3 {
+                    let st = |v: &Vec<f32>| {
+                        let v = sorted(v.clone());
+                        format!(
+                            "{:6.2} {:6.2} [{:5}]",
+                            percentile(&v, 50.0),
+                            percentile(&v, 95.0),
+                            v.len()
+                        )
+                    };
+                    let b = &total.by_bone[f.index()][k];
+                    println!("  {:<7} {k}: {} | {}", f.as_str(), st(&b[0]), st(&b[1]));
+                }
+                let lims: Vec<String> = Dof::ALL
+                    .iter()
+                    .filter(|d| total.dof_limited[f.index()][d.index()] > 0)
+                    .map(|d| format!("{} {}", d.name(f), total.dof_limited[f.index()][d.index()]))
+                    .collect();
+                println!(
+                    "  {:<7} limits active (side-frames): {}",
+                    f.as_str(),
+                    lims.join(", ")
+                );
+            }
+        }
+        let um = sorted(total.unmirrored);
         let s = sorted(total.all);
         let fingers: Vec<Value> = Finger::ALL
             .iter()
@@ -272,6 +451,11 @@ fn run() -> Result<(), String> {
             .collect();
         let p = pinches(&skel, &recs[0])?;
         let tips = sorted(p.tips);
+        let (rp, rig_jitter) = rig_pinches(&skel, true)?;
+        let (rpu, _) = rig_pinches(&skel, false)?;
+        let iterations = rig_iterations(&skel)?;
+        let unfiltered = rpu.iter().map(|w| w.1).fold(f32::NAN, f32::max);
+        let rig_worst = rp.iter().copied().max_by(|a, b| a.1.total_cmp(&b.1));
         let worst = p.frames.iter().copied().max_by(|a, b| a.2.total_cmp(&b.2));
         rows.push(json!({
             "avatar": avatar,
@@ -283,6 +467,14 @@ fn run() -> Result<(), String> {
                 "medianDeg": percentile(&s, 50.0),
                 "p95Deg": percentile(&s, 95.0),
             },
+            "unmirrored": {
+                "recording": "ALL unmirrored",
+                "sideFrames": total.side_frames - total.mirrored_frames,
+                "boneFrames": um.len(),
+                "limitActiveBoneFrames": Value::Null,
+                "medianDeg": percentile(&um, 50.0),
+                "p95Deg": percentile(&um, 95.0),
+            },
             "fingers": fingers,
             "pinch": {
                 "frames": p.frames.len(),
@@ -290,6 +482,13 @@ fn run() -> Result<(), String> {
                 "worstFrame": worst.map(|w| w.0),
                 "perFrame": p.frames.iter().map(|(i, u, e)| json!({ "frame": i, "userMm": u, "errorMm": e })).collect::<Vec<_>>(),
                 "tipMedianMm": percentile(&tips, 50.0),
+                "rigFrames": rp.len(),
+                "rigMaxErrorMm": rig_worst.map(|w| w.1),
+                "rigWorstFrame": rig_worst.map(|w| w.0),
+                "rigUnfilteredMaxErrorMm": unfiltered,
+                "rigJitterDeg": rig_jitter,
+                "rigIterations": iterations,
+                "rigPerFrame": rp.iter().map(|(i, e)| json!({ "frame": i, "errorMm": e })).collect::<Vec<_>>(),
             },
         }));
     }
@@ -299,16 +498,24 @@ fn run() -> Result<(), String> {
     }
     let f = |v: &Value, d: usize| v.as_f64().map_or("-".to_string(), |x| format!("{x:.d$}"));
     println!("finger bone directions in the palm frame (analytic), degrees, every finger bone-frame incl. limit-active");
-    println!("{:<11} {:<15} {:>6} {:>7} {:>7} {:>7} {:>7}", "avatar", "recording", "sides", "bones", "limit", "median", "p95");
+    println!(
+        "{:<11} {:<15} {:>6} {:>7} {:>7} {:>7} {:>7}",
+        "avatar", "recording", "sides", "bones", "limit", "median", "p95"
+    );
     for r in &rows {
-        for x in r["recordings"].as_array().into_iter().flatten().chain([&r["all"]]) {
+        for x in r["recordings"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .chain([&r["all"], &r["unmirrored"]])
+        {
             println!(
                 "{:<11} {:<15} {:>6} {:>7} {:>7} {:>7} {:>7}",
                 r["avatar"].as_str().unwrap_or(""),
                 x["recording"].as_str().unwrap_or("ALL"),
-                x["sideFrames"],
-                x["boneFrames"],
-                x["limitActiveBoneFrames"],
+                x["sideFrames"].to_string(),
+                x["boneFrames"].to_string(),
+                x["limitActiveBoneFrames"].to_string(),
                 f(&x["medianDeg"], 2),
                 f(&x["p95Deg"], 2),
             );
@@ -317,21 +524,55 @@ fn run() -> Result<(), String> {
             .as_array()
             .into_iter()
             .flatten()
-            .map(|x| format!("{} {}/{}", x["finger"].as_str().unwrap_or(""), f(&x["medianDeg"], 2), f(&x["p95Deg"], 2)))
+            .map(|x| {
+                format!(
+                    "{} {}/{}",
+                    x["finger"].as_str().unwrap_or(""),
+                    f(&x["medianDeg"], 2),
+                    f(&x["p95Deg"], 2)
+                )
+            })
             .collect();
         println!("{:<11} per finger median/p95: {}", "", per.join(", "));
     }
     println!("\npinches on the hand video (retarget, auto scale): user thumb-index tips < 2 cm in world landmarks");
-    println!("{:<11} {:>6} {:>9} {:>6} {:>12}", "avatar", "frames", "max mm", "frame", "tip med mm");
+    println!(
+        "{:<11} {:>6} {:>9} {:>6} {:>12} | {:>10} {:>9} {:>6} {:>13} {:>10}",
+        "avatar",
+        "frames",
+        "max mm",
+        "frame",
+        "tip med mm",
+        "rig frames",
+        "max mm",
+        "frame",
+        "no filter max",
+        "jitter deg"
+    );
     for r in &rows {
         let p = &r["pinch"];
         println!(
-            "{:<11} {:>6} {:>9} {:>6} {:>12}",
+            "{:<11} {:>6} {:>9} {:>6} {:>12} | {:>10} {:>9} {:>6} {:>13} {:>10}",
             r["avatar"].as_str().unwrap_or(""),
-            p["frames"],
+            p["frames"].to_string(),
             f(&p["maxErrorMm"], 2),
-            p["worstFrame"],
+            p["worstFrame"].to_string(),
             f(&p["tipMedianMm"], 2),
+            p["rigFrames"].to_string(),
+            f(&p["rigMaxErrorMm"], 2),
+            p["rigWorstFrame"].to_string(),
+            f(&p["rigUnfilteredMaxErrorMm"], 2),
+            f(&p["rigJitterDeg"], 3),
+        );
+        let it = &p["rigIterations"];
+        println!(
+            "{:<11} rig retarget iterations over every clip: {} side-frames, mean {}, p95 {}, max {}, at the cap {}",
+            "",
+            it["sideFrames"],
+            f(&it["mean"], 2),
+            f(&it["p95"], 0),
+            f(&it["max"], 0),
+            it["atCap"]
         );
     }
     Ok(())
