@@ -7,7 +7,7 @@ use glam::{Quat, Vec3};
 
 use crate::bones::Side;
 use crate::hand::flip::{chirality, image_agreement, image_hand, MIRRORED};
-use crate::hand::HandStatus;
+use crate::hand::{HandStatus, HandStrategy};
 use crate::mediapipe::{FrameInput, HandObservation, HAND_LANDMARKS};
 
 use super::select::Pick;
@@ -30,6 +30,37 @@ pub(super) struct WristSource {
 /// a flip of MediaPipe's lasts one to three frames on the ASL clips; a hand mirrored for
 /// longer is more likely a wrong label or a real pose the checks misread.
 pub(super) const MAX_HELD_FRAMES: u8 = 3;
+
+/// Raw thumb-index tip distance (m) at and below which [`keep_pinch`] restores the raw
+/// relation of the two tips fully: the pinch frames of the evals (`examples/eval_fingers.rs`).
+const PINCH_FULL: f32 = 0.02;
+/// Raw thumb-index tip distance (m) from which the filtered tips are left alone: where the
+/// retargeting's pinch feature fades in (4 cm of scaled distance, `src/hand/retarget.rs`).
+const PINCH_NONE: f32 = 0.04;
+/// MediaPipe's thumb and index fingertip landmarks.
+const THUMB_TIP: usize = 4;
+const INDEX_TIP: usize = 8;
+
+/// A pinch survives the One Euro filter (`handStrategy: "retarget"`). The filter smooths every
+/// landmark on its own, so a pinch that closes for one to three frames (most do on the hand
+/// video: the tips 40-50 mm apart, 15-19 mm for a frame, apart again) reaches the solver
+/// half-closed, and the avatar's tips stay 8-28 mm further apart than the user's, scaled
+/// (`cargo run --release --example eval_fingers`). Where the raw tips are close, the filtered
+/// thumb and index tips are moved apart or together symmetrically so that their difference is
+/// the raw one's: fully at [`PINCH_FULL`] and below, blending out (smoothstep) to
+/// [`PINCH_NONE`]. Everything else stays filtered; far from a pinch nothing changes.
+fn keep_pinch(raw: &[Vec3; HAND_LANDMARKS], filtered: &mut [Vec3; HAND_LANDMARKS]) {
+    let raw_gap = raw[THUMB_TIP] - raw[INDEX_TIP];
+    let d = raw_gap.length();
+    if !d.is_finite() || d >= PINCH_NONE {
+        return;
+    }
+    let t = ((PINCH_NONE - d) / (PINCH_NONE - PINCH_FULL)).clamp(0.0, 1.0);
+    let w = t * t * (3.0 - 2.0 * t);
+    let half = 0.5 * w * (raw_gap - (filtered[THUMB_TIP] - filtered[INDEX_TIP]));
+    filtered[THUMB_TIP] += half;
+    filtered[INDEX_TIP] -= half;
+}
 
 /// What the checks of [`Rig::check_hand`] made of a side's hand this frame (see
 /// [`crate::hand::flip`]).
@@ -144,12 +175,16 @@ impl Rig {
         } else {
             if self.options.filter.enabled {
                 let o = self.options.filter.one_euro();
+                let raw = self.scratch.landmarks;
                 self.hand_filters[side.index()].apply(
                     &mut self.scratch.landmarks,
                     frame.time_ms,
                     dt,
                     &o,
                 );
+                if self.hands.strategy() == HandStrategy::Retarget {
+                    keep_pinch(&raw, &mut self.scratch.landmarks);
+                }
             }
             self.hands.solve(
                 &self.skeleton,
@@ -217,5 +252,48 @@ impl Rig {
             scale: self.body.scale(),
             pole: mapped.elbow,
         })
+    }
+}
+
+#[cfg(test)]
+mod pinch_tests {
+    use super::*;
+
+    fn hand(thumb: Vec3, index: Vec3) -> [Vec3; HAND_LANDMARKS] {
+        let mut p = core::array::from_fn(|i| Vec3::new(i as f32 * 0.01, 0.02, -0.01));
+        p[THUMB_TIP] = thumb;
+        p[INDEX_TIP] = index;
+        p
+    }
+
+    #[test]
+    fn a_raw_pinch_gap_is_restored_and_far_tips_are_left_alone() {
+        // Raw tips 1 cm apart; the filter left them 4 cm apart: the gap becomes the raw one,
+        // about the filtered midpoint; nothing else moves.
+        let raw = hand(Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.01, 0.0, 0.0));
+        let mut f = hand(Vec3::new(-0.01, 0.001, 0.0), Vec3::new(0.03, 0.001, 0.0));
+        let before = f;
+        keep_pinch(&raw, &mut f);
+        assert!((f[THUMB_TIP] - f[INDEX_TIP] - (raw[THUMB_TIP] - raw[INDEX_TIP])).length() < 1e-6);
+        let mid = |p: &[Vec3; HAND_LANDMARKS]| 0.5 * (p[THUMB_TIP] + p[INDEX_TIP]);
+        assert!((mid(&f) - mid(&before)).length() < 1e-6);
+        for i in (0..HAND_LANDMARKS).filter(|i| *i != THUMB_TIP && *i != INDEX_TIP) {
+            assert_eq!(f[i], before[i]);
+        }
+        // Halfway through the blend (3 cm raw gap): half the correction.
+        let raw = hand(Vec3::ZERO, Vec3::new(0.03, 0.0, 0.0));
+        let mut f = hand(Vec3::ZERO, Vec3::new(0.05, 0.0, 0.0));
+        keep_pinch(&raw, &mut f);
+        assert!(((f[INDEX_TIP] - f[THUMB_TIP]).x - 0.04).abs() < 1e-6);
+        // Raw tips 4 cm or more apart (or not finite): untouched.
+        for raw in [
+            hand(Vec3::ZERO, Vec3::new(0.04, 0.0, 0.0)),
+            hand(Vec3::NAN, Vec3::ZERO),
+        ] {
+            let mut f = hand(Vec3::ZERO, Vec3::new(0.09, 0.0, 0.0));
+            let before = f;
+            keep_pinch(&raw, &mut f);
+            assert_eq!(f, before);
+        }
     }
 }
