@@ -342,7 +342,10 @@ impl ContactSolver {
             if face > 0.0 {
                 let mut only = [false; skin::MAP_BONES.len()];
                 only[skin::HEAD_MAP] = true;
-                t.wrist += face * surface.settle(t.wrist, points, world, only);
+                // Landing is complete from a blend of 2/3 on: a finger that the blend brought
+                // most of the way rests on the skin rather than hovering a centimeter or two off.
+                let land = (1.5 * face).min(1.0);
+                t.wrist += land * surface.settle(t.wrist, points, world, only);
             }
         }
         if o.hands {
