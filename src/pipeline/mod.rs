@@ -71,9 +71,6 @@ use targets::Plan;
 /// [`Rig::solve`] allocates nothing.
 #[derive(Clone, Debug)]
 pub struct Rig {
-    /// Touching hands seen last (skin contact): the right wrist target minus the left, and how
-    /// many frames ago ([`Rig::contact_targets`]).
-    hands_touch: Option<(Vec3, u32)>,
     skeleton: Skeleton,
     options: RigOptions,
     hands: HandSolver,
@@ -204,7 +201,6 @@ impl Rig {
             anchor: [Quat::IDENTITY; BONE_COUNT],
             torso,
             body_filters: PointFilters::default(),
-            hands_touch: None,
             shoulder_turn_shown: [Quat::IDENTITY; 2],
             shoulder_turn_anchor: [Quat::IDENTITY; 2],
             flips: [hands::FlipState::default(); 2],
@@ -247,7 +243,6 @@ impl Rig {
         self.arms.reset();
         self.hand_filters = [PointFilters::default(); 2];
         self.pose_filters.reset();
-        self.hands_touch = None;
         self.wrist_filters = [WristFilter::default(); 2];
         self.presence = [[Presence::default(); 3]; 2];
         self.shown = [Quat::IDENTITY; BONE_COUNT];

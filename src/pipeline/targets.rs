@@ -15,9 +15,6 @@ use crate::mediapipe::{pose_landmark, FrameInput};
 use super::hands::WristSource;
 use super::{Rig, SolveOutput};
 
-/// Frames (at most) a lost hand is held against the tracked one it was touching: 1 s at 30 fps.
-pub(super) const HOLD_TOUCH_FRAMES: u32 = 30;
-
 /// What a side's arm does this frame, decided by [`Rig::plan_target`] before any IK. Two per
 /// frame on the stack: the size difference between variants does not matter.
 #[allow(clippy::large_enum_variant)]
@@ -255,32 +252,6 @@ impl Rig {
         })
     }
 
-    /// Touching hands stay touching when MediaPipe loses one of them (stacked hands often
-    /// are): while both hands are tracked and touch (hand contact weight at least 0.9 on
-    /// both), the right wrist target's offset from the left is kept; for up to
-    /// [`HOLD_TOUCH_FRAMES`] frames after, a side whose hand is lost (its wrist target from
-    /// the pose alone) is placed at that offset from the tracked one. With a skin only.
-    fn hold_touching_hands(&mut self, targets: &mut [Option<SideTarget>; 2], out: &SolveOutput) {
-        let touching = |s: usize| out.contact[s].is_some_and(|c| c.hand_weight >= 0.9);
-        match targets {
-            [Some(l), Some(r)] if l.hand.is_some() && r.hand.is_some() => {
-                self.hands_touch = (touching(0) && touching(1)).then_some((r.wrist - l.wrist, 0));
-            }
-            [Some(l), Some(r)] => match self.hands_touch {
-                Some((offset, age)) if age < HOLD_TOUCH_FRAMES => {
-                    match (l.hand.is_some(), r.hand.is_some()) {
-                        (true, false) => r.wrist = l.wrist + offset,
-                        (false, true) => l.wrist = r.wrist - offset,
-                        _ => {}
-                    }
-                    self.hands_touch = Some((offset, age + 1));
-                }
-                _ => self.hands_touch = None,
-            },
-            _ => self.hands_touch = None,
-        }
-    }
-
     /// Stage 6b: self-contact for both sides together ([`crate::contact`]): the targets move
     /// so that a finger on the user's face lands on the avatar's, touching hands stay
     /// touching, and hands stay out of the avatar's body. Reads the head and torso where they
@@ -373,9 +344,6 @@ impl Rig {
         });
         self.contact
             .solve(fingers, &faces, &out.world, &mut targets, &mut out.contact);
-        if self.contact.surface().is_some() {
-            self.hold_touching_hands(&mut targets, out);
-        }
         for (s, (plan, t)) in plans.iter_mut().zip(targets).enumerate() {
             if let (Plan::Reach { target, .. }, Some(t)) = (plan, t) {
                 let delta = t.wrist - *target;
