@@ -577,6 +577,7 @@ fn a_turned_avatar_head_carries_its_anchors() {
                     source: Source::Tracker,
                     user,
                     avatar,
+                    joints: [None; 15],
                     user_palm: 0.09,
                     avatar_palm: 0.08,
                     image_tip: None,
