@@ -29,6 +29,7 @@ mod missing_bones;
 mod no_alloc;
 mod retarget;
 mod rig;
+mod skin_file;
 mod torso;
 mod vrm;
 mod wrist_limits;
