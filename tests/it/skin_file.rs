@@ -554,3 +554,89 @@ fn broken_primitives_are_skipped_and_the_rig_still_loads() {
     assert_eq!(whole.positions.len(), 2 * n);
     assert!(whole.positions[..n] == whole.positions[n..]);
 }
+
+/// One random edit of the skin's JSON: a field of an accessor, buffer view, primitive or skin
+/// set to a random value (index, huge, negative, fraction, string, array).
+fn edit_skin_json(json: &mut Value, which: usize, field: usize, value: usize, raw: u64) {
+    let values = [
+        json!(raw % 8),
+        json!(raw % 100_000),
+        json!(u64::MAX),
+        json!(-1),
+        json!(0.5),
+        json!("x"),
+        json!([1, 2]),
+        Value::Null,
+    ];
+    let v = values[value % values.len()].clone();
+    let (list, keys): (&str, &[&str]) = match which % 4 {
+        0 => (
+            "accessors",
+            &[
+                "bufferView",
+                "byteOffset",
+                "componentType",
+                "count",
+                "type",
+                "normalized",
+                "sparse",
+            ],
+        ),
+        1 => (
+            "bufferViews",
+            &["buffer", "byteOffset", "byteLength", "byteStride"],
+        ),
+        2 => ("skins", &["joints", "inverseBindMatrices"]),
+        _ => ("meshes", &["primitives"]),
+    };
+    let key = keys[field % keys.len()];
+    let Some(entries) = json[list].as_array_mut() else {
+        return;
+    };
+    let n = entries.len();
+    let entry = &mut entries[(raw as usize) % n];
+    if list == "meshes" {
+        // A primitive's attribute, indices or mode instead of the whole list.
+        let p = &mut entry["primitives"][(raw as usize) % 2];
+        let k = ["POSITION", "JOINTS_0", "WEIGHTS_0", "indices", "mode"][field % 5];
+        if k == "indices" || k == "mode" {
+            p[k] = v;
+        } else {
+            p["attributes"][k] = v;
+        }
+    } else {
+        entry[key] = v;
+    }
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
+
+    /// Random edits of the skin's accessors, views, primitives and skins, and random bytes in
+    /// the BIN chunk: the file loads (the bones are intact) and whatever skin is read is sane.
+    #[test]
+    fn random_skin_edits_never_panic_and_keep_the_rig(
+        edits in proptest::collection::vec(
+            (0usize..4, 0usize..8, 0usize..8, proptest::prelude::any::<u64>()), 0..4),
+        bytes in proptest::collection::vec((0.0f64..1.0, proptest::prelude::any::<u8>()), 0..16),
+    ) {
+        let (mut json, bin) = unpack_glb(&avatar("child-vrm0.vrm")).unwrap();
+        let mut bin = bin.unwrap();
+        for (which, field, value, raw) in edits {
+            edit_skin_json(&mut json, which, field, value, raw);
+        }
+        for (at, b) in bytes {
+            let last = bin.len() - 1;
+            let i = ((bin.len() as f64) * at) as usize;
+            bin[i.min(last)] = b;
+        }
+        let s = vrm::load_skeleton(&glb(&json, Some(&bin))).expect("the bones are intact");
+        if let Some(skin) = s.skin() {
+            let n = skin.positions.len();
+            proptest::prop_assert_eq!(n, skin.bones.len());
+            proptest::prop_assert!(skin.positions.iter().all(|p| p.is_finite()));
+            proptest::prop_assert!(skin.triangles.iter().flatten().all(|&i| (i as usize) < n));
+        }
+        Rig::new(s, RigOptions::default()).expect("a rig");
+    }
+}
