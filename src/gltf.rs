@@ -420,6 +420,11 @@ fn facing(bones: &[(HumanBone, Vec3)]) -> Result<VrmVersion> {
 /// an unknown bone name or missing node in `bone_map`, a duplicate binding, a bone not below
 /// its humanoid parent, a model not facing +-Z, a non-finite bone position.
 pub fn parse(bytes: &[u8], bone_map: &[(String, String)]) -> Result<GltfHumanoid> {
+    parse_document(bytes, bone_map).map(|(_, g)| g)
+}
+
+/// [`parse`], with the document read (for the skin).
+fn parse_document(bytes: &[u8], bone_map: &[(String, String)]) -> Result<(Document, GltfHumanoid)> {
     let doc = Document::read(bytes).map_err(as_gltf)?;
     let ext = doc.extensions.as_ref();
     let has_vrm = ext.is_some_and(|e| e.get("VRMC_vrm").is_some() || e.get("VRM").is_some());
@@ -453,14 +458,18 @@ pub fn parse(bytes: &[u8], bone_map: &[(String, String)]) -> Result<GltfHumanoid
     if version.is_none() {
         humanoid.version = facing(&humanoid.bones)?;
     }
-    Ok(GltfHumanoid {
-        humanoid,
-        naming,
-        binding,
-    })
+    Ok((
+        doc,
+        GltfHumanoid {
+            humanoid,
+            naming,
+            binding,
+        },
+    ))
 }
 
-/// [`parse`], then the [`Skeleton`] (internal +Z-facing frame).
+/// [`parse`], then the [`Skeleton`] (internal +Z-facing frame) with the skin of the file's
+/// skinned meshes ([`Skeleton::with_skin`]; read as for a VRM, by the bound bones).
 ///
 /// # Errors
 /// Everything [`parse`] reports, and a missing required bone named with the node name the
@@ -469,10 +478,14 @@ pub fn load_skeleton(
     bytes: &[u8],
     bone_map: &[(String, String)],
 ) -> Result<(Skeleton, GltfHumanoid)> {
-    let g = parse(bytes, bone_map)?;
+    let (doc, g) = parse_document(bytes, bone_map)?;
     let h = &g.humanoid;
+    let nodes: Vec<(HumanBone, usize)> = g.binding.iter().map(|(b, n, _)| (*b, *n)).collect();
     let skeleton = Skeleton::new(&h.bones, h.version)
-        .map(|s| s.with_look_at_offset(h.look_at))
+        .map(|s| {
+            s.with_look_at_offset(h.look_at)
+                .with_skin(doc.skin(bytes, &nodes))
+        })
         .map_err(|e| match e {
             Error::MissingRequiredBones(names) => err(format!(
                 "missing required bone(s) {} ({} binding{})",

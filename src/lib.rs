@@ -27,6 +27,7 @@
 //! * [`gltf`]: reading any glTF humanoid (Mixamo, Unreal names, a bone map, or a VRM).
 //! * [`vrm`]: reading `.vrm` (glTF binary) files, VRM 1.0 and 0.x (the JSON chunk through
 //!   serde_json).
+//! * [`gltf_skin`]: the skinned meshes of a `.vrm` / `.glb` read for self-contact.
 //! * [`input`]: what a frame carries in, at the bottom of the imports: [`input::mediapipe`]
 //!   (input types and the camera-to-avatar conversion, also at [`mediapipe`]) and
 //!   [`input::validate`] (the one check of a frame every path runs).
@@ -59,6 +60,7 @@ pub mod error;
 pub mod filter;
 pub mod flat;
 pub mod gltf;
+pub mod gltf_skin;
 pub mod hand;
 pub mod ik;
 pub mod input;

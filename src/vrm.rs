@@ -1,8 +1,10 @@
 //! Reading `.vrm` files: glTF 2.0 binary (GLB) with the `VRMC_vrm` (VRM 1.0) or `VRM`
 //! (VRM 0.x) extension, down to the humanoid rest pose handrig needs.
 //!
-//! What is read: the GLB container (header, JSON chunk, optional BIN chunk, validated but not
-//! otherwise used), the glTF `nodes` (TRS or `matrix`, `children`), and the humanoid bone map.
+//! What is read: the GLB container (header, JSON chunk, optional BIN chunk), the glTF `nodes`
+//! (TRS or `matrix`, `children`), and the humanoid bone map; [`load_skeleton`] also reads the
+//! skinned meshes for self-contact ([`crate::gltf_skin`]: never an error, a primitive it cannot
+//! read is skipped).
 //! Each humanoid bone's rest position is the world position of its node through the **full**
 //! node hierarchy: non-humanoid nodes in between, non-identity local rotations (Blender bone
 //! rolls), scale. That is exactly what three-vrm's normalized rig reports
@@ -73,6 +75,10 @@ pub(crate) struct Document {
     pub(crate) tree: NodeTree,
     /// The top-level `extensions`, if any.
     pub(crate) extensions: Option<Json>,
+    /// What the skin is read from ([`crate::gltf_skin`]).
+    pub(crate) meshes: crate::gltf_skin::MeshData,
+    /// The BIN chunk's byte range in the file (empty when there is none).
+    pub(crate) bin: core::ops::Range<usize>,
 }
 
 impl Document {
@@ -87,7 +93,26 @@ impl Document {
             nodes: top.nodes.0,
             tree,
             extensions: top.extensions,
+            meshes: crate::gltf_skin::MeshData {
+                accessors: top.accessors,
+                views: top.buffer_views,
+                buffers: top.buffers,
+                meshes: top.meshes,
+                skins: top.skins,
+            },
+            bin: glb.bin,
         })
+    }
+
+    /// The skin of the file's skinned meshes ([`crate::gltf_skin`]) for the humanoid bound by
+    /// `binding` (bone, node); `bytes`: the file this document was read from.
+    pub(crate) fn skin(
+        &self,
+        bytes: &[u8],
+        binding: &[(HumanBone, usize)],
+    ) -> crate::contact::skin::SkinMesh {
+        let bin = bytes.get(self.bin.clone()).unwrap_or(&[]);
+        crate::gltf_skin::read(self, bin, binding)
     }
 }
 
@@ -167,16 +192,23 @@ fn look_at_offset(ext: &Json, version: VrmVersion) -> Option<[f64; 3]> {
     v.iter().all(|x| x.is_finite()).then_some(v)
 }
 
-/// Parses a `.vrm` file and builds its [`Skeleton`] (internal +Z-facing frame).
+/// Parses a `.vrm` file and builds its [`Skeleton`] (internal +Z-facing frame), with the skin
+/// of its skinned meshes ([`Skeleton::with_skin`]; none when the file has none it can read).
 ///
 /// # Errors
 /// Everything [`parse`] reports, and [`Error::MissingRequiredBones`] when the file lacks any
 /// of the 15 bones VRM 1.0 requires.
 pub fn load_skeleton(bytes: &[u8]) -> Result<Skeleton> {
-    let h = parse(bytes)?;
+    let doc = Document::read(bytes)?;
+    let (version, map) = humanoid_map(doc.extensions.as_ref(), doc.tree.len())?;
+    let binding: Vec<(HumanBone, usize)> = map.iter().map(|(b, n, _)| (*b, *n)).collect();
+    let h = humanoid_from_map(&doc, version, map)?;
     // Name the file, not `restPose`, when the rest pose came from it.
     Skeleton::new(&h.bones, h.version)
-        .map(|s| s.with_look_at_offset(h.look_at))
+        .map(|s| {
+            s.with_look_at_offset(h.look_at)
+                .with_skin(doc.skin(bytes, &binding))
+        })
         .map_err(|e| match e {
             Error::MissingRequiredBones(names) => vrm_err(format!(
                 "humanoid lacks required bone(s) {}",
@@ -200,8 +232,10 @@ pub const MAX_DEPTH: usize = 1_024;
 /// Largest JSON chunk read (real avatars: a few MB).
 pub const MAX_JSON_BYTES: usize = 64 << 20;
 
-/// The two top-level members handrig reads, read by serde from the JSON chunk. Every other
-/// member (meshes, accessors, materials, animations, extras...) is checked but not kept, and
+/// The top-level members handrig reads, read by serde from the JSON chunk: `nodes` and
+/// `extensions`, and for the skin `accessors`, `bufferViews`, `buffers`, `meshes`, `skins`
+/// (leniently, each entry kept in a compact form, at most [`crate::gltf_skin::MAX_ENTRIES`]).
+/// Every other member (materials, animations, extras...) is checked but not kept, and
 /// `nodes` is refused beyond [`MAX_NODES`] entries as it is read, so a hostile file with
 /// millions of nodes or of other objects costs a scan of its text, not a document tree.
 #[derive(serde::Deserialize)]
@@ -210,6 +244,17 @@ struct TopLevel {
     nodes: Nodes,
     #[serde(default)]
     extensions: Option<Json>,
+    // Read leniently (a malformed entry is `None`, a bad member empty): the skin is optional.
+    #[serde(default)]
+    accessors: crate::gltf_skin::List<crate::gltf_skin::Accessor>,
+    #[serde(default, rename = "bufferViews")]
+    buffer_views: crate::gltf_skin::List<crate::gltf_skin::View>,
+    #[serde(default)]
+    buffers: crate::gltf_skin::List<crate::gltf_skin::Buffer>,
+    #[serde(default)]
+    meshes: crate::gltf_skin::List<crate::gltf_skin::Mesh>,
+    #[serde(default)]
+    skins: crate::gltf_skin::List<crate::gltf_skin::Skin>,
 }
 
 /// `nodes`: at most [`MAX_NODES`] JSON values (each checked by [`NodeTree::parse`]).
@@ -289,10 +334,12 @@ const CHUNK_BIN: u32 = 0x004E_4942; // "BIN\0"
 const HEADER_LEN: usize = 12;
 const CHUNK_HEADER_LEN: usize = 8;
 
-/// The JSON chunk of a GLB, borrowed from the input. The BIN chunk's framing is validated
-/// but its data is not kept: the humanoid rest pose needs no buffer data.
+/// The JSON chunk of a GLB, borrowed from the input, and where the BIN chunk is (its data is
+/// read only for the skin).
 struct Glb<'a> {
     json: &'a [u8],
+    /// The BIN chunk's byte range, empty when there is none.
+    bin: core::ops::Range<usize>,
 }
 
 fn read_u32(bytes: &[u8], at: usize) -> Option<u32> {
@@ -355,6 +402,7 @@ impl<'a> Glb<'a> {
         }
 
         let mut json = None;
+        let mut bin = 0..0;
         let mut offset = HEADER_LEN;
         let mut index = 0usize;
         while offset < length {
@@ -407,7 +455,7 @@ impl<'a> Glb<'a> {
                 (_, CHUNK_JSON) => {
                     return Err(vrm_err(format!("chunk {index}: a second JSON chunk")));
                 }
-                (1, CHUNK_BIN) => {}
+                (1, CHUNK_BIN) => bin = start..end,
                 (_, CHUNK_BIN) => {
                     return Err(vrm_err(format!(
                         "chunk {index}: a BIN chunk must directly follow the JSON chunk"
@@ -424,7 +472,7 @@ impl<'a> Glb<'a> {
                 "JSON chunk missing: the file ends after the {HEADER_LEN}-byte header"
             ))
         })?;
-        Ok(Glb { json })
+        Ok(Glb { json, bin })
     }
 }
 
@@ -560,7 +608,7 @@ impl NodeTree {
 
     /// World matrix of `node` (memoized in `cache`): product of the local matrices from the
     /// root down. The hierarchy is known to be acyclic, so the walk ends.
-    fn world(&self, node: usize, cache: &mut [Option<Affine>]) -> Affine {
+    pub(crate) fn world(&self, node: usize, cache: &mut [Option<Affine>]) -> Affine {
         let mut chain = Vec::new();
         let mut cur = Some(node);
         let mut base = Affine::IDENTITY;
@@ -671,8 +719,22 @@ impl Affine {
         ]
     }
 
+    /// A column-major 4x4 matrix's affine part (its last row is taken as 0, 0, 0, 1).
+    pub(crate) fn from_cols_array(a: &[f64; 16]) -> Affine {
+        Affine {
+            m: [[a[0], a[1], a[2]], [a[4], a[5], a[6]], [a[8], a[9], a[10]]],
+            t: [a[12], a[13], a[14]],
+        }
+    }
+
+    /// `m * p + t`.
+    pub(crate) fn apply_point(&self, p: [f64; 3]) -> [f64; 3] {
+        let l = self.apply_linear(p);
+        [l[0] + self.t[0], l[1] + self.t[1], l[2] + self.t[2]]
+    }
+
     /// `self * other`: `other` applied first.
-    fn mul(&self, other: &Affine) -> Affine {
+    pub(crate) fn mul(&self, other: &Affine) -> Affine {
         let m = other.m.map(|col| self.apply_linear(col));
         let lt = self.apply_linear(other.t);
         Affine {

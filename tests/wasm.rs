@@ -206,7 +206,15 @@ fn assert_no_allocation_since(mark: (u32, usize)) {
 #[wasm_bindgen_test]
 fn constructs_from_flat_rest_positions_in_the_model_frame() {
     for version in [0u8, 1] {
-        let rig = HandRig::new(&rest_pose(version), version, JsValue::UNDEFINED).unwrap();
+        let rig = HandRig::new(
+            &rest_pose(version),
+            version,
+            JsValue::UNDEFINED,
+            None,
+            None,
+            None,
+        )
+        .unwrap();
         let states = rig.bone_states();
         assert_eq!(states.iter().filter(|s| **s != 0).count(), 49);
         // Arms, hands and fingers are driven (2); the rest are present (1).
@@ -241,7 +249,7 @@ fn layout_matches_the_rust_constants() {
 
 #[wasm_bindgen_test]
 fn solves_a_real_frame_through_the_memory_views() {
-    let mut rig = HandRig::new(&rest_pose(1), 1, JsValue::UNDEFINED).unwrap();
+    let mut rig = HandRig::new(&rest_pose(1), 1, JsValue::UNDEFINED, None, None, None).unwrap();
     write_frame(&rig, &recording_frame(0));
     assert_eq!(rig.solve_flat(0.0), 0);
     let out = read_output(&rig);
@@ -283,7 +291,7 @@ fn solves_a_real_frame_through_the_memory_views() {
 
 #[wasm_bindgen_test]
 fn bad_input_names_the_field_and_leaves_the_rig_working() {
-    let mut rig = HandRig::new(&rest_pose(1), 1, JsValue::UNDEFINED).unwrap();
+    let mut rig = HandRig::new(&rest_pose(1), 1, JsValue::UNDEFINED, None, None, None).unwrap();
     write_frame(&rig, &recording_frame(3));
     assert_eq!(rig.solve_flat(1.0), 0);
     let before = read_output(&rig);
@@ -321,23 +329,47 @@ fn bad_input_names_the_field_and_leaves_the_rig_working() {
 
 #[wasm_bindgen_test]
 fn options_are_checked_and_every_described_default_is_accepted() {
-    let m = failure(HandRig::new(&rest_pose(1), 1, js(json!({"mirorr": true}))));
+    let m = failure(HandRig::new(
+        &rest_pose(1),
+        1,
+        js(json!({"mirorr": true})),
+        None,
+        None,
+        None,
+    ));
     assert!(
         m.starts_with("options.mirorr: unknown option (did you mean mirror?)"),
         "{m}"
     );
-    let m = failure(HandRig::new(&rest_pose(1), 1, JsValue::from_str("mirror")));
+    let m = failure(HandRig::new(
+        &rest_pose(1),
+        1,
+        JsValue::from_str("mirror"),
+        None,
+        None,
+        None,
+    ));
     assert!(m.starts_with("options: must be an object"), "{m}");
     let m = failure(HandRig::new(
         &rest_pose(1),
         1,
         js(json!({"arm": {"shoulderAngle": "0.3"}})),
+        None,
+        None,
+        None,
     ));
     assert_eq!(
         m,
         "options.arm.shoulderAngle: must be a number in 0..1.5707964, got \"0.3\""
     );
-    let e = HandRig::new(&rest_pose(1), 1, js(json!({"alignment": {"weight": 2}})));
+    let e = HandRig::new(
+        &rest_pose(1),
+        1,
+        js(json!({"alignment": {"weight": 2}})),
+        None,
+        None,
+        None,
+    );
     assert!(failure(e).contains("options.alignment.weight"));
     for o in HandRig::option_descriptions().iter() {
         let path = get(&o, "path").as_string().unwrap();
@@ -364,7 +396,7 @@ fn options_are_checked_and_every_described_default_is_accepted() {
             .split('.')
             .rev()
             .fold(default, |inner, key| json!({ key: inner }));
-        let r = HandRig::new(&rest_pose(1), 1, js(options.clone()));
+        let r = HandRig::new(&rest_pose(1), 1, js(options.clone()), None, None, None);
         assert!(
             r.is_ok(),
             "option {path} with its default is rejected: {:?}",
@@ -377,16 +409,23 @@ fn options_are_checked_and_every_described_default_is_accepted() {
 fn rest_pose_errors_name_the_bone() {
     let mut missing = rest_pose(1);
     missing[4 * HumanBone::Head.index()] = 0.0;
-    let m = failure(HandRig::new(&missing, 1, JsValue::UNDEFINED));
+    let m = failure(HandRig::new(
+        &missing,
+        1,
+        JsValue::UNDEFINED,
+        None,
+        None,
+        None,
+    ));
     assert_eq!(m, "restPose.bones: missing required bone(s) head");
     let mut huge = rest_pose(1);
     huge[4 * HumanBone::LeftHand.index() + 1] = 1e20;
-    let m = failure(HandRig::new(&huge, 1, JsValue::UNDEFINED));
+    let m = failure(HandRig::new(&huge, 1, JsValue::UNDEFINED, None, None, None));
     assert!(
         m.starts_with("restPose.bones.leftHand: position out of range"),
         "{m}"
     );
-    assert!(HandRig::new(&rest_pose(1), 2, JsValue::UNDEFINED).is_err());
+    assert!(HandRig::new(&rest_pose(1), 2, JsValue::UNDEFINED, None, None, None).is_err());
 }
 
 #[wasm_bindgen_test]
@@ -468,7 +507,7 @@ fn degenerate_hands_are_reported_held_or_skipped() {
     collapsed.hands[0].world = [Vec3::new(0.01, 0.02, 0.03); HAND_LANDMARKS];
     // Frames solved on their own (no smoothing across them).
     let per_frame = r#"{ "filter": { "enabled": false }, "dropout": { "enabled": false } }"#;
-    let mut rig = HandRig::new(&rest_pose(1), 1, js_text(per_frame)).unwrap();
+    let mut rig = HandRig::new(&rest_pose(1), 1, js_text(per_frame), None, None, None).unwrap();
     // Nothing solved yet: skipped (3), the finger at rest, not solved (2).
     write_frame(&rig, &collapsed);
     assert_eq!(rig.solve_flat(0.0), 0);

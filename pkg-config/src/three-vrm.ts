@@ -17,6 +17,7 @@
  */
 
 import { LAYOUT } from "./layout.js";
+import { skinOfScene } from "./skin.js";
 
 /** A normalized bone node: the parts of three's `Object3D` the adapter uses. */
 interface BoneNodeLike {
@@ -48,98 +49,20 @@ export interface VRMRestPose {
   skin?: { positions: Float32Array; bones: Uint8Array; triangles: Uint32Array };
 }
 
-/** The parts of a three `SkinnedMesh` the adapter reads. */
-interface SkinnedMeshLike {
-  isSkinnedMesh: true;
-  bindMatrix: { elements: ArrayLike<number> };
-  skeleton: { bones: ArrayLike<{ parent?: unknown }> };
-  geometry: {
-    index: { array: ArrayLike<number> } | null;
-    attributes: {
-      position: { count: number; getX(i: number): number; getY(i: number): number; getZ(i: number): number };
-      skinIndex?: { itemSize: number; getComponent(i: number, k: number): number };
-      skinWeight?: { itemSize: number; getComponent(i: number, k: number): number };
-    };
-  };
-}
-
 /**
  * The skin at rest: every skinned mesh's vertices in bind pose (the model's frame, as the
  * normalized rest pose), each with its dominant humanoid bone (the nearest humanoid ancestor of
  * the bone with the largest weight; vertices with none are left out), and the triangles.
  */
 function skinOf(vrm: VRMLike, humanoid: Humanoid): VRMRestPose["skin"] {
-  const scene = vrm.scene;
   const raw = humanoid.getRawBoneNode;
-  if (!scene || typeof scene.traverse !== "function" || typeof raw !== "function") return undefined;
+  if (typeof raw !== "function") return undefined;
   const boneOfNode = new Map<unknown, number>();
   LAYOUT.bones.forEach((name, i) => {
     const node = raw.call(humanoid, name);
     if (node) boneOfNode.set(node, i);
   });
-  const humanoidIndex = (node: unknown): number => {
-    for (let n = node as { parent?: unknown } | undefined, depth = 0; n && depth < 256; n = n.parent as typeof n, depth++) {
-      const i = boneOfNode.get(n);
-      if (i !== undefined) return i;
-    }
-    return -1;
-  };
-  const meshes: SkinnedMeshLike[] = [];
-  scene.traverse((o) => {
-    const m = o as Partial<SkinnedMeshLike>;
-    if (m.isSkinnedMesh && m.geometry?.attributes?.skinIndex && m.geometry.attributes.skinWeight && m.skeleton) {
-      meshes.push(m as SkinnedMeshLike);
-    }
-  });
-  let total = 0;
-  for (const m of meshes) total += m.geometry.attributes.position.count;
-  if (total === 0) return undefined;
-  const positions = new Float32Array(3 * total);
-  const bones = new Uint8Array(total);
-  const keep = new Int32Array(total);
-  const triangles: number[] = [];
-  let kept = 0;
-  let offset = 0;
-  for (const m of meshes) {
-    const a = m.geometry.attributes;
-    const si = a.skinIndex!;
-    const sw = a.skinWeight!;
-    const e = m.bindMatrix.elements;
-    const boneIndex = Array.from(m.skeleton.bones, (b) => humanoidIndex(b));
-    for (let i = 0; i < a.position.count; i++) {
-      let best = -1;
-      let bestWeight = -1;
-      for (let k = 0; k < si.itemSize; k++) {
-        const w = sw.getComponent(i, k);
-        if (w > bestWeight) (bestWeight = w), (best = si.getComponent(i, k));
-      }
-      const bone = boneIndex[best] ?? -1;
-      if (bone < 0) {
-        keep[offset + i] = -1;
-        continue;
-      }
-      const x = a.position.getX(i);
-      const y = a.position.getY(i);
-      const z = a.position.getZ(i);
-      // bindMatrix (column-major): the mesh's world transform when it was bound.
-      positions[3 * kept] = e[0]! * x + e[4]! * y + e[8]! * z + e[12]!;
-      positions[3 * kept + 1] = e[1]! * x + e[5]! * y + e[9]! * z + e[13]!;
-      positions[3 * kept + 2] = e[2]! * x + e[6]! * y + e[10]! * z + e[14]!;
-      bones[kept] = bone;
-      keep[offset + i] = kept++;
-    }
-    const index = m.geometry.index?.array;
-    const count = index ? index.length : a.position.count;
-    for (let t = 0; t + 2 < count; t += 3) {
-      const v0 = keep[offset + (index ? index[t]! : t)]!;
-      const v1 = keep[offset + (index ? index[t + 1]! : t + 1)]!;
-      const v2 = keep[offset + (index ? index[t + 2]! : t + 2)]!;
-      if (v0 >= 0 && v1 >= 0 && v2 >= 0) triangles.push(v0, v1, v2);
-    }
-    offset += a.position.count;
-  }
-  if (kept === 0) return undefined;
-  return { positions: positions.slice(0, 3 * kept), bones: bones.slice(0, kept), triangles: Uint32Array.from(triangles) };
+  return skinOfScene(vrm.scene, boneOfNode);
 }
 
 type Humanoid = VRMLike["humanoid"];

@@ -9,6 +9,9 @@
 // time: the scene objects are used through the few members of `Object3DLike`, so the package has
 // no dependency on three, and a three `Object3D` fits the types.
 
+import { LAYOUT } from "./layout.js";
+import { type SceneLike, type SkinArrays, skinOfScene } from "./skin.js";
+
 /** The parts of three's `Object3D` the adapter uses. */
 export interface Object3DLike {
   name: string;
@@ -30,6 +33,11 @@ export interface SkeletonRestPose {
   vrmVersion: "0" | "1";
   /** The binding used (node names as the scene names them): pass it to `applyToSkeleton`. */
   boneMap: SkeletonBoneMap;
+  /**
+   * The skin at rest from the skinned meshes under `root` (skinned with the bones as they are,
+   * in `root`'s frame, like `bones`), for self-contact; absent when there is none.
+   */
+  skin?: SkinArrays;
 }
 
 type Q = [number, number, number, number];
@@ -281,7 +289,14 @@ export function restPoseFromSkeleton(root: Object3DLike, boneMap?: SkeletonBoneM
     vrmVersion = dx > 0 ? "1" : "0";
     break;
   }
-  return { bones, vrmVersion, boneMap: names };
+  const boneOfNode = new Map<unknown, number>();
+  for (const r of rest) {
+    const i = (LAYOUT.bones as readonly string[]).indexOf(r.bone);
+    if (i >= 0) boneOfNode.set(r.node, i);
+  }
+  // A three `Object3D` has `traverse` (not in `Object3DLike`; skinOfScene checks for it).
+  const skin = skinOfScene(root as unknown as SceneLike, boneOfNode, (bone) => matrixIn(root, bone as Object3DLike));
+  return skin ? { bones, vrmVersion, boneMap: names, skin } : { bones, vrmVersion, boneMap: names };
 }
 
 /** A result's rotations: `{ bones: { [humanBone]: [x, y, z, w] } }` (what `rig.solve` returns). */

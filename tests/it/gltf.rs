@@ -250,9 +250,9 @@ fn put(node: &mut Value, q: DQuat, t: DVec3) {
 
 /// Every node below the scene roots gets a random roll `R` (its frame turned, a uniform random
 /// rotation): its rotation becomes `r R`, and each child's translation and rotation `R^-1 t`,
-/// `R^-1 r_c`, so every node's world position stays where it was. (Inverse bind matrices are
-/// not rewritten: handrig does not read the BIN chunk; the Node test of `handrig/three` rolls
-/// the skinned scene with its bind matrices.) Returns how many nodes were rolled.
+/// `R^-1 r_c`, so every node's world position stays where it was; a joint's inverse bind
+/// matrix becomes `R^-1 IBM` (in f32, as stored), so the skin at rest stays where it was too
+/// (handrig reads it for self-contact). Returns how many nodes were rolled.
 fn roll_bones(bytes: &[u8], seed: u64) -> (Vec<u8>, usize) {
     let (mut json, bin) = vrm_fixture::unpack_glb(bytes).expect("glb");
     let nodes = json["nodes"].as_array_mut().expect("nodes");
@@ -273,6 +273,7 @@ fn roll_bones(bytes: &[u8], seed: u64) -> (Vec<u8>, usize) {
         p
     };
     let mut rolled = 0;
+    let mut rolls = vec![None; nodes.len()];
     for i in 0..nodes.len() {
         if !has_parent[i] || nodes[i].get("mesh").is_some() {
             // Roots stay (the model's placement), and so do mesh nodes.
@@ -306,9 +307,36 @@ fn roll_bones(bytes: &[u8], seed: u64) -> (Vec<u8>, usize) {
                 r.inverse() * tc,
             );
         }
+        rolls[i] = Some(r);
         rolled += 1;
     }
-    (vrm_fixture::glb(&json, bin.as_deref()), rolled)
+    let mut bin = bin.expect("a BIN chunk");
+    let index = |v: &Value| v.as_u64().map_or(0, |i| i as usize);
+    for skin in json["skins"].as_array().into_iter().flatten() {
+        let acc = &json["accessors"][index(&skin["inverseBindMatrices"])];
+        let start = index(&json["bufferViews"][index(&acc["bufferView"])]["byteOffset"])
+            + index(&acc["byteOffset"]);
+        for (k, joint) in skin["joints"].as_array().into_iter().flatten().enumerate() {
+            let Some(r) = rolls[index(joint)] else {
+                continue;
+            };
+            let at = start + 64 * k;
+            let mut m = [0.0f64; 16];
+            for (c, v) in m.iter_mut().enumerate() {
+                let b = &bin[at + 4 * c..at + 4 * c + 4];
+                *v = f64::from(f32::from_le_bytes(b.try_into().unwrap()));
+            }
+            // R^-1 IBM: each column's x, y, z turned (the bottom row stays 0, 0, 0, 1).
+            for col in 0..4 {
+                let v = r.inverse() * DVec3::new(m[4 * col], m[4 * col + 1], m[4 * col + 2]);
+                m[4 * col..4 * col + 3].copy_from_slice(&v.0);
+            }
+            for (c, v) in m.iter().enumerate() {
+                bin[at + 4 * c..at + 4 * c + 4].copy_from_slice(&(*v as f32).to_le_bytes());
+            }
+        }
+    }
+    (vrm_fixture::glb(&json, Some(&bin)), rolled)
 }
 
 /// The model turned a half turn about +Y (its scene roots' transforms premultiplied), so it

@@ -14,6 +14,7 @@
 //! and says so in its commit. Files: `tests/golden/<avatar>.<options>.bin.gz`, gzipped
 //! little-endian `f32`, per recording a `u32` frame count then `frames * flat::output::LEN`
 //! values (a frame whose solve failed is all NaN). Native only (the files are read from disk).
+//! The avatars' skins (read from the files since issue 26) are left out: see [`outputs`].
 use crate::support::kinect_wrists;
 use crate::support::recordings;
 
@@ -63,7 +64,12 @@ fn recordings_for(skeleton: &handrig::Skeleton) -> Vec<(String, Vec<FrameInput>)
 
 /// Every output of one avatar and option set, recording by recording.
 fn outputs(avatar: &str, options: &str) -> Vec<(String, Vec<f32>)> {
-    let skeleton = recordings::vrm(avatar);
+    // The bones only, as recorded: since issue 26 `vrm::load_skeleton` also reads the file's
+    // skinned meshes (odd-armature-vrm0.vrm has some; the other three avatars have none), and
+    // a skin changes self-contact on purpose. The golden outputs keep pinning the solver on the
+    // rest pose they were recorded with; the skin's effect is tested in tests/it/skin_file.rs
+    // and tests/node/consumer/skin-file.test.mjs.
+    let skeleton = recordings::vrm(avatar).with_skin(handrig::contact::skin::SkinMesh::default());
     let options = RigOptions::from_json(options).expect("options");
     let mut result = Vec::new();
     for (name, frames) in recordings_for(&skeleton) {

@@ -31,6 +31,7 @@ mod no_alloc;
 mod retarget;
 mod rig;
 mod skin;
+mod skin_file;
 mod torso;
 mod vrm;
 mod wrist_limits;

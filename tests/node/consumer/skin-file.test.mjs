@@ -1,0 +1,90 @@
+// Issue 26: the skin read from the file. `HandRig.fromVrm(bytes)` reads the skinned meshes in
+// Rust and must learn the same body as `new HandRig(restPoseFromVRM(vrm))`, which passes
+// three-vrm's loaded meshes (`restPose.skin`): the contact model at rest (face anchors on the
+// skin, colliders, head breadth) within 1 mm, on every generated body (woman, man, child) as
+// VRM 1.0 and 0.x. `HandRig.fromGltf` on the same body named the Mixamo way gives it too. And the
+// skin matters: without it (the bone-based model) the anchors are centimeters elsewhere, so
+// these comparisons can fail.
+
+import assert from "node:assert/strict";
+import path from "node:path";
+import { describe, it } from "node:test";
+
+import { HandRig } from "handrig";
+import { restPoseFromVRM } from "handrig/three-vrm";
+import { loadVRM, readBytes, repo } from "./support.mjs";
+
+const file = (name) => path.join(repo, "tests", "fixtures", "avatars", name);
+
+/** Every number of a contact model, flat, with its name (anchors, head breadth, colliders). */
+function flat(model) {
+  const out = [];
+  const walk = (v, at) => {
+    if (typeof v === "number") out.push([at, v]);
+    else if (Array.isArray(v)) v.forEach((x, i) => walk(x, `${at}[${i}]`));
+    else for (const k of Object.keys(v)) walk(v[k], at ? `${at}.${k}` : k);
+  };
+  walk(model, "");
+  return out;
+}
+
+/** Largest difference between two contact models' numbers (meters), and where. */
+function largestDifference(a, b) {
+  const fa = flat(a);
+  const fb = flat(b);
+  assert.deepEqual(
+    fa.map(([k]) => k),
+    fb.map(([k]) => k),
+    "same anchors and colliders",
+  );
+  let worst = [0, ""];
+  fa.forEach(([k, x], i) => {
+    const d = Math.abs(x - fb[i][1]);
+    if (d > worst[0]) worst = [d, k];
+  });
+  return worst;
+}
+
+/** Largest distance between the two models' face anchors (meters). */
+function anchorGap(a, b) {
+  return Math.max(...Object.keys(a.anchors).map((n) => Math.hypot(...a.anchors[n].map((x, k) => x - b.anchors[n][k]))));
+}
+
+function contactModel(make) {
+  const rig = make();
+  try {
+    return rig.contactModel();
+  } finally {
+    rig.free();
+  }
+}
+
+describe("the skin read from the file (issue 26)", () => {
+  for (const body of ["woman", "man", "child"]) {
+    for (const version of ["vrm1", "vrm0"]) {
+      const name = `${body}-${version}.vrm`;
+      it(`${name}: fromVrm's contact model equals restPoseFromVRM's within 1 mm`, async (t) => {
+        const vrm = await loadVRM(file(name));
+        const rest = restPoseFromVRM(vrm);
+        assert.ok(rest.skin && rest.skin.bones.length > 10000, "three-vrm's skin");
+        const fromThree = contactModel(() => new HandRig(rest));
+        const fromFile = contactModel(() => HandRig.fromVrm(readBytes(file(name))));
+        const [d, where] = largestDifference(fromFile, fromThree);
+        assert.ok(d < 1e-3, `${name}: ${(d * 1000).toFixed(3)} mm apart at ${where}`);
+        // Without a skin the anchors are the bone-based ones, far from these.
+        const { skin: _skin, ...bonesOnly } = rest;
+        const bare = contactModel(() => new HandRig(bonesOnly));
+        const moved = anchorGap(bare, fromFile);
+        assert.ok(moved > 0.005, `${name}: the skin moved the anchors ${(moved * 1000).toFixed(1)} mm only`);
+        t.diagnostic(`${name}: ${(d * 1000).toExponential(2)} mm at most apart (${where}); anchors ${(moved * 1000).toFixed(1)} mm from the bone-based ones`);
+      });
+    }
+    it(`${body}-mixamo.glb: fromGltf's contact model equals the VRM's (fromVrm) within 1 mm`, (t) => {
+      const fromGltf = contactModel(() => HandRig.fromGltf(readBytes(file(`${body}-mixamo.glb`))));
+      const fromVrm = contactModel(() => HandRig.fromVrm(readBytes(file(`${body}-vrm1.vrm`))));
+      const [d, where] = largestDifference(fromGltf, fromVrm);
+      assert.ok(d < 1e-3, `${body}: ${(d * 1000).toFixed(3)} mm apart at ${where}`);
+      t.diagnostic(`${body}-mixamo.glb: ${(d * 1000).toExponential(2)} mm at most apart (${where})`);
+    });
+  }
+});
