@@ -20,7 +20,8 @@ const file = (name) => path.join(repo, "tests", "fixtures", "avatars", name);
 function flat(model) {
   const out = [];
   const walk = (v, at) => {
-    if (typeof v === "number") out.push([at, v]);
+    if (v === null) out.push([at, null]);
+    else if (typeof v === "number") out.push([at, v]);
     else if (Array.isArray(v)) v.forEach((x, i) => walk(x, `${at}[${i}]`));
     else for (const k of Object.keys(v)) walk(v[k], at ? `${at}.${k}` : k);
   };
@@ -75,6 +76,11 @@ describe("the skin read from the file (issue 26)", () => {
         const { skin: _skin, ...bonesOnly } = rest;
         const bare = contactModel(() => new HandRig(bonesOnly));
         const moved = anchorGap(bare, fromFile);
+        assert.equal(bare.skin, null, "a rig without a skin says so");
+        assert.ok(fromFile.skin && fromFile.skin.samples > 10000, "what the skin taught is reported");
+        for (const r of [...fromFile.skin.fingerRadius, ...fromFile.skin.palmHalfThickness]) {
+          assert.ok(r > 0.003 && r < 0.03, `${name}: hand thickness ${r} m`);
+        }
         assert.ok(moved > 0.005, `${name}: the skin moved the anchors ${(moved * 1000).toFixed(1)} mm only`);
         t.diagnostic(`${name}: ${(d * 1000).toExponential(2)} mm at most apart (${where}); anchors ${(moved * 1000).toFixed(1)} mm from the bone-based ones`);
       });
@@ -87,4 +93,30 @@ describe("the skin read from the file (issue 26)", () => {
       t.diagnostic(`${body}-mixamo.glb: ${(d * 1000).toExponential(2)} mm at most apart (${where})`);
     });
   }
+});
+
+describe("restPose.skin from JS", () => {
+  it("bad skins get an Error naming the field, and the rig is not made", async () => {
+    const rest = restPoseFromVRM(await loadVRM(file("woman-vrm1.vrm")));
+    const { skin, ...bones } = rest;
+    const cases = [
+      [{ positions: [0, 0], bones: [0] }, "restPose.skin.positions"],
+      [{ positions: "x", bones: [0] }, "restPose.skin.positions"],
+      [{ positions: [0, 0, 0], bones: [99] }, "restPose.skin.bones"],
+      [{ positions: [0, 0, 0, 1, 1, 1], bones: [0, 0], triangles: [0, 1, 5] }, "restPose.skin.triangles"],
+      [{ positions: [0, NaN, 0], bones: [0] }, "restPose.skin.positions"],
+      ["skin", "restPose.skin"],
+    ];
+    for (const [bad, field] of cases) {
+      assert.throws(
+        () => new HandRig({ ...bones, skin: bad }),
+        (e) => e instanceof Error && e.message.includes(field),
+        `${JSON.stringify(bad)} -> ${field}`,
+      );
+    }
+    // Plain arrays work as well as typed arrays.
+    const rig = new HandRig({ ...bones, skin: { positions: Array.from(skin.positions), bones: Array.from(skin.bones), triangles: Array.from(skin.triangles) } });
+    assert.ok(rig.contactModel().skin.samples > 10000);
+    rig.free();
+  });
 });
