@@ -726,9 +726,14 @@ impl BodySurface {
     }
 }
 
+/// Share of the spheres' radii that [`close`] brings together: the radii are the hand's
+/// thicker parts (upper quartiles), so spheres just touching left the skins of touching hands
+/// 13-17 mm apart (median) on the generated adults.
+pub const CLOSE_RADII: f32 = 0.7;
+
 /// The translation `D` that closes the gap between two hands' spheres (centers relative to
 /// their wrists `left` and `right`, world axes): with the left hand moved by `D / 2` and the
-/// right by `-D / 2`, their nearest spheres touch (along the line between the spheres nearest
+/// right by `-D / 2`, their nearest spheres touch (at [`CLOSE_RADII`] of their radii) (along the line between the spheres nearest
 /// now; bisection, as one pair closing may bring another into overlap). Zero when either hand
 /// has no spheres.
 #[must_use]
@@ -739,7 +744,7 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
         for (a, ra) in l {
             for (b, rb) in r {
                 let d = (right + *b - 0.5 * s * u) - (left + *a + 0.5 * s * u);
-                let g = d.length() - ra - rb;
+                let g = d.length() - CLOSE_RADII * (ra + rb);
                 if g < best.0 {
                     best = (g, d);
                 }

@@ -183,7 +183,8 @@ fn close_brings_two_hands_into_touch() {
             .iter()
             .flat_map(|(a, ra)| {
                 r.iter().map(move |(b, rb)| {
-                    ((rw - 0.5 * d + *b) - (lw + 0.5 * d + *a)).length() - ra - rb
+                    ((rw - 0.5 * d + *b) - (lw + 0.5 * d + *a)).length()
+                        - skin::CLOSE_RADII * (ra + rb)
                 })
             })
             .fold(f32::INFINITY, f32::min);
