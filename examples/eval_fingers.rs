@@ -25,10 +25,13 @@
 //! options: --avatar NAME (one of the five), --detail (per bone, limit-free / limit-active)
 //! ```
 
+#[path = "../tests/support/finger_dirs.rs"]
+mod finger_dirs;
 #[path = "../tests/support/recordings.rs"]
 mod recordings;
 #[path = "../tests/support/stats.rs"]
 mod stats;
+use finger_dirs::{avatar_bone_dir, mp_segment};
 
 use glam::{Quat, Vec3};
 use handrig::align::fingertip;
@@ -100,41 +103,6 @@ fn load_recordings() -> Vec<Recording> {
         });
     }
     recs
-}
-
-/// Avatar bone direction by forward kinematics: joint to the next bone's joint; the last bone
-/// continues its parent's rest direction, rotated by its own world rotation.
-fn avatar_bone_dir(
-    skel: &Skeleton,
-    world: &WorldPose,
-    side: Side,
-    finger: Finger,
-    slot: usize,
-) -> Option<Vec3> {
-    let bones = side.finger(finger);
-    let bone = bones[slot];
-    let p = skel.rest_world(bone)?;
-    if let Some(child) = bones[slot + 1..].iter().find(|b| skel.has(**b)) {
-        return (world.position[child.index()] - world.position[bone.index()]).try_normalize();
-    }
-    let parent = skel.parent(bone)?;
-    let rest_dir = (p - skel.rest_world(parent)?).try_normalize()?;
-    (world.rotation[bone.index()] * rest_dir).try_normalize()
-}
-
-/// The MediaPipe segment matching an avatar bone: its landmark to the next present bone's
-/// landmark (the tip after the last).
-fn mp_segment(
-    skel: &Skeleton,
-    lm: &Landmarks,
-    side: Side,
-    finger: Finger,
-    slot: usize,
-) -> Option<Vec3> {
-    let bones = side.finger(finger);
-    let ids = finger.landmarks();
-    let end = (slot + 1..3).find(|s| skel.has(bones[*s])).unwrap_or(3);
-    (lm[ids[end]] - lm[ids[slot]]).try_normalize()
 }
 
 #[derive(Default)]

@@ -139,9 +139,8 @@ export function skinOfScene(
   return { positions: positions.slice(0, 3 * kept), bones: bones.slice(0, kept), triangles: Uint32Array.from(triangles) };
 }
 
-
-/** `a * b`, column-major 4x4. */
-function mul(a: ArrayLike<number>, b: ArrayLike<number>): number[] {
+/** `a * b`, column-major 4x4 (also used by `handrig/three`). */
+export function mul(a: ArrayLike<number>, b: ArrayLike<number>): number[] {
   const out = new Array<number>(16);
   for (let c = 0; c < 4; c++) {
     for (let r = 0; r < 4; r++) {

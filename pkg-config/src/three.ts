@@ -10,7 +10,7 @@
 // no dependency on three, and a three `Object3D` fits the types.
 
 import { LAYOUT } from "./layout.js";
-import { type SceneLike, type SkinArrays, skinOfScene } from "./skin.js";
+import { mul, type SceneLike, type SkinArrays, skinOfScene } from "./skin.js";
 
 /** The parts of three's `Object3D` the adapter uses. */
 export interface Object3DLike {
@@ -60,18 +60,6 @@ function localMatrix(o: Object3DLike): M {
   ];
 }
 
-function mmul(a: M, b: M): M {
-  const out = new Array<number>(16);
-  for (let c = 0; c < 4; c++) {
-    for (let r = 0; r < 4; r++) {
-      let v = 0;
-      for (let k = 0; k < 4; k++) v += a[4 * k + r]! * b[4 * c + k]!;
-      out[4 * c + r] = v;
-    }
-  }
-  return out;
-}
-
 const IDENTITY: M = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1];
 
 /** `node`'s transform in `root`'s frame (the product of the local matrices below `root`). */
@@ -79,7 +67,7 @@ function matrixIn(root: Object3DLike, node: Object3DLike | null): M {
   const chain: Object3DLike[] = [];
   for (let o = node; o !== null && o !== root; o = o.parent) chain.push(o);
   let m = IDENTITY;
-  for (let i = chain.length - 1; i >= 0; i--) m = mmul(m, localMatrix(chain[i]!));
+  for (let i = chain.length - 1; i >= 0; i--) m = mul(m, localMatrix(chain[i]!));
   return m;
 }
 
