@@ -191,9 +191,11 @@ impl Rig {
                 local,
             ));
         }
-        // Every finger joint, for keeping the whole hand out of the body.
+        // Every finger joint, for keeping the whole hand out of the body, and what the image
+        // says about the hand for chest contact: both used only with a skin.
+        let on_skin = self.contact.surface().is_some();
         let mut joints = [None; 15];
-        for finger in Finger::ALL {
+        for finger in Finger::ALL.into_iter().filter(|_| on_skin) {
             let mut at = Vec3::ZERO;
             let mut rotation = hand_rotation;
             for (k, b) in side.finger(finger).into_iter().enumerate() {
@@ -209,33 +211,36 @@ impl Rig {
             .and_then(|i| frame.hands().get(i))
             .and_then(|h| h.image)
             .map(|img| img[touch.landmarks()[3]]);
-        let cue = out_hand.and_then(|i| frame.hands().get(i)).and_then(|h| {
-            let img = h.image?;
-            let palm = (img[hl::WRIST]
-                + img[hl::INDEX_MCP]
-                + img[hl::MIDDLE_MCP]
-                + img[hl::RING_MCP]
-                + img[hl::PINKY_MCP])
-                / 5.0;
-            let a = (img[hl::INDEX_MCP] - img[hl::WRIST]).truncate();
-            let b = (img[hl::PINKY_MCP] - img[hl::WRIST]).truncate();
-            let sine = a.perp_dot(b) / (a.length() * b.length()).max(1e-9);
-            let sign = match h.handedness {
-                crate::mediapipe::Handedness::Left => 1.0,
-                crate::mediapipe::Handedness::Right => -1.0,
-            };
-            let palm_length = (lm[hl::MIDDLE_MCP] - lm[hl::WRIST]).length().max(1e-6);
-            let extension = [hl::INDEX_TIP, 12, 16, 20]
-                .iter()
-                .map(|&k| (lm[k] - lm[hl::WRIST]).length())
-                .sum::<f32>()
-                / (4.0 * palm_length);
-            Some(crate::contact::chest::HandCue {
-                palm,
-                facing: sign * sine,
-                extension,
-            })
-        });
+        let cue = out_hand
+            .filter(|_| on_skin)
+            .and_then(|i| frame.hands().get(i))
+            .and_then(|h| {
+                let img = h.image?;
+                let palm = (img[hl::WRIST]
+                    + img[hl::INDEX_MCP]
+                    + img[hl::MIDDLE_MCP]
+                    + img[hl::RING_MCP]
+                    + img[hl::PINKY_MCP])
+                    / 5.0;
+                let a = (img[hl::INDEX_MCP] - img[hl::WRIST]).truncate();
+                let b = (img[hl::PINKY_MCP] - img[hl::WRIST]).truncate();
+                let sine = a.perp_dot(b) / (a.length() * b.length()).max(1e-9);
+                let sign = match h.handedness {
+                    crate::mediapipe::Handedness::Left => 1.0,
+                    crate::mediapipe::Handedness::Right => -1.0,
+                };
+                let palm_length = (lm[hl::MIDDLE_MCP] - lm[hl::WRIST]).length().max(1e-6);
+                let extension = [hl::INDEX_TIP, 12, 16, 20]
+                    .iter()
+                    .map(|&k| (lm[k] - lm[hl::WRIST]).length())
+                    .sum::<f32>()
+                    / (4.0 * palm_length);
+                Some(crate::contact::chest::HandCue {
+                    palm,
+                    facing: sign * sine,
+                    extension,
+                })
+            });
         Some(HandPoints {
             cue,
             image_tip,
@@ -282,6 +287,7 @@ impl Rig {
                 .flatten()
                 .any(|t| t.hand.is_some_and(|h| h.source == source))
         };
+        let on_skin = self.contact.surface().is_some();
         let faces = UserFaces {
             pose: if needs(Source::Pose) {
                 self.scratch.pose.as_ref().and_then(|p| {
@@ -306,7 +312,7 @@ impl Rig {
             },
             camera: self.options.camera(),
             torso_image: match (&self.scratch.pose, &frame.pose_image) {
-                (Some(pose), Some(image)) if needs(Source::Pose) => {
+                (Some(pose), Some(image)) if on_skin && needs(Source::Pose) => {
                     let seen = [11, 12, 23, 24]
                         .iter()
                         .all(|&k| pose.visibility[k] >= self.options.calibration.min_visibility);
@@ -317,7 +323,7 @@ impl Rig {
                 }
                 _ => None,
             },
-            hands_apart: {
+            hands_apart: if on_skin {
                 let image = |side: Side| {
                     out.hands[side.index()]
                         .and_then(|h| frame.hands().get(h.index))
@@ -327,6 +333,8 @@ impl Rig {
                     (Some(a), Some(b)) => crate::contact::hands::image_apart(&a, &b),
                     _ => None,
                 }
+            } else {
+                None
             },
             tracker: if needs(Source::Tracker) {
                 frame

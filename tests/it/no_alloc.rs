@@ -393,3 +393,39 @@ fn contact_allocates_nothing() {
         "hand contact in {hand_contact} side-frames"
     );
 }
+
+/// Contact on the skin (a generated body read with its skin): the face landing, the chest from
+/// the image, the hands closing and the push allocate nothing per frame, on every shared ASL
+/// clip (each path is checked to have run).
+#[test]
+fn skin_contact_allocates_nothing() {
+    check_counter();
+    let skel = recordings::vrm("tests/fixtures/avatars/woman-vrm1.vrm");
+    let mut rig = Rig::new(skel, RigOptions::default()).unwrap();
+    assert!(
+        rig.contact().surface().is_some(),
+        "the generated body has a skin"
+    );
+    let mut out = SolveOutput::default();
+    let (mut face, mut chest, mut hands) = (0, 0, 0);
+    for clip in recordings::ASL.iter().chain(recordings::ASL_MORE.iter()) {
+        let frames = recordings::asl(clip);
+        rig.reset();
+        // The first frame may set up (history); every later one allocates nothing.
+        rig.solve(&frames[0], &mut out).unwrap();
+        for f in &frames[1..] {
+            let before = allocations();
+            rig.solve(f, &mut out).unwrap();
+            assert_eq!(allocations(), before, "{clip}: a frame allocated");
+            for c in out.contact.iter().flatten() {
+                face += usize::from(c.weight > 0.5);
+                chest += usize::from(c.chest_weight > 0.5);
+                hands += usize::from(c.hand_weight > 0.5);
+            }
+        }
+    }
+    assert!(
+        face > 20 && chest > 20 && hands > 20,
+        "paths run: face {face}, chest {chest}, hands {hands}"
+    );
+}
