@@ -211,3 +211,51 @@ fn bad_skins_name_the_field() {
     let rig = handrig::Rig::new(skel.with_skin(hand_only), handrig::RigOptions::default());
     assert!(rig.unwrap().contact().surface().is_none());
 }
+
+/// Chest contact against the visual labels of the shared clips (eval/labels, made by looking at
+/// the video frames): on the generated woman with her skin, the hand-frames labeled chest get
+/// chest contact and those labeled none (or face, or hand) almost never do.
+#[test]
+fn chest_contact_follows_the_visual_labels() {
+    let skel = recordings::vrm("tests/fixtures/avatars/woman-vrm1.vrm");
+    let mut rig = handrig::Rig::new(skel, handrig::RigOptions::default()).unwrap();
+    let mut out = handrig::SolveOutput::default();
+    let (mut chest, mut chest_hit, mut other, mut other_hit) = (0, 0, 0, 0);
+    for clip in ["again", "brother", "eat", "please", "sister", "thanks"] {
+        let labels: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(recordings::path(&format!(
+                "eval/labels/contact-{clip}.json"
+            )))
+            .unwrap(),
+        )
+        .unwrap();
+        let frames = recordings::asl(&format!("../shared/data/asl/{clip}.json"));
+        rig.reset();
+        for (i, f) in frames.iter().enumerate() {
+            rig.solve(f, &mut out).unwrap();
+            for (s, side) in ["left", "right"].iter().enumerate() {
+                let Some(c) = out.contact[s] else { continue };
+                match labels[*side][i].as_str().unwrap() {
+                    "chest" => {
+                        chest += 1;
+                        chest_hit += usize::from(c.chest_weight >= 0.9);
+                    }
+                    "unsure" => {}
+                    _ => {
+                        other += 1;
+                        other_hit += usize::from(c.chest_weight > 0.1);
+                    }
+                }
+            }
+        }
+    }
+    assert!(chest >= 45, "{chest} chest hand-frames with a target");
+    assert!(
+        chest_hit * 10 >= chest * 9,
+        "chest contact on {chest_hit} of {chest} chest hand-frames"
+    );
+    assert!(
+        other_hit * 100 <= other * 2,
+        "chest contact on {other_hit} of {other} other hand-frames"
+    );
+}
