@@ -218,27 +218,43 @@ impl BodyColliders {
     /// would jump where two points are equally deep), except on a collider's core line.
     #[must_use]
     pub fn push(&self, shapes: &[Option<Shape>; 3], points: &[(Vec3, f32)]) -> Vec3 {
-        let mut total = Vec3::ZERO;
-        for _ in 0..3 {
-            let mut moved = false;
-            for shape in shapes.iter().flatten() {
-                for (p, margin) in points {
-                    let (depth, n) = shape.penetration(*p + total, *margin);
-                    if depth > 0.0 {
-                        total += n * depth;
+        push_out(shapes.len(), points, |k, p, margin| {
+            shapes[k].map(|shape| shape.penetration(p, margin))
+        })
+    }
+}
+
+/// Gauss-Seidel projections out of `count` bodies, three passes: for each body in turn, each
+/// point (center, margin) moved with the translation so far and pushed straight out of it
+/// when `depth(body, point, margin)` says it is in (depth > 0, outward normal). Shared by the
+/// bone colliders (one body per shape) and the skin ([`super::skin::BodySurface::push`]: one
+/// body, the deepest map). A non-finite result is zero.
+pub(crate) fn push_out(
+    count: usize,
+    points: &[(Vec3, f32)],
+    mut depth: impl FnMut(usize, Vec3, f32) -> Option<(f32, Vec3)>,
+) -> Vec3 {
+    let mut total = Vec3::ZERO;
+    for _ in 0..3 {
+        let mut moved = false;
+        for k in 0..count {
+            for (p, margin) in points {
+                if let Some((d, n)) = depth(k, *p + total, *margin) {
+                    if d > 0.0 {
+                        total += n * d;
                         moved = true;
                     }
                 }
             }
-            if !moved {
-                break;
-            }
         }
-        if total.is_finite() {
-            total
-        } else {
-            Vec3::ZERO
+        if !moved {
+            break;
         }
+    }
+    if total.is_finite() {
+        total
+    } else {
+        Vec3::ZERO
     }
 }
 

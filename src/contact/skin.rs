@@ -355,22 +355,6 @@ impl RadialMap {
         let n = radial.try_normalize().unwrap_or(Vec3::Z);
         Some((skin + margin - r, rotation * n))
     }
-
-    /// The skin point of this map in rest-world direction `dir` from the center at height
-    /// `y` (cylinder) or along `dir` (sphere); for drawing and tests.
-    #[must_use]
-    pub fn rest_surface(&self, q: Vec3) -> Vec3 {
-        let (row, sec, _) = self.coordinates(q);
-        let skin = self.lookup(row, sec);
-        let d = q - self.center;
-        match self.kind {
-            MapKind::Cylinder => {
-                let h = Vec3::new(d.x, 0.0, d.z).try_normalize().unwrap_or(Vec3::Z);
-                Vec3::new(self.center.x, q.y, self.center.z) + h * skin
-            }
-            MapKind::Sphere => self.center + d.try_normalize().unwrap_or(Vec3::Z) * skin,
-        }
-    }
 }
 
 /// Everything self-contact learned from the skin (see the module docs).
@@ -646,28 +630,10 @@ impl BodySurface {
     /// of the map it is deepest in (Gauss-Seidel, three passes).
     #[must_use]
     pub fn push(&self, wrist: Vec3, points: &[(Vec3, f32)], world: &WorldPose) -> Vec3 {
-        let mut total = Vec3::ZERO;
-        for _ in 0..3 {
-            let mut moved = false;
-            for (p, margin) in points {
-                if let Some((d, n, _)) =
-                    self.depth(wrist + *p + total, *margin, world, [true; MAP_BONES.len()])
-                {
-                    if d > 0.0 {
-                        total += n * d;
-                        moved = true;
-                    }
-                }
-            }
-            if !moved {
-                break;
-            }
-        }
-        if total.is_finite() {
-            total
-        } else {
-            Vec3::ZERO
-        }
+        super::colliders::push_out(1, points, |_, p, margin| {
+            self.depth(wrist + p, margin, world, [true; MAP_BONES.len()])
+                .map(|(d, n, _)| (d, n))
+        })
     }
 
     /// The translation that lands the hand on the skin of the `only` maps: along the skin's
