@@ -36,6 +36,8 @@ const ALL = ["woman-vrm1", "woman-vrm0", "man-vrm1", "man-vrm0", "child-vrm1", "
 const avatars = (arg("--avatars") ?? ALL.join(",")).split(",");
 const clips = (arg("--clips") ?? measure.labeledClips(repo).join(",")).split(",");
 const asJson = argv.includes("--json");
+// --options JSON: options for both runs (contact.enabled is set per run on top of them).
+const extra = JSON.parse(arg("--options") ?? "{}");
 
 const fileOf = (a) =>
   a === "debug-robot" ? path.join(shared, "avatars", "debug-robot.vrm") : path.join(repo, "tests", "fixtures", "avatars", `${a}.vrm`);
@@ -64,7 +66,10 @@ for (const a of avatars) {
     const frames = JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", `${clip}.json`), "utf8")).frames;
     const labels = measure.readLabels(repo, clip);
     for (const contact of [true, false]) {
-      const rig = new HandRig(restPoseFromVRM(vrm), { contact: { enabled: contact } });
+      const rig = new HandRig(restPoseFromVRM(vrm), {
+        ...extra,
+        contact: { ...extra.contact, enabled: contact },
+      });
       const m = measure.runClip({ vrm, body, rig, applyToVRM, frames });
       rig.free();
       const s = measure.score(m, labels);

@@ -98,6 +98,8 @@ export interface HandRigOptions {
         headRadius?: number | null;
         /** MediaPipe pose input: how much the tracked depth between fingertip and face counts (monocular hand depth at the face is off by 15-35 cm); where on the face comes from the image. 1 = as tracked; tracker input always uses its depth. (number in 0..1, default `0.1`.) */
         depthTrust?: number;
+        /** How fast the contact correction of a hand's target (onto the face, chest or other hand) may change, m/s: a touch lands over a few frames instead of jerking the arm when MediaPipe's hand jumps or the nearest face point switches. 0 = no limit. (number in 0..20, default `6`.) */
+        maxSpeed?: number;
       };
   /** The objective of handStrategy "retarget" (seed 003). */
   retarget?: {

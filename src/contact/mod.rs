@@ -129,6 +129,9 @@ pub struct ContactOptions {
     /// face counts (see [`face::pose_tip`]); 1 = as tracked. Tracker input always uses its
     /// depth. Default 0.1.
     pub depth_trust: f32,
+    /// How fast the contact correction of a wrist target (face, chest, other hand; not the
+    /// push out of the body) may change, m/s; 0: no limit. Default 6 (0.2 m a frame at 30 fps).
+    pub max_speed: f32,
 }
 
 /// Largest `contact.torsoRadius` / `contact.headRadius` (m).
@@ -300,7 +303,9 @@ impl ContactSolver {
     /// image shows resting on the torso lands on the chest ([`chest`]); a hand in face contact
     /// settles onto the head's skin (its nearest point resting on it: moved in when above, out
     /// when inside); hands the image shows touching are closed onto each other
-    /// ([`hands::image_touch`]); then every hand is pushed out of the body. Allocates nothing.
+    /// ([`hands::image_touch`]); the corrections are rate-limited (`rate`, against the targets
+    /// at `start`); then every hand is pushed out of the body. Allocates nothing.
+    #[allow(clippy::too_many_arguments)]
     fn on_skin(
         &self,
         surface: &skin::BodySurface,
@@ -308,6 +313,8 @@ impl ContactSolver {
         world: &WorldPose,
         targets: &mut [Option<SideTarget>; 2],
         reports: &mut [Option<ContactReport>; 2],
+        start: &[Option<Vec3>; 2],
+        rate: &mut ContactRate,
     ) {
         let o = &self.options;
         let mut spheres = [[(Vec3::ZERO, 0.0); skin::HAND_SPHERES]; 2];
@@ -366,6 +373,7 @@ impl ContactSolver {
                 }
             }
         }
+        rate.limit(start, targets);
         if o.colliders {
             for ((target, report), side) in
                 targets.iter_mut().zip(reports.iter_mut()).zip(Side::BOTH)
@@ -452,7 +460,9 @@ impl ContactSolver {
     /// rotations before the arms' IK (the head and torso as they will be shown); `fingers`
     /// per side (`[left, right]`) the finger whose tip slot makes face contact: the aligned
     /// finger, or what stands in for it ([`crate::align::AlignedPart::touch_finger`]).
-    /// Allocates nothing.
+    /// `rate` carries the corrections from frame to frame: each side's correction (face,
+    /// chest, hands; not the push out of the body) changes by at most its step from last
+    /// frame's ([`ContactRate::begin`], `contact.maxSpeed`). Allocates nothing.
     pub fn solve(
         &self,
         fingers: [Finger; 2],
@@ -460,8 +470,10 @@ impl ContactSolver {
         world: &WorldPose,
         targets: &mut [Option<SideTarget>; 2],
         reports: &mut [Option<ContactReport>; 2],
+        rate: &mut ContactRate,
     ) {
         let o = &self.options;
+        let start = targets.map(|t| t.map(|t| t.wrist));
         let h = HumanBone::Head.index();
         let avatar_frame = self.face.frame(world.position[h], world.rotation[h]);
         let avatar_local = self.face.local_anchors();
@@ -531,8 +543,11 @@ impl ContactSolver {
         }
 
         if let Some(surface) = &self.surface {
-            self.on_skin(surface, faces, world, targets, reports);
-        } else if o.colliders {
+            self.on_skin(surface, faces, world, targets, reports, &start, rate);
+        } else {
+            rate.limit(&start, targets);
+        }
+        if self.surface.is_none() && o.colliders {
             let shapes = self.colliders.shapes(world);
             for ((target, report), finger) in
                 targets.iter_mut().zip(reports.iter_mut()).zip(fingers)
@@ -560,6 +575,64 @@ impl ContactSolver {
                 if let Some(r) = report.as_mut() {
                     r.push = push.length();
                 }
+            }
+        }
+    }
+}
+
+/// How fast the contact correction of a wrist target (face, chest and hands; not the push
+/// out of the body) may change: the history carried between frames.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactRate {
+    /// Each side's correction last frame (`[left, right]`; zero: none, or no hand).
+    shift: [Vec3; 2],
+    /// Largest change of a correction this frame (m; infinite: no limit).
+    step: f32,
+}
+
+impl Default for ContactRate {
+    fn default() -> Self {
+        ContactRate {
+            shift: [Vec3::ZERO; 2],
+            step: f32::INFINITY,
+        }
+    }
+}
+
+impl ContactRate {
+    /// Starts a frame `dt` seconds after the last (`None`: first of a session) with corrections
+    /// changing at most `speed` m/s.
+    pub fn begin(&mut self, dt: Option<f32>, speed: f32) {
+        match dt {
+            Some(dt) if speed > 0.0 => self.step = speed * dt,
+            Some(_) => self.step = f32::INFINITY,
+            None => *self = ContactRate::default(),
+        }
+    }
+
+    /// Forgets last frame's corrections (a frame without any target).
+    pub fn forget(&mut self) {
+        self.shift = [Vec3::ZERO; 2];
+    }
+
+    /// Limits each side's correction (`targets` against `start`) to `step` from last frame's.
+    fn limit(&mut self, start: &[Option<Vec3>; 2], targets: &mut [Option<SideTarget>; 2]) {
+        for k in 0..2 {
+            let (Some(s), Some(t)) = (start[k], targets[k].as_mut()) else {
+                self.shift[k] = Vec3::ZERO;
+                continue;
+            };
+            let shift = t.wrist - s;
+            let change = shift - self.shift[k];
+            let len = change.length();
+            let kept = if len > self.step {
+                self.shift[k] + change * (self.step / len)
+            } else {
+                shift
+            };
+            if kept.is_finite() {
+                t.wrist = s + kept;
+                self.shift[k] = kept;
             }
         }
     }

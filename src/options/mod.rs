@@ -183,6 +183,7 @@ impl RigOptions {
             torso_radius: None,
             head_radius: None,
             depth_trust: 0.0,
+            max_speed: 0.0,
         },
         retarget: RetargetOptions {
             tip_weights: [0.0; 5],
@@ -238,13 +239,15 @@ impl RigOptions {
         Ok(())
     }
 
-    /// The defaults with no filtering and no dropout easing: every frame is solved on its own,
-    /// exactly from its input (offline processing, evaluations, tests with exact answers).
+    /// The defaults with no filtering, no dropout easing and no limit on how fast contact
+    /// moves a hand: every frame is solved on its own, exactly from its input (offline
+    /// processing, evaluations, tests with exact answers).
     #[must_use]
     pub fn per_frame() -> Self {
         let mut o = RigOptions::default();
         o.filter.enabled = false;
         o.dropout.enabled = false;
+        o.contact.max_speed = 0.0;
         o
     }
 

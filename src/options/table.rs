@@ -263,6 +263,8 @@ pub static OPTIONS: &[OptionSpec] = &[
         "Head sphere radius (m); unset = half the head breadth; 0 = no head collider (never covers a face anchor)."),
     number!("contact.depthTrust", contact.depth_trust, 0.0, 1.0, 0.05, 0.1,
         "MediaPipe pose input: how much the tracked depth between fingertip and face counts (monocular hand depth at the face is off by 15-35 cm); where on the face comes from the image. 1 = as tracked; tracker input always uses its depth."),
+    number!("contact.maxSpeed", contact.max_speed, 0.0, 20.0, 0.1, 6.0,
+        "How fast the contact correction of a hand's target (onto the face, chest or other hand) may change, m/s: a touch lands over a few frames instead of jerking the arm when MediaPipe's hand jumps or the nearest face point switches. 0 = no limit."),
     OptionSpec {
         path: "retarget.tipWeights",
         kind: Kind::Numbers { len: 5, min: 0.0, max: 1000.0 },

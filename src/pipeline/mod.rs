@@ -103,6 +103,8 @@ pub struct Rig {
     flips: [hands::FlipState; 2],
     /// The hand selection's history (`select.rs`).
     selection: select::SelectState,
+    /// The contact corrections' history (their rate limit).
+    contact_rate: crate::contact::ContactRate,
     /// This frame's values passed from stage to stage (not history; see [`Scratch`]).
     scratch: Scratch,
 }
@@ -205,6 +207,8 @@ impl Rig {
             shoulder_turn_anchor: [Quat::IDENTITY; 2],
             flips: [hands::FlipState::default(); 2],
             selection: select::SelectState::default(),
+            contact_rate: crate::contact::ContactRate::default(),
+
             scratch: Scratch::default(),
         })
     }
@@ -252,6 +256,8 @@ impl Rig {
         self.shoulder_turn_anchor = [Quat::IDENTITY; 2];
         self.flips = [hands::FlipState::default(); 2];
         self.selection = select::SelectState::default();
+        self.contact_rate = crate::contact::ContactRate::default();
+
         self.scratch.pose = None;
         self.scratch.anchors = [None, None];
         self.scratch.turn = None;
@@ -415,7 +421,7 @@ impl Rig {
             let source = self.wrist_source(side, frame, dt);
             plans[side.index()] = self.plan_target(side, frame, hand_rotation, source, out);
         }
-        self.contact_targets(frame, &mut plans, out);
+        self.contact_targets(frame, dt, &mut plans, out);
         for side in Side::BOTH {
             self.reach_target(side, plans[side.index()], out);
         }

@@ -265,12 +265,14 @@ impl Rig {
     pub(super) fn contact_targets(
         &mut self,
         frame: &FrameInput,
+        dt: Option<f32>,
         plans: &mut [Plan; 2],
         out: &mut SolveOutput,
     ) {
         if !self.options.contact.enabled {
             return;
         }
+        self.contact_rate.begin(dt, self.options.contact.max_speed);
         let mut targets: [Option<SideTarget>; 2] = plans.map(|p| match p {
             Plan::Reach { target, points, .. } => Some(SideTarget {
                 wrist: target,
@@ -279,6 +281,7 @@ impl Rig {
             _ => None,
         });
         if targets.iter().all(Option::is_none) {
+            self.contact_rate.forget();
             return;
         }
         let needs = |source: Source| {
@@ -350,8 +353,14 @@ impl Rig {
         let fingers = Side::BOTH.map(|side| {
             self.aligned_parts[side.index()].touch_finger(self.options.alignment.finger)
         });
-        self.contact
-            .solve(fingers, &faces, &out.world, &mut targets, &mut out.contact);
+        self.contact.solve(
+            fingers,
+            &faces,
+            &out.world,
+            &mut targets,
+            &mut out.contact,
+            &mut self.contact_rate,
+        );
         for (s, (plan, t)) in plans.iter_mut().zip(targets).enumerate() {
             if let (Plan::Reach { target, .. }, Some(t)) = (plan, t) {
                 let delta = t.wrist - *target;

@@ -246,9 +246,17 @@ fn tracker_frame(
     f
 }
 
+/// Exact per-frame answers: no filters, and contact lands within the frame (no rate limit).
+fn per_frame(contact: ContactOptions) -> ContactOptions {
+    ContactOptions {
+        max_speed: 0.0,
+        ..contact
+    }
+}
+
 fn rig(skel: &Skeleton, contact: ContactOptions) -> Rig {
     let options = RigOptions {
-        contact,
+        contact: per_frame(contact),
         ..RigOptions::per_frame()
     };
     Rig::new(skel.clone(), options).unwrap()
@@ -531,7 +539,7 @@ fn the_target_moves_continuously_along_an_approach() {
 /// not turned afterwards about the touching point.
 fn rig_unlimited(skel: &Skeleton, contact: ContactOptions) -> Rig {
     let mut options = RigOptions {
-        contact,
+        contact: per_frame(contact),
         ..RigOptions::per_frame()
     };
     options.arm.wrist_limits = false;
@@ -597,6 +605,7 @@ fn a_turned_avatar_head_carries_its_anchors() {
                     &world,
                     &mut targets,
                     &mut reports,
+                    &mut handrig::contact::ContactRate::default(),
                 );
                 let t = targets[0].unwrap();
                 let tip = t.wrist + tip_offset * 0.8;
@@ -633,7 +642,7 @@ fn pose_input_touches_land_on_the_anchors_with_and_without_mirror() {
     for (name, skel, contact) in avatars() {
         for mirror in [false, true] {
             let mut options = RigOptions {
-                contact,
+                contact: per_frame(contact),
                 mirror,
                 ..RigOptions::per_frame()
             };
@@ -1074,4 +1083,97 @@ fn an_avatar_without_eyes_uses_its_look_at_point() {
         "{}",
         f.origin
     );
+}
+
+/// `contact.maxSpeed`: a fingertip arriving on the face in one frame moves the avatar's wrist
+/// target at most `maxSpeed * dt` a frame toward where it lands, in the direction of the full
+/// correction, and lands on the anchor a few frames later; with 0 it lands at once.
+#[test]
+fn the_contact_correction_changes_at_most_max_speed() {
+    let skel = recordings::vrm(recordings::FIXTURE_VRM1);
+    let solver = ContactSolver::new(&skel, &ContactOptions::default());
+    let mut world = WorldPose::default();
+    skel.forward(&[Quat::IDENTITY; handrig::BONE_COUNT], &mut world);
+    let eyes = skel.rest_world(B::Head).unwrap() + solver.face().origin;
+    let head = &user_heads(eyes)[0];
+    let faces = UserFaces {
+        tracker: Some(
+            UserFace::from_tracker(&head.tracker(skel.version(), true), skel.version()).unwrap(),
+        ),
+        ..UserFaces::default()
+    };
+    let a = FaceAnchor::Chin;
+    let anchor = solver.anchor_world(a, &world);
+    let tip_offset = Vec3::new(-0.05, 0.12, -0.05);
+    let wrist = Vec3::new(0.25, 1.2, 0.45);
+    // The user's fingertip: half a meter off the face (no contact), then on the chin.
+    let solve = |user_tip: Vec3, rate: &mut handrig::contact::ContactRate| {
+        let mut user = [Vec3::splat(9.0); POINTS];
+        user[2] = user_tip;
+        let mut avatar = [None; POINTS];
+        avatar[2] = Some(tip_offset);
+        let points = HandPoints {
+            source: Source::Tracker,
+            user,
+            avatar,
+            joints: [None; 15],
+            user_palm: 0.09,
+            avatar_palm: 0.08,
+            image_tip: None,
+            cue: None,
+        };
+        let mut targets = [
+            Some(SideTarget {
+                wrist,
+                hand: Some(points),
+            }),
+            None,
+        ];
+        let mut reports = [None, None];
+        solver.solve(
+            [Finger::Index; 2],
+            &faces,
+            &world,
+            &mut targets,
+            &mut reports,
+            rate,
+        );
+        targets[0].unwrap().wrist - wrist
+    };
+    let away = head.anchor(a) + Vec3::new(0.0, 0.0, 0.5);
+    let on = head.anchor(a);
+    let dt = 1.0 / 30.0;
+    for speed in [6.0f32, 3.0, 0.0] {
+        let mut rate = handrig::contact::ContactRate::default();
+        rate.begin(None, speed);
+        assert!(solve(away, &mut rate).length() < 1e-6, "no contact half a meter off");
+        // The full correction: the fingertip onto the anchor.
+        let full = anchor - (wrist + tip_offset);
+        assert!(full.length() > 0.25, "{:.3} m", full.length());
+        let mut last = Vec3::ZERO;
+        let mut frames = 0;
+        loop {
+            rate.begin(Some(dt), speed);
+            let shift = solve(on, &mut rate);
+            frames += 1;
+            if speed > 0.0 {
+                assert!(
+                    (shift - last).length() <= speed * dt + 1e-5,
+                    "speed {speed}: frame {frames} moved {:.3} m",
+                    (shift - last).length()
+                );
+                assert!(shift.normalize().dot(full.normalize()) > 0.999);
+            }
+            last = shift;
+            if (shift - full).length() < 1e-4 || frames > 100 {
+                break;
+            }
+        }
+        let expected = if speed > 0.0 {
+            (full.length() / (speed * dt)).ceil() as usize
+        } else {
+            1
+        };
+        assert_eq!(frames, expected, "speed {speed}");
+    }
 }
