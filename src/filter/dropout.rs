@@ -178,6 +178,14 @@ impl Presence {
         }
     }
 
+    /// Ends a running blend-in: the group shows its solve from now on (a hand returning
+    /// into a touch, whose contact placed the solved pose).
+    pub fn complete(&mut self) {
+        if let State::Live(_) = self.state {
+            self.state = State::Live(f64::NEG_INFINITY);
+        }
+    }
+
     /// Back to rest (as if lost long ago).
     pub fn reset(&mut self) {
         *self = Presence::default();

@@ -21,6 +21,10 @@ enum Group {
     Arm = 2,
 }
 
+/// The contact weight (face, chest or hands) from which a returning hand shows its solve at
+/// once instead of blending in.
+pub const TOUCH_COMPLETES_BLEND: f32 = 0.5;
+
 impl Rig {
     /// Stage 8: hold and ease the groups whose tracking was lost, blend in the returning ones
     /// (see [`crate::filter::dropout`]), and keep every driven rotation in the hemisphere of
@@ -39,9 +43,20 @@ impl Rig {
                 (Group::Hand, out.solved[hand.index()]),
                 (Group::Arm, out.solved[upper.index()]),
             ];
+            // A hand returning into a touch (face, chest or the other hand) shows its solve
+            // at once: contact placed the solved pose, and blending in from the pose shown
+            // while it was lost would hold it off the skin (on `sister` the right hand
+            // returning onto the left stayed 24-29 mm off it for the blend-in's 250 ms).
+            let touching = out.contact[side.index()].is_some_and(|c| {
+                c.weight.max(c.hand_weight).max(c.chest_weight) >= TOUCH_COMPLETES_BLEND
+            });
             for (group, live) in groups {
-                let blend =
-                    self.presence[side.index()][group as usize].update(now_ms, live, &timing);
+                let presence = &mut self.presence[side.index()][group as usize];
+                let mut blend = presence.update(now_ms, live, &timing);
+                if touching && blend.to_solved && !blend.is_exact() {
+                    presence.complete();
+                    blend.weight = 1.0;
+                }
                 eased[side.index()] |= !(blend.is_exact() && blend.to_solved);
                 let mut apply = |b: HumanBone| {
                     let i = b.index();
