@@ -244,6 +244,25 @@ mod tests {
     }
 
     #[test]
+    fn complete_ends_a_blend_in_and_nothing_else() {
+        let mut p = Presence::default();
+        p.update(0.0, true, &O);
+        p.update(33.0, false, &O);
+        let b = p.update(1000.0, true, &O);
+        assert!(!b.is_exact());
+        p.complete();
+        // The rest of the blend-in is skipped: the next frames show the solve.
+        assert!(p.update(1010.0, true, &O).is_exact());
+        // A lost group stays lost: complete does not bring it back.
+        p.update(1100.0, false, &O);
+        p.complete();
+        let b = p.update(1150.0, false, &O);
+        assert!(!b.to_solved && b.weight == 0.0, "{b:?}");
+        // And the next return blends in again.
+        assert!(!p.update(2000.0, true, &O).is_exact());
+    }
+
+    #[test]
     fn loss_holds_then_eases_to_rest() {
         let mut p = Presence::default();
         p.update(0.0, true, &O);

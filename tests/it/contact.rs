@@ -1146,7 +1146,10 @@ fn the_contact_correction_changes_at_most_max_speed() {
     for speed in [6.0f32, 3.0, 0.0] {
         let mut rate = handrig::contact::ContactRate::default();
         rate.begin(None, speed);
-        assert!(solve(away, &mut rate).length() < 1e-6, "no contact half a meter off");
+        assert!(
+            solve(away, &mut rate).length() < 1e-6,
+            "no contact half a meter off"
+        );
         // The full correction: the fingertip onto the anchor.
         let full = anchor - (wrist + tip_offset);
         assert!(full.length() > 0.25, "{:.3} m", full.length());

@@ -259,3 +259,56 @@ fn chest_contact_follows_the_visual_labels() {
         "chest contact on {other_hit} of {other} other hand-frames"
     );
 }
+
+/// A hand that returns from a loss into a touch shows the pose contact placed (its solve) at
+/// once, not a blend-in from the pose shown while it was lost: on the six ASL clips with the
+/// woman and her skin, every touching side-frame (face, chest or hands at weight >= 0.5) of
+/// a tracked hand shows the same hand and finger rotations as a rig without dropout easing.
+#[test]
+fn a_hand_returning_into_a_touch_shows_its_solve() {
+    use handrig::{Finger, Side};
+    let skel = recordings::vrm("tests/fixtures/avatars/woman-vrm1.vrm");
+    let mut eased = handrig::Rig::new(skel.clone(), handrig::RigOptions::default()).unwrap();
+    let mut options = handrig::RigOptions::default();
+    options.dropout.enabled = false;
+    let mut plain = handrig::Rig::new(skel, options).unwrap();
+    let (mut a, mut b) = (
+        handrig::SolveOutput::default(),
+        handrig::SolveOutput::default(),
+    );
+    let (mut touching, mut returning) = (0, 0);
+    for clip in ["again", "brother", "eat", "please", "sister", "thanks"] {
+        let frames = recordings::asl(&format!("../shared/data/asl/{clip}.json"));
+        eased.reset();
+        plain.reset();
+        let mut was_tracked = [true; 2];
+        for (i, f) in frames.iter().enumerate() {
+            eased.solve(f, &mut a).unwrap();
+            plain.solve(f, &mut b).unwrap();
+            for side in Side::BOTH {
+                let s = side.index();
+                let tracked = a.hands[s].is_some();
+                let touch = a.contact[s]
+                    .is_some_and(|c| c.weight.max(c.hand_weight).max(c.chest_weight) >= 0.5);
+                if tracked && touch {
+                    touching += 1;
+                    returning += usize::from(!was_tracked[s]);
+                    let mut bones = vec![side.hand()];
+                    for finger in Finger::ALL {
+                        bones.extend(side.finger(finger));
+                    }
+                    for bone in bones {
+                        let (qa, qb) = (a.local[bone.index()], b.local[bone.index()]);
+                        assert!(
+                            qa.dot(qb).abs() > 1.0 - 1e-6,
+                            "{clip} {i} {side:?} {bone:?}: shown {qa:?}, solved {qb:?}"
+                        );
+                    }
+                }
+                was_tracked[s] = tracked;
+            }
+        }
+    }
+    assert!(touching >= 100, "{touching} touching side-frames");
+    assert!(returning >= 2, "{returning} returns into a touch");
+}
