@@ -35,8 +35,10 @@ impl Rig {
         let mut eased = [false; 2];
         for side in Side::BOTH {
             let [shoulder, upper, lower, hand] = side.arm();
+            // A hand held against the other (`touch.rs`) keeps its fingers as shown.
             let live_fingers = out.hands[side.index()]
-                .is_some_and(|h| matches!(h.status, HandStatus::Solved | HandStatus::Held));
+                .is_some_and(|h| matches!(h.status, HandStatus::Solved | HandStatus::Held))
+                || self.touch[side.index()].held();
             // The hand bone is also driven by a tracker wrist's rotation without a hand.
             let groups = [
                 (Group::Fingers, live_fingers),

@@ -44,6 +44,7 @@ mod report;
 mod select;
 mod targets;
 mod torso;
+mod touch;
 
 use glam::{Quat, Vec3};
 
@@ -105,6 +106,8 @@ pub struct Rig {
     selection: select::SelectState,
     /// The contact corrections' history (their rate limit).
     contact_rate: crate::contact::ContactRate,
+    /// Each side's touch with the other hand, for holding a lost hand against it (`touch.rs`).
+    touch: [touch::TouchHold; 2],
     /// This frame's values passed from stage to stage (not history; see [`Scratch`]).
     scratch: Scratch,
 }
@@ -208,6 +211,7 @@ impl Rig {
             flips: [hands::FlipState::default(); 2],
             selection: select::SelectState::default(),
             contact_rate: crate::contact::ContactRate::default(),
+            touch: [touch::TouchHold::default(); 2],
 
             scratch: Scratch::default(),
         })
@@ -257,6 +261,7 @@ impl Rig {
         self.flips = [hands::FlipState::default(); 2];
         self.selection = select::SelectState::default();
         self.contact_rate = crate::contact::ContactRate::default();
+        self.touch = [touch::TouchHold::default(); 2];
 
         self.scratch.pose = None;
         self.scratch.anchors = [None, None];

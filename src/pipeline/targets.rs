@@ -371,5 +371,6 @@ impl Rig {
                 }
             }
         }
+        self.touch_hold(frame.time_ms, plans, out);
     }
 }

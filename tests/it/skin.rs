@@ -312,3 +312,76 @@ fn a_hand_returning_into_a_touch_shows_its_solve() {
     assert!(touching >= 100, "{touching} touching side-frames");
     assert!(returning >= 2, "{returning} returns into a touch");
 }
+
+/// A hand lost while it touches the other stays against it (`touch.rs`): on `sister`, where
+/// MediaPipe loses the signer's right hand resting on the left for 24 frames, the lost hand is
+/// held (hand-to-hand weight 1, no tracked hand) at the wrist offset and hand rotation it had
+/// relative to the other hand in the last touching frame (within 1 cm and 15 degrees of the
+/// shown pose); held frames only ever follow a touching frame; with hand contact off nothing is
+/// held.
+#[test]
+fn a_hand_lost_in_a_touch_stays_against_the_other() {
+    use handrig::Side;
+    let skel = recordings::vrm("tests/fixtures/avatars/woman-vrm1.vrm");
+    let frames = recordings::asl("../shared/data/asl/sister.json");
+    let relative = |out: &handrig::SolveOutput, s: Side| {
+        let other = if s == Side::Left {
+            Side::Right
+        } else {
+            Side::Left
+        };
+        let (h, o) = (s.hand().index(), other.hand().index());
+        let back = out.world.rotation[o].conjugate();
+        (
+            back * (out.world.position[h] - out.world.position[o]),
+            back * out.world.rotation[h],
+        )
+    };
+    for hands in [true, false] {
+        let mut options = handrig::RigOptions::default();
+        options.contact.hands = hands;
+        let mut rig = handrig::Rig::new(skel.clone(), options).unwrap();
+        let mut out = handrig::SolveOutput::default();
+        let mut last_touch: [Option<(glam::Vec3, glam::Quat)>; 2] = [None, None];
+        let mut held = 0;
+        for (i, f) in frames.iter().enumerate() {
+            rig.solve(f, &mut out).unwrap();
+            out.turn_to_internal_frame(rig.skeleton().version());
+            for side in Side::BOTH {
+                let s = side.index();
+                let c = out.contact[s];
+                let tracked = out.hands[s].is_some();
+                let is_held = !tracked && c.is_some_and(|c| c.hand_weight == 1.0);
+                if is_held {
+                    held += 1;
+                    let (p0, q0) = last_touch[s].unwrap_or_else(|| {
+                        panic!("frame {i} {side:?}: held without a touch before")
+                    });
+                    let (p, q) = relative(&out, side);
+                    // The hold keeps the targets' relative pose; the wrist limits then turn each
+                    // hand a little about its touching point (8 mm and up to 12 degrees here).
+                    assert!(
+                        (p - p0).length() < 0.01 && q.angle_between(q0) < 15f32.to_radians(),
+                        "frame {i} {side:?}: {:.1} mm, {:.2} degrees off the touch",
+                        (p - p0).length() * 1e3,
+                        q.angle_between(q0).to_degrees()
+                    );
+                } else if tracked {
+                    let touching =
+                        c.is_some_and(|c| c.hand_weight >= 0.5) && out.hands[1 - s].is_some();
+                    last_touch[s] = touching.then(|| relative(&out, side));
+                } else {
+                    last_touch[s] = None;
+                }
+                if !is_held && !tracked {
+                    last_touch[s] = None;
+                }
+            }
+        }
+        if hands {
+            assert!(held >= 20, "{held} held side-frames");
+        } else {
+            assert_eq!(held, 0, "held with hand contact off");
+        }
+    }
+}
