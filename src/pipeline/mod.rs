@@ -2,8 +2,8 @@
 //! alignment reports out.
 //!
 //! [`Rig::solve`] runs named stages, each feature in one of them, each stage in its own file
-//! (`select.rs`, `observe.rs`, `torso.rs`, `hands.rs`, `targets.rs`, `reach.rs`, `ease.rs`,
-//! `report.rs`; the outputs in `output.rs`):
+//! (`select.rs`, `observe.rs`, `torso.rs`, `hands.rs`, `targets.rs`, `touch.rs`, `reach.rs`,
+//! `ease.rs`, `report.rs`; the outputs in `output.rs`):
 //!
 //! 1. **select hands** (`Rig::select_hands`): which tracked hand drives each avatar side;
 //!    low scores ignored, labels that contradict the pose wrists reassigned
@@ -23,13 +23,15 @@
 //!    sides together): the wrist IK target by fingertip alignment ([`crate::align`]) from
 //!    forward kinematics of *this* frame's hand, then moved for self-contact
 //!    ([`crate::contact`]: a finger on the face lands on the avatar's face where the posed
-//!    torso put it, touching hands stay touching, hands stay out of the body); both sides'
-//!    targets exist before any IK;
+//!    torso put it, touching hands stay touching, hands stay out of the body; the correction
+//!    changes by at most `contact.maxSpeed`), then a hand lost while it touches the other is
+//!    held against it (`touch.rs`); both sides' targets exist before any IK;
 //! 7. per side, **IK** (`Rig::reach_target`): the arm solver ([`crate::ik`]) reaches the
 //!    target from the posed torso;
 //! 8. **ease** (`Rig::ease`): groups whose tracking was lost hold, then ease to rest (a
 //!    shoulder to the torso's rotation of it); returning ones blend in
-//!    ([`crate::filter::dropout`]); rotations keep their hemisphere;
+//!    ([`crate::filter::dropout`]), but a hand returning into a touch shows its solve at once;
+//!    rotations keep their hemisphere;
 //! 9. **report** (`Rig::report`): forward kinematics of the whole avatar, its fingertips,
 //!    the retargeting reports.
 //!

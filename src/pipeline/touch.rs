@@ -12,7 +12,7 @@
 //! pose's wrist of the lost side (when the pose sees it) stays within [`TOUCH_RELEASE_M`] of
 //! the held wrist across the camera (the pose's depth is not trusted): a hand that leaves is
 //! let go, and the dropout easing takes over. The held side reports a hand-to-hand weight of 1
-//! (`contact.<side>.handWeight`) and no tracked hand (`hands.<side>` stays null).
+//! (`SolveOutput::contact`, flat `contactHandWeight`) and no tracked hand.
 
 use glam::{Quat, Vec3};
 
