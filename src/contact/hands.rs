@@ -22,6 +22,11 @@ use super::face::blend;
 /// Contact points per hand: palm center, then the thumb to little fingertips.
 pub const POINTS: usize = 6;
 
+/// Finger landmarks per hand that face contact compares with the face: MediaPipe hand
+/// landmarks 1-20 (finger `f`'s landmark `k`, base first, at `4 f + k`; the avatar's match is
+/// `joints[3 f + k]` for `k < 3`, the fingertip `avatar[1 + f]` for `k = 3`).
+pub const PARTS: usize = 20;
+
 /// Where a side's wrist target, and so its user-space points, came from: decides which user
 /// face its finger is measured against, and whether two hands can be compared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,6 +62,13 @@ pub struct HandPoints {
     /// The aligned fingertip's image landmark (normalized, MediaPipe's), when the hand has
     /// image landmarks: with pose input, where on the face the finger is.
     pub image_tip: Option<Vec3>,
+    /// The user's finger landmarks (MediaPipe hand landmarks 1-20: per finger, thumb first,
+    /// its base, two joints and tip; [`PARTS`]) in the source's space like `user`, for face
+    /// contact with the hand part nearest the face (a fist's knuckles on the forehead). Only
+    /// with a skin, like `joints`; else zero.
+    pub user_parts: [Vec3; PARTS],
+    /// The image landmarks of `user_parts`, when the hand has image landmarks (with a skin).
+    pub image_parts: Option<[Vec3; PARTS]>,
     /// What the image says about the hand for chest contact, when it has image landmarks.
     pub cue: Option<super::chest::HandCue>,
 }

@@ -155,6 +155,10 @@ pub struct ContactReport {
     /// With hand-to-hand contact, where this hand meets the other, relative to its wrist
     /// target (world axes; see [`hands::HandContact::meet`]).
     pub hand_meet: Option<Vec3>,
+    /// With face contact judged by the hand part nearest the face (rigs with a skin), the
+    /// touching point relative to the wrist target (world axes): the avatar's parts weighted
+    /// as their translations are; `None`: the aligned fingertip.
+    pub face_meet: Option<Vec3>,
     /// How far the body colliders pushed the hand (m).
     pub push: f32,
     /// The chest blend applied, 0..1 (a hand resting on the torso: [`chest`]).
@@ -169,6 +173,7 @@ impl Default for ContactReport {
             distance: f32::NAN,
             hand_weight: 0.0,
             hand_meet: None,
+            face_meet: None,
             push: 0.0,
             chest_weight: 0.0,
         }
@@ -455,6 +460,95 @@ impl ContactSolver {
         )
     }
 
+    /// Face contact judged by the hand part nearest the face (rigs with a skin, whose hands
+    /// have their finger joints): every finger landmark ([`hands::PARTS`]) with an avatar
+    /// match is placed in the user's face frame as the aligned fingertip is (with pose input
+    /// through [`face::pose_tip`]), its nearest anchor at distance `e_k` gives its blend
+    /// `b_k` ([`face::blend`]), and its translation `d_k` puts the avatar's part on the warped
+    /// point ([`face::warp`]). The hand moves by `w` times the mean of the `d_k` weighted by
+    /// `b_k / e_k^2` (inverse distance, as [`hands::solve`]: continuous as parts come and go;
+    /// a part exactly on an anchor decides), `w = contact.weight x max b_k`. So a fist whose
+    /// knuckles rest on the forehead, its curled fingertips away from it, lands its
+    /// knuckles. Returns the nearest part's anchor, `w`, the translation and the touching
+    /// point (the parts' mean with the same weights, relative to the wrist); `None` when no
+    /// part has an avatar match.
+    #[allow(clippy::too_many_arguments)]
+    fn face_by_parts(
+        &self,
+        hand: &HandPoints,
+        touch: Finger,
+        wrist: Vec3,
+        user: &UserFace,
+        faces: &UserFaces,
+        avatar_frame: &FaceFrame,
+        avatar_local: &[Vec3; ANCHORS],
+    ) -> Option<(FaceAnchor, f32, Vec3, Option<Vec3>)> {
+        let o = &self.options;
+        let mut nearest: Option<(FaceAnchor, f32)> = None;
+        let mut beta = 0.0f32;
+        let (mut sum, mut meet, mut total) = (Vec3::ZERO, Vec3::ZERO, 0.0f32);
+        let mut exact: Option<(Vec3, Vec3)> = None;
+        for finger in Finger::ALL {
+            for k in 0..4 {
+                let f = finger.index();
+                let avatar = if k == 3 {
+                    hand.avatar[1 + f]
+                } else {
+                    hand.joints[3 * f + k]
+                };
+                let Some(avatar) = avatar else { continue };
+                let part = hand.user_parts[4 * f + k];
+                let user_point = match hand.source {
+                    Source::Pose => face::pose_tip(
+                        user,
+                        part,
+                        hand.image_parts.map(|i| i[4 * f + k]),
+                        faces.pose_image.as_ref(),
+                        faces.camera,
+                        o.depth_trust,
+                    ),
+                    Source::Tracker => part,
+                };
+                let local = user.frame.to_local(user_point);
+                let (anchor, e) = face::nearest(local, &user.anchors);
+                if nearest.is_none_or(|(_, best)| e < best) {
+                    nearest = Some((anchor, e));
+                }
+                let radius = if finger == touch && k == 3 {
+                    o.radius
+                } else {
+                    PART_RADIUS * o.radius
+                };
+                let b = face::blend(e, radius);
+                if b <= 0.0 {
+                    continue;
+                }
+                beta = beta.max(b);
+                let warped = face::warp(local, &user.anchors, avatar_local);
+                let d = avatar_frame.to_world(warped) - (wrist + avatar);
+                if !d.is_finite() {
+                    continue;
+                }
+                if e < 1e-6 {
+                    exact.get_or_insert((d, avatar));
+                    continue;
+                }
+                let w = b / (e * e);
+                sum += w * d;
+                meet += w * avatar;
+                total += w;
+            }
+        }
+        let (anchor, _) = nearest?;
+        let w = o.weight * beta;
+        let (delta, meet) = match exact {
+            Some((d, m)) => (w * d, Some(m)),
+            None if total > 0.0 => (w * (sum / total), Some(meet / total)),
+            None => (Vec3::ZERO, None),
+        };
+        Some((anchor, w, delta, meet))
+    }
+
     /// Moves both sides' wrist targets for contact (face, then hands, then body), filling
     /// `reports` for every side with a target. `world` is the avatar posed by this frame's
     /// rotations before the arms' IK (the head and torso as they will be shown); `fingers`
@@ -484,7 +578,28 @@ impl ContactSolver {
                 continue;
             };
             let mut r = ContactReport::default();
-            if let Some(hand) = &t.hand {
+            let by_parts = self.surface.is_some()
+                && t.hand.is_some_and(|h| h.joints.iter().any(Option::is_some));
+            if let (true, Some(hand)) = (by_parts, &t.hand) {
+                if let Some(user) = faces.for_source(hand.source) {
+                    if let Some((anchor, w, delta, meet)) = self.face_by_parts(
+                        hand,
+                        finger,
+                        t.wrist,
+                        user,
+                        faces,
+                        &avatar_frame,
+                        &avatar_local,
+                    ) {
+                        r.anchor = Some(anchor);
+                        r.weight = w;
+                        r.face_meet = meet;
+                        if w > 0.0 && delta.is_finite() {
+                            t.wrist += delta;
+                        }
+                    }
+                }
+            } else if let Some(hand) = &t.hand {
                 if let (Some(user), Some(avatar_tip)) =
                     (faces.for_source(hand.source), hand.avatar[tip])
                 {
@@ -637,6 +752,10 @@ impl ContactRate {
         }
     }
 }
+
+/// The blend radius of the hand's other parts (every finger landmark but the aligned
+/// fingertip) over `contact.radius`, for face contact by the hand part nearest the face.
+pub const PART_RADIUS: f32 = 0.6;
 
 /// Head breadth over palm length on an adult (0.145 m / 0.09 m): the unit of the hand contact
 /// radius when no user face is known.

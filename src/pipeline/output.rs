@@ -180,7 +180,7 @@ impl SolveOutput {
             }
         }
         for c in self.contact.iter_mut().flatten() {
-            if let Some(m) = c.hand_meet.as_mut() {
+            for m in [&mut c.hand_meet, &mut c.face_meet].into_iter().flatten() {
                 *m = p(*m);
             }
         }

@@ -60,7 +60,7 @@ impl Rig {
                 toward(c.hand_meet, c.hand_weight);
                 let touch =
                     self.aligned_parts[side.index()].touch_finger(self.options.alignment.finger);
-                toward(p.avatar[1 + touch.index()], c.weight);
+                toward(c.face_meet.or(p.avatar[1 + touch.index()]), c.weight);
                 pivot
             }
             _ => finger,

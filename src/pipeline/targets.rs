@@ -207,10 +207,20 @@ impl Rig {
             }
         }
         let middle = side.finger(Finger::Middle)[0];
-        let image_tip = out_hand
+        let image = out_hand
             .and_then(|i| frame.hands().get(i))
-            .and_then(|h| h.image)
-            .map(|img| img[touch.landmarks()[3]]);
+            .and_then(|h| h.image);
+        let image_tip = image.map(|img| img[touch.landmarks()[3]]);
+        // The finger landmarks for face contact by the hand part nearest the face: skin only.
+        let mut user_parts = [Vec3::ZERO; crate::contact::hands::PARTS];
+        if on_skin {
+            for (k, p) in user_parts.iter_mut().enumerate() {
+                *p = wrist + lm[1 + k] - lm[hl::WRIST];
+            }
+        }
+        let image_parts = image
+            .filter(|_| on_skin)
+            .map(|img| core::array::from_fn(|k| img[1 + k]));
         let cue = out_hand
             .filter(|_| on_skin)
             .and_then(|i| frame.hands().get(i))
@@ -244,6 +254,8 @@ impl Rig {
         Some(HandPoints {
             cue,
             image_tip,
+            user_parts,
+            image_parts,
             source: kind,
             user,
             avatar,

@@ -589,6 +589,8 @@ fn a_turned_avatar_head_carries_its_anchors() {
                     user_palm: 0.09,
                     avatar_palm: 0.08,
                     image_tip: None,
+                    user_parts: [Vec3::ZERO; handrig::contact::hands::PARTS],
+                    image_parts: None,
                     cue: None,
                 };
                 let mut targets = [
@@ -1120,6 +1122,8 @@ fn the_contact_correction_changes_at_most_max_speed() {
             user_palm: 0.09,
             avatar_palm: 0.08,
             image_tip: None,
+            user_parts: [Vec3::splat(9.0); handrig::contact::hands::PARTS],
+            image_parts: None,
             cue: None,
         };
         let mut targets = [

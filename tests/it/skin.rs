@@ -385,3 +385,111 @@ fn a_hand_lost_in_a_touch_stays_against_the_other() {
         }
     }
 }
+
+/// Face contact by the hand part nearest the face: a fist whose index knuckle is on the user's
+/// forehead while every fingertip is more than the contact radius from the face (the curled
+/// fingers of `brother`). On a rig with a skin the knuckle decides: full blend, the forehead
+/// anchor, and the hand lands with its knuckle sphere resting on the skin at the avatar's
+/// forehead. The same hand a head breadth off the face is left alone.
+#[test]
+fn a_knuckle_on_the_forehead_lands_the_fist() {
+    use handrig::bones::{Finger, Side};
+    use handrig::contact::face::{FaceFrame, FacePoints, CANONICAL_ANCHORS, CANONICAL_EYES};
+    use handrig::contact::hands::PARTS;
+    use handrig::contact::{
+        ContactOptions, ContactSolver, FaceAnchor, HandPoints, SideTarget, Source, UserFace,
+        UserFaces, POINTS,
+    };
+    let (skel, center, _) = fixture();
+    let skel = skel.clone().with_skin(synthetic(&skel, center));
+    let solver = ContactSolver::new(&skel, &ContactOptions::default());
+    let surface = solver.surface().expect("a skin");
+    let world = rest_world(&skel);
+    // The user's face: the canonical face, 16 cm head breadth, somewhere in tracker space.
+    let frame = FaceFrame {
+        origin: Vec3::new(0.3, 1.5, 0.4),
+        rotation: Quat::from_rotation_y(0.3),
+        size: 0.16,
+    };
+    let w = |c: Vec3| Some(frame.to_world(c));
+    let user = UserFace::from_points(&FacePoints {
+        nose: w(CANONICAL_ANCHORS[0]),
+        eyes: CANONICAL_EYES.map(w),
+        ears: [w(CANONICAL_ANCHORS[5]), w(CANONICAL_ANCHORS[6])],
+        mouth: w(CANONICAL_ANCHORS[2]),
+    })
+    .unwrap();
+    let faces = UserFaces {
+        tracker: Some(user),
+        ..UserFaces::default()
+    };
+    let forehead = solver.anchor_world(FaceAnchor::Forehead, &world);
+    let knuckle = 3 * Finger::Index.index(); // the index finger's proximal joint
+    let s = Side::Right.index();
+    for off_face in [0.0, 0.16] {
+        // User: the index knuckle on the forehead (or a head breadth in front of it), every
+        // other landmark 12 cm or more in front of the face.
+        let user_knuckle = frame.to_world(CANONICAL_ANCHORS[FaceAnchor::Forehead.index()])
+            + frame.rotation * Vec3::Z * off_face;
+        let away = frame.rotation * Vec3::Z * 0.12;
+        let mut user_parts = [user_knuckle + away; PARTS];
+        user_parts[4 * Finger::Index.index()] = user_knuckle;
+        // Avatar: the knuckle 8 cm from the wrist, the fingertips curled 3 cm behind it.
+        let mut joints = [Some(Vec3::new(0.0, 0.0, -0.06)); 15];
+        joints[knuckle] = Some(Vec3::new(0.0, 0.0, -0.08));
+        let mut avatar = [Some(Vec3::new(0.0, -0.03, -0.05)); POINTS];
+        avatar[0] = Some(Vec3::new(0.0, 0.0, -0.04));
+        let hand = HandPoints {
+            source: Source::Tracker,
+            user: [user_knuckle + away; POINTS],
+            avatar,
+            joints,
+            user_palm: 0.09,
+            avatar_palm: 0.08,
+            image_tip: None,
+            user_parts,
+            image_parts: None,
+            cue: None,
+        };
+        // The plain target: the hand 25 cm in front of the avatar's forehead.
+        let plain = forehead + Vec3::new(0.0, 0.0, 0.33);
+        let mut targets = [
+            None,
+            Some(SideTarget {
+                wrist: plain,
+                hand: Some(hand),
+            }),
+        ];
+        let mut reports = [None, None];
+        solver.solve(
+            [Finger::Index; 2],
+            &faces,
+            &world,
+            &mut targets,
+            &mut reports,
+            &mut handrig::contact::ContactRate::default(),
+        );
+        let r = reports[s].unwrap();
+        let wrist = targets[s].unwrap().wrist;
+        if off_face > 0.0 {
+            assert_eq!(r.weight, 0.0, "a head breadth off the face: {r:?}");
+            assert!((wrist - plain).length() < 1e-6, "moved {}", wrist - plain);
+            continue;
+        }
+        assert_eq!(r.anchor, Some(FaceAnchor::Forehead));
+        assert!(r.weight > 0.999, "blend {}", r.weight);
+        // The knuckle's sphere rests on the skin, at the forehead anchor.
+        let at = wrist + joints[knuckle].unwrap();
+        let mut only = [false; MAP_BONES.len()];
+        only[skin::HEAD_MAP] = true;
+        let (d, _, _) = surface
+            .depth(at, surface.palm_half[s], &world, only)
+            .expect("the head map");
+        assert!(d.abs() < 0.002, "knuckle sphere depth {d}");
+        assert!(
+            (at - forehead).length() < surface.palm_half[s] + 0.01,
+            "knuckle {:.1} mm from the forehead anchor",
+            (at - forehead).length() * 1e3
+        );
+    }
+}
