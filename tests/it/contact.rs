@@ -546,6 +546,38 @@ fn rig_unlimited(skel: &Skeleton, contact: ContactOptions) -> Rig {
     Rig::new(skel.clone(), options).unwrap()
 }
 
+/// One side's contact this frame: `hand` with its wrist target at `wrist` on `side` (the other
+/// side without a target), solved by `solver` with `rate`'s history. Returns the moved wrist
+/// target and the report.
+pub(crate) fn solve_one(
+    solver: &ContactSolver,
+    faces: &UserFaces,
+    world: &WorldPose,
+    side: Side,
+    wrist: Vec3,
+    hand: HandPoints,
+    rate: &mut handrig::contact::ContactRate,
+) -> (Vec3, handrig::contact::ContactReport) {
+    let mut targets = [None, None];
+    targets[side.index()] = Some(SideTarget {
+        wrist,
+        hand: Some(hand),
+    });
+    let mut reports = [None, None];
+    solver.solve(
+        [Finger::Index; 2],
+        faces,
+        world,
+        &mut targets,
+        &mut reports,
+        rate,
+    );
+    (
+        targets[side.index()].expect("a target").wrist,
+        reports[side.index()].expect("a report"),
+    )
+}
+
 /// The mapping on a rotated avatar head (the head bone turned 45 degrees about each axis, as
 /// the torso stage will turn it): the warped fingertip lands on the turned anchor.
 #[test]
@@ -593,24 +625,16 @@ fn a_turned_avatar_head_carries_its_anchors() {
                     image_parts: None,
                     cue: None,
                 };
-                let mut targets = [
-                    Some(SideTarget {
-                        wrist: Vec3::new(0.2, 1.3, 0.3),
-                        hand: Some(points),
-                    }),
-                    None,
-                ];
-                let mut reports = [None, None];
-                solver.solve(
-                    [Finger::Index; 2],
+                let (wrist, report) = solve_one(
+                    &solver,
                     &faces,
                     &world,
-                    &mut targets,
-                    &mut reports,
+                    Side::Left,
+                    Vec3::new(0.2, 1.3, 0.3),
+                    points,
                     &mut handrig::contact::ContactRate::default(),
                 );
-                let t = targets[0].unwrap();
-                let tip = t.wrist + tip_offset * 0.8;
+                let tip = wrist + tip_offset * 0.8;
                 // Colliders may not push a fingertip off an anchor; the user-side estimate
                 // of unmeasured anchors is within 5 mm (as in the pipeline test).
                 assert!(
@@ -618,7 +642,7 @@ fn a_turned_avatar_head_carries_its_anchors() {
                     "{a:?}: {:.2} mm",
                     (tip - anchor).length() * 1e3
                 );
-                assert_eq!(reports[0].unwrap().anchor, Some(a));
+                assert_eq!(report.anchor, Some(a));
             }
         }
     }
@@ -1126,23 +1150,7 @@ fn the_contact_correction_changes_at_most_max_speed() {
             image_parts: None,
             cue: None,
         };
-        let mut targets = [
-            Some(SideTarget {
-                wrist,
-                hand: Some(points),
-            }),
-            None,
-        ];
-        let mut reports = [None, None];
-        solver.solve(
-            [Finger::Index; 2],
-            &faces,
-            &world,
-            &mut targets,
-            &mut reports,
-            rate,
-        );
-        targets[0].unwrap().wrist - wrist
+        solve_one(&solver, &faces, &world, Side::Left, wrist, points, rate).0 - wrist
     };
     let away = head.anchor(a) + Vec3::new(0.0, 0.0, 0.5);
     let on = head.anchor(a);

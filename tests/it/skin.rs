@@ -397,8 +397,7 @@ fn a_knuckle_on_the_forehead_lands_the_fist() {
     use handrig::contact::face::{FaceFrame, FacePoints, CANONICAL_ANCHORS, CANONICAL_EYES};
     use handrig::contact::hands::PARTS;
     use handrig::contact::{
-        ContactOptions, ContactSolver, FaceAnchor, HandPoints, SideTarget, Source, UserFace,
-        UserFaces, POINTS,
+        ContactOptions, ContactSolver, FaceAnchor, HandPoints, Source, UserFace, UserFaces, POINTS,
     };
     let (skel, center, _) = fixture();
     let skel = skel.clone().with_skin(synthetic(&skel, center));
@@ -453,24 +452,15 @@ fn a_knuckle_on_the_forehead_lands_the_fist() {
         };
         // The plain target: the hand 25 cm in front of the avatar's forehead.
         let plain = forehead + Vec3::new(0.0, 0.0, 0.33);
-        let mut targets = [
-            None,
-            Some(SideTarget {
-                wrist: plain,
-                hand: Some(hand),
-            }),
-        ];
-        let mut reports = [None, None];
-        solver.solve(
-            [Finger::Index; 2],
+        let (wrist, r) = crate::contact::solve_one(
+            &solver,
             &faces,
             &world,
-            &mut targets,
-            &mut reports,
+            Side::Right,
+            plain,
+            hand,
             &mut handrig::contact::ContactRate::default(),
         );
-        let r = reports[s].unwrap();
-        let wrist = targets[s].unwrap().wrist;
         if off_face > 0.0 {
             assert_eq!(r.weight, 0.0, "a head breadth off the face: {r:?}");
             assert!((wrist - plain).length() < 1e-6, "moved {}", wrist - plain);
