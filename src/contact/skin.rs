@@ -579,7 +579,7 @@ fn hand_thickness(
         if v.len() < 8 {
             return None;
         }
-        v.sort_by(f32::total_cmp);
+        v.sort_unstable_by(f32::total_cmp);
         Some(v[v.len() * 3 / 4])
     };
     let f = median(&mut finger)?;
