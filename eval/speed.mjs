@@ -5,7 +5,9 @@
 // `Hand.solve` for every tracked hand.
 //
 //   make pkg && npm ci --prefix eval     # once
-//   node eval/speed.mjs [--passes N] [--warmup W] [--json] [--pkg DIR]   (DIR: a built package, default pkg/)
+//   node eval/speed.mjs [--passes N] [--warmup W] [--json] [--pkg DIR] [--avatar FILE]
+//   (DIR: a built package, default pkg/; FILE: a .vrm, default the robot. A generated avatar
+//   with its skin, e.g. tests/fixtures/avatars/woman-vrm1.vrm, times self-contact on the skin)
 //
 // Frames:
 // - full frame: the four sign-language clips ../shared/data/asl/*.json (250 frames, pose and
@@ -59,7 +61,8 @@ const passes = Number(arg("--passes", 5));
 const warmup = Number(arg("--warmup", 20));
 const json = process.argv.includes("--json");
 
-const robot = readFileSync(`${shared}/avatars/debug-robot.vrm`);
+// The avatar (named `robot` below: the default).
+const robot = readFileSync(arg("--avatar", `${shared}/avatars/debug-robot.vrm`));
 const handFrames = JSON.parse(readFileSync(`${shared}/data/hands/right-hand-video-mediapipe.json`, "utf8"));
 const aslFrames = readAslFrames(shared);
 // Kalidokit's inputs: {x, y, z(, visibility)} objects, converted once (not timed).

@@ -6,6 +6,8 @@
 //! cargo run --release --example profile_frame [-- SECONDS]      (default 3 s)
 //! cargo run --release --example profile_frame -- --passes N      (N passes over the 250 frames)
 //! HANDRIG_OPTIONS='{"contact":{"enabled":false}}' cargo run ...    (options as the JS API takes them)
+//! HANDRIG_AVATAR=tests/fixtures/avatars/woman-vrm1.vrm cargo run ...  (another avatar: a
+//!                                     generated one times self-contact on its skin)
 //! ```
 //!
 //! Under `perf record` for a profile; `--passes` under `valgrind --tool=callgrind` for an
@@ -21,7 +23,9 @@ fn main() {
         [s] => (s.parse().expect("SECONDS"), usize::MAX),
         _ => (3.0, usize::MAX),
     };
-    let skeleton = recordings::vrm(recordings::ROBOT);
+    let skeleton = recordings::vrm(
+        &std::env::var("HANDRIG_AVATAR").unwrap_or_else(|_| recordings::ROBOT.to_string()),
+    );
     let frames: Vec<FrameInput> = recordings::ASL
         .iter()
         .flat_map(|c| recordings::asl(c))
