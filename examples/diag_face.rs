@@ -40,13 +40,7 @@ fn main() {
         println!("| clip | frame | label | blend | anchor | tip-anchor mm | align err mm | reachable | head gap mm (est.) |");
         let (mut n, mut near, mut none_near, mut deep) = (0, 0, 0, 0);
         for clip in ["again", "brother", "eat", "please", "sister", "thanks"] {
-            let labels: serde_json::Value = serde_json::from_str(
-                &std::fs::read_to_string(recordings::path(&format!(
-                    "eval/labels/contact-{clip}.json"
-                )))
-                .unwrap(),
-            )
-            .unwrap();
+            let labels = recordings::contact_labels(clip);
             let frames = recordings::asl(&format!("../shared/data/asl/{clip}.json"));
             rig.reset();
             for (i, f) in frames.iter().enumerate() {

@@ -546,6 +546,27 @@ fn rig_unlimited(skel: &Skeleton, contact: ContactOptions) -> Rig {
     Rig::new(skel.clone(), options).unwrap()
 }
 
+/// A tracker hand whose only known points are the index fingertip: the user's at `user_tip`,
+/// the avatar's `avatar_tip` from the wrist target (everything else far away or unknown).
+fn tip_only(user_tip: Vec3, avatar_tip: Vec3) -> HandPoints {
+    let mut user = [Vec3::splat(9.0); POINTS];
+    user[2] = user_tip;
+    let mut avatar = [None; POINTS];
+    avatar[2] = Some(avatar_tip);
+    HandPoints {
+        source: Source::Tracker,
+        user,
+        avatar,
+        joints: [None; 15],
+        user_palm: 0.09,
+        avatar_palm: 0.08,
+        image_tip: None,
+        user_parts: [Vec3::splat(9.0); handrig::contact::hands::PARTS],
+        image_parts: None,
+        cue: None,
+    }
+}
+
 /// One side's contact this frame: `hand` with its wrist target at `wrist` on `side` (the other
 /// side without a target), solved by `solver` with `rate`'s history. Returns the moved wrist
 /// target and the report.
@@ -609,22 +630,7 @@ fn a_turned_avatar_head_carries_its_anchors() {
                 let h = B::Head.index();
                 let center = world.position[h] + world.rotation[h] * center;
                 let tip_offset = -(anchor - center).normalize() * 0.17 / 0.8;
-                let mut user = [Vec3::splat(9.0); POINTS];
-                user[2] = head.anchor(a);
-                let mut avatar = [None; POINTS];
-                avatar[2] = Some(tip_offset * 0.8);
-                let points = HandPoints {
-                    source: Source::Tracker,
-                    user,
-                    avatar,
-                    joints: [None; 15],
-                    user_palm: 0.09,
-                    avatar_palm: 0.08,
-                    image_tip: None,
-                    user_parts: [Vec3::ZERO; handrig::contact::hands::PARTS],
-                    image_parts: None,
-                    cue: None,
-                };
+                let points = tip_only(head.anchor(a), tip_offset * 0.8);
                 let (wrist, report) = solve_one(
                     &solver,
                     &faces,
@@ -1134,22 +1140,7 @@ fn the_contact_correction_changes_at_most_max_speed() {
     let wrist = Vec3::new(0.25, 1.2, 0.45);
     // The user's fingertip: half a meter off the face (no contact), then on the chin.
     let solve = |user_tip: Vec3, rate: &mut handrig::contact::ContactRate| {
-        let mut user = [Vec3::splat(9.0); POINTS];
-        user[2] = user_tip;
-        let mut avatar = [None; POINTS];
-        avatar[2] = Some(tip_offset);
-        let points = HandPoints {
-            source: Source::Tracker,
-            user,
-            avatar,
-            joints: [None; 15],
-            user_palm: 0.09,
-            avatar_palm: 0.08,
-            image_tip: None,
-            user_parts: [Vec3::splat(9.0); handrig::contact::hands::PARTS],
-            image_parts: None,
-            cue: None,
-        };
+        let points = tip_only(user_tip, tip_offset);
         solve_one(&solver, &faces, &world, Side::Left, wrist, points, rate).0 - wrist
     };
     let away = head.anchor(a) + Vec3::new(0.0, 0.0, 0.5);

@@ -222,13 +222,7 @@ fn chest_contact_follows_the_visual_labels() {
     let mut out = handrig::SolveOutput::default();
     let (mut chest, mut chest_hit, mut other, mut other_hit) = (0, 0, 0, 0);
     for clip in ["again", "brother", "eat", "please", "sister", "thanks"] {
-        let labels: serde_json::Value = serde_json::from_str(
-            &std::fs::read_to_string(recordings::path(&format!(
-                "eval/labels/contact-{clip}.json"
-            )))
-            .unwrap(),
-        )
-        .unwrap();
+        let labels = recordings::contact_labels(clip);
         let frames = recordings::asl(&format!("../shared/data/asl/{clip}.json"));
         rig.reset();
         for (i, f) in frames.iter().enumerate() {

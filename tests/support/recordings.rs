@@ -193,6 +193,14 @@ pub fn read_asl(path: &Path) -> Result<Vec<FrameInput>, String> {
 }
 
 /// The ASL clip at `relative` (panics if it is unreadable).
+/// The visual contact labels of a shared ASL clip (`eval/labels/contact-<clip>.json`: per side
+/// and frame `face`, `chest`, `hand`, `none` or `unsure`).
+#[allow(dead_code)]
+pub fn contact_labels(clip: &str) -> Value {
+    read_json(&path(&format!("eval/labels/contact-{clip}.json")))
+        .unwrap_or_else(|e| panic!("contact labels of {clip}: {e}"))
+}
+
 pub fn asl(relative: &str) -> Vec<FrameInput> {
     read_asl(&path(relative)).unwrap_or_else(|e| panic!("{e}"))
 }
