@@ -50,6 +50,8 @@ struct Turn {
     /// Which bone turned most: 0 upper arm, 1 forearm, 2 hand.
     bone: usize,
     input: f32,
+    /// The turn limit (`arm.maxTurnSpeed`) slowed this side's arm this frame.
+    limited: bool,
 }
 
 fn angle(a: Quat, b: Quat) -> f32 {
@@ -176,7 +178,9 @@ fn run(
         let mut out = SolveOutput::default();
         let mut last: [Option<([Quat; 3], Quat)>; 2] = [None, None];
         for (i, f) in frames.iter().enumerate() {
+            let before = Side::BOTH.map(|s| rig.turns_limited(s));
             rig.solve(f, &mut out).unwrap();
+            let slowed = Side::BOTH.map(|s| rig.turns_limited(s) > before[s.index()]);
             let mut o = out.clone();
             o.turn_to_internal_frame(version);
             if std::env::var("TURNS_TRACE").is_ok_and(|c| c == *name) && avatar == recordings::ROBOT
@@ -216,6 +220,7 @@ fn run(
                         avatar,
                         bone,
                         input: angle(ia, ib),
+                        limited: slowed[side.index()],
                     });
                 }
                 last[side.index()] = now;
@@ -273,6 +278,24 @@ fn figures(v: &[f32]) -> Value {
         "median": median(v.to_vec()),
         "max": v.iter().copied().fold(0.0, f32::max),
     })
+}
+
+/// The side-frames the turn limit slowed, per data set (`asl`, `video`), with the ASL ones
+/// listed as `clip:frame side`.
+fn limited_frames(turns: &[Turn]) -> Value {
+    let asl: Vec<String> = turns
+        .iter()
+        .filter(|t| t.limited && t.clip != "hand-video")
+        .map(|t| {
+            let side = if t.side == Side::Right { "right" } else { "left" };
+            format!("{}:{} {side} (input {:.0})", t.clip, t.frame, t.input)
+        })
+        .collect();
+    let video = turns
+        .iter()
+        .filter(|t| t.limited && t.clip == "hand-video")
+        .count();
+    json!({ "asl": asl, "video": video })
 }
 
 fn main() {
@@ -334,7 +357,7 @@ fn main() {
                 .map(|t| {
                     json!({ "avatar": name, "clip": t.clip, "frame": t.frame,
                         "side": if t.side == Side::Right { "right" } else { "left" },
-                        "avatar_turn": t.avatar, "input_turn": t.input,
+                        "avatar_turn": t.avatar, "input_turn": t.input, "limited": t.limited,
                         "bone": BONES[t.bone] })
                 })
                 .collect();
@@ -347,6 +370,7 @@ fn main() {
         rows.push(json!({
             "avatar": name,
             "asl": figures(&pick(true, &|t| t.avatar)),
+            "limited": limited_frames(&turns),
             "video": figures(&pick(false, &|t| t.avatar)),
             "palm": { "agree": agree, "labelled": total, "misses": misses },
         }));
@@ -402,6 +426,21 @@ fn print_table(r: &Value) {
             p["labelled"]
         );
     }
+    println!("\nSide-frames slowed by the turn limit (arm.maxTurnSpeed): ASL clips / hand video");
+    for a in r["avatars"].as_array().unwrap() {
+        let l = &a["limited"];
+        let asl = l["asl"].as_array().unwrap();
+        println!(
+            "  {:<20} {} / {}: {}",
+            a["avatar"].as_str().unwrap(),
+            asl.len(),
+            l["video"],
+            asl.iter()
+                .map(|v| v.as_str().unwrap())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     println!("\nHand selection, side-frames resolved (left / right):");
     for (title, key) in [("ASL clips (6)", "asl"), ("hand video", "video")] {
         let c = &r["selection"][key];
@@ -417,13 +456,18 @@ fn print_table(r: &Value) {
         println!("\nLargest avatar turns ({title}):");
         for w in r[key].as_array().unwrap() {
             println!(
-                "  {}:{} {} {} avatar {:.1} input {:.1}",
+                "  {}:{} {} {} avatar {:.1} input {:.1}{}",
                 w["clip"].as_str().unwrap(),
                 w["frame"],
                 w["side"].as_str().unwrap(),
                 w["bone"].as_str().unwrap(),
                 w["avatar_turn"].as_f64().unwrap(),
-                w["input_turn"].as_f64().unwrap()
+                w["input_turn"].as_f64().unwrap(),
+                if w["limited"].as_bool() == Some(true) {
+                    " (slowed)"
+                } else {
+                    ""
+                }
             );
         }
     }

@@ -21,6 +21,8 @@ export interface HandRigOptions {
     forearmTwist?: number;
     /** Clamp wrist flexion (80°), extension (70°), radial (20°) and ulnar (40°) deviation against the forearm; the hand turns about the aligned fingertip, so alignment stays exact. (boolean, default `true`.) */
     wristLimits?: boolean;
+    /** How fast (radians per second) the upper arm, forearm and hand may turn: a faster turn (MediaPipe's hand flipping, a target jumping) is shown over a few frames. 0 = no limit. (number in 0..1000, default `30`.) */
+    maxTurnSpeed?: number;
   };
   /** Fingertip alignment (seeds 000/001). `false` / `true` sets `enabled`. */
   alignment?:
@@ -48,6 +50,8 @@ export interface HandRigOptions {
   minHandScore?: number;
   /** A hand whose label contradicts the pose wrists (needs hand and pose image landmarks): reassign = drives the side the pose says; drop = ignored; trust = MediaPipe's label decides. (one of `"reassign"`, `"drop"`, `"trust"`, default `"reassign"`.) */
   handedness?: "reassign" | "drop" | "trust";
+  /** A hand whose 3D landmarks are mirrored (palm depth flipped) or whose knuckles cross the image's: hold = the last good hand is held for up to 3 frames; image = solved from its image landmarks when those look right, else held. (one of `"hold"`, `"image"`, default `"hold"`.) */
+  mirroredHands?: "hold" | "image";
   /** One Euro filtering of the landmarks. `false` / `true` sets `enabled`. */
   filter?:
     | boolean

@@ -58,6 +58,8 @@ pub struct RigOptions {
     pub min_hand_score: f32,
     /// What to do with a hand whose label contradicts the pose.
     pub handedness: HandednessPolicy,
+    /// What to do with a hand the checks find mirrored (`src/hand/flip.rs`).
+    pub mirrored_hands: MirroredHands,
     /// One Euro filtering of the landmarks.
     pub filter: FilterOptions,
     /// Holding and easing over tracking loss.
@@ -82,6 +84,19 @@ pub enum HandednessPolicy {
     Drop,
     /// `"trust"`: MediaPipe's label decides (no pose check).
     Trust,
+}
+
+/// What the rig does with a tracked hand whose world landmarks the hand checks find mirrored
+/// or crossed (JS: `options.mirroredHands`; `docs/hands-on-video.md`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MirroredHands {
+    /// `"hold"`: the side's last solved hand is held, for at most 3 frames in a row, then the
+    /// tracked hand is taken as it is. The default: on the sign-language clips the image
+    /// landmarks of the hands that fail are wrong too as often as not.
+    Hold,
+    /// `"image"`: solved from the hand's image landmarks instead when those pass the chirality
+    /// check (their depth is another estimate), else held.
+    Image,
 }
 
 /// An enum option: its JS names, in the order the option lists them.
@@ -122,6 +137,7 @@ option_enum! {
     AlignPoint { Dip = "dip", Tip = "tip" }
     Finger { Thumb = "thumb", Index = "index", Middle = "middle", Ring = "ring", Little = "little" }
     HandednessPolicy { Reassign = "reassign", Drop = "drop", Trust = "trust" }
+    MirroredHands { Hold = "hold", Image = "image" }
     TorsoSource { Off = "off", Frame = "frame", Pose = "pose" }
 }
 
@@ -152,6 +168,7 @@ impl RigOptions {
             shoulder_reach: 0.0,
             forearm_twist: 0.0,
             wrist_limits: false,
+            max_turn_speed: 0.0,
         },
         calibration: CalibrationOptions {
             body_scale: None,
@@ -160,6 +177,7 @@ impl RigOptions {
         },
         min_hand_score: 0.0,
         handedness: HandednessPolicy::Reassign,
+        mirrored_hands: MirroredHands::Hold,
         filter: FilterOptions {
             enabled: false,
             min_cutoff: 0.0,
@@ -239,8 +257,8 @@ impl RigOptions {
         Ok(())
     }
 
-    /// The defaults with no filtering, no dropout easing and no limit on how fast contact
-    /// moves a hand: every frame is solved on its own, exactly from its input (offline
+    /// The defaults with no filtering, no dropout easing, no limit on how fast contact moves a
+    /// hand and none on how fast an arm turns: every frame is solved on its own, exactly from its input (offline
     /// processing, evaluations, tests with exact answers).
     #[must_use]
     pub fn per_frame() -> Self {
@@ -248,6 +266,7 @@ impl RigOptions {
         o.filter.enabled = false;
         o.dropout.enabled = false;
         o.contact.max_speed = 0.0;
+        o.arm.max_turn_speed = 0.0;
         o
     }
 

@@ -9,7 +9,9 @@ use crate::hand::HandStrategy;
 use crate::ik::ArmSolver;
 use crate::torso::TorsoSource;
 
-use super::{HandednessPolicy, OptionDescription, OptionEnum, OptionKind, RigOptions};
+use super::{
+    HandednessPolicy, MirroredHands, OptionDescription, OptionEnum, OptionKind, RigOptions,
+};
 use crate::align::AlignPoint;
 use crate::bones::Finger;
 
@@ -199,6 +201,8 @@ pub static OPTIONS: &[OptionSpec] = &[
         "Share of the hand's twist about the forearm that the forearm takes (the rest stays at the wrist)."),
     flag!("arm.wristLimits", arm.wrist_limits, true,
         "Clamp wrist flexion (80°), extension (70°), radial (20°) and ulnar (40°) deviation against the forearm; the hand turns about the aligned fingertip, so alignment stays exact."),
+    number!("arm.maxTurnSpeed", arm.max_turn_speed, 0.0, 1000.0, 1.0, 30.0,
+        "How fast (radians per second) the upper arm, forearm and hand may turn: a faster turn (MediaPipe's hand flipping, a target jumping) is shown over a few frames. 0 = no limit."),
     flag!("alignment.enabled", alignment.enabled, true,
         "Fingertip alignment: place the wrist so the avatar's finger lands where the user's is."),
     choice!("alignment.finger", alignment.finger: Finger, "index", "Which finger is aligned. On an avatar without its distal bone, its deepest bone, another finger or the palm stands in (reported in alignment.<side>.finger and .bone; docs/alignment-ik.md)."),
@@ -217,6 +221,8 @@ pub static OPTIONS: &[OptionSpec] = &[
         "Hands whose handedness score is below this are ignored."),
     choice!("handedness", handedness: HandednessPolicy, "reassign",
         "A hand whose label contradicts the pose wrists (needs hand and pose image landmarks): reassign = drives the side the pose says; drop = ignored; trust = MediaPipe's label decides."),
+    choice!("mirroredHands", mirrored_hands: MirroredHands, "hold",
+        "A hand whose 3D landmarks are mirrored (palm depth flipped) or whose knuckles cross the image's: hold = the last good hand is held for up to 3 frames; image = solved from its image landmarks when those look right, else held."),
     flag!("filter.enabled", filter.enabled, true,
         "One Euro filtering of the landmarks (hands, pose, tracker wrists) before solving; alignment and IK stay exact on the filtered data."),
     number!("filter.minCutoff", filter.min_cutoff, 0.05, 1000.0, 0.05, 1.5,

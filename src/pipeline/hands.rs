@@ -9,6 +9,7 @@ use crate::bones::Side;
 use crate::hand::flip::{chirality, image_agreement, image_hand, MIRRORED};
 use crate::hand::{HandStatus, HandStrategy};
 use crate::mediapipe::{FrameInput, HandObservation, HAND_LANDMARKS};
+use crate::options::MirroredHands;
 
 use super::select::Pick;
 use super::{Rig, SolveOutput, TrackedHand};
@@ -107,8 +108,9 @@ impl Rig {
     /// The hand checks (see [`crate::hand::flip`]) on this frame's mapped landmarks
     /// (`scratch.landmarks`, replaced by the image's hand when that is the better witness):
     /// a world hand that is mirrored ([`chirality`] below [`MIRRORED`]) or whose knuckle line
-    /// points against the image's ([`image_agreement`] negative) is replaced by the image
-    /// landmarks when those have the right chirality, else held; at most [`MAX_HELD_FRAMES`]
+    /// points against the image's ([`image_agreement`] negative) is held (with
+    /// `mirroredHands: "image"`, replaced by the image landmarks when those have the right
+    /// chirality, else held); at most [`MAX_HELD_FRAMES`]
     /// in a row are held, then the tracked hand is taken as it is (re-acquired).
     fn check_hand(&mut self, side: Side, h: &HandObservation, turn: Quat) -> HandCheck {
         let camera = self.options.camera();
@@ -122,7 +124,11 @@ impl Rig {
         if mirrored || crossed {
             check = HandCheck::Mirrored;
             let mut raw = [Vec3::ZERO; HAND_LANDMARKS];
-            if let Some(im) = &h.image {
+            let image = h
+                .image
+                .as_ref()
+                .filter(|_| self.options.mirrored_hands == MirroredHands::Image);
+            if let Some(im) = image {
                 if image_hand(&h.world, im, &mut raw) {
                     let mut mapped = [Vec3::ZERO; HAND_LANDMARKS];
                     for (dst, src) in mapped.iter_mut().zip(raw.iter()) {

@@ -32,6 +32,8 @@
 //!    shoulder to the torso's rotation of it); returning ones blend in
 //!    ([`crate::filter::dropout`]), but a hand returning into a touch shows its solve at once;
 //!    rotations keep their hemisphere;
+//!    8b. **turn limit** (`Rig::limit_turns`, `limit.rs`): an arm turning faster than
+//!    `arm.maxTurnSpeed` is slowed to it, its three bones by the same fraction;
 //! 9. **report** (`Rig::report`): forward kinematics of the whole avatar, its fingertips,
 //!    the retargeting reports.
 //!
@@ -39,6 +41,7 @@
 
 mod ease;
 mod hands;
+mod limit;
 mod observe;
 mod output;
 mod reach;
@@ -59,7 +62,7 @@ use crate::hand::HandSolver;
 use crate::ik::ArmSolverState;
 use crate::input::validate::validate_frame;
 use crate::mediapipe::{FrameInput, PoseObservation, HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS};
-pub use crate::options::{HandednessPolicy, RigOptions};
+pub use crate::options::{HandednessPolicy, MirroredHands, RigOptions};
 use crate::skeleton::Skeleton;
 use crate::torso::{TorsoSolver, TorsoSource, BODY_JOINT_COUNT, TORSO_BONES};
 
@@ -110,6 +113,8 @@ pub struct Rig {
     contact_rate: crate::contact::ContactRate,
     /// Each side's touch with the other hand, for holding a lost hand against it (`touch.rs`).
     touch: [touch::TouchHold; 2],
+    /// Each side's arm as shown last frame, for the turn limit (`limit.rs`).
+    turn_limit: [limit::TurnLimit; 2],
     /// This frame's values passed from stage to stage (not history; see [`Scratch`]).
     scratch: Scratch,
 }
@@ -214,7 +219,7 @@ impl Rig {
             selection: select::SelectState::default(),
             contact_rate: crate::contact::ContactRate::default(),
             touch: [touch::TouchHold::default(); 2],
-
+            turn_limit: [limit::TurnLimit::default(); 2],
             scratch: Scratch::default(),
         })
     }
@@ -264,7 +269,7 @@ impl Rig {
         self.selection = select::SelectState::default();
         self.contact_rate = crate::contact::ContactRate::default();
         self.touch = [touch::TouchHold::default(); 2];
-
+        self.turn_limit = [limit::TurnLimit::default(); 2];
         self.scratch.pose = None;
         self.scratch.anchors = [None, None];
         self.scratch.turn = None;
@@ -286,6 +291,13 @@ impl Rig {
     #[must_use]
     pub fn body(&self) -> &BodyMapper {
         &self.body
+    }
+
+    /// How many frames the turn limit (`arm.maxTurnSpeed`) slowed `side`'s arm since the rig
+    /// was made or last reset (a new session, a seek or a long gap also resets it).
+    #[must_use]
+    pub fn turns_limited(&self, side: Side) -> u32 {
+        self.turn_limit[side.index()].limited()
     }
 
     /// The arm solvers (which method, last iteration counts).
@@ -433,7 +445,8 @@ impl Rig {
             self.reach_target(side, plans[side.index()], out);
         }
         let eased = self.ease(frame.time_ms, out);
-        self.report(eased, out);
+        let slowed = self.limit_turns(dt, out);
+        self.report([0, 1].map(|s| eased[s] || slowed[s]), out);
     }
 
     /// Converts a rotation from the internal frame (the [`Skeleton`]'s, the contact model's,

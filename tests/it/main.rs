@@ -33,5 +33,6 @@ mod rig;
 mod skin;
 mod skin_file;
 mod torso;
+mod turn_limit;
 mod vrm;
 mod wrist_limits;

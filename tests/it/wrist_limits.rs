@@ -39,11 +39,13 @@ fn angle(a: Quat, b: Quat) -> f32 {
 
 /// Default options with `solver`, the limits on or off, `mirror`, and no dropout easing (a
 /// returning hand blends in over a few frames, so what is shown would differ from the solve
-/// the reports describe), nor self-contact (it moves targets near the face, body and other
+/// the reports describe), no turn limit (for the same reason, on MediaPipe's flips), nor
+/// self-contact (it moves targets near the face, body and other
 /// hand, and turns a limited hand about the touching point: see `tests/it/contact.rs`).
 fn options(solver: ArmSolver, limits: bool, mirror: bool) -> RigOptions {
     let mut o = RigOptions::default();
     o.dropout.enabled = false;
+    o.arm.max_turn_speed = 0.0;
     o.contact.enabled = false;
     o.arm_solver = solver;
     o.arm.wrist_limits = limits;

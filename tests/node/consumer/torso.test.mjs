@@ -66,7 +66,9 @@ describe("frame.torso: the app's torso", () => {
   const files = [avatars.robot, ...fixtureVrms()];
   for (const file of files) {
     it(`${path.basename(file)}: FK of the app's torso + handrig's bones puts the index distal on the target DIP`, () => {
-      const rig = HandRig.fromVrm(readBytes(file), { filter: false, dropout: false });
+      // Every fifth frame of the hand video at 30 fps turns the hand faster than
+      // arm.maxTurnSpeed would show it; this is about the solve's kinematics, so it is off.
+      const rig = HandRig.fromVrm(readBytes(file), { filter: false, dropout: false, arm: { maxTurnSpeed: 0 } });
       const rest = rig.restWorldPositions();
       const torso = appTorso(rig.vrmVersion);
       const driven = rig.drivenBones();

@@ -1,0 +1,103 @@
+//! Stage 8b, **turn limit**: an arm (upper arm, forearm, hand) cannot turn faster than
+//! `arm.maxTurnSpeed`; a faster turn is shown over as many frames as it takes.
+//!
+//! What turns that fast on real video is not the user: MediaPipe's hand flipping its depth for
+//! a frame or two past the hand checks (`hands.rs`), or a wrist target that self-contact moves
+//! 10-20 cm while the elbow is folded (the forearm then swings 90-165 degrees in one frame on
+//! short-armed avatars). Each bone's turn is measured from the shoulder (its local rotation
+//! composed down the arm: the upper arm, upper arm x forearm, upper arm x forearm x hand), as
+//! the avatar shows it. When the largest of the three turns faster than `maxTurnSpeed`, every
+//! bone's local rotation moves from what was shown last frame toward the solve by the same
+//! fraction of its turn (about the turn's axis), the fraction that keeps the sum of the three
+//! local turns (which bounds each composed one) within `maxTurnSpeed x dt`: the arm keeps its
+//! shape (a wrist within its range stays within it) and the next frames catch up. The limit
+//! slows a jump, it never holds one (a hold released later turns by more, measured in
+//! `docs/hands-on-video.md`). The fingers ride on the hand. Only an arm solved in this frame
+//! and the one before is limited (the dropout easing handles tracking coming and going);
+//! applied after the easing, to what is shown; the IK targets in the output stay as solved.
+
+use glam::{Quat, Vec3};
+
+use crate::bones::Side;
+
+use super::{Rig, SolveOutput};
+
+/// One side's arm as shown last frame (local rotations of the upper arm, forearm and hand),
+/// when it was solved there.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub(super) struct TurnLimit {
+    shown: Option<[Quat; 3]>,
+    /// Frames this side was slowed, since the rig was made or reset (diagnostics).
+    limited: u32,
+}
+
+impl TurnLimit {
+    /// The number of frames this side's arm was slowed since the rig was made or reset.
+    pub(super) fn limited(&self) -> u32 {
+        self.limited
+    }
+}
+
+/// The rotation from `a` to `b` (the shorter way) as a unit axis and an angle (radians).
+fn step(a: Quat, b: Quat) -> (Vec3, f32) {
+    let d = a.conjugate() * b;
+    let d = if d.w < 0.0 { -d } else { d };
+    let v = Vec3::new(d.x, d.y, d.z);
+    (v.normalize_or_zero(), 2.0 * v.length().atan2(d.w))
+}
+
+/// `[upper, upper x lower, upper x lower x hand]`.
+fn composed(l: [Quat; 3]) -> [Quat; 3] {
+    let f = l[0] * l[1];
+    [l[0], f, f * l[2]]
+}
+
+impl Rig {
+    /// Stage 8b: slow each side's arm to `arm.maxTurnSpeed` (see the module docs). `dt` is
+    /// the frame's step (`None` on a new session: nothing to compare with). Returns, per
+    /// side, whether it slowed the arm (what is shown then differs from the solve).
+    pub(super) fn limit_turns(&mut self, dt: Option<f32>, out: &mut SolveOutput) -> [bool; 2] {
+        let mut limited = [false; 2];
+        let speed = self.options.arm.max_turn_speed;
+        for side in Side::BOTH {
+            let s = side.index();
+            let [_, upper, lower, hand] = side.arm();
+            let bones = [upper.index(), lower.index(), hand.index()];
+            let now = bones.map(|i| out.local[i]);
+            let state = &mut self.turn_limit[s];
+            let solved = out.solved[upper.index()];
+            let last = state.shown.take();
+            if !solved {
+                continue;
+            }
+            state.shown = Some(now);
+            let (Some(last), Some(dt), true) = (last, dt, speed > 0.0) else {
+                continue;
+            };
+            let allowed = speed * dt;
+            let (was, is) = (composed(last), composed(now));
+            let largest = (0..3).fold(0.0_f32, |m, k| m.max(step(was[k], is[k]).1));
+            if largest <= allowed || !largest.is_finite() {
+                continue;
+            }
+            let steps = [0, 1, 2].map(|k| step(last[k], now[k]));
+            let total: f32 = steps.iter().map(|s| s.1).sum();
+            let t = (allowed / total).min(1.0);
+            for (k, i) in bones.into_iter().enumerate() {
+                if !self.driven[i] {
+                    continue;
+                }
+                let (axis, angle) = steps[k];
+                let q = (last[k] * Quat::from_axis_angle(axis, angle * t)).normalize();
+                // In the hemisphere of the solve's (which the easing kept in last frame's).
+                let q = if q.dot(now[k]) < 0.0 { -q } else { q };
+                out.local[i] = q;
+                self.shown[i] = q;
+            }
+            state.shown = Some(bones.map(|i| out.local[i]));
+            state.limited = state.limited.saturating_add(1);
+            limited[s] = true;
+        }
+        limited
+    }
+}
