@@ -287,7 +287,11 @@ fn limited_frames(turns: &[Turn]) -> Value {
         .iter()
         .filter(|t| t.limited && t.clip != "hand-video")
         .map(|t| {
-            let side = if t.side == Side::Right { "right" } else { "left" };
+            let side = if t.side == Side::Right {
+                "right"
+            } else {
+                "left"
+            };
             format!("{}:{} {side} (input {:.0})", t.clip, t.frame, t.input)
         })
         .collect();

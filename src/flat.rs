@@ -34,15 +34,16 @@ use crate::pipeline::{HandCheck, HandResolved, HandUse, Rig, SolveOutput};
 /// 6: what carries the aligned point (`output.side.alignedBone`) and the tracked hand's
 /// confidence and checks (`output.side.handConfidence`, `output.side.handCheck`); 7: what the
 /// hand selection resolved per side (`output.side.handResolved`), `handReassigned` also set
-/// for a label that jumped or a duplicate moved to a free side.
-pub const VERSION: u32 = 7;
+/// for a label that jumped or a duplicate moved to a free side; 8: `handCheck` without its
+/// `fromImage` code (a mirrored hand is held, `mirrored` is now 1).
+pub const VERSION: u32 = 8;
 
 /// The names of `output.side.handStatus`'s codes, indexed by code (`LAYOUT.handStatus`; 0: no
 /// hand this frame): what the JS result's `hand.status` reads.
 pub const HAND_STATUS_NAMES: [&str; 4] = ["none", "solved", "held", "skipped"];
 
 /// The names of `output.side.handCheck`'s codes (JavaScript's `LAYOUT.handCheck`).
-pub const HAND_CHECK_NAMES: [&str; 3] = ["good", "fromImage", "mirrored"];
+pub const HAND_CHECK_NAMES: [&str; 2] = ["good", "mirrored"];
 
 /// The names of `output.side.handResolved`'s codes (JavaScript's `LAYOUT.handResolved`; 0:
 /// nothing resolved, or no hand).
@@ -694,7 +695,6 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
         buf[at + output::side::HAND_CONFIDENCE] = confidence;
         buf[at + output::side::HAND_CHECK] = match check {
             HandCheck::Good => const { code(&HAND_CHECK_NAMES, "good") },
-            HandCheck::FromImage => const { code(&HAND_CHECK_NAMES, "fromImage") },
             HandCheck::Mirrored => const { code(&HAND_CHECK_NAMES, "mirrored") },
         };
         let resolved = out.hands[s].map_or(HandResolved::None, |h| h.resolved);

@@ -2,7 +2,7 @@
 //! [`crate::pipeline`] (the [`Rig`] and its stages) and [`crate::input`].
 
 pub use crate::input::COORDINATE_LIMIT;
-pub use crate::options::{HandednessPolicy, MirroredHands, RigOptions};
+pub use crate::options::{HandednessPolicy, RigOptions};
 pub use crate::pipeline::{
     HandCheck, HandResolved, HandUse, IkTarget, Rig, SolveOutput, TrackedHand, CONTRADICTION_RATIO,
     DISTINCT_HANDS, MAX_JUMP_FRAMES,

@@ -21,7 +21,7 @@ export interface HandRigOptions {
     forearmTwist?: number;
     /** Clamp wrist flexion (80°), extension (70°), radial (20°) and ulnar (40°) deviation against the forearm; the hand turns about the aligned fingertip, so alignment stays exact. (boolean, default `true`.) */
     wristLimits?: boolean;
-    /** How fast (radians per second) the upper arm, forearm and hand may turn: a faster turn (MediaPipe's hand flipping, a target jumping) is shown over a few frames. 0 = no limit. (number in 0..1000, default `30`.) */
+    /** Fastest turn of an arm or hand (rad/s): a faster one (a tracking flip) is spread over frames. 0 = no limit. (number in 0..1000, default `30`.) */
     maxTurnSpeed?: number;
   };
   /** Fingertip alignment (seeds 000/001). `false` / `true` sets `enabled`. */
@@ -50,8 +50,6 @@ export interface HandRigOptions {
   minHandScore?: number;
   /** A hand whose label contradicts the pose wrists (needs hand and pose image landmarks): reassign = drives the side the pose says; drop = ignored; trust = MediaPipe's label decides. (one of `"reassign"`, `"drop"`, `"trust"`, default `"reassign"`.) */
   handedness?: "reassign" | "drop" | "trust";
-  /** A hand whose 3D landmarks are mirrored (palm depth flipped) or whose knuckles cross the image's: hold = the last good hand is held for up to 3 frames; image = solved from its image landmarks when those look right, else held. (one of `"hold"`, `"image"`, default `"hold"`.) */
-  mirroredHands?: "hold" | "image";
   /** One Euro filtering of the landmarks. `false` / `true` sets `enabled`. */
   filter?:
     | boolean
@@ -102,7 +100,7 @@ export interface HandRigOptions {
         headRadius?: number | null;
         /** MediaPipe pose input: how much the tracked depth between fingertip and face counts (monocular hand depth at the face is off by 15-35 cm); where on the face comes from the image. 1 = as tracked; tracker input always uses its depth. (number in 0..1, default `0.1`.) */
         depthTrust?: number;
-        /** How fast the contact correction of a hand's target (onto the face, chest or other hand) may change, m/s: a touch lands over a few frames instead of jerking the arm when MediaPipe's hand jumps or the nearest face point switches. 0 = no limit. (number in 0..20, default `6`.) */
+        /** How fast (m/s) contact may move a hand's target onto the face, chest or other hand: a touch lands over a few frames instead of jerking the arm. 0 = no limit. (number in 0..20, default `6`.) */
         maxSpeed?: number;
       };
   /** The objective of handStrategy "retarget" (seed 003). */

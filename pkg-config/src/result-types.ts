@@ -109,13 +109,12 @@ export interface TrackedHand {
   /** It drives the side its label does not give: contradicted by the pose wrists (`handedness: "reassign"`), a label that jumped, or a duplicate moved to a free side (see `resolved`). */
   reassigned: boolean;
   /** How far to trust this hand this frame, 0..1 (for fading it): the handedness score times
-   * 1 for a hand that passed the checks, 0.6 for one solved from the image landmarks because
-   * its world landmarks were mirrored, 0.3 for a held hand, 0 when skipped. */
+   * 1 for a hand that passed the checks, 0.3 for a held hand, 0 when skipped. */
   confidence: number;
-  /** What the mirrored-hand checks made of it: "good"; "fromImage": its world landmarks were
-   * mirrored and its image landmarks were solved instead; "mirrored": held (no usable image
-   * landmarks). See docs/hands-on-video.md. */
-  check: "good" | "fromImage" | "mirrored";
+  /** What the mirrored-hand checks made of it: "good"; "mirrored": its world landmarks were
+   * mirrored (palm depth flipped) or crossed the image's knuckle line, and the side's last
+   * solved hand was held. See docs/hands-on-video.md. */
+  check: "good" | "mirrored";
   /** What the hand selection resolved on this side this frame (docs/results.md): null,
    * nothing; "swapped": its label contradicted the pose wrists and it was reassigned here;
    * "jumped": no pose, its label flipped between frames and it was kept on the side it was on;

@@ -58,8 +58,6 @@ pub struct RigOptions {
     pub min_hand_score: f32,
     /// What to do with a hand whose label contradicts the pose.
     pub handedness: HandednessPolicy,
-    /// What to do with a hand the checks find mirrored (`src/hand/flip.rs`).
-    pub mirrored_hands: MirroredHands,
     /// One Euro filtering of the landmarks.
     pub filter: FilterOptions,
     /// Holding and easing over tracking loss.
@@ -84,19 +82,6 @@ pub enum HandednessPolicy {
     Drop,
     /// `"trust"`: MediaPipe's label decides (no pose check).
     Trust,
-}
-
-/// What the rig does with a tracked hand whose world landmarks the hand checks find mirrored
-/// or crossed (JS: `options.mirroredHands`; `docs/hands-on-video.md`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MirroredHands {
-    /// `"hold"`: the side's last solved hand is held, for at most 3 frames in a row, then the
-    /// tracked hand is taken as it is. The default: on the sign-language clips the image
-    /// landmarks of the hands that fail are wrong too as often as not.
-    Hold,
-    /// `"image"`: solved from the hand's image landmarks instead when those pass the chirality
-    /// check (their depth is another estimate), else held.
-    Image,
 }
 
 /// An enum option: its JS names, in the order the option lists them.
@@ -137,7 +122,6 @@ option_enum! {
     AlignPoint { Dip = "dip", Tip = "tip" }
     Finger { Thumb = "thumb", Index = "index", Middle = "middle", Ring = "ring", Little = "little" }
     HandednessPolicy { Reassign = "reassign", Drop = "drop", Trust = "trust" }
-    MirroredHands { Hold = "hold", Image = "image" }
     TorsoSource { Off = "off", Frame = "frame", Pose = "pose" }
 }
 
@@ -177,7 +161,6 @@ impl RigOptions {
         },
         min_hand_score: 0.0,
         handedness: HandednessPolicy::Reassign,
-        mirrored_hands: MirroredHands::Hold,
         filter: FilterOptions {
             enabled: false,
             min_cutoff: 0.0,

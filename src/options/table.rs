@@ -9,9 +9,7 @@ use crate::hand::HandStrategy;
 use crate::ik::ArmSolver;
 use crate::torso::TorsoSource;
 
-use super::{
-    HandednessPolicy, MirroredHands, OptionDescription, OptionEnum, OptionKind, RigOptions,
-};
+use super::{HandednessPolicy, OptionDescription, OptionEnum, OptionKind, RigOptions};
 use crate::align::AlignPoint;
 use crate::bones::Finger;
 
@@ -202,7 +200,7 @@ pub static OPTIONS: &[OptionSpec] = &[
     flag!("arm.wristLimits", arm.wrist_limits, true,
         "Clamp wrist flexion (80°), extension (70°), radial (20°) and ulnar (40°) deviation against the forearm; the hand turns about the aligned fingertip, so alignment stays exact."),
     number!("arm.maxTurnSpeed", arm.max_turn_speed, 0.0, 1000.0, 1.0, 30.0,
-        "How fast (radians per second) the upper arm, forearm and hand may turn: a faster turn (MediaPipe's hand flipping, a target jumping) is shown over a few frames. 0 = no limit."),
+        "Fastest turn of an arm or hand (rad/s): a faster one (a tracking flip) is spread over frames. 0 = no limit."),
     flag!("alignment.enabled", alignment.enabled, true,
         "Fingertip alignment: place the wrist so the avatar's finger lands where the user's is."),
     choice!("alignment.finger", alignment.finger: Finger, "index", "Which finger is aligned. On an avatar without its distal bone, its deepest bone, another finger or the palm stands in (reported in alignment.<side>.finger and .bone; docs/alignment-ik.md)."),
@@ -221,8 +219,6 @@ pub static OPTIONS: &[OptionSpec] = &[
         "Hands whose handedness score is below this are ignored."),
     choice!("handedness", handedness: HandednessPolicy, "reassign",
         "A hand whose label contradicts the pose wrists (needs hand and pose image landmarks): reassign = drives the side the pose says; drop = ignored; trust = MediaPipe's label decides."),
-    choice!("mirroredHands", mirrored_hands: MirroredHands, "hold",
-        "A hand whose 3D landmarks are mirrored (palm depth flipped) or whose knuckles cross the image's: hold = the last good hand is held for up to 3 frames; image = solved from its image landmarks when those look right, else held."),
     flag!("filter.enabled", filter.enabled, true,
         "One Euro filtering of the landmarks (hands, pose, tracker wrists) before solving; alignment and IK stay exact on the filtered data."),
     number!("filter.minCutoff", filter.min_cutoff, 0.05, 1000.0, 0.05, 1.5,
@@ -270,7 +266,7 @@ pub static OPTIONS: &[OptionSpec] = &[
     number!("contact.depthTrust", contact.depth_trust, 0.0, 1.0, 0.05, 0.1,
         "MediaPipe pose input: how much the tracked depth between fingertip and face counts (monocular hand depth at the face is off by 15-35 cm); where on the face comes from the image. 1 = as tracked; tracker input always uses its depth."),
     number!("contact.maxSpeed", contact.max_speed, 0.0, 20.0, 0.1, 6.0,
-        "How fast the contact correction of a hand's target (onto the face, chest or other hand) may change, m/s: a touch lands over a few frames instead of jerking the arm when MediaPipe's hand jumps or the nearest face point switches. 0 = no limit."),
+        "How fast (m/s) contact may move a hand's target onto the face, chest or other hand: a touch lands over a few frames instead of jerking the arm. 0 = no limit."),
     OptionSpec {
         path: "retarget.tipWeights",
         kind: Kind::Numbers { len: 5, min: 0.0, max: 1000.0 },

@@ -6,10 +6,9 @@
 use glam::{Quat, Vec3};
 
 use crate::bones::Side;
-use crate::hand::flip::{chirality, image_agreement, image_hand, MIRRORED};
+use crate::hand::flip::{chirality, image_agreement, MIRRORED};
 use crate::hand::{HandStatus, HandStrategy};
 use crate::mediapipe::{FrameInput, HandObservation, HAND_LANDMARKS};
-use crate::options::MirroredHands;
 
 use super::select::Pick;
 use super::{Rig, SolveOutput, TrackedHand};
@@ -71,10 +70,8 @@ pub enum HandCheck {
     #[default]
     Good,
     /// The world landmarks were mirrored (fingers bending backwards) or their knuckle line
-    /// crossed the image's; the image landmarks, made metric, were solved instead.
-    FromImage,
-    /// Mirrored with no usable image landmarks (absent, or mirrored too): the side's last
-    /// solved hand was held.
+    /// crossed the image's: the side's last solved hand was held (or, after
+    /// [`MAX_HELD_FRAMES`] held frames, the tracked hand taken as it is).
     Mirrored,
 }
 
@@ -90,7 +87,6 @@ impl HandCheck {
 fn confidence(check: HandCheck, status: HandStatus, score: f32) -> f32 {
     let how = match (status, check) {
         (HandStatus::Solved, HandCheck::Good) => 1.0,
-        (HandStatus::Solved, HandCheck::FromImage) => 0.6,
         (HandStatus::Held, _) | (HandStatus::Solved, HandCheck::Mirrored) => 0.3,
         (HandStatus::Skipped | HandStatus::NotSolved, _) => 0.0,
     };
@@ -102,18 +98,18 @@ fn confidence(check: HandCheck, status: HandStatus, score: f32) -> f32 {
 pub(super) struct FlipState {
     /// Consecutive frames held.
     pub(super) held: u8,
+    /// The landmarks of the last hand solved on this side (avatar frame, filtered): what a
+    /// held hand's later stages (alignment, contact) read instead of the rejected ones.
+    pub(super) last: Option<[Vec3; HAND_LANDMARKS]>,
 }
 
 impl Rig {
     /// The hand checks (see [`crate::hand::flip`]) on this frame's mapped landmarks
-    /// (`scratch.landmarks`, replaced by the image's hand when that is the better witness):
-    /// a world hand that is mirrored ([`chirality`] below [`MIRRORED`]) or whose knuckle line
-    /// points against the image's ([`image_agreement`] negative) is held (with
-    /// `mirroredHands: "image"`, replaced by the image landmarks when those have the right
-    /// chirality, else held); at most [`MAX_HELD_FRAMES`]
-    /// in a row are held, then the tracked hand is taken as it is (re-acquired).
-    fn check_hand(&mut self, side: Side, h: &HandObservation, turn: Quat) -> HandCheck {
-        let camera = self.options.camera();
+    /// (`scratch.landmarks`): a world hand that is mirrored ([`chirality`] below
+    /// [`MIRRORED`]) or whose knuckle line points against the image's ([`image_agreement`]
+    /// negative) is held; at most [`MAX_HELD_FRAMES`] in a row are held, then the tracked hand
+    /// is taken as it is (re-acquired).
+    fn check_hand(&mut self, side: Side, h: &HandObservation) -> HandCheck {
         let state = &mut self.flips[side.index()];
         let mut check = HandCheck::Good;
         let mirrored = chirality(side, &self.scratch.landmarks).is_some_and(|c| c < MIRRORED);
@@ -123,23 +119,6 @@ impl Rig {
             .is_some_and(|a| a < 0.0);
         if mirrored || crossed {
             check = HandCheck::Mirrored;
-            let mut raw = [Vec3::ZERO; HAND_LANDMARKS];
-            let image = h
-                .image
-                .as_ref()
-                .filter(|_| self.options.mirrored_hands == MirroredHands::Image);
-            if let Some(im) = image {
-                if image_hand(&h.world, im, &mut raw) {
-                    let mut mapped = [Vec3::ZERO; HAND_LANDMARKS];
-                    for (dst, src) in mapped.iter_mut().zip(raw.iter()) {
-                        *dst = turn * camera.to_avatar(*src);
-                    }
-                    if chirality(side, &mapped).is_some_and(|c| c >= MIRRORED) {
-                        self.scratch.landmarks = mapped;
-                        check = HandCheck::FromImage;
-                    }
-                }
-            }
         }
         if check.holds() && state.held >= MAX_HELD_FRAMES {
             // Re-acquire: the tracked hand as it is.
@@ -159,6 +138,7 @@ impl Rig {
         dt: Option<f32>,
         out: &mut SolveOutput,
     ) -> Option<Quat> {
+        self.scratch.placed[side.index()] = false;
         let pick = pick?;
         let h = &frame.hands()[pick.index];
         let camera = self.options.camera();
@@ -175,8 +155,14 @@ impl Rig {
         for (dst, src) in self.scratch.landmarks.iter_mut().zip(h.world.iter()) {
             *dst = turn * camera.to_avatar(*src);
         }
-        let verdict = self.check_hand(side, h, turn);
+        let verdict = self.check_hand(side, h);
         let hand_rotation = if verdict.holds() {
+            // The rejected landmarks would place the fingertip (alignment, contact) where the
+            // mirrored hand has it: the held hand is placed by its own, the last solved.
+            if let Some(last) = self.flips[side.index()].last {
+                self.scratch.landmarks = last;
+                self.scratch.placed[side.index()] = true;
+            }
             self.hands.hold(&self.skeleton, side, &mut out.local)
         } else {
             if self.options.filter.enabled {
@@ -200,6 +186,12 @@ impl Rig {
             )
         };
         let status = self.hands.report(side).status;
+        if status == HandStatus::Solved {
+            self.flips[side.index()].last = Some(self.scratch.landmarks);
+            self.scratch.placed[side.index()] = true;
+        } else if status != HandStatus::Held {
+            self.scratch.placed[side.index()] = false;
+        }
         out.hands[side.index()] = Some(TrackedHand {
             status,
             confidence: confidence(verdict, status, h.score),

@@ -8,9 +8,9 @@
 //! composed down the arm: the upper arm, upper arm x forearm, upper arm x forearm x hand), as
 //! the avatar shows it. When the largest of the three turns faster than `maxTurnSpeed`, every
 //! bone's local rotation moves from what was shown last frame toward the solve by the same
-//! fraction of its turn (about the turn's axis), the fraction that keeps the sum of the three
-//! local turns (which bounds each composed one) within `maxTurnSpeed x dt`: the arm keeps its
-//! shape (a wrist within its range stays within it) and the next frames catch up. The limit
+//! fraction of its turn (about the turn's axis), the fraction that brings the largest composed
+//! turn to `maxTurnSpeed x dt`: the arm keeps its shape (a wrist within its range stays
+//! within it) and the next frames catch up. The limit
 //! slows a jump, it never holds one (a hold released later turns by more, measured in
 //! `docs/hands-on-video.md`). The fingers ride on the hand. Only an arm solved in this frame
 //! and the one before is limited (the dropout easing handles tracking coming and going);
@@ -38,18 +38,32 @@ impl TurnLimit {
     }
 }
 
-/// The rotation from `a` to `b` (the shorter way) as a unit axis and an angle (radians).
-fn step(a: Quat, b: Quat) -> (Vec3, f32) {
-    let d = a.conjugate() * b;
-    let d = if d.w < 0.0 { -d } else { d };
-    let v = Vec3::new(d.x, d.y, d.z);
-    (v.normalize_or_zero(), 2.0 * v.length().atan2(d.w))
-}
-
 /// `[upper, upper x lower, upper x lower x hand]`.
 fn composed(l: [Quat; 3]) -> [Quat; 3] {
     let f = l[0] * l[1];
     [l[0], f, f * l[2]]
+}
+
+/// Each of `from` turned by the fraction `t` of its `steps` (axis, angle).
+#[inline(never)]
+fn turned_by(from: [Quat; 3], steps: [(Vec3, f32); 3], t: f32) -> [Quat; 3] {
+    [0, 1, 2].map(|k| (from[k] * Quat::from_axis_angle(steps[k].0, steps[k].1 * t)).normalize())
+}
+
+/// The largest turn (radians) of the composed arm from locals `a` to locals `b`.
+#[inline(never)]
+fn largest_turn(a: [Quat; 3], b: [Quat; 3]) -> f32 {
+    let (a, b) = (composed(a), composed(b));
+    (0..3).fold(0.0_f32, |m, k| m.max(step(a[k], b[k]).1))
+}
+
+/// The rotation from `a` to `b` (the shorter way) as a unit axis and an angle (radians), by
+/// glam's `to_axis_angle` (the `acos` the rest of the crate uses: no other inverse
+/// trigonometry in the wasm).
+#[inline(never)]
+fn step(a: Quat, b: Quat) -> (Vec3, f32) {
+    let d = a.conjugate() * b;
+    (if d.w < 0.0 { -d } else { d }).normalize().to_axis_angle()
 }
 
 impl Rig {
@@ -75,24 +89,36 @@ impl Rig {
                 continue;
             };
             let allowed = speed * dt;
-            let (was, is) = (composed(last), composed(now));
-            let largest = (0..3).fold(0.0_f32, |m, k| m.max(step(was[k], is[k]).1));
+            let largest = largest_turn(last, now);
             if largest <= allowed || !largest.is_finite() {
                 continue;
             }
+            // The same fraction of every local turn: first the one that would slow the largest
+            // composed turn to the limit were the bones to turn together, then shrunk until
+            // the composed turns are within it (each step continuous in the input, so two
+            // nearly equal solves are shown nearly equal).
             let steps = [0, 1, 2].map(|k| step(last[k], now[k]));
-            let total: f32 = steps.iter().map(|s| s.1).sum();
-            let t = (allowed / total).min(1.0);
-            for (k, i) in bones.into_iter().enumerate() {
-                if !self.driven[i] {
-                    continue;
+            let mut t = allowed / largest;
+            let mut shown = now;
+            for _ in 0..5 {
+                shown = turned_by(last, steps, t);
+                let turned = largest_turn(last, shown);
+                if turned <= allowed * 1.001 {
+                    break;
                 }
-                let (axis, angle) = steps[k];
-                let q = (last[k] * Quat::from_axis_angle(axis, angle * t)).normalize();
+                t *= allowed / turned;
+            }
+            for k in 0..3 {
                 // In the hemisphere of the solve's (which the easing kept in last frame's).
-                let q = if q.dot(now[k]) < 0.0 { -q } else { q };
-                out.local[i] = q;
-                self.shown[i] = q;
+                if shown[k].dot(now[k]) < 0.0 {
+                    shown[k] = -shown[k];
+                }
+            }
+            for (k, i) in bones.into_iter().enumerate() {
+                if self.driven[i] {
+                    out.local[i] = shown[k];
+                    self.shown[i] = shown[k];
+                }
             }
             state.shown = Some(bones.map(|i| out.local[i]));
             state.limited = state.limited.saturating_add(1);

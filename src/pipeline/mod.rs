@@ -62,7 +62,7 @@ use crate::hand::HandSolver;
 use crate::ik::ArmSolverState;
 use crate::input::validate::validate_frame;
 use crate::mediapipe::{FrameInput, PoseObservation, HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS};
-pub use crate::options::{HandednessPolicy, MirroredHands, RigOptions};
+pub use crate::options::{HandednessPolicy, RigOptions};
 use crate::skeleton::Skeleton;
 use crate::torso::{TorsoSolver, TorsoSource, BODY_JOINT_COUNT, TORSO_BONES};
 
@@ -127,6 +127,10 @@ struct Scratch {
     /// This frame's hand landmarks of the side being solved, in the avatar frame, filtered
     /// (stage 4, read by stage 6).
     landmarks: [Vec3; HAND_LANDMARKS],
+    /// Whether each side's `landmarks` place its fingertip for alignment and contact (stage 4,
+    /// read by stage 6): a hand solved this frame, or one held by the hand checks with the
+    /// last solved hand's landmarks; not a degenerate hand held by the solver.
+    placed: [bool; 2],
     /// This frame's pose, filtered (stage 2).
     pose: Option<PoseObservation>,
     /// This frame's torso rotation of each shoulder bone (`[left, right]`): what an arm's
@@ -145,6 +149,7 @@ impl Default for Scratch {
     fn default() -> Self {
         Scratch {
             landmarks: [Vec3::ZERO; HAND_LANDMARKS],
+            placed: [false; 2],
             pose: None,
             shoulder_base: [Quat::IDENTITY; 2],
             anchors: [None, None],

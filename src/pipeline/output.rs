@@ -105,11 +105,11 @@ pub struct TrackedHand {
     pub reassigned: bool,
     /// What the hand selection resolved on this side this frame.
     pub resolved: HandResolved,
-    /// What the hand checks made of it (mirrored, solved from the image).
+    /// What the hand checks made of it (good, or mirrored and held).
     pub check: HandCheck,
     /// How far an app can trust this side's hand this frame, 0 to 1: the handedness score
-    /// times 1 for a hand that passed the checks, 0.6 for one solved from the image
-    /// landmarks, 0.3 for a held hand (mirrored, or degenerate this frame), 0 when skipped.
+    /// times 1 for a hand that passed the checks, 0.3 for a held hand (mirrored, or
+    /// degenerate this frame), 0 when skipped.
     /// For fading a hand in and out.
     pub confidence: f32,
 }

@@ -9,7 +9,6 @@ use glam::{Quat, Vec3};
 use crate::align;
 use crate::bones::{Finger, Side, BONE_COUNT};
 use crate::contact::{HandPoints, SideTarget, Source, UserFace, UserFaces};
-use crate::hand::HandStatus;
 use crate::mediapipe::{pose_landmark, FrameInput};
 
 use super::hands::WristSource;
@@ -63,9 +62,10 @@ impl Rig {
             return Plan::HandOnly(hand_rot);
         };
 
-        // A held hand (degenerate landmarks this frame) keeps its rotations but its
-        // landmarks cannot place the fingertip: align only freshly solved hands.
-        let fresh = out.hands[side.index()].is_some_and(|h| h.status == HandStatus::Solved);
+        // A hand held by the solver (degenerate landmarks this frame) keeps its rotations but
+        // its landmarks cannot place the fingertip: align freshly solved hands, and hands the
+        // checks held with the landmarks they were solved from (`hands.rs`).
+        let fresh = self.scratch.placed[side.index()];
         let target = if fresh {
             let a = align::wrist_target(
                 &self.skeleton,

@@ -30,12 +30,7 @@ fn run(rig: &mut Rig, frames: &[FrameInput]) -> Vec<[([Quat; 3], bool); 2]> {
         .map(|f| {
             let before = Side::BOTH.map(|s| rig.turns_limited(s));
             rig.solve(f, &mut out).unwrap();
-            Side::BOTH.map(|s| {
-                (
-                    composed(&out, s),
-                    rig.turns_limited(s) > before[s.index()],
-                )
-            })
+            Side::BOTH.map(|s| (composed(&out, s), rig.turns_limited(s) > before[s.index()]))
         })
         .collect()
 }
@@ -60,7 +55,7 @@ fn largest_step(frames: &[[([Quat; 3], bool); 2]], side: Side) -> f32 {
 #[test]
 fn on_thanks_no_arm_bone_turns_faster_than_the_limit_and_a_slowed_arm_catches_up() {
     // `thanks` (robot): MediaPipe's right hand flips at the chin on frames 10-14 and
-    // self-contact pulls the target; without the limit the robot's arm turns up to 166
+    // self-contact pulls the target; without the limit the robot's arm turns up to 85
     // degrees between two frames.
     let frames = recordings::asl("../shared/data/asl/thanks.json");
     let robot = recordings::vrm(recordings::ROBOT);
@@ -74,7 +69,7 @@ fn on_thanks_no_arm_bone_turns_faster_than_the_limit_and_a_slowed_arm_catches_up
     // The clip's frames are 30 fps apart: at most speed / 30 a frame (f32 slack).
     let allowed = speed / 30.0 + 1e-3;
     let free_step = largest_step(&a, Side::Right);
-    assert!(free_step > 1.5, "the unlimited arm jumps: {free_step}");
+    assert!(free_step > 1.2, "the unlimited arm jumps: {free_step}");
     for side in Side::BOTH {
         let step = largest_step(&b, side);
         assert!(step <= allowed, "{side:?}: {step} > {allowed}");
@@ -124,9 +119,12 @@ fn a_new_session_compares_with_nothing() {
         rig.solve(f, &mut out).unwrap();
         free.solve(f, &mut free_out).unwrap();
     }
-    assert!(rig.turns_limited(Side::Right) > 0, "thanks 10-14 are slowed");
+    assert!(
+        rig.turns_limited(Side::Right) > 0,
+        "thanks 10-14 are slowed"
+    );
     // Back to the start, where the arm hangs far from where it was at the chin.
-    let mut seek = frames[0].clone();
+    let mut seek = frames[0];
     seek.time_ms = frames[29].time_ms - 1000.0;
     rig.solve(&seek, &mut out).unwrap();
     free.solve(&seek, &mut free_out).unwrap();

@@ -37,8 +37,10 @@ function kinectRightWrists(rig) {
 }
 
 /** Solves the paired session; per frame with a solved right hand: the wrist bend and the DIP miss. */
+// The turn limit (arm.maxTurnSpeed) off: a hand paired with another person's arm turns faster
+// than any arm, and this is about the solve (a slowed frame shows less than the solve).
 function run(bytes, options) {
-  const rig = HandRig.fromVrm(bytes, options);
+  const rig = HandRig.fromVrm(bytes, { ...options, "arm.maxTurnSpeed": 0 });
   const wrists = kinectRightWrists(rig);
   const out = [];
   for (const [i, position] of wrists.entries()) {
