@@ -269,8 +269,8 @@ pub mod output {
         /// The tracked hand's confidence, 0 to 1 (0 without a hand; see
         /// `TrackedHand::confidence`).
         pub const HAND_CONFIDENCE: usize = 66;
-        /// What the hand checks made of it: `0` good, `1` solved from the image landmarks
-        /// (the world landmarks were mirrored), `2` mirrored and held (0 without a hand).
+        /// What the hand checks made of it: `0` good, `1` mirrored and held (0 without a
+        /// hand).
         pub const HAND_CHECK: usize = 67;
         /// What the hand selection resolved on this side: `0` nothing (or no hand), `1`
         /// swapped (the label contradicted the pose wrists), `2` jumped (the label flipped
