@@ -241,8 +241,8 @@ impl RigOptions {
     }
 
     /// The defaults with no filtering, no dropout easing, no limit on how fast contact moves a
-    /// hand and none on how fast an arm turns: every frame is solved on its own, exactly from its input (offline
-    /// processing, evaluations, tests with exact answers).
+    /// hand and none on how fast an arm turns: every frame is solved on its own, exactly from
+    /// its input (offline processing, evaluations, tests with exact answers).
     #[must_use]
     pub fn per_frame() -> Self {
         let mut o = RigOptions::default();

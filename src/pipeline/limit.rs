@@ -10,11 +10,14 @@
 //! bone's local rotation moves from what was shown last frame toward the solve by the same
 //! fraction of its turn (about the turn's axis), the fraction that brings the largest composed
 //! turn to `maxTurnSpeed x dt`: the arm keeps its shape (a wrist within its range stays
-//! within it) and the next frames catch up. The limit
-//! slows a jump, it never holds one (a hold released later turns by more, measured in
-//! `docs/hands-on-video.md`). The fingers ride on the hand. Only an arm solved in this frame
-//! and the one before is limited (the dropout easing handles tracking coming and going);
-//! applied after the easing, to what is shown; the IK targets in the output stay as solved.
+//! within it) and the next frames catch up. The limit slows a jump, it never holds one (a
+//! hold released later turns by more, measured in `docs/hands-on-video.md`). The fingers ride
+//! on the hand. Only an arm solved in this frame and the one before is limited (the dropout
+//! easing handles tracking coming and going); applied after the easing, to what is shown; the
+//! IK targets in the output stay as solved.
+//!
+//! The helpers below are kept out of line: called from the loop, inlined copies made the wasm
+//! larger (its size budget, `docs/measurements.md`).
 
 use glam::{Quat, Vec3};
 
@@ -57,9 +60,7 @@ fn largest_turn(a: [Quat; 3], b: [Quat; 3]) -> f32 {
     (0..3).fold(0.0_f32, |m, k| m.max(step(a[k], b[k]).1))
 }
 
-/// The rotation from `a` to `b` (the shorter way) as a unit axis and an angle (radians), by
-/// glam's `to_axis_angle` (the `acos` the rest of the crate uses: no other inverse
-/// trigonometry in the wasm).
+/// The rotation from `a` to `b` (the shorter way) as a unit axis and an angle (radians).
 #[inline(never)]
 fn step(a: Quat, b: Quat) -> (Vec3, f32) {
     let d = a.conjugate() * b;
