@@ -186,11 +186,10 @@ impl Rig {
             )
         };
         let status = self.hands.report(side).status;
+        // (A hand held above always has `last`: it was set by the solve the hand solver holds.)
         if status == HandStatus::Solved {
             self.flips[side.index()].last = Some(self.scratch.landmarks);
             self.scratch.placed[side.index()] = true;
-        } else if status != HandStatus::Held {
-            self.scratch.placed[side.index()] = false;
         }
         out.hands[side.index()] = Some(TrackedHand {
             status,

@@ -31,8 +31,8 @@ const TOLERANCE_DEG: f32 = 0.05;
 /// how much at most. The files differ by f32 rounding (rolled bones, turned axes), and a few
 /// of the rig's decisions are thresholds (self-contact's touch completing a blend-in at weight
 /// 0.5, the touch hold, a held mirrored hand's neighbours): a rounding-sized difference on the
-/// threshold's edge shows as a small turn for a frame. Measured (every default, at `mirroredHands:
-/// "hold"`): at most 1 frame per case, 0.66 degrees on the man's mixamo body rolled (`again`
+/// threshold's edge shows as a small turn for a frame. Measured (every default, at `88d4418`):
+/// at most 1 frame per case, 0.66 degrees on the man's mixamo body rolled (`again`
 /// frame 70, the left hand against the right palm) and 1.67 on the child's; 0 frames on the
 /// others. `cargo test --release --test it gltf::mixamo -- --nocapture` prints them.
 const THRESHOLD_FRAMES: usize = 2;
