@@ -16,6 +16,8 @@
 //! It also counts what the hand selection resolved (`TrackedHand::resolved`: swapped labels,
 //! label jumps, duplicates) per side on the clips and the hand video.
 
+#[path = "../tests/support/kinect_wrists.rs"]
+mod kinect_wrists;
 #[path = "../tests/support/recordings.rs"]
 mod recordings;
 
@@ -52,7 +54,17 @@ struct Turn {
     input: f32,
     /// The turn limit (`arm.maxTurnSpeed`) slowed this side's arm this frame.
     limited: bool,
+    /// The hand's own world rotation's turn (the like-for-like of `input`).
+    hand: f32,
+    /// The hand's and the input palm's turn over the last [`SPAN`] frames, where this side's
+    /// hand drove the avatar in every one of them.
+    span: Option<(f32, f32)>,
 }
+
+/// Frames of the span turn: a sixth of a second at 30 fps. Over a span a motion adds up while
+/// MediaPipe's frame-to-frame jitter does not (two noisy ends, not `SPAN` noisy steps), so the
+/// span turn tells a hand that follows the motion from one that is frozen, jitter aside.
+const SPAN: usize = 5;
 
 fn angle(a: Quat, b: Quat) -> f32 {
     let d = a.dot(b).abs().min(1.0);
@@ -177,6 +189,8 @@ fn run(
         let mut rig = Rig::new(skeleton.clone(), options).unwrap();
         let mut out = SolveOutput::default();
         let mut last: [Option<([Quat; 3], Quat)>; 2] = [None, None];
+        // Per side, this side's hand and input palm on the last SPAN + 1 frames.
+        let mut history: [Vec<Option<(Quat, Quat)>>; 2] = Default::default();
         for (i, f) in frames.iter().enumerate() {
             let before = Side::BOTH.map(|s| rig.turns_limited(s));
             rig.solve(f, &mut out).unwrap();
@@ -209,6 +223,17 @@ fn run(
                         input,
                     ))
                 });
+                let h = &mut history[side.index()];
+                h.push(now.map(|(b, i)| (b[2], i)));
+                if h.len() > SPAN + 1 {
+                    h.remove(0);
+                }
+                let span = (h.len() == SPAN + 1 && h.iter().all(Option::is_some))
+                    .then(|| {
+                        let ((a0, i0), (a1, i1)) = (h[0]?, h[SPAN]?);
+                        Some((angle(a0, a1), angle(i0, i1)))
+                    })
+                    .flatten();
                 if let (Some((a, ia)), Some((b, ib))) = (last[side.index()], now) {
                     let (bone, avatar) = (0..3)
                         .map(|k| (k, angle(a[k], b[k])))
@@ -221,6 +246,8 @@ fn run(
                         bone,
                         input: angle(ia, ib),
                         limited: slowed[side.index()],
+                        hand: angle(a[2], b[2]),
+                        span,
                     });
                 }
                 last[side.index()] = now;
@@ -258,6 +285,42 @@ fn run(
         }
     }
     (turns, (agree, total, input_agree), misses, resolutions)
+}
+
+/// The hand video paired with the Kinect session's wrists (the avatar's right arm solved from
+/// a real body tracker, `tests/support/kinect_wrists.rs`, 281 frames): per side-frame the
+/// avatar's turn (as [`run`]) and the input palm's, and the frames the turn limit slowed.
+fn kinect_turns(options: RigOptions, avatar: &str) -> (Vec<f32>, Vec<f32>, Vec<usize>) {
+    let skeleton = recordings::vrm(avatar);
+    let version = skeleton.version();
+    let frames = kinect_wrists::paired_frames(&skeleton, Side::Right);
+    let mut rig = Rig::new(skeleton, options).unwrap();
+    let mut out = SolveOutput::default();
+    let (mut avatar_turns, mut input_turns, mut slowed) = (Vec::new(), Vec::new(), Vec::new());
+    let mut last: Option<([Quat; 3], Quat)> = None;
+    let side = Side::Right;
+    for (i, f) in frames.iter().enumerate() {
+        let before = rig.turns_limited(side);
+        rig.solve(f, &mut out).unwrap();
+        if rig.turns_limited(side) > before {
+            slowed.push(i);
+        }
+        out.turn_to_internal_frame(version);
+        let now = out.hands[side.index()].and_then(|t| {
+            let [_, upper, lower, hand] = side.arm();
+            let input = input_palm(side, &f.hands()[t.index])?;
+            Some((
+                [upper, lower, hand].map(|b| out.world.rotation[b.index()]),
+                input,
+            ))
+        });
+        if let (Some((a, ia)), Some((b, ib))) = (last, now) {
+            avatar_turns.push((0..3).map(|k| angle(a[k], b[k])).fold(0.0, f32::max));
+            input_turns.push(angle(ia, ib));
+        }
+        last = now;
+    }
+    (avatar_turns, input_turns, slowed)
 }
 
 fn median(mut v: Vec<f32>) -> f32 {
@@ -344,11 +407,25 @@ fn main() {
                 .map(f)
                 .collect()
         };
+        // Median turns of the hand alone: per frame, and over SPAN frames.
+        let motion = |asl: bool, input: bool| -> Value {
+            let set = |f: &dyn Fn(&Turn) -> Option<f32>| -> Vec<f32> {
+                turns
+                    .iter()
+                    .filter(|t| (t.clip != "hand-video") == asl)
+                    .filter_map(f)
+                    .collect()
+            };
+            let frame = set(&|t| Some(if input { t.input } else { t.hand }));
+            let span = set(&|t| t.span.map(|(a, i)| if input { i } else { a }));
+            json!({ "frame": median(frame), "span": median(span.clone()), "spans": span.len() })
+        };
         if input_rows.is_none() {
             input_rows = Some(json!({
                 "palm": { "agree": input_agree, "labelled": total },
                 "asl": figures(&pick(true, &|t| t.input)),
                 "video": figures(&pick(false, &|t| t.input)),
+                "motion": { "asl": motion(true, true), "video": motion(false, true) },
             }));
         }
         let name = avatar.rsplit('/').next().unwrap().trim_end_matches(".vrm");
@@ -371,12 +448,16 @@ fn main() {
                 worst_rows = list;
             }
         }
+        let (kinect, kinect_input, kinect_slowed) = kinect_turns(options, avatar);
         rows.push(json!({
             "avatar": name,
+            "kinect": { "turns": figures(&kinect), "input": figures(&kinect_input),
+                "slowed": kinect_slowed },
             "asl": figures(&pick(true, &|t| t.avatar)),
             "limited": limited_frames(&turns),
             "video": figures(&pick(false, &|t| t.avatar)),
             "palm": { "agree": agree, "labelled": total, "misses": misses },
+            "motion": { "asl": motion(true, false), "video": motion(false, false) },
         }));
     }
     let result = json!({ "input": input_rows, "avatars": rows, "worst": worst_rows,
@@ -428,6 +509,74 @@ fn print_table(r: &Value) {
             cell(&a["video"]),
             p["agree"],
             p["labelled"]
+        );
+    }
+    println!(
+        "\nThe hand alone (avatar hand world rotation; input palm), median turn in degrees: \
+         per frame, and over {SPAN} frames (1/6 s), with its ratio to the input's"
+    );
+    println!(
+        "{:<22} | {:^25} | {:^25}",
+        "", "ASL clips (6)", "hand video"
+    );
+    let m = |v: &Value, input: &Value| {
+        let f = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+        let i = |k: &str| input[k].as_f64().unwrap_or(f64::NAN);
+        format!(
+            "{:>5.1} {:>4.0}% {:>6.1} {:>4.0}%",
+            f("frame"),
+            100.0 * f("frame") / i("frame"),
+            f("span"),
+            100.0 * f("span") / i("span")
+        )
+    };
+    let im = &r["input"]["motion"];
+    println!(
+        "{:<22} | {:>11} {:>12} | {:>11} {:>12}",
+        "",
+        "frame",
+        format!("{SPAN} frames"),
+        "frame",
+        format!("{SPAN} frames")
+    );
+    println!(
+        "{:<22} | {:>25} | {:>25}",
+        format!("input ({} spans)", im["asl"]["spans"]),
+        m(&im["asl"], &im["asl"]),
+        m(&im["video"], &im["video"])
+    );
+    for a in r["avatars"].as_array().unwrap() {
+        println!(
+            "{:<22} | {:>25} | {:>25}",
+            a["avatar"].as_str().unwrap(),
+            m(&a["motion"]["asl"], &im["asl"]),
+            m(&a["motion"]["video"], &im["video"])
+        );
+    }
+    println!(
+        "\nHand video with the Kinect session's wrists (right arm solved from a body tracker), \
+         turns as above; frames the turn limit slowed"
+    );
+    if let Some(first) = r["avatars"].as_array().unwrap().first() {
+        println!(
+            "{:<22} | {} |",
+            "input (MediaPipe palm)",
+            cell(&first["kinect"]["input"])
+        );
+    }
+    for a in r["avatars"].as_array().unwrap() {
+        let k = &a["kinect"];
+        let slowed = k["slowed"].as_array().unwrap();
+        println!(
+            "{:<22} | {} | slowed {}: {}",
+            a["avatar"].as_str().unwrap(),
+            cell(&k["turns"]),
+            slowed.len(),
+            slowed
+                .iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
         );
     }
     println!("\nSide-frames slowed by the turn limit (arm.maxTurnSpeed): ASL clips / hand video");

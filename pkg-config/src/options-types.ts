@@ -21,7 +21,7 @@ export interface HandRigOptions {
     forearmTwist?: number;
     /** Clamp wrist flexion (80°), extension (70°), radial (20°) and ulnar (40°) deviation against the forearm; the hand turns about the aligned fingertip, so alignment stays exact. (boolean, default `true`.) */
     wristLimits?: boolean;
-    /** Fastest turn of an arm or hand (rad/s): a faster one (a tracking flip) is spread over frames. 0 = no limit. (number in 0..1000, default `30`.) */
+    /** Fastest turn of an arm or hand (rad/s): a faster one (a tracking flip) is spread over frames. 0 = no limit. (number in 0..1000, default `23`.) */
     maxTurnSpeed?: number;
   };
   /** Fingertip alignment (seeds 000/001). `false` / `true` sets `enabled`. */

@@ -199,7 +199,7 @@ pub static OPTIONS: &[OptionSpec] = &[
         "Share of the hand's twist about the forearm that the forearm takes (the rest stays at the wrist)."),
     flag!("arm.wristLimits", arm.wrist_limits, true,
         "Clamp wrist flexion (80°), extension (70°), radial (20°) and ulnar (40°) deviation against the forearm; the hand turns about the aligned fingertip, so alignment stays exact."),
-    number!("arm.maxTurnSpeed", arm.max_turn_speed, 0.0, 1000.0, 1.0, 30.0,
+    number!("arm.maxTurnSpeed", arm.max_turn_speed, 0.0, 1000.0, 1.0, 23.0,
         "Fastest turn of an arm or hand (rad/s): a faster one (a tracking flip) is spread over frames. 0 = no limit."),
     flag!("alignment.enabled", alignment.enabled, true,
         "Fingertip alignment: place the wrist so the avatar's finger lands where the user's is."),
