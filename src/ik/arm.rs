@@ -70,10 +70,10 @@ pub struct ArmOptions {
     /// `false` applies the tracked hand rotation as given. Applies where the arm is solved
     /// (hands-only input leaves the arm at rest and the hand unlimited).
     pub wrist_limits: bool,
-    /// How fast (radians per second) the upper arm, forearm and hand may turn between two
-    /// frames, each measured from the shoulder (its rotation composed down the arm): a turn
-    /// faster than that is shown over as many frames as it takes, all three bones slowed by
-    /// the same fraction ([`crate::Rig::solve`]'s turn-limit stage). Default 23 (about 1320
+    /// How fast (radians per second) the shoulder, upper arm, forearm and hand may turn
+    /// between two frames, each measured from the chest (its rotation composed down the arm):
+    /// a turn faster than that is shown over as many frames as it takes, all four bones
+    /// slowed by the same fraction ([`crate::Rig::solve`]'s turn-limit stage). Default 23 (about 1320
     /// degrees per second, 44 degrees between two 30 fps frames): on the sign-language clips
     /// MediaPipe's flips and self-contact's target jumps turn an arm faster, and one real
     /// motion is slowed by a few degrees (`docs/hands-on-video.md`). 0 = no limit. The arm

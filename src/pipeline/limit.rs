@@ -1,12 +1,14 @@
-//! Stage 8b, **turn limit**: an arm (upper arm, forearm, hand) cannot turn faster than
+//! Stage 8b, **turn limit**: an arm (shoulder, upper arm, forearm, hand) cannot turn faster than
 //! `arm.maxTurnSpeed`; a faster turn is shown over as many frames as it takes.
 //!
 //! What turns that fast on real video is not the user: MediaPipe's hand flipping its depth for
 //! a frame or two past the hand checks (`hands.rs`), or a wrist target that self-contact moves
 //! 10-20 cm while the elbow is folded (the forearm then swings 90-165 degrees in one frame on
-//! short-armed avatars). Each bone's turn is measured from the shoulder (its local rotation
-//! composed down the arm: the upper arm, upper arm x forearm, upper arm x forearm x hand), as
-//! the avatar shows it. When the largest of the three turns faster than `maxTurnSpeed`, every
+//! short-armed avatars). Each bone's turn is measured from the chest (its local rotation
+//! composed down the arm: the shoulder, shoulder x upper arm, ... x forearm, ... x hand), as
+//! the avatar shows it: the shoulder bone's shrug (`arm.shoulderAngle`, up to 15 degrees in a
+//! frame where the reach changes) adds to what the hand turns. When the largest of the four
+//! turns faster than `maxTurnSpeed`, every
 //! bone's local rotation moves from what was shown last frame toward the solve by the same
 //! fraction of its turn (about the turn's axis), the fraction that brings the largest composed
 //! turn to `maxTurnSpeed x dt`: the arm keeps its shape (a wrist within its range stays
@@ -25,11 +27,14 @@ use crate::bones::Side;
 
 use super::{Rig, SolveOutput};
 
-/// One side's arm as shown last frame (local rotations of the upper arm, forearm and hand),
-/// when it was solved there.
+/// The arm's bones the limit turns: shoulder, upper arm, forearm, hand.
+const ARM: usize = 4;
+
+/// One side's arm as shown last frame (local rotations of the shoulder, upper arm, forearm and
+/// hand), when it was solved there.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub(super) struct TurnLimit {
-    shown: Option<[Quat; 3]>,
+    shown: Option<[Quat; ARM]>,
     /// Frames this side was slowed, since the rig was made or reset (diagnostics).
     limited: u32,
 }
@@ -41,23 +46,28 @@ impl TurnLimit {
     }
 }
 
-/// `[upper, upper x lower, upper x lower x hand]`.
-fn composed(l: [Quat; 3]) -> [Quat; 3] {
-    let f = l[0] * l[1];
-    [l[0], f, f * l[2]]
+/// `[shoulder, shoulder x upper, ... x lower, ... x hand]`.
+fn composed(l: [Quat; ARM]) -> [Quat; ARM] {
+    let mut c = l;
+    for k in 1..ARM {
+        c[k] = c[k - 1] * l[k];
+    }
+    c
 }
 
 /// Each of `from` turned by the fraction `t` of its `steps` (axis, angle).
 #[inline(never)]
-fn turned_by(from: [Quat; 3], steps: [(Vec3, f32); 3], t: f32) -> [Quat; 3] {
-    [0, 1, 2].map(|k| (from[k] * Quat::from_axis_angle(steps[k].0, steps[k].1 * t)).normalize())
+fn turned_by(from: [Quat; ARM], steps: [(Vec3, f32); ARM], t: f32) -> [Quat; ARM] {
+    core::array::from_fn(|k| {
+        (from[k] * Quat::from_axis_angle(steps[k].0, steps[k].1 * t)).normalize()
+    })
 }
 
 /// The largest turn (radians) of the composed arm from locals `a` to locals `b`.
 #[inline(never)]
-fn largest_turn(a: [Quat; 3], b: [Quat; 3]) -> f32 {
+fn largest_turn(a: [Quat; ARM], b: [Quat; ARM]) -> f32 {
     let (a, b) = (composed(a), composed(b));
-    (0..3).fold(0.0_f32, |m, k| m.max(step(a[k], b[k]).1))
+    (0..ARM).fold(0.0_f32, |m, k| m.max(step(a[k], b[k]).1))
 }
 
 /// The rotation from `a` to `b` (the shorter way) as a unit axis and an angle (radians).
@@ -76,8 +86,9 @@ impl Rig {
         let speed = self.options.arm.max_turn_speed;
         for side in Side::BOTH {
             let s = side.index();
-            let [_, upper, lower, hand] = side.arm();
-            let bones = [upper.index(), lower.index(), hand.index()];
+            let arm = side.arm();
+            let upper = arm[1];
+            let bones = arm.map(|b| b.index());
             let now = bones.map(|i| out.local[i]);
             let state = &mut self.turn_limit[s];
             let solved = out.solved[upper.index()];
@@ -98,7 +109,7 @@ impl Rig {
             // composed turn to the limit were the bones to turn together, then shrunk until
             // the composed turns are within it (each step continuous in the input, so two
             // nearly equal solves are shown nearly equal).
-            let steps = [0, 1, 2].map(|k| step(last[k], now[k]));
+            let steps = core::array::from_fn(|k| step(last[k], now[k]));
             let mut t = allowed / largest;
             let mut shown = now;
             for _ in 0..5 {
@@ -109,7 +120,7 @@ impl Rig {
                 }
                 t *= allowed / turned;
             }
-            for k in 0..3 {
+            for k in 0..ARM {
                 // In the hemisphere of the solve's (which the easing kept in last frame's).
                 if shown[k].dot(now[k]) < 0.0 {
                     shown[k] = -shown[k];

@@ -33,7 +33,7 @@
 //!    ([`crate::filter::dropout`]), but a hand returning into a touch shows its solve at once;
 //!    rotations keep their hemisphere;
 //!    8b. **turn limit** (`Rig::limit_turns`, `limit.rs`): an arm turning faster than
-//!    `arm.maxTurnSpeed` is slowed to it, its three bones by the same fraction;
+//!    `arm.maxTurnSpeed` is slowed to it, its four bones by the same fraction;
 //! 9. **report** (`Rig::report`): forward kinematics of the whole avatar, its fingertips,
 //!    the retargeting reports.
 //!
