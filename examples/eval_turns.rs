@@ -82,6 +82,18 @@ fn input_palm(side: Side, h: &HandObservation) -> Option<Quat> {
     })
 }
 
+/// Where `side`'s hand drove the avatar: the world rotations of its upper arm, forearm and
+/// hand (internal frame), and the palm of the input hand that drove it.
+fn shown_and_input(out: &SolveOutput, side: Side, f: &FrameInput) -> Option<([Quat; 3], Quat)> {
+    let t = out.hands[side.index()]?;
+    let [_, upper, lower, hand] = side.arm();
+    let input = input_palm(side, &f.hands()[t.index])?;
+    Some((
+        [upper, lower, hand].map(|b| out.world.rotation[b.index()]),
+        input,
+    ))
+}
+
 fn hand_video() -> Vec<FrameInput> {
     recordings::hand_video()
         .iter()
@@ -215,14 +227,7 @@ fn run(
                 if let Some(k) = kind {
                     resolutions[usize::from(name == "hand-video")][side.index()][k] += 1;
                 }
-                let now = o.hands[side.index()].and_then(|t| {
-                    let [_, upper, lower, hand] = side.arm();
-                    let input = input_palm(side, &f.hands()[t.index])?;
-                    Some((
-                        [upper, lower, hand].map(|b| o.world.rotation[b.index()]),
-                        input,
-                    ))
-                });
+                let now = shown_and_input(&o, side, f);
                 let h = &mut history[side.index()];
                 h.push(now.map(|(b, i)| (b[2], i)));
                 if h.len() > SPAN + 1 {
@@ -306,14 +311,7 @@ fn kinect_turns(options: RigOptions, avatar: &str) -> (Vec<f32>, Vec<f32>, Vec<u
             slowed.push(i);
         }
         out.turn_to_internal_frame(version);
-        let now = out.hands[side.index()].and_then(|t| {
-            let [_, upper, lower, hand] = side.arm();
-            let input = input_palm(side, &f.hands()[t.index])?;
-            Some((
-                [upper, lower, hand].map(|b| out.world.rotation[b.index()]),
-                input,
-            ))
-        });
+        let now = shown_and_input(&out, side, f);
         if let (Some((a, ia)), Some((b, ib))) = (last, now) {
             avatar_turns.push((0..3).map(|k| angle(a[k], b[k])).fold(0.0, f32::max));
             input_turns.push(angle(ia, ib));
@@ -469,6 +467,14 @@ fn main() {
     print_table(&result);
 }
 
+/// A JSON list of strings or numbers as `a, b, c`.
+fn joined(v: &[Value]) -> String {
+    v.iter()
+        .map(|x| x.as_str().map_or_else(|| x.to_string(), str::to_string))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 fn print_table(r: &Value) {
     let cell = |f: &Value| {
         format!(
@@ -572,11 +578,7 @@ fn print_table(r: &Value) {
             a["avatar"].as_str().unwrap(),
             cell(&k["turns"]),
             slowed.len(),
-            slowed
-                .iter()
-                .map(ToString::to_string)
-                .collect::<Vec<_>>()
-                .join(", ")
+            joined(slowed)
         );
     }
     println!("\nSide-frames slowed by the turn limit (arm.maxTurnSpeed): ASL clips / hand video");
@@ -588,10 +590,7 @@ fn print_table(r: &Value) {
             a["avatar"].as_str().unwrap(),
             asl.len(),
             l["video"],
-            asl.iter()
-                .map(|v| v.as_str().unwrap())
-                .collect::<Vec<_>>()
-                .join(", ")
+            joined(asl)
         );
     }
     println!("\nHand selection, side-frames resolved (left / right):");
