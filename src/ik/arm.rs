@@ -73,11 +73,11 @@ pub struct ArmOptions {
     /// How fast (radians per second) the shoulder, upper arm, forearm and hand may turn
     /// between two frames, each measured from the chest (its rotation composed down the arm):
     /// a turn faster than that is shown over as many frames as it takes, all four bones
-    /// slowed by the same fraction ([`crate::Rig::solve`]'s turn-limit stage). Default 23 (about 1320
-    /// degrees per second, 44 degrees between two 30 fps frames): on the sign-language clips
-    /// MediaPipe's flips and self-contact's target jumps turn an arm faster, and one real
-    /// motion is slowed by a few degrees (`docs/hands-on-video.md`). 0 = no limit. The arm
-    /// solvers themselves ignore it.
+    /// slowed by the same fraction ([`crate::Rig::solve`]'s turn-limit stage). Default 23
+    /// (about 1320 degrees per second, 44 degrees between two 30 fps frames): on the
+    /// sign-language clips MediaPipe's flips and self-contact's target jumps turn an arm
+    /// faster, and one real motion is slowed by a few degrees (`docs/hands-on-video.md`).
+    /// 0 = no limit. The arm solvers themselves ignore it.
     pub max_turn_speed: f32,
 }
 

@@ -1,5 +1,5 @@
-//! Stage 8b, **turn limit**: an arm (shoulder, upper arm, forearm, hand) cannot turn faster than
-//! `arm.maxTurnSpeed`; a faster turn is shown over as many frames as it takes.
+//! Stage 8b, **turn limit**: an arm (shoulder, upper arm, forearm, hand) cannot turn faster
+//! than `arm.maxTurnSpeed`; a faster turn is shown over as many frames as it takes.
 //!
 //! What turns that fast on real video is not the user: MediaPipe's hand flipping its depth for
 //! a frame or two past the hand checks (`hands.rs`), or a wrist target that self-contact moves
@@ -8,15 +8,14 @@
 //! composed down the arm: the shoulder, shoulder x upper arm, ... x forearm, ... x hand), as
 //! the avatar shows it: the shoulder bone's shrug (`arm.shoulderAngle`, up to 15 degrees in a
 //! frame where the reach changes) adds to what the hand turns. When the largest of the four
-//! turns faster than `maxTurnSpeed`, every
-//! bone's local rotation moves from what was shown last frame toward the solve by the same
-//! fraction of its turn (about the turn's axis), the fraction that brings the largest composed
-//! turn to `maxTurnSpeed x dt`: the arm keeps its shape (a wrist within its range stays
-//! within it) and the next frames catch up. The limit slows a jump, it never holds one (a
-//! hold released later turns by more, measured in `docs/hands-on-video.md`). The fingers ride
-//! on the hand. Only an arm solved in this frame and the one before is limited (the dropout
-//! easing handles tracking coming and going); applied after the easing, to what is shown; the
-//! IK targets in the output stay as solved.
+//! turns faster than `maxTurnSpeed`, every bone's local rotation moves from what was shown
+//! last frame toward the solve by the same fraction of its turn (about the turn's axis), the
+//! fraction that brings the largest composed turn to `maxTurnSpeed x dt`: the arm keeps its
+//! shape (a wrist within its range stays within it) and the next frames catch up. The limit
+//! slows a jump, it never holds one (a hold released later turns by more, measured in
+//! `docs/hands-on-video.md`). The fingers ride on the hand. Only an arm solved in this frame
+//! and the one before is limited (the dropout easing handles tracking coming and going);
+//! applied after the easing, to what is shown; the IK targets in the output stay as solved.
 //!
 //! The helpers below are kept out of line: called from the loop, inlined copies made the wasm
 //! larger (its size budget, `docs/measurements.md`).
