@@ -120,7 +120,7 @@ pub struct BodyMapper {
 
 impl BodyMapper {
     /// New mapper for `skeleton`. `options` should have passed
-    /// [`CalibrationOptions::validate`]; out-of-range `frames` is clamped to 1..=300.
+    /// [`crate::RigOptions::validate`]; out-of-range `frames` is clamped to 1..=300.
     #[must_use]
     pub fn new(skeleton: &Skeleton, options: &CalibrationOptions) -> Self {
         let mut options = *options;

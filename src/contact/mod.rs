@@ -234,7 +234,7 @@ pub struct ContactSolver {
 impl ContactSolver {
     /// The avatar's face ([`AvatarFace::from_rig`], with `options.faceAnchors`) and body
     /// colliders ([`BodyColliders::from_rig`]). `options` should have passed
-    /// [`ContactOptions::validate`].
+    /// [`crate::RigOptions::validate`].
     #[must_use]
     pub fn new(skeleton: &Skeleton, options: &ContactOptions) -> Self {
         let version = skeleton.version();

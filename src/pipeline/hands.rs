@@ -62,7 +62,7 @@ fn keep_pinch(raw: &[Vec3; HAND_LANDMARKS], filtered: &mut [Vec3; HAND_LANDMARKS
     filtered[INDEX_TIP] -= half;
 }
 
-/// What the checks of [`Rig::check_hand`] made of a side's hand this frame (see
+/// What the rig's hand checks (pipeline stage 4) made of a side's hand this frame (see
 /// [`crate::hand::flip`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum HandCheck {
@@ -71,7 +71,7 @@ pub enum HandCheck {
     Good,
     /// The world landmarks were mirrored (fingers bending backwards) or their knuckle line
     /// crossed the image's: the side's last solved hand was held (or, after
-    /// [`MAX_HELD_FRAMES`] held frames, the tracked hand taken as it is).
+    /// `MAX_HELD_FRAMES` (3) held frames, the tracked hand taken as it is).
     Mirrored,
 }
 
