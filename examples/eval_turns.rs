@@ -13,8 +13,11 @@
 //! hand; the input's is the change of the MediaPipe hand's palm frame (world landmarks, the
 //! palm frame of `handrig::hand::palm_frame`).
 //!
-//! It also counts what the hand selection resolved (`TrackedHand::resolved`: swapped labels,
-//! label jumps, duplicates) per side on the clips and the hand video.
+//! It also prints the hand alone against the input palm (the median turn per frame and over
+//! [`SPAN`] frames: jitter against motion), the same turns on the hand video paired with the
+//! Kinect session's wrists (an arm from a real body tracker) with the frames the turn limit
+//! slowed, and counts what the hand selection resolved (`TrackedHand::resolved`: swapped
+//! labels, label jumps, duplicates) per side on the clips and the hand video.
 
 #[path = "../tests/support/kinect_wrists.rs"]
 mod kinect_wrists;
@@ -416,7 +419,8 @@ fn main() {
             };
             let frame = set(&|t| Some(if input { t.input } else { t.hand }));
             let span = set(&|t| t.span.map(|(a, i)| if input { i } else { a }));
-            json!({ "frame": median(frame), "span": median(span.clone()), "spans": span.len() })
+            let spans = span.len();
+            json!({ "frame": median(frame), "span": median(span), "spans": spans })
         };
         if input_rows.is_none() {
             input_rows = Some(json!({
