@@ -14,7 +14,8 @@
 //!   cylindrical height map), and for the head per direction from the head's center (24 x 48
 //!   bins: a spherical one). A point is inside the body where it is nearer the axis (center)
 //!   than the skin in its direction; the depth is the difference, the outward direction the
-//!   radial one. Body parts are close to star-shaped about these axes (a torso's cross
+//!   radial one (near a torso axis leaning forward, [`FORWARD_BIAS`]: a hand deep inside
+//!   goes out the front). Body parts are close to star-shaped about these axes (a torso's cross
 //!   section, a head), so the maps keep the skin to about a bin's size (1 cm; the largest
 //!   radius in a bin: a concave spot such as under the nose counts as filled). Bins no sample
 //!   falls in take their neighbours' mean.
@@ -181,6 +182,16 @@ fn part_of(skeleton: &Skeleton, bone: HumanBone) -> Part {
         }
     }
 }
+
+/// How far a torso map's outward directions lean forward on its axis (m, internal frame: +Z
+/// forward), the lean fading to nothing 3 x as far from the axis. Straight out from the axis
+/// points every way near it: a hand deep in the belly (a tracked wrist inside a bigger
+/// avatar) was pushed out sideways or backwards, and round the body as it moved a centimetre
+/// (the Kinect session on the generated woman and child, `examples/eval_turns.rs`: the arm
+/// turned up to 63 and 152 degrees in a frame; 16-22 with the lean). Outward is then away
+/// from a point 3-4 cm behind the axis near it, and radial from 12 cm out (at an adult torso's
+/// skin, or anywhere on a map as odd as the odd-armature avatar's one wide cylinder).
+pub const FORWARD_BIAS: f32 = 0.04;
 
 /// How a map measures directions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -349,7 +360,12 @@ impl RadialMap {
         let skin = self.lookup(row, sec);
         let d = q - self.center;
         let radial = match self.kind {
-            MapKind::Cylinder => Vec3::new(d.x, 0.0, d.z),
+            MapKind::Cylinder => {
+                // Forward by FORWARD_BIAS on the axis, fading to nothing 3 x FORWARD_BIAS out.
+                let r = Vec3::new(d.x, 0.0, d.z);
+                let fade = (1.0 - r.length() / (3.0 * FORWARD_BIAS)).max(0.0);
+                r + Vec3::Z * (FORWARD_BIAS * fade)
+            }
             MapKind::Sphere => d,
         };
         let n = radial.try_normalize().unwrap_or(Vec3::Z);
