@@ -14,7 +14,7 @@ import { after, describe, it } from "node:test";
 import { HandRig, MotionRecorder } from "handrig";
 import { BVHLoader } from "three/examples/jsm/loaders/BVHLoader.js";
 
-import { avatarFiles, readBytes, shared } from "./support.mjs";
+import { CHILD_TIMEOUT_MS, avatarFiles, readBytes, shared } from "./support.mjs";
 
 const require = createRequire(import.meta.url);
 const pkgDir = path.dirname(require.resolve("handrig/package.json"));
@@ -28,7 +28,7 @@ const tmp = fs.mkdtempSync(path.join(os.tmpdir(), "handrig-cli-"));
 after(() => fs.rmSync(tmp, { recursive: true, force: true }));
 
 function handrig(...args) {
-  const r = spawnSync(process.execPath, [cli, ...args], { encoding: "utf8", cwd: tmp });
+  const r = spawnSync(process.execPath, [cli, ...args], { encoding: "utf8", cwd: tmp, timeout: CHILD_TIMEOUT_MS });
   return { status: r.status, stdout: r.stdout, stderr: r.stderr };
 }
 

@@ -6,6 +6,13 @@ import fs from "node:fs";
 import path from "node:path";
 
 export const shared = process.env.HANDRIG_SHARED;
+/**
+ * How long a test waits for a child process it runs with `spawnSync` (ms): a child that hangs
+ * (once seen: `node record.mjs` asleep on a futex for 14 minutes, fine on every rerun) fails
+ * its test instead of holding the suite until CI's time runs out. spawnSync blocks the event
+ * loop, so node:test's own timeouts cannot fire meanwhile.
+ */
+export const CHILD_TIMEOUT_MS = 180_000;
 export const repo = process.env.HANDRIG_REPO;
 if (!shared || !repo) throw new Error("run these tests through tests/node/run.mjs");
 

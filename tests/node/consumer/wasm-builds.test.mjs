@@ -9,12 +9,14 @@ import { describe, it } from "node:test";
 import { fileURLToPath } from "node:url";
 
 import { wasmBuild, LAYOUT } from "handrig";
+import { CHILD_TIMEOUT_MS } from "./support.mjs";
 
 const child = path.join(path.dirname(fileURLToPath(import.meta.url)), "wasm-builds.child.cjs");
 
 function run(build) {
   const res = spawnSync(process.execPath, [child], {
     encoding: "utf8",
+    timeout: CHILD_TIMEOUT_MS,
     env: { ...process.env, HANDRIG_WASM: build },
     maxBuffer: 256 * 1024 * 1024,
   });
@@ -64,6 +66,7 @@ describe("wasmFile()", () => {
     assert.equal(wasmFile(), "handrig_simd_bg.wasm");
     const res = spawnSync(process.execPath, ["-e", 'console.log(require("handrig").wasmFile())'], {
       encoding: "utf8",
+      timeout: CHILD_TIMEOUT_MS,
       env: { ...process.env, HANDRIG_WASM: "baseline" },
     });
     assert.equal(res.status, 0, res.stderr);
