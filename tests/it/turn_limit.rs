@@ -2,7 +2,7 @@
 //! limit on the real clips, what is not slowed is the solve as it is, and a slowed arm
 //! catches up. `cargo run --release --example eval_turns` measures it on whole clips.
 
-use crate::support::recordings;
+use crate::support::{motion, recordings};
 
 use glam::Quat;
 use handrig::mediapipe::FrameInput;
@@ -163,21 +163,11 @@ fn largest_world_turn(skeleton: &handrig::Skeleton, options: RigOptions) -> (f32
     let mut worst = (0.0_f32, String::new());
     for clip in recordings::ASL.iter().chain(&recordings::ASL_MORE) {
         let mut rig = Rig::new(skeleton.clone(), options).unwrap();
-        let mut out = SolveOutput::default();
-        let mut last: [Option<[Quat; 3]>; 2] = [None, None];
-        for (i, f) in recordings::asl(clip).iter().enumerate() {
-            rig.solve(f, &mut out).unwrap();
-            for side in Side::BOTH {
-                let [_, upper, lower, hand] = side.arm();
-                let now = out.solved[upper.index()]
-                    .then(|| [upper, lower, hand].map(|b| out.world.rotation[b.index()]));
-                if let (Some(a), Some(b)) = (last[side.index()], now) {
-                    let turn = (0..3).map(|k| angle(a[k], b[k])).fold(0.0, f32::max);
-                    if turn > worst.0 {
-                        worst = (turn, format!("{clip}:{i} {side:?}"));
-                    }
-                }
-                last[side.index()] = now;
+        let turns = motion::largest_arm_turns(&mut rig, &recordings::asl(clip), |_, _| {});
+        for side in Side::BOTH {
+            let (turn, i) = turns[side.index()];
+            if turn > worst.0 {
+                worst = (turn, format!("{clip}:{i} {side:?}"));
             }
         }
     }

@@ -50,3 +50,36 @@ pub fn largest_step(rot: &[Vec<Quat>]) -> f32 {
         .flat_map(|w| w[0].iter().zip(&w[1]).map(|(a, b)| a.angle_between(*b)))
         .fold(0.0, f32::max)
 }
+
+/// Drives `rig` over `frames` and returns, per avatar side (`[left, right]`), the largest turn
+/// (radians) of the world rotation of its upper arm, forearm or hand between two consecutive
+/// frames whose arm was solved in both, and the frame it came on (what a viewer sees jump).
+/// `each` sees every frame's output.
+pub fn largest_arm_turns(
+    rig: &mut handrig::Rig,
+    frames: &[handrig::FrameInput],
+    mut each: impl FnMut(usize, &handrig::SolveOutput),
+) -> [(f32, usize); 2] {
+    use handrig::Side;
+    let mut out = handrig::SolveOutput::default();
+    let mut last: [Option<[Quat; 3]>; 2] = [None, None];
+    let mut worst = [(0.0_f32, 0); 2];
+    for (i, f) in frames.iter().enumerate() {
+        rig.solve(f, &mut out).expect("solve");
+        each(i, &out);
+        for side in Side::BOTH {
+            let s = side.index();
+            let [_, upper, lower, hand] = side.arm();
+            let now = out.solved[upper.index()]
+                .then(|| [upper, lower, hand].map(|b| out.world.rotation[b.index()]));
+            if let (Some(a), Some(b)) = (last[s], now) {
+                let turn = (0..3).map(|k| a[k].angle_between(b[k])).fold(0.0, f32::max);
+                if turn > worst[s].0 {
+                    worst[s] = (turn, i);
+                }
+            }
+            last[s] = now;
+        }
+    }
+    worst
+}
