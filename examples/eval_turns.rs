@@ -64,6 +64,22 @@ struct Turn {
     span: Option<(f32, f32)>,
 }
 
+/// A side-frame whose arm was solved in it and the frame before while its hand came or went
+/// (fingertip alignment in one of the two frames, not both): the hand lost or back with the
+/// pose still placing the arm.
+#[derive(Clone, Debug)]
+struct Handover {
+    clip: String,
+    frame: usize,
+    side: Side,
+    /// The hand came back (aligned now, not before); otherwise it was lost.
+    back: bool,
+    /// How far the avatar's wrist (hand joint) moved between the two frames (cm).
+    moved: f32,
+    /// The arm's largest turn (upper arm, forearm, hand world rotations; degrees).
+    turn: f32,
+}
+
 /// Frames of the span turn: a sixth of a second at 30 fps. Over a span a motion adds up while
 /// MediaPipe's frame-to-frame jitter does not (two noisy ends, not `SPAN` noisy steps), so the
 /// span turn tells a hand that follows the motion from one that is frozen, jitter aside.
@@ -184,15 +200,30 @@ fn signer_hand(f: &FrameInput, signer: Side) -> Option<usize> {
 /// Side-frames per resolution: `[ASL, hand video][left, right][swapped, jumped, duplicate]`.
 type Resolutions = [[[usize; 3]; 2]; 2];
 
-/// Per avatar: every side-frame's turn, the palm-label agreement of the avatar (agree, total)
-/// and of the input hand that drove the side (its world landmarks' palm normal, agree), the
-/// hand selection's resolutions.
+/// What [`run`] measures on one avatar.
+struct Run {
+    /// Every side-frame's turn.
+    turns: Vec<Turn>,
+    /// The palm-label agreement of the avatar (agree, total) and of the input hand that drove
+    /// the side (its world landmarks' palm normal, agree).
+    labels: (usize, usize, usize),
+    /// The labelled frames the avatar's palm disagrees on.
+    misses: Vec<String>,
+    /// The hand selection's resolutions.
+    resolved: Resolutions,
+    /// Every hand lost or back with the arm still solved from the pose.
+    handovers: Vec<Handover>,
+    /// Arm-frames the turn limit slowed, all clips and the hand video.
+    arm_slowed: u32,
+}
+
+/// Per avatar, on every clip and the hand video: see [`Run`].
 fn run(
     options: RigOptions,
     avatar: &str,
     data: &[(String, Vec<FrameInput>)],
     labels: &[Label],
-) -> (Vec<Turn>, (usize, usize, usize), Vec<String>, Resolutions) {
+) -> Run {
     let mut resolutions: Resolutions = [[[0; 3]; 2]; 2];
     let skeleton = recordings::vrm(avatar);
     let version = skeleton.version();
@@ -200,12 +231,16 @@ fn run(
     let (mut agree, mut total, mut input_agree) = (0, 0, 0);
     let camera = handrig::mediapipe::CameraMapping::default();
     let mut misses = Vec::new();
+    let mut handovers = Vec::new();
+    let mut arm_frames_slowed = 0;
     for (name, frames) in data {
         let mut rig = Rig::new(skeleton.clone(), options).unwrap();
         let mut out = SolveOutput::default();
         let mut last: [Option<([Quat; 3], Quat)>; 2] = [None, None];
         // Per side, this side's hand and input palm on the last SPAN + 1 frames.
         let mut history: [Vec<Option<(Quat, Quat)>>; 2] = Default::default();
+        // Per side, last frame's arm (world rotations), IK target and whether it was aligned.
+        let mut arm: [Option<([Quat; 3], Vec3, bool)>; 2] = [None, None];
         for (i, f) in frames.iter().enumerate() {
             let before = Side::BOTH.map(|s| rig.turns_limited(s));
             rig.solve(f, &mut out).unwrap();
@@ -259,6 +294,27 @@ fn run(
                     });
                 }
                 last[side.index()] = now;
+                let [_, upper, lower, hand] = side.arm();
+                let shown = o.solved[upper.index()].then(|| {
+                    (
+                        [upper, lower, hand].map(|b| o.world.rotation[b.index()]),
+                        o.world.position[hand.index()],
+                        o.alignment[side.index()].is_some(),
+                    )
+                });
+                if let (Some((a, ta, was)), Some((b, tb, is))) = (arm[side.index()], shown) {
+                    if was != is {
+                        handovers.push(Handover {
+                            clip: name.clone(),
+                            frame: i,
+                            side,
+                            back: is,
+                            moved: 100.0 * (tb - ta).length(),
+                            turn: (0..3).map(|k| angle(a[k], b[k])).fold(0.0, f32::max),
+                        });
+                    }
+                }
+                arm[side.index()] = shown;
             }
             for l in labels.iter().filter(|l| &l.clip == name && l.frame == i) {
                 let Some(k) = signer_hand(f, l.signer) else {
@@ -291,8 +347,16 @@ fn run(
                 }
             }
         }
+        arm_frames_slowed += rig.turns_limited(Side::Left) + rig.turns_limited(Side::Right);
     }
-    (turns, (agree, total, input_agree), misses, resolutions)
+    Run {
+        turns,
+        labels: (agree, total, input_agree),
+        misses,
+        resolved: resolutions,
+        handovers,
+        arm_slowed: arm_frames_slowed,
+    }
 }
 
 /// The hand video paired with the Kinect session's wrists (the avatar's right arm solved from
@@ -322,6 +386,90 @@ fn kinect_turns(options: RigOptions, avatar: &str) -> (Vec<f32>, Vec<f32>, Vec<u
         last = now;
     }
     (avatar_turns, input_turns, slowed)
+}
+
+/// The hand coming and going with the arm solved: per direction (lost, back) the count, the
+/// median and largest wrist move (cm) and arm turn (degrees), and the largest moves.
+fn handover_figures(h: &[Handover]) -> Value {
+    let of = |back: bool| {
+        let set: Vec<&Handover> = h.iter().filter(|x| x.back == back).collect();
+        let moved: Vec<f32> = set.iter().map(|x| x.moved).collect();
+        let turn: Vec<f32> = set.iter().map(|x| x.turn).collect();
+        json!({ "n": set.len(), "moved": { "median": median(moved.clone()),
+                "max": moved.iter().copied().fold(0.0, f32::max) },
+            "turn": { "median": median(turn.clone()), "max": turn.iter().copied().fold(0.0, f32::max) } })
+    };
+    let mut sorted: Vec<&Handover> = h.iter().collect();
+    sorted.sort_by(|a, b| b.moved.total_cmp(&a.moved));
+    let largest: Vec<String> = sorted
+        .iter()
+        .take(5)
+        .map(|x| {
+            format!(
+                "{}:{} {} {} {:.1} cm {:.0} deg",
+                x.clip,
+                x.frame,
+                if x.side == Side::Right {
+                    "right"
+                } else {
+                    "left"
+                },
+                if x.back { "back" } else { "lost" },
+                x.moved,
+                x.turn
+            )
+        })
+        .collect();
+    json!({ "lost": of(false), "back": of(true), "largest": largest })
+}
+
+/// Frames whose hands [`dropped_hands`] removes: one in [`DROP_EVERY`], from the fifth.
+const DROP_EVERY: usize = 10;
+
+/// MediaPipe losing a hand for a frame, made on real sessions: the six ASL clips and the hand
+/// video paired with the Kinect session's wrists, every hand removed on one frame in
+/// [`DROP_EVERY`] (the pose or the tracker still placing the arm). Per avatar side whose
+/// hand was aligned the frame before the drop: how far the avatar's wrist moves into the
+/// dropped frame and out of it (cm), and the arm's largest turn there (degrees).
+fn dropped_hands(options: RigOptions, avatar: &str) -> (Vec<f32>, Vec<f32>) {
+    let skeleton = recordings::vrm(avatar);
+    let mut sessions: Vec<Vec<FrameInput>> = CLIPS
+        .iter()
+        .map(|c| recordings::asl(&format!("../shared/data/asl/{c}.json")))
+        .collect();
+    sessions.push(kinect_wrists::paired_frames(&skeleton, Side::Right));
+    let (mut moves, mut turns) = (Vec::new(), Vec::new());
+    for mut frames in sessions {
+        for f in frames.iter_mut().skip(5).step_by(DROP_EVERY) {
+            f.hand_count = 0;
+        }
+        let mut rig = Rig::new(skeleton.clone(), options).unwrap();
+        let mut out = SolveOutput::default();
+        let mut last: [Option<(Vec3, [Quat; 3], bool)>; 2] = [None, None];
+        for (i, f) in frames.iter().enumerate() {
+            rig.solve(f, &mut out).unwrap();
+            let near_drop = i % DROP_EVERY == 5 || i % DROP_EVERY == 6;
+            for side in Side::BOTH {
+                let [_, upper, lower, hand] = side.arm();
+                let now = out.solved[upper.index()].then(|| {
+                    (
+                        out.world.position[hand.index()],
+                        [upper, lower, hand].map(|b| out.world.rotation[b.index()]),
+                        out.alignment[side.index()].is_some(),
+                    )
+                });
+                if let (Some((ta, a, aligned)), Some((tb, b, _))) = (last[side.index()], now) {
+                    // Into the drop from an aligned hand, or out of it.
+                    if near_drop && (aligned || i % DROP_EVERY == 6) {
+                        moves.push(100.0 * (tb - ta).length());
+                        turns.push((0..3).map(|k| angle(a[k], b[k])).fold(0.0, f32::max));
+                    }
+                }
+                last[side.index()] = now;
+            }
+        }
+    }
+    (moves, turns)
 }
 
 fn median(mut v: Vec<f32>) -> f32 {
@@ -391,8 +539,14 @@ fn main() {
     let mut worst_human = Vec::new();
     let mut worst_rows = Vec::new();
     for avatar in AVATARS {
-        let (turns, (agree, total, input_agree), misses, resolved) =
-            run(options, avatar, &data, &labels);
+        let Run {
+            turns,
+            labels: (agree, total, input_agree),
+            misses,
+            resolved,
+            handovers,
+            arm_slowed,
+        } = run(options, avatar, &data, &labels);
         // The selection reads the input only: the same on every avatar.
         let counts = |g: usize| {
             json!(Side::BOTH.map(|s| {
@@ -451,6 +605,7 @@ fn main() {
             }
         }
         let (kinect, kinect_input, kinect_slowed) = kinect_turns(options, avatar);
+        let (drop_moves, drop_turns) = dropped_hands(options, avatar);
         rows.push(json!({
             "avatar": name,
             "kinect": { "turns": figures(&kinect), "input": figures(&kinect_input),
@@ -460,6 +615,12 @@ fn main() {
             "video": figures(&pick(false, &|t| t.avatar)),
             "palm": { "agree": agree, "labelled": total, "misses": misses },
             "motion": { "asl": motion(true, false), "video": motion(false, false) },
+            "handovers": handover_figures(&handovers),
+            "armFramesSlowed": arm_slowed,
+            "dropped": { "n": drop_moves.len(), "moved": { "median": median(drop_moves.clone()),
+                    "max": drop_moves.iter().copied().fold(0.0, f32::max) },
+                "turn": { "median": median(drop_turns.clone()),
+                    "max": drop_turns.iter().copied().fold(0.0, f32::max) } },
         }));
     }
     let result = json!({ "input": input_rows, "avatars": rows, "worst": worst_rows,
@@ -595,6 +756,51 @@ fn print_table(r: &Value) {
             asl.len(),
             l["video"],
             joined(asl)
+        );
+    }
+    println!(
+        "\nThe hand lost or back with the arm still solved from the pose (ASL clips and hand \
+         video): side-frames, wrist move (cm) and arm turn (degrees), median / max; \
+         arm-frames the turn limit slowed in all"
+    );
+    for a in r["avatars"].as_array().unwrap() {
+        let h = &a["handovers"];
+        let part = |k: &str| {
+            let x = &h[k];
+            format!(
+                "{k} {:>3}: {:>4.1} / {:>4.1} cm, {:>4.1} / {:>4.1} deg",
+                x["n"],
+                x["moved"]["median"].as_f64().unwrap_or(f64::NAN),
+                x["moved"]["max"].as_f64().unwrap_or(0.0),
+                x["turn"]["median"].as_f64().unwrap_or(f64::NAN),
+                x["turn"]["max"].as_f64().unwrap_or(0.0)
+            )
+        };
+        println!(
+            "  {:<20} {} | {} | slowed {:>3} | largest: {}",
+            a["avatar"].as_str().unwrap(),
+            part("lost"),
+            part("back"),
+            a["armFramesSlowed"],
+            joined(h["largest"].as_array().unwrap())
+        );
+    }
+    println!(
+        "\nA hand dropped for one frame in {DROP_EVERY} (ASL clips and the Kinect-paired session, \
+         the arm still placed): into and out of the drop, wrist move (cm) and arm turn \
+         (degrees), median / max"
+    );
+    for a in r["avatars"].as_array().unwrap() {
+        let d = &a["dropped"];
+        let f = |k: &str, m: &str| d[k][m].as_f64().unwrap_or(f64::NAN);
+        println!(
+            "  {:<20} {:>4} side-frames: {:>4.1} / {:>4.1} cm, {:>4.1} / {:>4.1} deg",
+            a["avatar"].as_str().unwrap(),
+            d["n"],
+            f("moved", "median"),
+            f("moved", "max"),
+            f("turn", "median"),
+            f("turn", "max")
         );
     }
     println!("\nHand selection, side-frames resolved (left / right):");

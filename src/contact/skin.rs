@@ -595,8 +595,8 @@ fn hand_thickness(
         if v.len() < 8 {
             return None;
         }
-        v.sort_unstable_by(f32::total_cmp);
-        Some(v[v.len() * 3 / 4])
+        let k = v.len() * 3 / 4;
+        Some(*v.select_nth_unstable_by(k, f32::total_cmp).1)
     };
     let f = median(&mut finger)?;
     let p = median(&mut palm).unwrap_or(1.6 * f);

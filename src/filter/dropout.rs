@@ -128,6 +128,7 @@ impl Presence {
     /// Returns what to show. The first detection (since creation or [`Presence::reset`]) is
     /// shown as solved; a detection after a loss blends in. A clock that goes backwards
     /// restarts the group.
+    #[inline(never)]
     pub fn update(&mut self, now_ms: f64, live: bool, o: &DropoutOptions) -> Blend {
         let since = match self.state {
             State::Live(t) | State::Lost(t) => t,

@@ -115,6 +115,8 @@ pub struct Rig {
     touch: [touch::TouchHold; 2],
     /// Each side's arm as shown last frame, for the turn limit (`limit.rs`).
     turn_limit: [limit::TurnLimit; 2],
+    /// What each side's lost hand leaves to its arm (`targets.rs`).
+    lost_hand: [targets::LostHand; 2],
     /// This frame's values passed from stage to stage (not history; see [`Scratch`]).
     scratch: Scratch,
 }
@@ -225,6 +227,7 @@ impl Rig {
             contact_rate: crate::contact::ContactRate::default(),
             touch: [touch::TouchHold::default(); 2],
             turn_limit: [limit::TurnLimit::default(); 2],
+            lost_hand: [targets::LostHand::default(); 2],
             scratch: Scratch::default(),
         })
     }
@@ -275,6 +278,7 @@ impl Rig {
         self.contact_rate = crate::contact::ContactRate::default();
         self.touch = [touch::TouchHold::default(); 2];
         self.turn_limit = [limit::TurnLimit::default(); 2];
+        self.lost_hand = [targets::LostHand::default(); 2];
         self.scratch.pose = None;
         self.scratch.anchors = [None, None];
         self.scratch.turn = None;
@@ -449,6 +453,7 @@ impl Rig {
         for side in Side::BOTH {
             self.reach_target(side, plans[side.index()], out);
         }
+        self.remember_offsets(out);
         let eased = self.ease(frame.time_ms, out);
         let slowed = self.limit_turns(dt, out);
         self.report([0, 1].map(|s| eased[s] || slowed[s]), out);

@@ -21,19 +21,27 @@ impl Rig {
             }
             Plan::Reach {
                 target,
-                hand_rotation: None,
-                pole,
-                ..
-            } => {
-                self.reach(side, target, None, pole, None, out);
-                return;
-            }
-            Plan::Reach {
-                target,
                 hand_rotation: Some(q),
                 pole,
                 points,
+                carried: false,
             } => (target, q, pole, points),
+            Plan::Reach {
+                target,
+                hand_rotation,
+                pole,
+                carried,
+                ..
+            } => {
+                // No hand this frame: the arm reaches the wrist with the rotation it has (a
+                // lost hand's as shown, which keeps the forearm's twist), and the hand bone is
+                // the easing's (held, then eased to rest). Nothing aligned to report.
+                self.reach(side, target, hand_rotation, pole, None, out);
+                if carried {
+                    out.solved[side.hand().index()] = false;
+                }
+                return;
+            }
         };
         out.ik_targets[side.index()] = Some(IkTarget {
             position: target,
@@ -119,6 +127,7 @@ impl Rig {
     }
 
     #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
     pub(super) fn reach(
         &mut self,
         side: Side,

@@ -12,11 +12,15 @@ impl Rig {
     /// retargeting reports placed on the avatar. `eased[side]`: the easing blended that side's
     /// arm, hand or fingers away from what was solved, so its alignment error (measured on the
     /// solve) is measured again on what is shown.
-    pub(super) fn report(&self, eased: [bool; 2], out: &mut SolveOutput) {
+    pub(super) fn report(&mut self, eased: [bool; 2], out: &mut SolveOutput) {
         // The torso stage posed the body, which nothing has turned since (the later stages turn
         // the arms, hands and fingers, the easing also the shoulders): the arms from their roots.
         for side in Side::BOTH {
             self.skeleton.forward_arm(side, &out.local, &mut out.world);
+            // The hand as shown, for the arm should the hand be lost next frame (`targets.rs`).
+            let [_, upper, _, hand] = side.arm();
+            self.lost_hand[side.index()].shown =
+                out.solved[upper.index()].then(|| out.world.rotation[hand.index()]);
         }
         for side in Side::BOTH {
             let s = side.index();

@@ -3,12 +3,22 @@
 //! together moved for self-contact ([`crate::contact`]: a finger on the face lands on the
 //! avatar's face where the posed torso put it, touching hands stay touching, hands stay out of
 //! the body); both sides' targets exist before any IK.
+//!
+//! A hand lost while the wrist source still places the arm ([`LostHand`]) leaves the arm what
+//! it had: the aligned target's offset from the wrist source, and the hand's world rotation as
+//! shown, which keeps the forearm's share of the twist. Both are held and eased out with the
+//! dropout timings (`options.dropout`), as the lost hand's own rotation is (the easing stage
+//! holds the hand bone, then eases it to rest). Before, a hand MediaPipe dropped for one frame
+//! turned the forearm by its whole twist share and snapped the hand to rest, about 60 degrees
+//! and back, on every such frame of the ASL clips. A hand solved again is aligned exactly, in
+//! that frame.
 
 use glam::{Quat, Vec3};
 
 use crate::align;
 use crate::bones::{Finger, Side, BONE_COUNT};
 use crate::contact::{HandPoints, SideTarget, Source, UserFace, UserFaces};
+use crate::filter::{DropoutOptions, Presence};
 use crate::mediapipe::{pose_landmark, FrameInput};
 
 use super::hands::WristSource;
@@ -30,12 +40,59 @@ pub(super) enum Plan {
         pole: Option<Vec3>,
         /// The hand's contact points (a hand solved this frame, contact on).
         points: Option<HandPoints>,
+        /// `hand_rotation` is a lost hand's as shown last frame ([`LostHand`]): the arm
+        /// reaches with it, the hand bone is left to the easing (held, then eased to rest).
+        carried: bool,
     },
 }
 
+/// What a side's lost hand leaves to its arm (history; see the module docs): the fingertip
+/// alignment's offset from the wrist source and the hand's world rotation as shown, held and
+/// then eased out with the dropout timings.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct LostHand {
+    /// The last aligned frame's wrist target (after contact) minus the wrist source's
+    /// position.
+    offset: Vec3,
+    /// This frame's wrist source position.
+    wrist: Vec3,
+    /// The hand present (live) or lost, and since when: the hold and the fade.
+    presence: Presence,
+    /// The hand's world rotation shown last frame (internal frame), when the arm was solved
+    /// in it (written by the report stage).
+    pub(super) shown: Option<Quat>,
+}
+
+impl LostHand {
+    /// Advances to `now_ms` with the hand `present` or not: how far a lost hand's carry has
+    /// eased out (0 while present or holding, 1 once gone).
+    fn update(&mut self, now_ms: f64, present: bool, timing: &DropoutOptions) -> f32 {
+        let blend = self.presence.update(now_ms, present, timing);
+        if present {
+            0.0
+        } else {
+            blend.weight
+        }
+    }
+}
+
 impl Rig {
+    /// After the IK (stage 7): each aligned side's wrist target as reached (contact and the
+    /// wrist limits applied) as an offset from its wrist source, for when the hand is lost
+    /// ([`LostHand`]).
+    pub(super) fn remember_offsets(&mut self, out: &SolveOutput) {
+        for side in Side::BOTH {
+            let s = side.index();
+            if let (Some(t), true) = (out.ik_targets[s], out.alignment[s].is_some()) {
+                let lost = &mut self.lost_hand[s];
+                lost.offset = t.position - lost.wrist;
+            }
+        }
+    }
+
     /// Stage 6a: the side's wrist IK target by fingertip alignment from this frame's hand
     /// (no IK yet), and the hand's contact points while its landmarks are at hand.
+    #[inline(never)]
     pub(super) fn plan_target(
         &mut self,
         side: Side,
@@ -44,22 +101,28 @@ impl Rig {
         source: Option<WristSource>,
         out: &mut SolveOutput,
     ) -> Plan {
-        let Some(hand_rot) = hand_rotation.or(source.and_then(|s| s.rotation)) else {
-            // No hand and no wrist rotation: with a wrist the arm can still reach it.
-            return match source {
-                Some(s) => Plan::Reach {
-                    target: s.position,
-                    hand_rotation: None,
-                    pole: s.pole,
-                    points: None,
-                },
-                None => Plan::Rest,
-            };
-        };
-
+        let timing = self.options.dropout.effective();
+        let present = hand_rotation.or(source.and_then(|s| s.rotation));
+        let lost = &mut self.lost_hand[side.index()];
+        let gone = lost.update(frame.time_ms, present.is_some(), &timing);
         let Some(source) = source else {
-            // Hands only: the arm stays at rest and the hand takes the solved world rotation.
-            return Plan::HandOnly(hand_rot);
+            // Nothing places the arm: a hand alone keeps it at rest and takes the solved world
+            // rotation.
+            *lost = LostHand::default();
+            return present.map_or(Plan::Rest, Plan::HandOnly);
+        };
+        lost.wrist = source.position;
+        let carried = source.position + lost.offset * (1.0 - gone);
+        // A lost hand: the arm keeps the hand's rotation as shown (the forearm keeps its share
+        // of the twist) until the hand has eased to rest, and then reaches the wrist.
+        let Some(hand_rot) = present.or(lost.shown.filter(|_| gone < 1.0)) else {
+            return Plan::Reach {
+                target: carried,
+                hand_rotation: None,
+                pole: source.pole,
+                points: None,
+                carried: false,
+            };
         };
 
         // A hand held by the solver (degenerate landmarks this frame) keeps its rotations but
@@ -81,7 +144,7 @@ impl Rig {
             out.alignment[side.index()] = Some(a);
             a.ik_wrist
         } else {
-            source.position
+            carried
         };
         let hand_index = out.hands[side.index()].map(|h| h.index);
         let points = (fresh && self.options.contact.enabled)
@@ -92,6 +155,7 @@ impl Rig {
             hand_rotation: Some(hand_rot),
             pole: source.pole,
             points,
+            carried: present.is_none(),
         }
     }
 

@@ -105,6 +105,7 @@ impl Rig {
                 hand_rotation: Some((q * turn).normalize()),
                 pole,
                 points: None,
+                carried: false,
             };
             // The fingers keep the pose they were shown with (the easing stage holds them).
             for f in Finger::ALL {

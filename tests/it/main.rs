@@ -21,6 +21,7 @@ mod flips;
 mod fuzz;
 mod gltf;
 mod golden;
+mod hand_loss;
 mod hand_props;
 mod hand_real;
 mod hand_rig;
