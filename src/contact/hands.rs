@@ -15,7 +15,7 @@
 //! Both hands move, half each, by `beta D`, with `beta` the largest pair blend: the
 //! correction fades out continuously as the hands separate and is zero beyond the radius.
 
-use glam::Vec3;
+use glam::{Quat, Vec3};
 
 use super::face::blend;
 
@@ -71,6 +71,23 @@ pub struct HandPoints {
     pub image_parts: Option<[Vec3; PARTS]>,
     /// What the image says about the hand for chest contact, when it has image landmarks.
     pub cue: Option<super::chest::HandCue>,
+}
+
+impl HandPoints {
+    /// The avatar's points (`avatar`, `joints`) turned by `q` about the wrist target: the
+    /// hand shown with another rotation. The user's points are left as they are.
+    #[must_use]
+    pub fn turned(mut self, q: Quat) -> HandPoints {
+        for p in self
+            .avatar
+            .iter_mut()
+            .chain(self.joints.iter_mut())
+            .flatten()
+        {
+            *p = q * *p;
+        }
+        self
+    }
 }
 
 /// The hand-to-hand correction of one frame (see [`solve`]).

@@ -185,8 +185,20 @@ impl Default for ContactReport {
 pub struct SideTarget {
     /// The wrist IK target; contact moves it.
     pub wrist: Vec3,
-    /// The hand's points (a hand solved this frame), else only the wrist is pushed.
+    /// The hand's points (a hand solved this frame), for every kind of contact.
     pub hand: Option<HandPoints>,
+    /// A hand not seen this frame (held by the solver, or lost and carried by its arm): its
+    /// points as last seen, turned to the rotation it is shown with, which only keep the whole
+    /// hand out of the body. With neither, only the wrist is pushed.
+    pub held: Option<HandPoints>,
+}
+
+impl SideTarget {
+    /// The points that keep the hand out of the body: this frame's, else the held ones.
+    #[must_use]
+    pub fn body_points(&self) -> Option<&HandPoints> {
+        self.hand.as_ref().or(self.held.as_ref())
+    }
 }
 
 /// The user's face per source, built once per frame.
@@ -673,7 +685,7 @@ impl ContactSolver {
                 let c = &self.colliders;
                 let mut points = [(t.wrist, c.hand_margin); 3];
                 let mut n = 1;
-                if let Some(hand) = &t.hand {
+                if let Some(hand) = t.body_points() {
                     for (k, margin) in [(0, c.hand_margin), (tip, c.tip_margin)] {
                         if let Some(a) = hand.avatar[k] {
                             points[n] = (t.wrist + a, margin);

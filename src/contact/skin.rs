@@ -619,7 +619,7 @@ pub fn hand_spheres(
     let (palm, finger) = (surface.palm_half[s], surface.finger_radius[s]);
     out[0] = (Vec3::ZERO, palm);
     let mut n = 1;
-    if let Some(hand) = &target.hand {
+    if let Some(hand) = target.body_points() {
         if let Some(c) = hand.avatar[0] {
             out[n] = (c, palm);
             n += 1;

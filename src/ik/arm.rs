@@ -197,6 +197,11 @@ pub(crate) fn shoulder_root(
     })
 }
 
+/// The method's reach step (FABRIK's or CCD's) as [`ChainArm`] calls it: the chain, its root,
+/// the goal and the effectors, the joints to move in place; returns the method's report.
+type ReachStep<'a> =
+    dyn FnMut(&Chain, &RootFrame, &ChainGoal, &[Effector], &mut [Vec3]) -> ChainReport + 'a;
+
 /// The arm chain with its pose, swivel memory and twist state, shared by [`super::FabrikArm`]
 /// and [`super::CcdArm`]: they differ only in the reach step given to [`ChainArm::solve`].
 #[derive(Clone, Debug)]
@@ -354,7 +359,9 @@ impl ChainArm {
         parent: Quat,
         pole_point: Vec3,
         out: &mut ArmPose,
-        reach: &mut impl FnMut(&Chain, &RootFrame, &ChainGoal, &[Effector], &mut [Vec3]) -> ChainReport,
+        // `dyn`: one copy of this function for both methods (a generic one was two, 3.3 KiB
+        // each in the .wasm); the reach step is called once or twice a frame.
+        reach: &mut ReachStep<'_>,
     ) -> (ArmReach, Quat) {
         let arm_length = chain.upper_length() + chain.lower_length();
         let shoulder =

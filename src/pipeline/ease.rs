@@ -52,10 +52,17 @@ impl Rig {
             let touching = out.contact[side.index()].is_some_and(|c| {
                 c.weight.max(c.hand_weight).max(c.chest_weight) >= TOUCH_COMPLETES_BLEND
             });
+            // A hand returning to an arm the pose still placed (`targets.rs`, a lost hand's
+            // arm keeps its rotation as shown) shows its hand bone's solve at once too: the
+            // arm reached the fingertip-aligned target for that rotation, so a blend-in would
+            // move the fingertip off the user's (up to 90 mm on `eat`); the turn limit bounds
+            // the hand's turn instead. The fingers still blend in.
+            let aligned = out.alignment[side.index()].is_some();
             for (group, live) in groups {
                 let presence = &mut self.presence[side.index()][group as usize];
                 let mut blend = presence.update(now_ms, live, &timing);
-                if touching && blend.to_solved && !blend.is_exact() {
+                let completes = touching || (aligned && group == Group::Hand);
+                if completes && blend.to_solved && !blend.is_exact() {
                     presence.complete();
                     blend.weight = 1.0;
                 }

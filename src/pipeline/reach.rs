@@ -25,6 +25,7 @@ impl Rig {
                 pole,
                 points,
                 carried: false,
+                ..
             } => (target, q, pole, points),
             Plan::Reach {
                 target,

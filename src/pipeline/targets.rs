@@ -43,6 +43,9 @@ pub(super) enum Plan {
         /// `hand_rotation` is a lost hand's as shown last frame ([`LostHand`]): the arm
         /// reaches with it, the hand bone is left to the easing (held, then eased to rest).
         carried: bool,
+        /// A hand not seen this frame (held or lost): its contact points as last seen, turned
+        /// to `hand_rotation`, which keep it out of the body ([`crate::contact::SideTarget`]).
+        held: Option<HandPoints>,
     },
 }
 
@@ -61,6 +64,9 @@ pub(super) struct LostHand {
     /// The hand's world rotation shown last frame (internal frame), when the arm was solved
     /// in it (written by the report stage).
     pub(super) shown: Option<Quat>,
+    /// The last freshly solved frame's contact points and the hand rotation they were placed
+    /// with (contact on), for the body push while the hand is not seen.
+    points: Option<(HandPoints, Quat)>,
 }
 
 impl LostHand {
@@ -122,6 +128,7 @@ impl Rig {
                 pole: source.pole,
                 points: None,
                 carried: false,
+                held: None,
             };
         };
 
@@ -150,12 +157,20 @@ impl Rig {
         let points = (fresh && self.options.contact.enabled)
             .then(|| self.hand_points(side, frame, hand_index, &source, hand_rot, &out.local))
             .flatten();
+        let lost = &mut self.lost_hand[side.index()];
+        let held = if fresh {
+            lost.points = points.map(|p| (p, hand_rot));
+            None
+        } else {
+            lost.points.map(|(p, q)| p.turned(hand_rot * q.conjugate()))
+        };
         Plan::Reach {
             target,
             hand_rotation: Some(hand_rot),
             pole: source.pole,
             points,
             carried: present.is_none(),
+            held,
         }
     }
 
@@ -350,9 +365,15 @@ impl Rig {
         }
         self.contact_rate.begin(dt, self.options.contact.max_speed);
         let mut targets: [Option<SideTarget>; 2] = plans.map(|p| match p {
-            Plan::Reach { target, points, .. } => Some(SideTarget {
+            Plan::Reach {
+                target,
+                points,
+                held,
+                ..
+            } => Some(SideTarget {
                 wrist: target,
                 hand: points,
+                held,
             }),
             _ => None,
         });

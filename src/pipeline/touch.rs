@@ -106,6 +106,7 @@ impl Rig {
                 pole,
                 points: None,
                 carried: false,
+                held: None,
             };
             // The fingers keep the pose they were shown with (the easing stage holds them).
             for f in Finger::ALL {

@@ -583,6 +583,7 @@ pub(crate) fn solve_one(
     targets[side.index()] = Some(SideTarget {
         wrist,
         hand: Some(hand),
+        held: None,
     });
     let mut reports = [None, None];
     solver.solve(
