@@ -608,7 +608,10 @@ pub const HAND_SPHERES: usize = 2 + 5 * 4;
 
 /// A hand's contact spheres (center relative to the wrist target, world axes; radius) into
 /// `out`: the wrist and palm center and each finger's joints with the palm's half-thickness at
-/// the palm, the finger radius along the fingers. Returns how many.
+/// the palm, the finger radius along the fingers. A hand not seen this frame
+/// ([`super::SideTarget::held`]) has its wrist, palm center and fingertips only (it is
+/// pushed, never placed: 7 spheres instead of 22, for the speed of frames with lost hands).
+/// Returns how many.
 pub fn hand_spheres(
     surface: &BodySurface,
     side: Side,
@@ -624,11 +627,12 @@ pub fn hand_spheres(
             out[n] = (c, palm);
             n += 1;
         }
+        let seen = target.hand.is_some();
         for (k, j) in hand.joints.iter().enumerate() {
-            if let Some(j) = j {
+            if let Some(j) = j.filter(|_| seen) {
                 // Each finger's first joint is in the palm (the thumb's: at its root).
                 let r = if k % 3 == 0 { palm } else { finger };
-                out[n] = (*j, r);
+                out[n] = (j, r);
                 n += 1;
             }
         }
