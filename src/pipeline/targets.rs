@@ -120,6 +120,11 @@ impl Rig {
             return present.map_or(Plan::Rest, Plan::HandOnly);
         };
         lost.wrist = source.position;
+        if gone >= 1.0 {
+            // Eased out: a hand held by the solver on its first frame back starts from the
+            // bare wrist, not from an offset of long ago.
+            lost.offset = Vec3::ZERO;
+        }
         let carried = source.position + lost.offset * (1.0 - gone);
         // A lost hand: the arm keeps the hand's rotation as shown (the forearm keeps its share
         // of the twist) until the hand has eased to rest, and then reaches the wrist.
