@@ -128,6 +128,7 @@ impl Rig {
     }
 
     #[allow(clippy::too_many_arguments)]
+    // Out of line: called from two places a side, inlined at each (.wasm size).
     #[inline(never)]
     pub(super) fn reach(
         &mut self,
