@@ -14,7 +14,8 @@
 //! palm frame of `handrig::hand::palm_frame`).
 //!
 //! It also prints the hand alone against the input palm (the median turn per frame and over
-//! [`SPAN`] frames: jitter against motion), the same turns on the hand video paired with the
+//! [`SPAN`] frames: jitter against motion; and per frame against the input's motion, the input
+//! after a centered [`SPAN`]-frame mean, [`motion_turn`]), the same turns on the hand video paired with the
 //! Kinect session's wrists (an arm from a real body tracker) with the frames the turn limit
 //! slowed, and counts what the hand selection resolved (`TrackedHand::resolved`: swapped
 //! labels, label jumps, duplicates) per side on the clips and the hand video.
@@ -24,7 +25,7 @@ mod kinect_wrists;
 #[path = "../tests/support/recordings.rs"]
 mod recordings;
 
-use glam::{Quat, Vec3};
+use glam::{Quat, Vec3, Vec4};
 use handrig::hand::palm_frame;
 use handrig::mediapipe::{FrameInput, HandObservation};
 use handrig::rig::{HandResolved, HandUse};
@@ -62,6 +63,10 @@ struct Turn {
     /// The hand's and the input palm's turn over the last [`SPAN`] frames, where this side's
     /// hand drove the avatar in every one of them.
     span: Option<(f32, f32)>,
+    /// The input palm's turn between the [`SPAN`]-frame centered means of its rotation around
+    /// this frame and the one before ([`motion_turn`]), where this side's hand drove the avatar
+    /// on all of those frames: the input's motion with most of its jitter taken out.
+    motion: Option<f32>,
 }
 
 /// A side-frame whose arm was solved in it and the frame before while its hand came or went
@@ -84,6 +89,32 @@ struct Handover {
 /// MediaPipe's frame-to-frame jitter does not (two noisy ends, not `SPAN` noisy steps), so the
 /// span turn tells a hand that follows the motion from one that is frozen, jitter aside.
 const SPAN: usize = 5;
+
+/// The mean of `qs` (unit quaternions close together): each on the first one's hemisphere,
+/// summed and normalized.
+fn mean_rotation(qs: &[Quat]) -> Quat {
+    let c = qs[0];
+    let sum = qs.iter().fold(Vec4::ZERO, |acc, q| {
+        let v = Vec4::from(*q);
+        acc + if q.dot(c) < 0.0 { -v } else { v }
+    });
+    Quat::from_vec4(sum.normalize())
+}
+
+/// The input palm's turn from frame `i - 1` to `i` after a centered (non-causal) mean over
+/// [`SPAN`] frames: the rotation averaged over frames `i - 1 - SPAN / 2 ..= i - 1 + SPAN / 2`
+/// against the one over `i - SPAN / 2 ..= i + SPAN / 2` (`None` unless all were tracked).
+/// The difference of two such means is the input's change from `i - 1 - SPAN / 2` to
+/// `i + SPAN / 2` divided by `SPAN` for a steady motion, while uncorrelated frame-to-frame
+/// jitter is cut by about that factor: an offline, zero-lag stand-in for the motion the user's
+/// hand made, which a causal filter cannot see.
+fn motion_turn(series: &[Option<Quat>], i: usize) -> Option<f32> {
+    let half = SPAN / 2;
+    let first = i.checked_sub(1 + half)?;
+    let window = series.get(first..=i + half)?;
+    let qs: Vec<Quat> = window.iter().copied().collect::<Option<_>>()?;
+    Some(angle(mean_rotation(&qs[..SPAN]), mean_rotation(&qs[1..])))
+}
 
 fn angle(a: Quat, b: Quat) -> f32 {
     let d = a.dot(b).abs().min(1.0);
@@ -241,6 +272,9 @@ fn run(
         let mut history: [Vec<Option<(Quat, Quat)>>; 2] = Default::default();
         // Per side, last frame's arm (world rotations), IK target and whether it was aligned.
         let mut arm: [Option<([Quat; 3], Vec3, bool)>; 2] = [None, None];
+        // Per side, the input palm of every frame whose hand drove that side.
+        let mut palms: [Vec<Option<Quat>>; 2] = Default::default();
+        let first_turn = turns.len();
         for (i, f) in frames.iter().enumerate() {
             let before = Side::BOTH.map(|s| rig.turns_limited(s));
             rig.solve(f, &mut out).unwrap();
@@ -266,6 +300,7 @@ fn run(
                     resolutions[usize::from(name == "hand-video")][side.index()][k] += 1;
                 }
                 let now = shown_and_input(&o, side, f);
+                palms[side.index()].push(now.map(|(_, i)| i));
                 let h = &mut history[side.index()];
                 h.push(now.map(|(b, i)| (b[2], i)));
                 if h.len() > SPAN + 1 {
@@ -291,6 +326,7 @@ fn run(
                         limited: slowed[side.index()],
                         hand: angle(a[2], b[2]),
                         span,
+                        motion: None,
                     });
                 }
                 last[side.index()] = now;
@@ -348,6 +384,9 @@ fn run(
             }
         }
         arm_frames_slowed += rig.turns_limited(Side::Left) + rig.turns_limited(Side::Right);
+        for t in &mut turns[first_turn..] {
+            t.motion = motion_turn(&palms[t.side.index()], t.frame);
+        }
     }
     Run {
         turns,
@@ -574,7 +613,11 @@ fn main() {
             let frame = set(&|t| Some(if input { t.input } else { t.hand }));
             let span = set(&|t| t.span.map(|(a, i)| if input { i } else { a }));
             let spans = span.len();
-            json!({ "frame": median(frame), "span": median(span), "spans": spans })
+            // The input's motion (centered mean) and the hand's turn on the same side-frames.
+            let moving = set(&|t| t.motion.map(|m| if input { m } else { t.hand }));
+            let moving_n = moving.len();
+            json!({ "frame": median(frame), "span": median(span), "spans": spans,
+                "motion": median(moving), "motionFrames": moving_n })
         };
         if input_rows.is_none() {
             input_rows = Some(json!({
@@ -722,6 +765,39 @@ fn print_table(r: &Value) {
             a["avatar"].as_str().unwrap(),
             m(&a["motion"]["asl"], &im["asl"]),
             m(&a["motion"]["video"], &im["video"])
+        );
+    }
+    println!(
+        "\nThe hand alone per frame against the input's motion: the input palm's per-frame turn \
+         after a centered {SPAN}-frame mean (zero lag, jitter cut about {SPAN} times; \
+         side-frames with {SPAN} + 1 tracked frames around them), median in degrees and the \
+         hand's ratio to it"
+    );
+    let mm = |v: &Value, input: &Value| {
+        let f = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+        let i = |k: &str| input[k].as_f64().unwrap_or(f64::NAN);
+        format!(
+            "{:>5.1} {:>4.0}%",
+            f("motion"),
+            100.0 * f("motion") / i("motion")
+        )
+    };
+    println!("{:<22} | {:>11} | {:>11}", "", "ASL clips", "hand video");
+    println!(
+        "{:<22} | {:>11} | {:>11}",
+        format!(
+            "input motion ({} / {})",
+            im["asl"]["motionFrames"], im["video"]["motionFrames"]
+        ),
+        mm(&im["asl"], &im["asl"]),
+        mm(&im["video"], &im["video"])
+    );
+    for a in r["avatars"].as_array().unwrap() {
+        println!(
+            "{:<22} | {:>11} | {:>11}",
+            a["avatar"].as_str().unwrap(),
+            mm(&a["motion"]["asl"], &im["asl"]),
+            mm(&a["motion"]["video"], &im["video"])
         );
     }
     println!(
