@@ -4,8 +4,9 @@
 
 use glam::Quat;
 
+use crate::bones::BONE_COUNT;
 use crate::bones::{HumanBone, Side};
-use crate::filter::nlerp;
+use crate::filter::{nlerp, Blend};
 use crate::hand::HandStatus;
 
 use super::{Rig, SolveOutput};
@@ -58,10 +59,15 @@ impl Rig {
             // move the fingertip off the user's (up to 90 mm on `eat`); the turn limit bounds
             // the hand's turn instead. The fingers still blend in.
             let aligned = out.alignment[side.index()].is_some();
+            // Fingers blending in that alignment and contact already placed as shown
+            // ([`Rig::fingers_blend`]) keep blending: completing them would move the
+            // fingertip off what was placed.
+            let placed_blending = self.scratch.fingers_blending[side.index()];
             for (group, live) in groups {
                 let presence = &mut self.presence[side.index()][group as usize];
                 let mut blend = presence.update(now_ms, live, &timing);
-                let completes = touching || (aligned && group == Group::Hand);
+                let completes = (touching && !(group == Group::Fingers && placed_blending))
+                    || (aligned && group == Group::Hand);
                 if completes && blend.to_solved && !blend.is_exact() {
                     presence.complete();
                     blend.weight = 1.0;
@@ -93,6 +99,34 @@ impl Rig {
             }
         }
         eased
+    }
+
+    /// How stage 8 will show the fingers of `side`'s hand, solved this frame: `None` as
+    /// solved, or the blend-in of fingers returning after a loss. Stage 6 places the fingertip
+    /// (alignment, contact points) with the fingers as they will be shown
+    /// ([`Rig::show_fingers`]), so a returning hand's blend-in does not move it off the user's.
+    pub(super) fn fingers_blend(&self, side: Side, now_ms: f64) -> Option<Blend> {
+        let timing = self.options.dropout.effective();
+        // A copy: stage 8 advances the state itself, to the same blend (the hand is live).
+        let mut presence = self.presence[side.index()][Group::Fingers as usize];
+        let blend = presence.update(now_ms, true, &timing);
+        (!blend.is_exact()).then_some(blend)
+    }
+
+    /// `local` with `side`'s finger rotations as `blend` will show them (stage 8's anchors
+    /// and last shown rotations, unchanged).
+    pub(super) fn show_fingers(&self, side: Side, blend: Blend, local: &mut [Quat; BONE_COUNT]) {
+        // The side's 15 finger bones are consecutive, thumb metacarpal first.
+        let first = side.finger(crate::bones::Finger::Thumb)[0].index();
+        // An index loop: the iterator form (`enumerate().skip().take()`) costs 0.2 KiB more
+        // of .wasm, which sits near its size budget.
+        #[allow(clippy::needless_range_loop)]
+        for i in first..first + 15 {
+            if self.driven[i] {
+                let mut anchor = self.anchor[i];
+                local[i] = blend.show(local[i], &mut anchor, self.shown[i]);
+            }
+        }
     }
 
     /// Eases the arm's share of a shoulder: the turn the arm solver put on top of the torso's

@@ -21,7 +21,8 @@
 //!    from the pose mapped relative to the torso ([`crate::body`]), with the elbow as pole;
 //! 6. **targets** (`Rig::plan_target` per side, then `Rig::contact_targets` for both
 //!    sides together): the wrist IK target by fingertip alignment ([`crate::align`]) from
-//!    forward kinematics of *this* frame's hand, then moved for self-contact
+//!    forward kinematics of *this* frame's hand as stage 8 will show it (fingers returning
+//!    after a loss blend in: `Rig::fingers_blend`), then moved for self-contact
 //!    ([`crate::contact`]: a finger on the face lands on the avatar's face where the posed
 //!    torso put it, touching hands stay touching, hands stay out of the body; the correction
 //!    changes by at most `contact.maxSpeed`), then a hand lost while it touches the other is
@@ -30,7 +31,8 @@
 //!    target from the posed torso;
 //! 8. **ease** (`Rig::ease`): groups whose tracking was lost hold, then ease to rest (a
 //!    shoulder to the torso's rotation of it); returning ones blend in
-//!    ([`crate::filter::dropout`]), but a hand returning into a touch shows its solve at once;
+//!    ([`crate::filter::dropout`]), but a hand returning into a touch, or to an arm the pose
+//!    placed, shows its hand bone's solve at once (its fingers blend in as stage 6 placed them);
 //!    rotations keep their hemisphere;
 //!    8b. **turn limit** (`Rig::limit_turns`, `limit.rs`): an arm turning faster than
 //!    `arm.maxTurnSpeed` is slowed to it, its four bones by the same fraction;
@@ -133,6 +135,9 @@ struct Scratch {
     /// read by stage 6): a hand solved this frame, or one held by the hand checks with the
     /// last solved hand's landmarks; not a degenerate hand held by the solver.
     placed: [bool; 2],
+    /// Whether each side's fingertip alignment and contact points used the fingers as the
+    /// easing will show them, blending in after a loss (stage 6, read by stage 8).
+    fingers_blending: [bool; 2],
     /// This frame's pose, filtered (stage 2).
     pose: Option<PoseObservation>,
     /// This frame's torso rotation of each shoulder bone (`[left, right]`): what an arm's
@@ -152,6 +157,7 @@ impl Default for Scratch {
         Scratch {
             landmarks: [Vec3::ZERO; HAND_LANDMARKS],
             placed: [false; 2],
+            fingers_blending: [false; 2],
             pose: None,
             shoulder_base: [Quat::IDENTITY; 2],
             anchors: [None, None],

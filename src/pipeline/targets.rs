@@ -110,6 +110,7 @@ impl Rig {
         source: Option<WristSource>,
         out: &mut SolveOutput,
     ) -> Plan {
+        self.scratch.fingers_blending[side.index()] = false;
         let timing = self.options.dropout.effective();
         let present = hand_rotation.or(source.and_then(|s| s.rotation));
         let lost = &mut self.lost_hand[side.index()];
@@ -144,6 +145,19 @@ impl Rig {
         // its landmarks cannot place the fingertip: align freshly solved hands, and hands the
         // checks held with the landmarks they were solved from (`hands.rs`).
         let fresh = self.scratch.placed[side.index()];
+        // The fingers as shown: a returning hand's blend in (stage 8), so that the fingertip
+        // shown lands on the user's (a copy of the rotations, on the stack, only then).
+        let blend = self.fingers_blend(side, frame.time_ms).filter(|_| fresh);
+        self.scratch.fingers_blending[side.index()] = blend.is_some();
+        let mut shown_local;
+        let local = match blend {
+            Some(b) => {
+                shown_local = out.local;
+                self.show_fingers(side, b, &mut shown_local);
+                &shown_local
+            }
+            None => &out.local,
+        };
         let target = if fresh {
             let a = align::wrist_target(
                 &self.skeleton,
@@ -154,7 +168,7 @@ impl Rig {
                 &self.scratch.landmarks,
                 source.scale,
                 hand_rot,
-                &out.local,
+                local,
             );
             out.alignment[side.index()] = Some(a);
             a.ik_wrist
@@ -163,7 +177,7 @@ impl Rig {
         };
         let hand_index = out.hands[side.index()].map(|h| h.index);
         let points = (fresh && self.options.contact.enabled)
-            .then(|| self.hand_points(side, frame, hand_index, &source, hand_rot, &out.local))
+            .then(|| self.hand_points(side, frame, hand_index, &source, hand_rot, local))
             .flatten();
         let lost = &mut self.lost_hand[side.index()];
         let held = if fresh {

@@ -257,11 +257,14 @@ fn chest_contact_follows_the_visual_labels() {
 /// A hand that returns from a loss into a touch shows the pose contact placed (its solve) at
 /// once, not a blend-in from the pose shown while it was lost: on the six ASL clips with the
 /// woman and her skin, every touching side-frame (face, chest or hands at weight >= 0.5) of
-/// a tracked hand shows the same hand and finger rotations as a rig without dropout easing,
-/// except where the turn limit slowed either rig's arm this frame (it starts from what each
-/// showed while the hand was lost, which the easing makes differ: held, not snapped to rest).
-/// At least two such frames fall within the fade-in (`dropout.fadeInMs`) after a loss, where
-/// a blend-in would show.
+/// a tracked hand shows the hand's world rotation of a rig without dropout easing, and
+/// outside the fade-in (`dropout.fadeInMs`) after a loss its finger rotations too, within 5
+/// degrees; frames where the turn limit slowed either rig's arm are left out (it starts from
+/// what each showed while the hand was lost, which the easing makes differ: held, not
+/// snapped to rest). At least two such frames fall within the fade-in, where a blend-in
+/// would show (19.5 degrees apart on `again` 18 with the hand blending in). Within it the
+/// fingers blend in, and alignment and contact placed them as shown (`Rig::fingers_blend`),
+/// so the arms differ a little and the fingers are not compared there.
 #[test]
 fn a_hand_returning_into_a_touch_shows_its_solve() {
     use handrig::{Finger, Side};
@@ -297,15 +300,26 @@ fn a_hand_returning_into_a_touch_shows_its_solve() {
                 if tracked && touch && !slowed {
                     touching += 1;
                     returning += usize::from(since_loss[s] <= fade_in_frames);
-                    let mut bones = vec![side.hand()];
-                    for finger in Finger::ALL {
-                        bones.extend(side.finger(finger));
+                    // The hand's world rotation, and outside the fade-in the fingers: within
+                    // 5 degrees (both rigs' arms reached their own targets, and contact's
+                    // speed limit carries what each did before, so they differ by a little;
+                    // up to 2.7 degrees measured); a blend-in from the lost pose differs by
+                    // far more.
+                    let h = side.hand().index();
+                    let mut pairs = vec![(side.hand(), a.world.rotation[h], b.world.rotation[h])];
+                    if since_loss[s] > fade_in_frames {
+                        for finger in Finger::ALL {
+                            for bone in side.finger(finger) {
+                                let k = bone.index();
+                                pairs.push((bone, a.local[k], b.local[k]));
+                            }
+                        }
                     }
-                    for bone in bones {
-                        let (qa, qb) = (a.local[bone.index()], b.local[bone.index()]);
+                    for (bone, qa, qb) in pairs {
+                        let deg = (2.0 * qa.dot(qb).abs().min(1.0).acos()).to_degrees();
                         assert!(
-                            qa.dot(qb).abs() > 1.0 - 1e-6,
-                            "{clip} {i} {side:?} {bone:?}: shown {qa:?}, solved {qb:?}"
+                            deg < 5.0,
+                            "{clip} {i} {side:?} {bone:?}: shown {qa:?}, solved {qb:?}, {deg} deg apart"
                         );
                     }
                 }
