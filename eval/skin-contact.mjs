@@ -12,9 +12,8 @@
 //
 // --json also writes every row to target/skin-contact.json.
 //
-// Takes 8-12 minutes for the six generated avatars (494 and 705 s measured: 0.1-0.15 s per frame and
-// setting, 400 frames x 2 settings x 6 avatars, on one core), longer on a busy machine;
-// `--avatars woman-vrm1` about 1.5 minutes.
+// Takes about 1.5-2 minutes for the six generated avatars (86 s measured at 5d814c0; 8-12 minutes
+// when first written), longer on a busy machine; `--avatars woman-vrm1` about 15 s.
 
 import fs from "node:fs";
 import path from "node:path";
