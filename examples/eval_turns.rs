@@ -759,14 +759,18 @@ fn print_table(r: &Value) {
         m(&im["asl"], &im["asl"]),
         m(&im["video"], &im["video"])
     );
-    for a in r["avatars"].as_array().unwrap() {
-        println!(
-            "{:<22} | {:>25} | {:>25}",
-            a["avatar"].as_str().unwrap(),
-            m(&a["motion"]["asl"], &im["asl"]),
-            m(&a["motion"]["video"], &im["video"])
-        );
-    }
+    // One row per avatar: its ASL and hand-video cells (`cell(avatar's, input's)`).
+    let avatar_rows = |cell: &dyn Fn(&Value, &Value) -> String, width: usize| {
+        for a in r["avatars"].as_array().unwrap() {
+            println!(
+                "{:<22} | {:>width$} | {:>width$}",
+                a["avatar"].as_str().unwrap(),
+                cell(&a["motion"]["asl"], &im["asl"]),
+                cell(&a["motion"]["video"], &im["video"])
+            );
+        }
+    };
+    avatar_rows(&m, 25);
     println!(
         "\nThe hand alone per frame against the input's motion: the input palm's per-frame turn \
          after a centered {SPAN}-frame mean (zero lag, jitter cut about {SPAN} times; \
@@ -792,14 +796,7 @@ fn print_table(r: &Value) {
         mm(&im["asl"], &im["asl"]),
         mm(&im["video"], &im["video"])
     );
-    for a in r["avatars"].as_array().unwrap() {
-        println!(
-            "{:<22} | {:>11} | {:>11}",
-            a["avatar"].as_str().unwrap(),
-            mm(&a["motion"]["asl"], &im["asl"]),
-            mm(&a["motion"]["video"], &im["video"])
-        );
-    }
+    avatar_rows(&mm, 11);
     println!(
         "\nHand video with the Kinect session's wrists (right arm solved from a body tracker), \
          turns as above; frames the turn limit slowed"
