@@ -733,15 +733,17 @@ fn print_table(r: &Value) {
         "{:<22} | {:^25} | {:^25}",
         "", "ASL clips (6)", "hand video"
     );
+    // A median turn `k` of `v` (width `w`) and its ratio to the input's.
+    let turn = |v: &Value, input: &Value, k: &str, w: usize| {
+        let (f, i) = (v[k].as_f64(), input[k].as_f64());
+        let (f, i) = (f.unwrap_or(f64::NAN), i.unwrap_or(f64::NAN));
+        format!("{f:>w$.1} {:>4.0}%", 100.0 * f / i)
+    };
     let m = |v: &Value, input: &Value| {
-        let f = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
-        let i = |k: &str| input[k].as_f64().unwrap_or(f64::NAN);
         format!(
-            "{:>5.1} {:>4.0}% {:>6.1} {:>4.0}%",
-            f("frame"),
-            100.0 * f("frame") / i("frame"),
-            f("span"),
-            100.0 * f("span") / i("span")
+            "{} {}",
+            turn(v, input, "frame", 5),
+            turn(v, input, "span", 6)
         )
     };
     let im = &r["input"]["motion"];
@@ -777,15 +779,7 @@ fn print_table(r: &Value) {
          side-frames with {SPAN} + 1 tracked frames around them), median in degrees and the \
          hand's ratio to it"
     );
-    let mm = |v: &Value, input: &Value| {
-        let f = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
-        let i = |k: &str| input[k].as_f64().unwrap_or(f64::NAN);
-        format!(
-            "{:>5.1} {:>4.0}%",
-            f("motion"),
-            100.0 * f("motion") / i("motion")
-        )
-    };
+    let mm = |v: &Value, input: &Value| turn(v, input, "motion", 5);
     println!("{:<22} | {:>11} | {:>11}", "", "ASL clips", "hand video");
     println!(
         "{:<22} | {:>11} | {:>11}",
