@@ -13,7 +13,9 @@
 //!
 //! ## Finger model
 //!
-//! Each finger is a 2-DOF base joint and two hinges (see `chain` for the math). All angles are
+//! Each finger is a 2-DOF base joint and two hinge joints, each hinge with a small sideways
+//! deviation (the play the collateral ligaments allow, [`Dof::Deviation1`] and
+//! [`Dof::Deviation2`]; see `chain` for the math). All angles are
 //! measured on the tracked hand (so the limits in [`limits`] are anatomical), expressed in the
 //! palm frame:
 //!
@@ -31,7 +33,11 @@
 //!
 //! The base angles are a least-squares fit to the whole finger (the hinge plane that best
 //! explains all three segments, not just the first), then clamped to the limits; the hinge
-//! angles are the segments' angles in that plane, clamped.
+//! angles are the segments' angles in that plane, clamped. Each hinge segment's deviation is
+//! its angle out of its joint's flexion plane (toward the hinge axis as a right hand has it,
+//! so mirror images report the same angles: on index to little the radial side), clamped;
+//! the distal hinge is measured in the middle phalanx's own frame, so PIP deviation carries
+//! into the DIP's plane as it does on a hand.
 //!
 //! ## Avatar rotations
 //!
@@ -39,8 +45,8 @@
 //! has points along the span from its joint to the next bone it has (or the tip), so a
 //! missing intermediate makes the proximal cover MCP to DIP. The first bone (parent: the hand)
 //! gets the rotation taking its rest direction and rest hinge axis to the target direction
-//! and the tracked hinge axis (no other twist); the others turn about their rest hinge axis
-//! only. Rest directions and hinge axes come from the avatar's own rest pose, so bent,
+//! and the tracked hinge axis (no other twist); the others turn about their rest hinge axis,
+//! after a tilt about `dir x hinge` toward the hinge axis by their deviation. Rest directions and hinge axes come from the avatar's own rest pose, so bent,
 //! rotated or unevenly spaced rest fingers work: a straight rest finger gets the anatomical
 //! hinge axis of its rest direction, a finger resting bent (rigged thumbs usually are) hinges
 //! in the plane it is bent in. A distal bone's rest direction continues its parent's (avatars
@@ -132,6 +138,8 @@ const MIN_LENGTH: f32 = 1e-6;
 const MIN_PALM_SINE: f32 = 0.1;
 /// Slack before a clamped angle counts as a limit being active.
 const LIMIT_SLACK: f32 = 1e-4;
+/// Sine below which a phalanx counts as lying in its bone's flexion plane (a pure hinge turn).
+const SIDE_EPSILON: f32 = 1e-6;
 /// MediaPipe MCP landmarks of index, middle, ring, little.
 const MCP: [usize; 4] = [5, 9, 13, 17];
 
@@ -886,16 +894,38 @@ fn solve_finger(
         0.0
     };
     let h1 = clamp(Dof::Hinge1, wrap(abs1));
-    let abs2 = if targets.weight[2] > 0.0 {
-        hinge_angle(d, flex, targets.dir[2])
+    // Sideways deviation: a hinge segment's angle out of its joint's flexion plane, toward
+    // the hinge axis as the right hand has it (on a finger the radial side), so that mirror
+    // images report the same angles: the palm frame is left-handed on a right hand. The
+    // middle phalanx deviates about its joint's dorsopalmar axis and carries the next joint
+    // with it, so the distal joint's angles are measured in the middle phalanx's frame.
+    let side = if f.cross(r).dot(n) < 0.0 { hinge } else { -hinge };
+    let out_of_plane = |v: Vec3, axis: Vec3| v.dot(axis).clamp(-1.0, 1.0).asin();
+    let bent = bend(d, flex, h1);
+    let flex1 = bend(flex, -d, h1);
+    let v1 = if targets.weight[1] > 0.0 {
+        out_of_plane(targets.dir[1], side)
     } else {
-        h1
+        0.0
     };
-    let h2 = clamp(Dof::Hinge2, wrap(abs2 - h1));
+    let v1 = clamp(Dof::Deviation1, v1);
+    let middle = bend(bent, side, v1);
+    let side1 = bend(side, -bent, v1);
+    let (h2, v2) = if targets.weight[2] > 0.0 {
+        let t = targets.dir[2];
+        (
+            hinge_angle(middle, flex1, t),
+            out_of_plane(t, side1),
+        )
+    } else {
+        (0.0, 0.0)
+    };
+    let h2 = clamp(Dof::Hinge2, wrap(h2));
+    let v2 = clamp(Dof::Deviation2, v2);
     report.angles[fi][Dof::Cupping.index()] = cupping;
 
     // The clamped user finger: joint positions relative to its base joint.
-    let seg = [d, bend(d, flex, h1), bend(d, flex, h1 + h2)];
+    let seg = [d, middle, bend(bend(middle, flex1, h2), side1, v2)];
     let mut joint = [Vec3::ZERO; 4];
     for k in 0..3 {
         joint[k + 1] = joint[k] + len[k] * seg[k];
@@ -917,8 +947,18 @@ fn solve_finger(
         let q = if i == 0 {
             frame_rotation(b.dir, b.hinge, span, hinge)?
         } else {
+            // Bend about the rest hinge, after tilting out of the flexion plane toward it:
+            // R_hinge(theta) R_side(phi) dir = cos phi (cos theta dir + sin theta flex)
+            //   + sin phi hinge, with R_side about dir x hinge.
             let w = chain_rot.inverse() * span;
-            hinge_rotation(b.hinge, w.dot(b.dir), w.dot(b.flex))
+            let bent = hinge_rotation(b.hinge, w.dot(b.dir), w.dot(b.flex));
+            let tilt = w.dot(b.hinge).clamp(-1.0, 1.0);
+            if tilt.abs() > SIDE_EPSILON {
+                let axis = b.dir.cross(b.hinge).try_normalize()?;
+                bent * Quat::from_axis_angle(axis, tilt.asin())
+            } else {
+                bent
+            }
         };
         chain_rot = (chain_rot * q).normalize();
         out[fi * 3 + b.slot] = q;

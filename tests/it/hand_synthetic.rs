@@ -98,6 +98,11 @@ fn check(
                 dof.name(finger)
             );
         }
+        // Planar fingers: no sideways deviation.
+        for dof in [Dof::Deviation1, Dof::Deviation2] {
+            let got = rep.angle(finger, dof).to_degrees();
+            assert!(got.abs() < 0.05, "{what}: {side:?} {finger:?} {dof:?} = {got}");
+        }
     }
     for q in local.iter().chain([&hand]) {
         assert!(
@@ -412,4 +417,95 @@ fn rig_without_finger_bones_still_gets_a_hand_rotation() {
     );
     assert!(local.iter().all(|q| *q == Quat::IDENTITY));
     let _ = B::Hips;
+}
+
+/// `lm` with `finger` bent sideways by `pip` at its middle joint and a further `dip` at its
+/// last joint, both toward the radial side of the hand (out of the flexion plane about the
+/// axis perpendicular to the phalanx and the hinge axis).
+fn deviate(
+    model: &HandModel,
+    lm: &[Vec3; 21],
+    finger: Finger,
+    a: [f32; 4],
+    pip: f32,
+    dip: f32,
+) -> [Vec3; 21] {
+    let (_, r, _) = model.palm();
+    let mut hinge = model.hinge_axis(finger, a);
+    if finger != Finger::Thumb && hinge.dot(r) < 0.0 {
+        hinge = -hinge;
+    }
+    let ids = finger.landmarks();
+    let mut out = *lm;
+    for (joint, angle) in [(1, pip), (2, dip)] {
+        let o = out[ids[joint]];
+        let dir = (out[ids[joint + 1]] - o).normalize();
+        let q = Quat::from_axis_angle(dir.cross(hinge).normalize(), angle);
+        for k in joint + 1..4 {
+            out[ids[k]] = o + q * (out[ids[k]] - o);
+        }
+    }
+    out
+}
+
+/// A finger bent sideways at its hinges: the avatar's hinge bones follow the user's
+/// phalanges exactly within the joints' play (the base joint's fitted plane leans part of
+/// the way, so the reported deviation carries the rest, with its sign); beyond the play the
+/// deviation stops at the limit and says so. A flattening solver (hinges only) misses the
+/// middle phalanx by the deviation.
+#[test]
+fn sideways_bends_at_the_hinges_are_followed_within_their_play() {
+    let skel = avatar(&HandLayout::standard(), &[]);
+    let angles = hand_model::pose("hook");
+    for side in Side::BOTH {
+        let model = HandModel::from_skeleton(&skel, side);
+        let posed = model.landmarks(&angles, &NO_STRETCH);
+        for finger in [Finger::Index, Finger::Ring, Finger::Little] {
+            let a = angles[finger.index()];
+            for (pip, dip) in [(8.0_f32, 0.0_f32), (-6.0, 5.0), (-10.0, -12.0), (25.0, 0.0)] {
+                let what = format!("{side:?} {finger:?} PIP {pip} DIP {dip}");
+                let lm_model = deviate(
+                    &model,
+                    &posed,
+                    finger,
+                    a,
+                    pip.to_radians(),
+                    dip.to_radians(),
+                );
+                let lm = place(&lm_model, turn(), 1.0, Vec3::new(0.1, 0.2, 0.3));
+                let mut solver = HandSolver::new(&skel, HandStrategy::Analytic).unwrap();
+                let mut local = [Quat::IDENTITY; BONE_COUNT];
+                solver.solve(&skel, side, &lm, &mut local).unwrap();
+                let rep = solver.report(side);
+                let dev1 = rep.angle(finger, Dof::Deviation1).to_degrees();
+                let limited = rep.limited[finger.index()];
+                let errs: Vec<(usize, f32)> = fk_dirs(&skel, side, &local)
+                    .into_iter()
+                    .filter(|(f, _, _)| *f == finger)
+                    .map(|(_, slot, dir)| {
+                        (slot, angle_deg(dir, span(&skel, side, &lm_model, finger, slot)))
+                    })
+                    .collect();
+                if pip.abs() <= 15.0 {
+                    assert_eq!(limited, [false; 7], "{what}");
+                    for (slot, e) in &errs {
+                        if *slot > 0 {
+                            assert!(*e < 0.1, "{what}: bone {slot} off by {e:.3} deg");
+                        }
+                    }
+                    assert!(
+                        dev1 * pip > 0.0 && (0.6..1.05).contains(&(dev1 / pip)),
+                        "{what}: PIP deviation {dev1:.2}"
+                    );
+                } else {
+                    assert!((dev1 - 15.0).abs() < 1e-3, "{what}: {dev1}");
+                    let expect = [false, false, false, false, false, true, false];
+                    assert_eq!(limited, expect, "{what}");
+                    // The middle phalanx misses by what the limit held back.
+                    let e = errs.iter().find(|(s, _)| *s == 1).unwrap().1;
+                    assert!((3.0..12.0).contains(&e), "{what}: {e}");
+                }
+            }
+        }
+    }
 }
