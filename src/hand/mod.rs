@@ -899,7 +899,11 @@ fn solve_finger(
     // images report the same angles: the palm frame is left-handed on a right hand. The
     // middle phalanx deviates about its joint's dorsopalmar axis and carries the next joint
     // with it, so the distal joint's angles are measured in the middle phalanx's frame.
-    let side = if f.cross(r).dot(n) < 0.0 { hinge } else { -hinge };
+    let side = if f.cross(r).dot(n) < 0.0 {
+        hinge
+    } else {
+        -hinge
+    };
     let out_of_plane = |v: Vec3, axis: Vec3| v.dot(axis).clamp(-1.0, 1.0).asin();
     let bent = bend(d, flex, h1);
     let flex1 = bend(flex, -d, h1);
@@ -913,10 +917,7 @@ fn solve_finger(
     let side1 = bend(side, -bent, v1);
     let (h2, v2) = if targets.weight[2] > 0.0 {
         let t = targets.dir[2];
-        (
-            hinge_angle(middle, flex1, t),
-            out_of_plane(t, side1),
-        )
+        (hinge_angle(middle, flex1, t), out_of_plane(t, side1))
     } else {
         (0.0, 0.0)
     };
@@ -955,7 +956,7 @@ fn solve_finger(
             let tilt = w.dot(b.hinge).clamp(-1.0, 1.0);
             if tilt.abs() > SIDE_EPSILON {
                 let axis = b.dir.cross(b.hinge).try_normalize()?;
-                bent * Quat::from_axis_angle(axis, tilt.asin())
+                bent * hinge_rotation(axis, (1.0 - tilt * tilt).sqrt(), tilt)
             } else {
                 bent
             }

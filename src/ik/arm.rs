@@ -304,7 +304,7 @@ impl ChainArm {
         let mut lower_world = lower;
         if self.options.wrist_limits {
             if let Some(frame) = chain.wrist {
-                result.wrist = settle(&frame, &mut goal, lower, |g| {
+                result.wrist = settle(&frame, &mut goal, lower, &mut |g| {
                     let (r, l) = self.place(chain, g, parent, pole, out, &mut reach);
                     result = r;
                     lower_world = l;

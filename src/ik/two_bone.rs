@@ -430,7 +430,7 @@ impl ArmIk for TwoBoneIk {
         let mut goal = *goal;
         if let (true, Some(frame), Some(first)) = (self.arm.wrist_limits, chain.wrist, memory) {
             let this = &*self;
-            let limited = settle(&frame, &mut goal, lower_world, |g| {
+            let limited = settle(&frame, &mut goal, lower_world, &mut |g| {
                 let (r, m, l) = this.place(chain, g, out, Some(first.bend));
                 reach = r;
                 memory = m;

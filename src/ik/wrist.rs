@@ -308,7 +308,7 @@ pub(crate) fn settle(
     frame: &WristFrame,
     goal: &mut ArmGoal,
     lower: Quat,
-    mut place: impl FnMut(&ArmGoal) -> Quat,
+    place: &mut dyn FnMut(&ArmGoal) -> Quat,
 ) -> Option<WristLimited> {
     let hand0 = goal
         .hand_rotation
@@ -363,7 +363,7 @@ pub(crate) fn settle(
         if t * theta > PI || t > MAX_TURN {
             break;
         }
-        let g = at(t, goal, &mut place);
+        let g = at(t, goal, place);
         result.iterations += 1;
         last_t = t;
         if g <= 0.0 {
@@ -385,7 +385,7 @@ pub(crate) fn settle(
                 // The secant's root, kept off the bracket's ends.
                 let w = b - lo;
                 let c = clamp(b - g_b * w / (g_b - g_lo), lo + 0.05 * w, b - 0.05 * w);
-                let g = at(c, goal, &mut place);
+                let g = at(c, goal, place);
                 result.iterations += 1;
                 last_t = c;
                 if g <= 0.0 {
@@ -409,7 +409,7 @@ pub(crate) fn settle(
         None => best_t,
     };
     if last_t != final_t {
-        let g = at(final_t, goal, &mut place);
+        let g = at(final_t, goal, place);
         result.iterations += 1;
         best_g = g.max(0.0);
     }

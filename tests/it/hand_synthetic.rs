@@ -101,7 +101,10 @@ fn check(
         // Planar fingers: no sideways deviation.
         for dof in [Dof::Deviation1, Dof::Deviation2] {
             let got = rep.angle(finger, dof).to_degrees();
-            assert!(got.abs() < 0.05, "{what}: {side:?} {finger:?} {dof:?} = {got}");
+            assert!(
+                got.abs() < 0.05,
+                "{what}: {side:?} {finger:?} {dof:?} = {got}"
+            );
         }
     }
     for q in local.iter().chain([&hand]) {
@@ -483,7 +486,10 @@ fn sideways_bends_at_the_hinges_are_followed_within_their_play() {
                     .into_iter()
                     .filter(|(f, _, _)| *f == finger)
                     .map(|(_, slot, dir)| {
-                        (slot, angle_deg(dir, span(&skel, side, &lm_model, finger, slot)))
+                        (
+                            slot,
+                            angle_deg(dir, span(&skel, side, &lm_model, finger, slot)),
+                        )
                     })
                     .collect();
                 if pip.abs() <= 15.0 {
