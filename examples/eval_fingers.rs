@@ -35,7 +35,7 @@ use finger_dirs::{avatar_bone_dir, mp_segment};
 
 use glam::{Quat, Vec3};
 use handrig::align::fingertip;
-use handrig::hand::{flip, palm_frame, Dof, HandSolver, HandStrategy};
+use handrig::hand::{flip, palm_frame, Dof, HandSolver, HandStrategy, DOF_COUNT};
 use handrig::mediapipe::{CameraMapping, HandObservation, HAND_LANDMARKS};
 use handrig::{Finger, Rig, RigOptions, Side, Skeleton, SolveOutput, WorldPose, BONE_COUNT};
 use serde_json::{json, Value};
@@ -121,7 +121,7 @@ struct Directions {
     /// Angles per (finger, slot), split limit-free / limit-active (`--detail`).
     by_bone: [[[Vec<f32>; 2]; 3]; 5],
     /// Side-frames with each (finger, DOF) limit active (`--detail`).
-    dof_limited: [[usize; 5]; 5],
+    dof_limited: [[usize; DOF_COUNT]; 5],
 }
 
 fn directions(skel: &Skeleton, rec: &Recording) -> Result<Directions, String> {
@@ -255,10 +255,16 @@ fn pinches(skel: &Skeleton, rec: &Recording) -> Result<Pinches, String> {
 /// The same pinch frames through the whole rig (`Rig::solve`, every default but
 /// `handStrategy: "retarget"`, the hand video as 30 fps frames): the avatar's right thumb-index
 /// fingertip distance (`SolveOutput::fingertips`) against the user's raw world distance times
-/// the rig's hand scale. (frame, error mm) per pinch frame the rig solved.
-fn rig_pinches(skel: &Skeleton, filter: bool) -> Result<(Vec<(usize, f32)>, f32), String> {
+/// the rig's hand scale. (frame, error mm) per pinch frame the rig solved, and the finger
+/// jitter (mean turn of a right finger bone between frames, degrees). With
+/// `HandStrategy::Analytic` the pinch list is empty (no retargeting report): the jitter only.
+fn rig_pinches(
+    skel: &Skeleton,
+    filter: bool,
+    strategy: HandStrategy,
+) -> Result<(Vec<(usize, f32)>, f32), String> {
     let mut options = RigOptions {
-        hand_strategy: HandStrategy::Retarget,
+        hand_strategy: strategy,
         ..RigOptions::default()
     };
     options.filter.enabled = filter;
@@ -375,7 +381,7 @@ fn run() -> Result<(), String> {
                         total.by_bone[f][k][l].extend(&d.by_bone[f][k][l]);
                     }
                 }
-                for k in 0..5 {
+                for k in 0..DOF_COUNT {
                     total.dof_limited[f][k] += d.dof_limited[f][k];
                 }
             }
@@ -419,8 +425,9 @@ fn run() -> Result<(), String> {
             .collect();
         let p = pinches(&skel, &recs[0])?;
         let tips = sorted(p.tips);
-        let (rp, rig_jitter) = rig_pinches(&skel, true)?;
-        let (rpu, _) = rig_pinches(&skel, false)?;
+        let (rp, rig_jitter) = rig_pinches(&skel, true, HandStrategy::Retarget)?;
+        let (rpu, _) = rig_pinches(&skel, false, HandStrategy::Retarget)?;
+        let (_, analytic_jitter) = rig_pinches(&skel, true, HandStrategy::Analytic)?;
         let iterations = rig_iterations(&skel)?;
         let unfiltered = rpu.iter().map(|w| w.1).fold(f32::NAN, f32::max);
         let rig_worst = rp.iter().copied().max_by(|a, b| a.1.total_cmp(&b.1));
@@ -444,6 +451,7 @@ fn run() -> Result<(), String> {
                 "p95Deg": percentile(&um, 95.0),
             },
             "fingers": fingers,
+            "analyticJitterDeg": analytic_jitter,
             "pinch": {
                 "frames": p.frames.len(),
                 "maxErrorMm": worst.map(|w| w.2),
@@ -502,6 +510,11 @@ fn run() -> Result<(), String> {
             })
             .collect();
         println!("{:<11} per finger median/p95: {}", "", per.join(", "));
+        println!(
+            "{:<11} finger jitter through the rig (analytic, hand video): {} deg per bone-frame",
+            "",
+            f(&r["analyticJitterDeg"], 3)
+        );
     }
     println!("\npinches on the hand video (retarget, auto scale): user thumb-index tips < 2 cm in world landmarks");
     println!(

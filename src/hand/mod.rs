@@ -32,7 +32,8 @@
 //!   across the palm in opposition (Kapandji's cone of opposition).
 //!
 //! The base angles are a least-squares fit to the whole finger (the hinge plane that best
-//! explains all three segments, not just the first), then clamped to the limits; the hinge
+//! explains all three segments, the middle and distal ones weighted half as much as the
+//! proximal, `HINGE_FIT_WEIGHT`), then clamped to the limits; the hinge
 //! angles are the segments' angles in that plane, clamped. Each hinge segment's deviation is
 //! its angle out of its joint's flexion plane (toward the hinge axis as a right hand has it,
 //! so mirror images report the same angles: on index to little the radial side), clamped;
@@ -140,6 +141,14 @@ const MIN_PALM_SINE: f32 = 0.1;
 const LIMIT_SLACK: f32 = 1e-4;
 /// Sine below which a phalanx counts as lying in its bone's flexion plane (a pure hinge turn).
 const SIDE_EPSILON: f32 = 1e-6;
+/// Weight of the middle and distal phalanges, against the proximal's 1, in the fit of a
+/// finger's base angles. With 1 (all three alike, before the hinges could deviate) the
+/// proximal bone was off by a median 3-6 degrees wherever MediaPipe's finger is not planar;
+/// 0 (the proximal alone) leaves the plane to one noisy segment. 0.5: finger bone p95 on the
+/// shared recordings 14.1 -> 11.5 degrees, every clip better, less jitter on the hand video
+/// (1.63 -> 1.55 degrees per bone-frame; 1.47 before the hinges could deviate); 0.35-0.5
+/// measure alike (`eval_fingers`).
+const HINGE_FIT_WEIGHT: f32 = 0.5;
 /// MediaPipe MCP landmarks of index, middle, ring, little.
 const MCP: [usize; 4] = [5, 9, 13, 17];
 
@@ -849,7 +858,12 @@ fn solve_finger(
     }
 
     // Fit, canonicalize into anatomical angles, clamp.
-    let (lon, colat) = chain::fit(&basis, kind, &targets);
+    // The base fit leans on the proximal phalanx: the hinges' deviation takes up what the
+    // middle and distal phalanges have out of the plane.
+    let mut fit_targets = targets;
+    fit_targets.weight[1] *= HINGE_FIT_WEIGHT;
+    fit_targets.weight[2] *= HINGE_FIT_WEIGHT;
+    let (lon, colat) = chain::fit(&basis, kind, &fit_targets);
     let mut colat = wrap(colat);
     let mut lon = lon;
     let (a0, a1) = match kind {

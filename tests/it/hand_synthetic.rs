@@ -497,6 +497,12 @@ fn sideways_bends_at_the_hinges_are_followed_within_their_play() {
                     for (slot, e) in &errs {
                         if *slot > 0 {
                             assert!(*e < 0.1, "{what}: bone {slot} off by {e:.3} deg");
+                        } else {
+                            // The base fit leans on the proximal phalanx: the deviated ones
+                            // tilt it by well under half their deviation (fitting all three
+                            // alike: up to 0.8 of it).
+                            let bound = 0.35 * pip.abs().max(dip.abs());
+                            assert!(*e < bound, "{what}: proximal off by {e:.2} deg");
                         }
                     }
                     assert!(
