@@ -273,6 +273,9 @@ if (jsonOut) {
 }
 
 const fmt = (x, w = 6) => (Number.isFinite(x) ? x.toFixed(2) : "-").padStart(w);
+// A ratio to a figure below 0.05 degrees (handrig's limit-free medians, which copy the tracked
+// directions) would only show float noise: printed as ">100".
+const ratio = (a, b, w) => (b < 0.05 && a / b > 100 ? ">100".padStart(w) : fmt(a / b, w));
 console.log(`Hand solvers on the same avatar (${rust.avatar}) and frames.`);
 console.log("Angle (deg) between avatar bone and MediaPipe segment, both in their palm frame;");
 console.log("per finger all bones pooled. 'free' = frames where no handrig limit of that finger is active;");
@@ -289,7 +292,7 @@ for (const [name, fingers] of Object.entries(results)) {
   for (const [f, r] of Object.entries(fingers)) {
     const img = r.kalidokitImageLandmarks;
     console.log(
-      `${f.padEnd(7)} ${String(r.framesFree).padStart(5)} | ${fmt(r.handrig.median)} ${fmt(r.handrig.p95)} | ${fmt(r.kalidokit.median)} ${fmt(r.kalidokit.p95)} | ${fmt(r.kalidokit.median / r.handrig.median, 5)} ${fmt(r.kalidokit.p95 / r.handrig.p95, 5)} | ${fmt(img?.median)} ${fmt(img?.p95)} | ${String(r.framesLimited).padStart(4)} ${fmt(r.handrigLimited.median)} ${fmt(r.handrigLimited.p95)} ${fmt(r.kalidokitLimited.median)} ${fmt(r.kalidokitLimited.p95)}`,
+      `${f.padEnd(7)} ${String(r.framesFree).padStart(5)} | ${fmt(r.handrig.median)} ${fmt(r.handrig.p95)} | ${fmt(r.kalidokit.median)} ${fmt(r.kalidokit.p95)} | ${ratio(r.kalidokit.median, r.handrig.median, 5)} ${ratio(r.kalidokit.p95, r.handrig.p95, 5)} | ${fmt(img?.median)} ${fmt(img?.p95)} | ${String(r.framesLimited).padStart(4)} ${fmt(r.handrigLimited.median)} ${fmt(r.handrigLimited.p95)} ${fmt(r.kalidokitLimited.median)} ${fmt(r.kalidokitLimited.p95)}`,
     );
   }
 }

@@ -182,11 +182,10 @@ fn directions(skel: &Skeleton, rec: &Recording) -> Result<Directions, String> {
                     ) else {
                         continue;
                     };
-                    let e = (avatar_palm.transpose() * a)
-                        .dot(mp_palm.transpose() * m)
-                        .clamp(-1.0, 1.0)
-                        .acos()
-                        .to_degrees();
+                    // From the sine and the cosine: `acos` of an f32 dot product cannot
+                    // resolve angles below about 0.02 degrees.
+                    let (a, m) = (avatar_palm.transpose() * a, mp_palm.transpose() * m);
+                    let e = a.cross(m).length().atan2(a.dot(m)).to_degrees();
                     d.all.push(e);
                     if !mirrored {
                         d.unmirrored.push(e);
