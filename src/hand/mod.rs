@@ -782,6 +782,17 @@ fn solve_side(
     Some(rotation)
 }
 
+/// Sine and cosine of a deviation as clamped (`clamped`): from the sine it was measured as
+/// (`sine`, of the angle `measured`) when the limit left it alone.
+#[inline]
+fn deviation(clamped: f32, measured: f32, sine: f32) -> (f32, f32) {
+    if clamped == measured {
+        (sine, (1.0 - sine * sine).sqrt())
+    } else {
+        clamped.sin_cos()
+    }
+}
+
 #[inline(never)] // See `chain::cost`: faster in wasm out of line.
 fn solve_finger(
     rest: &SideRest,
@@ -918,29 +929,31 @@ fn solve_finger(
     } else {
         -hinge
     };
-    let out_of_plane = |v: Vec3, axis: Vec3| v.dot(axis).clamp(-1.0, 1.0).asin();
-    let bent = bend(d, flex, h1);
-    let flex1 = bend(flex, -d, h1);
-    let v1 = if targets.weight[1] > 0.0 {
-        out_of_plane(targets.dir[1], side)
+    // Each turn's sine and cosine once, for both vectors of the pair it turns; a deviation
+    // within its limits has its sine already (the dot product it was measured from).
+    let (s1, c1) = h1.sin_cos();
+    let (bent, flex1) = (c1 * d + s1 * flex, c1 * flex - s1 * d);
+    let sin_v1 = if targets.weight[1] > 0.0 {
+        targets.dir[1].dot(side).clamp(-1.0, 1.0)
     } else {
         0.0
     };
-    let v1 = clamp(Dof::Deviation1, v1);
-    let middle = bend(bent, side, v1);
-    let side1 = bend(side, -bent, v1);
-    let (h2, v2) = if targets.weight[2] > 0.0 {
+    let v1 = sin_v1.asin();
+    let (sv1, cv1) = deviation(clamp(Dof::Deviation1, v1), v1, sin_v1);
+    let (middle, side1) = (cv1 * bent + sv1 * side, cv1 * side - sv1 * bent);
+    let (h2, sin_v2) = if targets.weight[2] > 0.0 {
         let t = targets.dir[2];
-        (hinge_angle(middle, flex1, t), out_of_plane(t, side1))
+        (hinge_angle(middle, flex1, t), t.dot(side1).clamp(-1.0, 1.0))
     } else {
         (0.0, 0.0)
     };
     let h2 = clamp(Dof::Hinge2, wrap(h2));
-    let v2 = clamp(Dof::Deviation2, v2);
+    let v2 = sin_v2.asin();
+    let (sv2, cv2) = deviation(clamp(Dof::Deviation2, v2), v2, sin_v2);
     report.angles[fi][Dof::Cupping.index()] = cupping;
 
     // The clamped user finger: joint positions relative to its base joint.
-    let seg = [d, middle, bend(bend(middle, flex1, h2), side1, v2)];
+    let seg = [d, middle, cv2 * bend(middle, flex1, h2) + sv2 * side1];
     let mut joint = [Vec3::ZERO; 4];
     for k in 0..3 {
         joint[k + 1] = joint[k] + len[k] * seg[k];
@@ -969,8 +982,8 @@ fn solve_finger(
             let bent = hinge_rotation(b.hinge, w.dot(b.dir), w.dot(b.flex));
             let tilt = w.dot(b.hinge).clamp(-1.0, 1.0);
             if tilt.abs() > SIDE_EPSILON {
-                let axis = b.dir.cross(b.hinge).try_normalize()?;
-                bent * hinge_rotation(axis, (1.0 - tilt * tilt).sqrt(), tilt)
+                // dir x hinge = -flex (rest axes are orthonormal).
+                bent * hinge_rotation(-b.flex, (1.0 - tilt * tilt).sqrt(), tilt)
             } else {
                 bent
             }
