@@ -33,8 +33,8 @@
 //!
 //! The base angles are a least-squares fit to the whole finger (the hinge plane that best
 //! explains all three segments, the middle and distal ones weighted half as much as the
-//! proximal, `HINGE_FIT_WEIGHT`), then clamped to the limits; the hinge
-//! angles are the segments' angles in that plane, clamped. Each hinge segment's deviation is
+//! proximal, `HINGE_FIT_WEIGHT`), then clamped to the limits; the hinge angles are the
+//! segments' angles in that plane, clamped. Each hinge segment's deviation is
 //! its angle out of its joint's flexion plane (toward the hinge axis as a right hand has it,
 //! so mirror images report the same angles: on index to little the radial side), clamped;
 //! the distal hinge is measured in the middle phalanx's own frame, so PIP deviation carries
@@ -47,10 +47,11 @@
 //! missing intermediate makes the proximal cover MCP to DIP. The first bone (parent: the hand)
 //! gets the rotation taking its rest direction and rest hinge axis to the target direction
 //! and the tracked hinge axis (no other twist); the others turn about their rest hinge axis,
-//! after a tilt about `dir x hinge` toward the hinge axis by their deviation. Rest directions and hinge axes come from the avatar's own rest pose, so bent,
-//! rotated or unevenly spaced rest fingers work: a straight rest finger gets the anatomical
-//! hinge axis of its rest direction, a finger resting bent (rigged thumbs usually are) hinges
-//! in the plane it is bent in. A distal bone's rest direction continues its parent's (avatars
+//! after a tilt about `dir x hinge` toward the hinge axis by their deviation. Rest directions
+//! and hinge axes come from the avatar's own rest pose, so bent, rotated or unevenly spaced
+//! rest fingers work: a straight rest finger gets the anatomical hinge axis of its rest
+//! direction, a finger resting bent (rigged thumbs usually are) hinges in the plane it is
+//! bent in. A distal bone's rest direction continues its parent's (avatars
 //! have no tip bone).
 //!
 //! Finger rotations do not depend on the avatar's proportions: the avatar's bones take the
