@@ -182,10 +182,13 @@ fn directions(skel: &Skeleton, rec: &Recording) -> Result<Directions, String> {
                     ) else {
                         continue;
                     };
-                    // From the sine and the cosine: `acos` of an f32 dot product cannot
-                    // resolve angles below about 0.02 degrees.
-                    let (a, m) = (avatar_palm.transpose() * a, mp_palm.transpose() * m);
-                    let e = a.cross(m).length().atan2(a.dot(m)).to_degrees();
+                    // `angle_between`, not `acos`: an f32 dot product cannot resolve
+                    // angles below about 0.02 degrees.
+                    let e = handrig::kinematics::angle_between(
+                        avatar_palm.transpose() * a,
+                        mp_palm.transpose() * m,
+                    )
+                    .to_degrees();
                     d.all.push(e);
                     if !mirrored {
                         d.unmirrored.push(e);

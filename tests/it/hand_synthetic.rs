@@ -4,7 +4,7 @@ use crate::support::hand_model;
 
 use glam::{Quat, Vec3};
 use hand_model::{avatar, place, poses, Angles, HandLayout, HandModel, NO_STRETCH};
-use handrig::hand::{Dof, HandSolver, HandStatus, HandStrategy};
+use handrig::hand::{Dof, HandSolver, HandStatus, HandStrategy, DOF_COUNT};
 use handrig::{Finger, HumanBone, Side, Skeleton, WorldPose, BONE_COUNT};
 
 const TOL_DEG: f32 = 1.0;
@@ -493,7 +493,7 @@ fn sideways_bends_at_the_hinges_are_followed_within_their_play() {
                     })
                     .collect();
                 if pip.abs() <= 15.0 {
-                    assert_eq!(limited, [false; 7], "{what}");
+                    assert_eq!(limited, [false; DOF_COUNT], "{what}");
                     for (slot, e) in &errs {
                         if *slot > 0 {
                             assert!(*e < 0.1, "{what}: bone {slot} off by {e:.3} deg");
