@@ -21,10 +21,10 @@ use core::f32::consts::PI;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::{Quat, Vec3};
-use handrig::bones::{Side, BONE_COUNT};
+use handrig::humanoid::bones::{Side, BONE_COUNT};
+use handrig::humanoid::skeleton::WorldPose;
 use handrig::ik::{ArmSolver, ArmSolverState, ChainMethod, ChainSolver, ChainSolverOptions};
 use handrig::kinematics::JointLimit;
-use handrig::skeleton::WorldPose;
 
 /// Rest joints of an `n`-bone chain hanging down from the origin, each bone 0.3 / n long,
 /// slightly bent so that its rest layout is not straight.

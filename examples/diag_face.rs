@@ -17,8 +17,8 @@
 #[path = "../tests/support/recordings.rs"]
 mod recordings;
 
-use handrig::bones::{HumanBone, Side};
 use handrig::contact::skin::{HEAD_MAP, MAP_BONES};
+use handrig::humanoid::bones::{HumanBone, Side};
 use handrig::{Rig, RigOptions, SolveOutput};
 
 fn main() {
@@ -56,7 +56,7 @@ fn main() {
                 let mut gap = f32::INFINITY;
                 let mut points: Vec<glam::Vec3> = Vec::new();
                 points.push(out.world.position[HumanBone::RightHand.index()]);
-                for finger in handrig::bones::Finger::ALL {
+                for finger in handrig::humanoid::bones::Finger::ALL {
                     for b in Side::Right.finger(finger) {
                         points.push(out.world.position[b.index()]);
                     }

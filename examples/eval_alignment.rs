@@ -71,9 +71,9 @@
 mod recordings;
 
 use glam::{Quat, Vec3};
-use handrig::body::robust_mean;
-use handrig::bones::{Finger, Side};
+use handrig::humanoid::bones::{Finger, Side};
 use handrig::ik::ArmSolver;
+use handrig::math::robust_mean;
 use handrig::mediapipe::{CameraMapping, FrameInput, HandObservation, WristObservation, MAX_HANDS};
 use handrig::{Rig, RigOptions, Skeleton, SolveOutput};
 
@@ -136,7 +136,7 @@ fn kinect_to_avatar(j: [f32; 4]) -> Vec3 {
 
 /// Mean rest arm length (upper + lower) of the avatar's two arms.
 fn avatar_arm(skel: &Skeleton) -> f32 {
-    handrig::body::avatar_arm_length(skel)
+    handrig::humanoid::measure::avatar_arm_length(skel)
 }
 
 /// Wrist-to-index-distal length over arm length: how big the avatar's hand is.

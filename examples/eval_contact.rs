@@ -41,10 +41,10 @@
 mod recordings;
 
 use glam::Vec3;
-use handrig::body::robust_mean;
-use handrig::bones::{Finger, Side};
 use handrig::contact::face::pose_tip;
 use handrig::contact::{ImageFit, UserFace, ANCHORS};
+use handrig::humanoid::bones::{Finger, Side};
+use handrig::math::robust_mean;
 use handrig::mediapipe::{
     pose_landmark as pl, CameraMapping, FrameInput, TrackerFace, WristObservation, MAX_HANDS,
 };
@@ -166,7 +166,7 @@ fn kinect_point(j: [f32; 4]) -> Vec3 {
 
 /// Mean rest arm length (upper + lower) of the avatar's two arms.
 fn avatar_arm(skel: &Skeleton) -> f32 {
-    handrig::body::avatar_arm_length(skel)
+    handrig::humanoid::measure::avatar_arm_length(skel)
 }
 
 fn kinect_samples(skel: &Skeleton) -> Vec<Sample> {

@@ -184,7 +184,7 @@ fn directions(skel: &Skeleton, rec: &Recording) -> Result<Directions, String> {
                     };
                     // `angle_between`, not `acos`: an f32 dot product cannot resolve
                     // angles below about 0.02 degrees.
-                    let e = handrig::kinematics::angle_between(
+                    let e = handrig::math::angle_between(
                         avatar_palm.transpose() * a,
                         mp_palm.transpose() * m,
                     )

@@ -167,7 +167,7 @@ fn load_recordings(dir: &Path) -> Result<Vec<Recording>, String> {
 /// The angle between two unit vectors, degrees (`angle_between`: exact near 0, where `acos` of
 /// an `f32` dot product cannot resolve angles below about 0.02 degrees).
 fn angle_deg(a: Vec3, b: Vec3) -> f32 {
-    handrig::kinematics::angle_between(a, b).to_degrees()
+    handrig::math::angle_between(a, b).to_degrees()
 }
 
 #[derive(Default)]

@@ -16,10 +16,10 @@ mod motion;
 mod recordings;
 
 use glam::Quat;
-use handrig::bones::Finger;
 use handrig::filter::{DropoutOptions, FilterOptions};
+use handrig::humanoid::bones::Finger;
 use handrig::mediapipe::{FrameInput, Handedness};
-use handrig::rig::{HandUse, HandednessPolicy};
+use handrig::pipeline::{HandUse, HandednessPolicy};
 use handrig::{HumanBone, Rig, RigOptions, Side, SolveOutput};
 use motion::{jitter, lag_frames as lag, largest_step};
 

@@ -56,9 +56,9 @@ mod stats;
 mod torso_user;
 
 use glam::{Quat, Vec3};
-use handrig::body::robust_mean;
-use handrig::bones::{Finger, HumanBone as B, Side};
-use handrig::kinematics::{swing_twist, twist_angle};
+use handrig::humanoid::bones::{Finger, HumanBone as B, Side};
+use handrig::math::robust_mean;
+use handrig::math::{swing_twist, twist_angle};
 use handrig::mediapipe::{
     pose_landmark as pl, CameraMapping, FrameInput, HandObservation, Handedness, WristObservation,
     MAX_HANDS,

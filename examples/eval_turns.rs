@@ -28,7 +28,7 @@ mod recordings;
 use glam::{Quat, Vec3, Vec4};
 use handrig::hand::palm_frame;
 use handrig::mediapipe::{FrameInput, HandObservation};
-use handrig::rig::{HandResolved, HandUse};
+use handrig::pipeline::{HandResolved, HandUse};
 use handrig::{Rig, RigOptions, Side, SolveOutput};
 use serde_json::{json, Value};
 

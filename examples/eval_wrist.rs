@@ -41,8 +41,8 @@ mod recordings;
 mod stats;
 
 use glam::Quat;
-use handrig::bones::Side;
 use handrig::hand::HandStatus;
+use handrig::humanoid::bones::Side;
 use handrig::ik::{ArmSolver, WristFrame, WRIST_RANGE};
 use handrig::mediapipe::FrameInput;
 use handrig::{Rig, RigOptions, Skeleton, SolveOutput};

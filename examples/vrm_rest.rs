@@ -23,7 +23,7 @@ fn main() -> ExitCode {
                 return ExitCode::FAILURE;
             }
         };
-        let h = match handrig::vrm::parse(&bytes) {
+        let h = match handrig::humanoid::vrm::parse(&bytes) {
             Ok(h) => h,
             Err(e) => {
                 eprintln!("{path}: {e}");

@@ -16,9 +16,9 @@
 
 use glam::{Quat, Vec3};
 
-use crate::bones::{Finger, HumanBone, Side, BONE_COUNT};
+use crate::humanoid::bones::{Finger, HumanBone, Side, BONE_COUNT};
+use crate::humanoid::skeleton::{Skeleton, WorldPose};
 use crate::mediapipe::{hand_landmark, HAND_LANDMARKS};
-use crate::skeleton::{Skeleton, WorldPose};
 
 /// Which point of the finger is aligned.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -260,7 +260,7 @@ pub fn extension(finger: Finger, depth: usize, point: AlignPoint) -> f32 {
 
 /// The avatar's palm front relative to the hand joint in the hand's rest axes, for an avatar
 /// without finger bones ([`AlignedPart::Palm`]): the hand bone's direction (from its parent)
-/// times the avatar's palm length ([`crate::contact::colliders::avatar_palm_length`], from its
+/// times the avatar's palm length ([`crate::humanoid::measure::avatar_palm_length`], from its
 /// arm), where the middle knuckle would be.
 #[must_use]
 pub fn palm_front(skeleton: &Skeleton, side: Side) -> Vec3 {
@@ -268,7 +268,7 @@ pub fn palm_front(skeleton: &Skeleton, side: Side) -> Vec3 {
     if skeleton.has(middle) {
         return skeleton.rest_local(middle);
     }
-    let length = crate::contact::colliders::avatar_palm_length(skeleton);
+    let length = crate::humanoid::measure::avatar_palm_length(skeleton);
     skeleton.rest_local(side.hand()).normalize_or_zero() * length
 }
 

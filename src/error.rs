@@ -40,6 +40,11 @@ impl Error {
         }
     }
 
+    /// Shorthand for [`Error::Vrm`]: a `.vrm` / GLB file that cannot be read.
+    pub fn vrm(msg: impl Into<String>) -> Self {
+        Error::Vrm(msg.into())
+    }
+
     /// Shorthand for [`Error::Degenerate`].
     pub fn degenerate(field: impl Into<String>, problem: impl Into<String>) -> Self {
         Error::Degenerate {

@@ -17,9 +17,9 @@
 
 use glam::{Quat, Vec3};
 
-use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::{Error, Result};
 use crate::hand::HandStatus;
+use crate::humanoid::bones::{HumanBone, Side, BONE_COUNT};
 use crate::input::torso::{BodyJoint, BodyObservation, BODY_JOINT_COUNT, TORSO_BONES};
 use crate::input::validate::validate_frame_with;
 use crate::mediapipe::{

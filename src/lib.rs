@@ -22,31 +22,31 @@
 //!
 //! ## Layout
 //!
-//! * [`bones`]: the 55 humanoid bones, parent map, sides and fingers.
-//! * [`skeleton`]: rest pose and forward kinematics over normalized bones.
-//! * [`gltf`]: reading any glTF humanoid (Mixamo, Unreal names, a bone map, or a VRM).
-//! * [`vrm`]: reading `.vrm` (glTF binary) files, VRM 1.0 and 0.x (the JSON chunk through
-//!   serde_json).
-//! * [`gltf_skin`]: the skinned meshes of a `.vrm` / `.glb` read for self-contact.
-//! * [`input`]: what a frame carries in, at the bottom of the imports: [`input::mediapipe`]
-//!   (input types and the camera-to-avatar conversion, also at [`mediapipe`]) and
-//!   [`input::validate`] (the one check of a frame every path runs).
-//! * [`options`]: [`RigOptions`] and the one table every option is described in.
+//! From the bottom up; a module imports only from those listed before it.
+//!
+//! * [`error`]: [`Error`], every message naming the offending field.
+//! * [`math`]: clamp, angles on the circle, swing-twist, robust statistics.
+//! * [`humanoid`]: what the avatar is: the 55 humanoid [`humanoid::bones`], the rest
+//!   [`Skeleton`] with forward kinematics, its [`SkinMesh`], its measurements, and the readers
+//!   of `.vrm` ([`humanoid::vrm`]) and any glTF humanoid ([`humanoid::gltf`]) files.
+//! * [`input`]: what a frame carries in: [`input::mediapipe`] (input types and the
+//!   camera-to-avatar conversion, also at [`mediapipe`]) and [`input::validate`] (the one check
+//!   of a frame every path runs).
+//! * [`filter`]: One Euro smoothing and easing over tracking loss.
+//! * [`solve`]: small allocation-free numerical solvers (box-constrained Gauss-Newton).
+//! * [`kinematics`]: serial chains with fixed bone lengths and joint limits (hinge, cone).
+//! * [`ik`]: arm IK solvers (two-bone, FABRIK, CCD) with anatomical wrist limits
+//!   ([`ik::wrist`]), and the standalone [`ik::ChainSolver`].
 //! * [`hand`]: wrist and finger rotations from 21 hand landmarks.
 //! * [`align`]: fingertip alignment (the wrist IK target).
 //! * [`body`]: body mapping and calibration from pose landmarks.
 //! * [`torso`]: the upper body (hips, spine, chest, neck, head, shoulders) from the app or
 //!   from tracking.
-//! * [`contact`]: self-contact retargeting (finger on the face, hand on hand, body colliders).
-//! * [`kinematics`]: serial chains with fixed bone lengths and joint limits (hinge, cone).
-//! * [`ik`]: arm IK solvers (two-bone, FABRIK, CCD) with anatomical wrist limits
-//!   ([`ik::wrist`]), and the standalone [`ik::ChainSolver`].
-//! * [`filter`]: One Euro smoothing and easing over tracking loss.
-//! * [`solve`]: small allocation-free numerical solvers (box-constrained Gauss-Newton).
+//! * [`contact`]: self-contact retargeting (finger on the face, hand on hand, the skin).
+//! * [`options`]: [`RigOptions`] and the one table every option is described in.
 //! * [`pipeline`]: the per-frame pipeline tying them together ([`Rig`]), one file per stage
 //!   (select hands, pose, torso, hands, targets, reach, ease, report) and its output
 //!   ([`SolveOutput`]).
-//! * [`rig`]: the pipeline's former path, re-exports of [`pipeline`] and [`input`].
 //! * [`flat`]: the flat `f32` frame layout of the typed-array path (input and output).
 //! * `wasm` (wasm32 only): the raw JavaScript bindings over [`flat`].
 
@@ -54,34 +54,30 @@
 
 pub mod align;
 pub mod body;
-pub mod bones;
 pub mod contact;
 pub mod error;
 pub mod filter;
 pub mod flat;
-pub mod gltf;
-pub mod gltf_skin;
 pub mod hand;
+pub mod humanoid;
 pub mod ik;
 pub mod input;
 pub mod kinematics;
+pub mod math;
 pub mod options;
 pub mod pipeline;
-pub mod rig;
-pub mod skeleton;
 pub mod solve;
 pub mod torso;
-pub mod vrm;
 
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;
 
 pub use input::mediapipe;
 
-pub use bones::{Finger, HumanBone, Side, BONE_COUNT};
 pub use error::{Error, Result};
+pub use humanoid::{Finger, HumanBone, Side, BONE_COUNT};
+pub use humanoid::{Skeleton, SkinMesh, VrmVersion, WorldPose};
 pub use input::{COORDINATE_LIMIT, HAND_CENTER_LIMIT, POSE_REACH_LIMIT};
 pub use mediapipe::{CameraMapping, FrameInput, HandObservation, Handedness, PoseObservation};
 pub use options::RigOptions;
 pub use pipeline::{Rig, SolveOutput};
-pub use skeleton::{Skeleton, VrmVersion, WorldPose};

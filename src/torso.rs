@@ -71,12 +71,12 @@ use core::f32::consts::PI;
 
 use glam::{Mat3, Quat, Vec3};
 
-use crate::body::{insert_sorted, robust_mean_sorted};
-use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::filter::{DropoutOptions, Presence};
-use crate::kinematics::clamp;
+use crate::humanoid::bones::{HumanBone, Side, BONE_COUNT};
+use crate::humanoid::skeleton::{Skeleton, VrmVersion};
+use crate::math::clamp;
+use crate::math::{insert_sorted, robust_mean_sorted};
 use crate::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation};
-use crate::skeleton::{Skeleton, VrmVersion};
 
 /// Where the torso comes from (JS: `options.torso`). See the module docs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -358,14 +358,14 @@ fn measure_head(p: &TorsoPoints) -> Option<Quat> {
 /// `±lateral`, twist about +Y within `±twist`.
 #[must_use]
 pub fn clamp_swing_twist(q: Quat, forward: f32, back: f32, lateral: f32, twist: f32) -> Quat {
-    let (swing, tw) = crate::kinematics::swing_twist(q, Vec3::Y);
+    let (swing, tw) = crate::math::swing_twist(q, Vec3::Y);
     let s = swing.to_scaled_axis();
     let s = Vec3::new(
         clamp(s.x, -back, forward),
         0.0,
         clamp(s.z, -lateral, lateral),
     );
-    let t = clamp(crate::kinematics::twist_angle(tw, Vec3::Y), -twist, twist);
+    let t = clamp(crate::math::twist_angle(tw, Vec3::Y), -twist, twist);
     let out = Quat::from_scaled_axis(s) * Quat::from_rotation_y(t);
     if out.is_finite() {
         out.normalize()
@@ -483,7 +483,7 @@ impl AvatarTorso {
 /// like the body scale. Fixed storage: observing allocates nothing.
 #[derive(Clone, Debug)]
 struct Neutral {
-    /// Ascending ([`crate::body::insert_sorted`]), `count` valid.
+    /// Ascending ([`crate::math::insert_sorted`]), `count` valid.
     samples: [f32; crate::body::MAX_CALIBRATION_FRAMES],
     count: usize,
     frames: usize,
@@ -864,8 +864,8 @@ mod tests {
         assert!((c.angle_between(Quat::from_rotation_x(deg(-25.0)))) < 1e-4);
         let q = Quat::from_rotation_y(deg(90.0)) * Quat::from_rotation_z(deg(10.0));
         let c = clamp_swing_twist(q, deg(80.0), deg(25.0), deg(35.0), deg(45.0));
-        let (_, t) = crate::kinematics::swing_twist(c, Vec3::Y);
-        assert!((crate::kinematics::twist_angle(t, Vec3::Y).abs() - deg(45.0)).abs() < 1e-4);
+        let (_, t) = crate::math::swing_twist(c, Vec3::Y);
+        assert!((crate::math::twist_angle(t, Vec3::Y).abs() - deg(45.0)).abs() < 1e-4);
         // Within the box: unchanged.
         let q = Quat::from_rotation_z(deg(15.0)) * Quat::from_rotation_y(deg(30.0));
         let c = clamp_swing_twist(q, deg(80.0), deg(25.0), deg(35.0), deg(45.0));

@@ -1,6 +1,6 @@
 // The skin at rest from a three.js scene's skinned meshes, for `restPose.skin`: shared by
 // `restPoseFromVRM` (handrig/three-vrm) and `restPoseFromSkeleton` (handrig/three), the same
-// reading `HandRig.fromVrm` / `fromGltf` do in Rust from the file (src/gltf_skin.rs). Imports
+// reading `HandRig.fromVrm` / `fromGltf` do in Rust from the file (src/humanoid/gltf_skin.rs). Imports
 // nothing at run time (inlined into each adapter by build.mjs).
 
 /** `restPose.skin`: positions 3 per vertex, each vertex's bone index, triangles. */

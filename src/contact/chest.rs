@@ -28,7 +28,7 @@
 
 use glam::Vec3;
 
-use crate::kinematics::clamp;
+use crate::math::clamp;
 
 /// The user's torso in the image: the pose's image shoulders and hips (normalized image
 /// coordinates), `[pose left, pose right]`.

@@ -23,8 +23,9 @@
 use glam::{Quat, Vec3};
 
 use super::face::{AvatarFace, ANCHORS};
-use crate::bones::{HumanBone, Side};
-use crate::skeleton::{Skeleton, WorldPose};
+use crate::humanoid::bones::{HumanBone, Side};
+use crate::humanoid::measure::avatar_palm_length;
+use crate::humanoid::skeleton::{Skeleton, WorldPose};
 
 /// Torso radius over shoulder half-width.
 pub const TORSO_PER_SHOULDER: f32 = 0.6;
@@ -265,26 +266,4 @@ fn closest_on_line(p: Vec3, a: Vec3, b: Vec3) -> Vec3 {
         return a;
     }
     a + ab * ((p - a).dot(ab) / len2)
-}
-
-/// The avatar's palm length: mean over its hands of the hand joint to middle proximal joint
-/// distance; without finger bones, arm length x 0.09 / 0.54 (adult proportions).
-#[must_use]
-pub fn avatar_palm_length(skeleton: &Skeleton) -> f32 {
-    let mut sum = 0.0;
-    let mut n = 0.0;
-    for side in Side::BOTH {
-        let middle = side.finger(crate::bones::Finger::Middle)[0];
-        if let (Some(h), Some(m)) = (
-            skeleton.rest_world(side.hand()),
-            skeleton.rest_world(middle),
-        ) {
-            sum += (m - h).length();
-            n += 1.0;
-        }
-    }
-    if n > 0.0 && sum > 0.0 {
-        return sum / n;
-    }
-    crate::body::avatar_arm_length(skeleton) * 0.09 / 0.54
 }

@@ -27,10 +27,10 @@
 
 use glam::{Mat3, Quat, Vec3};
 
-use crate::bones::{HumanBone, Side};
-use crate::kinematics::clamp;
+use crate::humanoid::bones::{HumanBone, Side};
+use crate::humanoid::skeleton::{Skeleton, VrmVersion};
+use crate::math::clamp;
 use crate::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation, TrackerFace};
-use crate::skeleton::{Skeleton, VrmVersion};
 
 /// Number of face anchors.
 pub const ANCHORS: usize = 8;
@@ -507,7 +507,7 @@ impl AvatarFace {
     #[must_use]
     pub fn from_rig(skeleton: &Skeleton, given: &[Option<Vec3>; ANCHORS]) -> AvatarFace {
         let head = skeleton.rest_world(HumanBone::Head).unwrap_or(Vec3::ZERO);
-        let arm = crate::body::avatar_arm_length(skeleton);
+        let arm = crate::humanoid::measure::avatar_arm_length(skeleton);
         let body = if arm.is_finite() && arm > 1e-4 {
             arm * HEAD_PER_ARM
         } else {

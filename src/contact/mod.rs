@@ -52,9 +52,9 @@ pub mod skin;
 
 use glam::Vec3;
 
-use crate::bones::{Finger, HumanBone, Side};
+use crate::humanoid::bones::{Finger, HumanBone, Side};
+use crate::humanoid::skeleton::{Skeleton, WorldPose};
 use crate::mediapipe::CameraMapping;
-use crate::skeleton::{Skeleton, WorldPose};
 
 pub use colliders::{BodyColliders, Shape};
 pub use face::{AvatarFace, FaceAnchor, FaceFrame, FacePoints, ImageFit, UserFace, ANCHORS};
@@ -425,7 +425,7 @@ impl ContactSolver {
         u: f32,
         v: f32,
     ) -> Option<Vec3> {
-        use crate::bones::Side as S;
+        use crate::humanoid::bones::Side as S;
         let avatar_of = |pose: S| {
             if camera.pose_side_for(S::Left) == pose {
                 S::Left
@@ -463,7 +463,7 @@ impl ContactSolver {
     pub fn rest_model(&self, skeleton: &Skeleton) -> ([Vec3; ANCHORS], [Option<Shape>; 3]) {
         let mut world = WorldPose::default();
         skeleton.forward(
-            &[glam::Quat::IDENTITY; crate::bones::BONE_COUNT],
+            &[glam::Quat::IDENTITY; crate::humanoid::bones::BONE_COUNT],
             &mut world,
         );
         (

@@ -31,16 +31,13 @@
 
 use glam::{Quat, Vec3};
 
-use crate::bones::{Finger, HumanBone, Side};
-use crate::error::{Error, Result};
-use crate::skeleton::{Skeleton, WorldPose};
+use crate::humanoid::bones::{Finger, HumanBone, Side};
+
+use crate::humanoid::skeleton::{Skeleton, WorldPose};
+use crate::humanoid::SkinMesh;
 
 /// Triangles are sampled at most this far apart (m).
 pub const SPACING: f32 = 0.006;
-/// Most vertices a skin may have.
-pub const MAX_VERTICES: usize = 2_000_000;
-/// Most triangles a skin may have.
-pub const MAX_TRIANGLES: usize = 4_000_000;
 /// Row height of the torso maps (m).
 pub const ROW: f32 = 0.01;
 /// Sectors around each map's axis.
@@ -51,82 +48,6 @@ pub const HEAD_ROWS: usize = 24;
 const MAX_ROWS: usize = 120;
 /// Most samples per triangle side.
 const MAX_SPLITS: usize = 16;
-
-/// An avatar's skin at rest (what self-contact learns the body from): every vertex's rest
-/// position and dominant humanoid bone (non-humanoid bones count as their nearest humanoid
-/// ancestor), and the triangles. Internal frame (see [`Skeleton::with_skin`]).
-#[derive(Clone, Debug, PartialEq, Default)]
-pub struct SkinMesh {
-    /// Rest positions (m).
-    pub positions: Vec<Vec3>,
-    /// Each vertex's dominant humanoid bone.
-    pub bones: Vec<HumanBone>,
-    /// Triangles, indices into `positions`.
-    pub triangles: Vec<[u32; 3]>,
-}
-
-impl SkinMesh {
-    /// A skin from flat arrays as JS passes them (`restPose.skin`): `positions` 3 per vertex
-    /// (meters, the model's own frame), `bones` one [`HumanBone::index`] per vertex,
-    /// `triangles` 3 vertex indices each.
-    ///
-    /// # Errors
-    /// Lengths that do not match, non-finite or out-of-range positions, unknown bone
-    /// indices, triangle indices beyond the vertices (the field named: `restPose.skin.*`).
-    pub fn from_flat(positions: &[f32], bones: &[u8], triangles: &[u32]) -> Result<SkinMesh> {
-        if positions.len() % 3 != 0 || positions.len() / 3 != bones.len() {
-            return Err(Error::invalid(
-                "restPose.skin.positions",
-                "must hold 3 numbers per vertex, one vertex per entry of restPose.skin.bones",
-            ));
-        }
-        if bones.len() > MAX_VERTICES {
-            return Err(Error::invalid(
-                "restPose.skin.positions",
-                "too many vertices (at most 2,000,000)",
-            ));
-        }
-        if triangles.len() % 3 != 0 || triangles.len() / 3 > MAX_TRIANGLES {
-            return Err(Error::invalid(
-                "restPose.skin.triangles",
-                "must hold 3 vertex indices per triangle (at most 4,000,000 triangles)",
-            ));
-        }
-        let mut mesh = SkinMesh {
-            positions: Vec::with_capacity(bones.len()),
-            bones: Vec::with_capacity(bones.len()),
-            triangles: Vec::with_capacity(triangles.len() / 3),
-        };
-        for (p, &b) in positions.chunks_exact(3).zip(bones) {
-            let p = Vec3::new(p[0], p[1], p[2]);
-            if !p.is_finite() || p.abs().max_element() > crate::skeleton::MAX_REST_COORDINATE {
-                return Err(Error::invalid(
-                    "restPose.skin.positions",
-                    "every coordinate must be finite and within 1000 m of the origin",
-                ));
-            }
-            let Some(bone) = HumanBone::ALL.get(usize::from(b)) else {
-                return Err(Error::invalid(
-                    "restPose.skin.bones",
-                    "each entry must be a bone index of LAYOUT.bones",
-                ));
-            };
-            mesh.positions.push(p);
-            mesh.bones.push(*bone);
-        }
-        let n = bones.len() as u32;
-        for t in triangles.chunks_exact(3) {
-            if t.iter().any(|&i| i >= n) {
-                return Err(Error::invalid(
-                    "restPose.skin.triangles",
-                    "a vertex index is beyond the vertices",
-                ));
-            }
-            mesh.triangles.push([t[0], t[1], t[2]]);
-        }
-        Ok(mesh)
-    }
-}
 
 /// Which surface a sample belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -475,7 +396,7 @@ impl BodySurface {
             Some(h) => per_map[HEAD_MAP].iter().map(|p| *p - h).collect(),
             None => Vec::new(),
         };
-        let palm = super::colliders::avatar_palm_length(skeleton);
+        let palm = crate::humanoid::measure::avatar_palm_length(skeleton);
         let mut finger_radius = [super::colliders::TIP_MARGIN * palm; 2];
         let mut palm_half = [super::colliders::HAND_MARGIN * palm; 2];
         for side in Side::BOTH {

@@ -26,7 +26,7 @@
 
 use glam::Vec3;
 
-use crate::bones::Side;
+use crate::humanoid::bones::Side;
 use crate::mediapipe::{hand_landmark as lm, HAND_LANDMARKS};
 
 use super::palm_frame;

@@ -50,7 +50,7 @@
 //! * Cobos S., Ferre M., Sanchez Uran M.A., Ortego J., Pena C. "Efficient human hand
 //!   kinematics for manipulation tasks." IEEE/RSJ IROS 2008.
 
-use crate::bones::Finger;
+use crate::humanoid::bones::Finger;
 
 /// One degree of freedom of a finger in [`crate::hand::HandReport`]; the index into its
 /// per-finger arrays.

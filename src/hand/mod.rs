@@ -60,10 +60,10 @@
 
 use glam::{Mat3, Quat, Vec3};
 
-use crate::bones::{Finger, HumanBone, Side, BONE_COUNT};
 use crate::error::Result;
+use crate::humanoid::bones::{Finger, HumanBone, Side, BONE_COUNT};
+use crate::humanoid::skeleton::Skeleton;
 use crate::mediapipe::HAND_LANDMARKS;
-use crate::skeleton::Skeleton;
 
 mod chain;
 pub mod flip;
@@ -73,7 +73,8 @@ pub mod retarget;
 pub use limits::{Dof, JointRange, DOF_COUNT, LIMITS};
 pub use retarget::{RetargetOptions, RetargetReport};
 
-use chain::{bend, clamp_angle, hinge_angle, wrap, Basis, Kind, Targets};
+use crate::math::{clamp_angle, wrap};
+use chain::{bend, hinge_angle, Basis, Kind, Targets};
 
 /// How hands are solved (JS: `options.handStrategy`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -93,13 +93,14 @@
 
 use glam::{Mat3, Quat, Vec3};
 
-use super::chain::{wrap, Basis, Kind};
+use super::chain::{Basis, Kind};
 use super::limits::LIMITS;
 use super::{orthonormal_frame, HandReport, SideRest};
 use crate::align::tip_offset;
-use crate::bones::{Finger, Side};
+use crate::humanoid::bones::{Finger, Side};
+use crate::humanoid::skeleton::Skeleton;
+use crate::math::wrap;
 use crate::mediapipe::HAND_LANDMARKS;
-use crate::skeleton::Skeleton;
 use crate::solve::least_squares::{minimize, Model, Objective, Settings};
 
 /// Weights and stopping rule of the retargeting objective (see the module docs). Costs are
@@ -877,8 +878,8 @@ pub(super) fn measure(model: &HandModel, local: &[Quat; 15]) -> [Option<[f32; 4]
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bones::HumanBone as B;
-    use crate::skeleton::VrmVersion;
+    use crate::humanoid::bones::HumanBone as B;
+    use crate::humanoid::skeleton::VrmVersion;
 
     /// A T-pose body (VRM 1.0 frame) with a right hand whose fingers rest spread and bent
     /// (from 3 to 11 degrees a joint) in their anatomical planes, and a thumb forward and

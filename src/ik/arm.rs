@@ -1,6 +1,7 @@
-//! What every arm solver shares besides the reach itself: the shoulder option, joint
-//! positions to normalized-bone local rotations, the forearm twist, and the chain plumbing of
-//! the FABRIK and CCD arms (`ChainArm`, crate-private).
+//! What every arm solver shares besides the reach itself: the arm's vocabulary ([`ArmChain`],
+//! [`ArmGoal`], [`ArmPose`], [`ArmReach`], the [`ArmIk`] trait, [`ArmSolver`], [`IkError`]),
+//! the shoulder option, joint positions to normalized-bone local rotations and the forearm
+//! twist.
 //!
 //! ## Shoulder ([`ArmOptions::shoulder_angle`], [`ArmOptions::shoulder_reach`])
 //! A far reach raises (or pulls forward) the shoulder instead of locking the elbow straight,
@@ -29,16 +30,244 @@
 //! wrap back (a hand cannot really twist that far).
 
 use core::f32::consts::PI;
+use core::fmt;
 
 use glam::{Quat, Vec3};
 
-use crate::error::{Error, Result};
-use crate::kinematics::{angle_between, twist_angle, Chain, JointLimit, RootFrame};
+use crate::error::Result;
+use crate::humanoid::bones::{HumanBone, Side};
+use crate::humanoid::skeleton::Skeleton;
+use crate::kinematics::RootFrame;
+use crate::math::{angle_between, twist_angle};
 
-use super::ccd::Effector;
-use super::two_bone::TwoBoneIk;
-use super::wrist::settle;
-use super::{ArmChain, ArmGoal, ArmPose, ArmReach, ChainGoal, ChainReport, TwoBoneOptions};
+use super::wrist::{WristFrame, WristLimited};
+
+/// Which solver reaches the wrist target (JS: `options.armSolver`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum ArmSolver {
+    /// `"twoBone"`: analytic two-bone IK with the elbow swivel from a pole ([`super::TwoBoneIk`]).
+    TwoBone,
+    /// `"fabrik"`: FABRIK over the arm chain ([`super::FabrikArm`], seed 002).
+    Fabrik,
+    /// `"ccd"`: CCD with priority effectors ([`super::CcdArm`], seed 004).
+    Ccd,
+}
+
+impl ArmSolver {
+    /// Every solver, in the order of [`ArmSolver::as_str`]'s values in the options.
+    pub const ALL: [ArmSolver; 3] = [ArmSolver::TwoBone, ArmSolver::Fabrik, ArmSolver::Ccd];
+
+    /// The JS name: `"twoBone"`, `"fabrik"` or `"ccd"`.
+    #[must_use]
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            ArmSolver::TwoBone => "twoBone",
+            ArmSolver::Fabrik => "fabrik",
+            ArmSolver::Ccd => "ccd",
+        }
+    }
+}
+
+/// What an arm solver achieved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArmReach {
+    /// Whether the target lies within the arm's reach (between the fully folded and the
+    /// fully stretched wrist distance from the shoulder, within 1e-5 m).
+    pub reachable: bool,
+    /// Distance (m) between the solved wrist (forward kinematics of the written rotations)
+    /// and the target. About 0 when reachable; the shortfall when not.
+    pub residual: f32,
+    /// What the wrist limits changed ([`ArmOptions::wrist_limits`]): the target and hand
+    /// rotation actually reached; `None` when the hand was within the limits (or they are
+    /// off, or there was no hand rotation).
+    pub wrist: Option<WristLimited>,
+}
+
+/// Setup errors of the arm solvers.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum IkError {
+    /// The avatar lacks a bone the chain needs.
+    MissingBone(HumanBone),
+    /// An option is out of range.
+    InvalidOption {
+        /// JS-style path of the option (`options.armSolver...`).
+        field: &'static str,
+        /// What is wrong with it.
+        problem: &'static str,
+    },
+}
+
+impl fmt::Display for IkError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            IkError::MissingBone(b) => write!(f, "restPose.bones: arm IK needs bone {b}"),
+            IkError::InvalidOption { field, problem } => write!(f, "{field}: {problem}"),
+        }
+    }
+}
+
+impl std::error::Error for IkError {}
+
+impl From<IkError> for crate::Error {
+    fn from(e: IkError) -> Self {
+        match e {
+            IkError::MissingBone(b) => crate::Error::MissingRequiredBones(vec![b.as_str()]),
+            IkError::InvalidOption { field, problem } => crate::Error::invalid(field, problem),
+        }
+    }
+}
+
+/// The geometry of one arm (internal frame), read from the avatar's rest pose.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArmChain {
+    /// Which arm.
+    pub side: Side,
+    /// `upperArm`, `lowerArm`, `hand` of this side.
+    pub bones: [HumanBone; 3],
+    /// The upper arm's effective parent (usually `shoulder`), whose world rotation is the
+    /// frame of the upper arm's local rotation. `None` only on a degenerate skeleton.
+    pub parent: Option<HumanBone>,
+    /// Rest offset upperArm joint -> lowerArm joint (m; the upper arm's rest direction and
+    /// length, in the parent's frame).
+    pub upper: Vec3,
+    /// Rest offset lowerArm joint -> hand joint (m; in the upper arm's frame).
+    pub lower: Vec3,
+    /// Unit vector, in the parent's frame, pointing away from the body on this side (+X for
+    /// the left arm, -X for the right): where "outward" is for the elbow fallbacks.
+    pub outward: Vec3,
+    /// The shoulder bone, when the avatar has one as the upper arm's parent (the shoulder
+    /// option turns it).
+    pub shoulder: Option<HumanBone>,
+    /// Rest offset shoulder joint -> upperArm joint (m, in the shoulder's frame; normalized
+    /// bones: the rest world offset); zero without a shoulder bone.
+    pub shoulder_offset: Vec3,
+    /// The wrist's anatomical axes ([`WristFrame::new`]) for the wrist limits; `None` on a
+    /// degenerate rest pose (the hand is then not limited).
+    pub wrist: Option<WristFrame>,
+}
+
+impl ArmChain {
+    /// Reads the arm of `side` from `skeleton`.
+    ///
+    /// # Errors
+    /// [`IkError::MissingBone`] when upperArm, lowerArm or hand is absent (VRM requires them;
+    /// a [`Skeleton`] always has them).
+    pub fn new(skeleton: &Skeleton, side: Side) -> Result<Self, IkError> {
+        let [_, upper, lower, hand] = side.arm();
+        for b in [upper, lower, hand] {
+            if !skeleton.has(b) {
+                return Err(IkError::MissingBone(b));
+            }
+        }
+        let outward = match side {
+            Side::Left => Vec3::X,
+            Side::Right => Vec3::NEG_X,
+        };
+        let parent = skeleton.parent(upper);
+        let shoulder = parent.filter(|p| *p == side.arm()[0]);
+        Ok(ArmChain {
+            side,
+            bones: [upper, lower, hand],
+            parent,
+            upper: skeleton.rest_local(lower),
+            lower: skeleton.rest_local(hand),
+            outward,
+            shoulder,
+            shoulder_offset: if shoulder.is_some() {
+                skeleton.rest_local(upper)
+            } else {
+                Vec3::ZERO
+            },
+            wrist: WristFrame::new(skeleton, side),
+        })
+    }
+
+    /// Upper arm length (m).
+    #[inline]
+    #[must_use]
+    pub fn upper_length(&self) -> f32 {
+        self.upper.length()
+    }
+
+    /// Lower arm length (m).
+    #[inline]
+    #[must_use]
+    pub fn lower_length(&self) -> f32 {
+        self.lower.length()
+    }
+}
+
+/// What one arm must reach this frame (world, internal frame).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArmGoal {
+    /// World position of the upperArm joint (fixed: the solver does not move it).
+    pub shoulder: Vec3,
+    /// World rotation of the upper arm's effective parent (identity with the torso at rest).
+    pub parent_rotation: Quat,
+    /// Where the hand joint (wrist) should be.
+    pub target: Vec3,
+    /// World rotation the hand bone should have; `None` leaves the hand's local rotation at
+    /// identity (it follows the forearm).
+    pub hand_rotation: Option<Quat>,
+    /// A world point the elbow should point toward (the pose elbow landmark); `None` uses the
+    /// solver's natural default.
+    pub pole: Option<Vec3>,
+    /// The shoulder bone's joint and world rotation as posed before the arm solve, for the
+    /// shoulder option ([`ArmOptions::shoulder_angle`]); the solver turns the shoulder from
+    /// there ([`ArmPose::shoulder`]). `None` leaves the shoulder alone. When given, `shoulder`
+    /// and `parent_rotation` are the upper arm joint and the shoulder's rotation of that pose.
+    pub shoulder_root: Option<RootFrame>,
+    /// Offset (world, m) from the wrist to the aligned finger point for this frame's hand
+    /// rotation (fingertip alignment): CCD's first-priority effector. `None` without one.
+    pub finger: Option<Vec3>,
+}
+
+/// A solved arm, written by [`ArmIk::solve`] (caller storage).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArmPose {
+    /// The shoulder option's turn of the shoulder bone, in the shoulder's own frame as posed
+    /// before the solve (its new local rotation is the old one times this); `None` leaves it
+    /// alone.
+    pub shoulder: Option<Quat>,
+    /// Local rotation of the upper arm (in its parent's frame).
+    pub upper: Quat,
+    /// Local rotation of the lower arm (in the upper arm's frame).
+    pub lower: Quat,
+    /// Local rotation of the hand (in the lower arm's frame): the target hand rotation
+    /// expressed there, identity without one.
+    pub hand: Quat,
+    /// World position of the elbow (lowerArm joint) by forward kinematics of the above.
+    pub elbow: Vec3,
+    /// World position of the wrist (hand joint) by forward kinematics of the above.
+    pub wrist: Vec3,
+}
+
+impl Default for ArmPose {
+    fn default() -> Self {
+        ArmPose {
+            shoulder: None,
+            upper: Quat::IDENTITY,
+            lower: Quat::IDENTITY,
+            hand: Quat::IDENTITY,
+            elbow: Vec3::ZERO,
+            wrist: Vec3::ZERO,
+        }
+    }
+}
+
+/// One arm IK method. Implementations keep whatever per-arm state they need (the two-bone
+/// solver remembers the last elbow swivel for continuity), so use one instance per arm.
+pub trait ArmIk {
+    /// Solves `goal` for `chain` into `out`. Never panics and never writes NaN: unreachable
+    /// or degenerate goals give the closest pose and report it in the returned [`ArmReach`].
+    /// Allocates nothing.
+    fn solve(&mut self, chain: &ArmChain, goal: &ArmGoal, out: &mut ArmPose) -> ArmReach;
+
+    /// Forgets per-arm state carried between frames.
+    fn reset(&mut self);
+}
 
 /// Slack (m) on the reach limits before a target counts as unreachable.
 pub(crate) const REACH_TOLERANCE: f32 = 1e-5;
@@ -195,276 +424,6 @@ pub(crate) fn shoulder_root(
         position: root.position,
         rotation: root.rotation.normalize(),
     })
-}
-
-/// The method's reach step (FABRIK's or CCD's) as [`ChainArm`] calls it: the chain, its root,
-/// the goal and the effectors, the joints to move in place; returns the method's report.
-type ReachStep<'a> =
-    dyn FnMut(&Chain, &RootFrame, &ChainGoal, &[Effector], &mut [Vec3]) -> ChainReport + 'a;
-
-/// The arm chain with its pose, swivel memory and twist state, shared by [`super::FabrikArm`]
-/// and [`super::CcdArm`]: they differ only in the reach step given to [`ChainArm::solve`].
-#[derive(Clone, Debug)]
-pub(crate) struct ChainArm {
-    /// Joints upperArm, lowerArm, hand (the plain arm).
-    plain: Chain,
-    /// Joints shoulder, upperArm, lowerArm, hand (`None` without a shoulder bone).
-    shouldered: Option<Chain>,
-    joints: [Vec3; 4],
-    /// Which chain `joints` holds (for the warm start), `None` before the first solve.
-    last_shouldered: Option<bool>,
-    /// The analytic solver, used for its bend direction (pole logic and memory) only.
-    swivel: TwoBoneIk,
-    twist: ForearmTwist,
-    options: ArmOptions,
-    report: ChainReport,
-}
-
-impl ChainArm {
-    pub(crate) fn new(chain: &ArmChain, options: &ArmOptions) -> Result<Self> {
-        options.validate()?;
-        let [u, l] = [chain.upper, chain.lower];
-        let field = |e: Error| match e {
-            Error::InvalidInput { problem, .. } => Error::degenerate(
-                format!("restPose.bones.{}", chain.bones[0]),
-                format!("arm chain: {problem}"),
-            ),
-            e => e,
-        };
-        let plain = Chain::new(&[Vec3::ZERO, u, u + l], &[]).map_err(field)?;
-        let shouldered = match chain.shoulder {
-            Some(_) if chain.shoulder_offset.length() > 1e-6 => Some(
-                Chain::new(
-                    &[
-                        Vec3::ZERO,
-                        chain.shoulder_offset,
-                        chain.shoulder_offset + u,
-                        chain.shoulder_offset + u + l,
-                    ],
-                    &[Some(JointLimit::Cone { max_angle: 0.0 }), None, None],
-                )
-                .map_err(field)?,
-            ),
-            _ => None,
-        };
-        Ok(ChainArm {
-            plain,
-            shouldered,
-            joints: [Vec3::ZERO; 4],
-            last_shouldered: None,
-            swivel: TwoBoneIk::new(TwoBoneOptions::default()).map_err(Error::from)?,
-            twist: ForearmTwist::new(options.forearm_twist),
-            options: *options,
-            report: ChainReport::failed(),
-        })
-    }
-
-    pub(crate) fn last_report(&self) -> ChainReport {
-        self.report
-    }
-
-    pub(crate) fn reset(&mut self) {
-        self.swivel.reset_memory();
-        self.twist.reset();
-        self.last_shouldered = None;
-    }
-
-    /// Solves `goal` with `reach` (the method: FABRIK or CCD) on the arm chain: sets up the
-    /// shoulder cone, the warm start, the pole and the effectors, then converts the joints
-    /// to local rotations; with the wrist limits on, re-solves for the limited hand
-    /// ([`super::wrist`]).
-    pub(crate) fn solve(
-        &mut self,
-        chain: &ArmChain,
-        goal: &ArmGoal,
-        out: &mut ArmPose,
-        mut reach: impl FnMut(&Chain, &RootFrame, &ChainGoal, &[Effector], &mut [Vec3]) -> ChainReport,
-    ) -> ArmReach {
-        let parent = if goal.parent_rotation.is_finite() {
-            goal.parent_rotation.normalize()
-        } else {
-            Quat::IDENTITY
-        };
-        if !(goal.target.is_finite() && goal.shoulder.is_finite()) {
-            *out = ArmPose {
-                elbow: goal.shoulder,
-                wrist: goal.shoulder,
-                ..ArmPose::default()
-            };
-            self.report = ChainReport::failed();
-            return ArmReach {
-                reachable: false,
-                residual: f32::INFINITY,
-                wrist: None,
-            };
-        }
-        let pole = self.pole_point(chain, goal, parent);
-        let (mut result, lower) = self.place(chain, goal, parent, pole, out, &mut reach);
-        let mut goal = *goal;
-        let mut lower_world = lower;
-        if self.options.wrist_limits {
-            if let Some(frame) = chain.wrist {
-                result.wrist = settle(&frame, &mut goal, lower, &mut |g| {
-                    let (r, l) = self.place(chain, g, parent, pole, out, &mut reach);
-                    result = r;
-                    lower_world = l;
-                    l
-                });
-            }
-        }
-        finish_hand(chain, lower_world, goal.hand_rotation, &mut self.twist, out);
-        result
-    }
-
-    /// The point the elbow is turned toward: the analytic solver's bend direction (pose elbow
-    /// or default pole, continuity memory, updated here) from the upper arm joint as the
-    /// shoulder option would place it for `goal`: the same pole for every method.
-    fn pole_point(&mut self, chain: &ArmChain, goal: &ArmGoal, parent: Quat) -> Vec3 {
-        let arm_length = chain.upper_length() + chain.lower_length();
-        let shoulder =
-            shoulder_root(chain, goal, &self.options).filter(|_| self.shouldered.is_some());
-        let (upper_joint, rotation) = match shoulder {
-            Some(root) => {
-                let (need, axis) = shoulder_need(
-                    &root,
-                    chain.shoulder_offset,
-                    goal.target,
-                    arm_length,
-                    &self.options,
-                );
-                let turned =
-                    Quat::from_axis_angle(axis, need) * (root.rotation * chain.shoulder_offset);
-                (root.position + turned, root.rotation)
-            }
-            None => (goal.shoulder, parent),
-        };
-        let swivel_goal = ArmGoal {
-            shoulder: upper_joint,
-            parent_rotation: rotation,
-            ..*goal
-        };
-        let (dir, bend) = self.swivel.swivel(chain, &swivel_goal);
-        let distance = (goal.target - upper_joint).length();
-        upper_joint + dir * (0.5 * distance) + bend * arm_length
-    }
-
-    /// One reach of `goal` toward `pole_point`: the shoulder cone, the warm start, the
-    /// effectors, `reach`, then the shoulder, upper and lower arm rotations and the elbow and
-    /// wrist positions in `out` (the hand is left to [`finish_hand`]). Returns the reach and
-    /// the forearm's world rotation.
-    fn place(
-        &mut self,
-        chain: &ArmChain,
-        goal: &ArmGoal,
-        parent: Quat,
-        pole_point: Vec3,
-        out: &mut ArmPose,
-        // `dyn`: one copy of this function for both methods (a generic one was two, 3.3 KiB
-        // each in the .wasm); the reach step is called once or twice a frame.
-        reach: &mut ReachStep<'_>,
-    ) -> (ArmReach, Quat) {
-        let arm_length = chain.upper_length() + chain.lower_length();
-        let shoulder =
-            shoulder_root(chain, goal, &self.options).filter(|_| self.shouldered.is_some());
-
-        // The chain and its root.
-        let (kc, root) = match shoulder {
-            Some(root) => {
-                let (need, _) = shoulder_need(
-                    &root,
-                    chain.shoulder_offset,
-                    goal.target,
-                    arm_length,
-                    &self.options,
-                );
-                let kc = self.shouldered.as_mut().expect("checked above");
-                // The cone limit was validated at setup; `need` is in 0..=pi/2.
-                let _ = kc.set_limit(0, Some(JointLimit::Cone { max_angle: need }));
-                (&*kc, root)
-            }
-            None => (
-                &self.plain,
-                RootFrame {
-                    position: goal.shoulder,
-                    rotation: parent,
-                },
-            ),
-        };
-        let n = kc.joint_count();
-        let shouldered = shoulder.is_some();
-        let joints = &mut self.joints[..n];
-        if self.last_shouldered != Some(shouldered) {
-            // First solve, or the chain changed: start from rest (or from the plain arm's
-            // last pose carried over, which anchor() then moves to the root).
-            let rest = kc.rest_joints();
-            for (p, r) in joints.iter_mut().zip(rest) {
-                *p = root.position + root.rotation * *r;
-            }
-        }
-        self.last_shouldered = Some(shouldered);
-
-        let upper_index = usize::from(shouldered);
-        let chain_goal = ChainGoal {
-            target: goal.target,
-            pole: Some(pole_point),
-            end_rotation: None,
-            pole_first: upper_index + 1,
-        };
-        let wrist = n - 1;
-        let finger = goal
-            .finger
-            .filter(|f| f.is_finite() && goal.hand_rotation.is_some());
-        let mut effectors = [Effector {
-            joint: wrist,
-            offset: Vec3::ZERO,
-            target: goal.target,
-            first_joint: 0,
-        }; 3];
-        let mut count = 0;
-        if let Some(f) = finger {
-            effectors[count].offset = f;
-            effectors[count].target = goal.target + f;
-            count += 1;
-        }
-        count += 1; // the wrist itself
-        effectors[count] = Effector {
-            joint: wrist - 1,
-            offset: Vec3::ZERO,
-            target: pole_point,
-            first_joint: upper_index,
-        };
-        count += 1;
-        self.report = reach(kc, &root, &chain_goal, &effectors[..count], joints);
-
-        // Joints to local rotations (swing chain).
-        let mut world = [Quat::IDENTITY; 3];
-        kc.rotations(root.rotation, joints, &mut world[..n - 1]);
-        let (upper_parent, upper_world, lower_world) = if shouldered {
-            out.shoulder = Some((root.rotation.conjugate() * world[0]).normalize());
-            (world[0], world[1], world[2])
-        } else {
-            out.shoulder = None;
-            (parent, world[0], world[1])
-        };
-        out.upper = (upper_parent.conjugate() * upper_world).normalize();
-        out.lower = (upper_world.conjugate() * lower_world).normalize();
-        // Positions by forward kinematics of the written rotations (the hand's twist, added
-        // later, turns the forearm about its own axis and moves neither).
-        let upper_at = joints[upper_index];
-        out.elbow = upper_at + upper_parent * out.upper * chain.upper;
-        out.wrist = out.elbow + upper_parent * out.upper * out.lower * chain.lower;
-        let (a, b) = (chain.upper_length(), chain.lower_length());
-        let reach_to = (goal.target - upper_at).length();
-        (
-            ArmReach {
-                reachable: reach_to <= a + b + REACH_TOLERANCE
-                    && reach_to + REACH_TOLERANCE >= (a - b).abs(),
-                residual: (out.wrist - goal.target).length(),
-                wrist: None,
-            },
-            upper_parent * out.upper * out.lower,
-        )
-    }
 }
 
 /// The shoulder bone's local rotation turning it by `need` about `axis` (world), in its

@@ -33,7 +33,7 @@
 //! the last sweep exceeded `tolerance / chain length` radians. A first effector whose target is
 //! beyond its sub-chain's length gives the straight chain toward it without iterating.
 //!
-//! [`CcdArm`] is the arm solver built on it ([`super::ArmSolver::Ccd`]).
+//! [`super::CcdArm`] is the arm solver built on it ([`super::ArmSolver::Ccd`]).
 
 use core::f32::consts::PI;
 
@@ -44,10 +44,10 @@ use crate::kinematics::chain::{angle_about, bow_if_straight, turn_toward_pole};
 use crate::kinematics::iterative::{
     anchor, bow_fallback, face_pole, sub_min_reach, validate_iterations,
 };
-use crate::kinematics::{angle_between, Chain, Pull, RootFrame};
+use crate::kinematics::{Chain, Pull, RootFrame};
+use crate::math::angle_between;
 
-use super::arm::ChainArm;
-use super::{ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, ChainReport};
+use super::goal::{ChainReport, Effector};
 
 /// Options of [`Ccd`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,32 +90,6 @@ impl CcdOptions {
             ));
         }
         Ok(())
-    }
-}
-
-/// One point CCD moves toward a target (see the module docs for priorities).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Effector {
-    /// The chain joint it is attached to (`1..N`).
-    pub joint: usize,
-    /// World-fixed offset (m) from that joint to the effector point (zero: the joint itself).
-    pub offset: Vec3,
-    /// Where the effector point should go (world).
-    pub target: Vec3,
-    /// The first joint whose turns serve this effector (0: every joint before `joint`).
-    pub first_joint: usize,
-}
-
-impl Effector {
-    /// The chain's end joint reaching `target` with every joint.
-    #[must_use]
-    pub fn end(chain: &Chain, target: Vec3) -> Self {
-        Effector {
-            joint: chain.joint_count() - 1,
-            offset: Vec3::ZERO,
-            target,
-            first_joint: 0,
-        }
     }
 }
 
@@ -321,7 +295,7 @@ impl Ccd {
             }
         };
         let step = self.options.max_step_angle;
-        let angle = crate::kinematics::clamp(angle, -step, step);
+        let angle = crate::math::clamp(angle, -step, step);
         (angle.abs() > 0.0 && angle.is_finite() && axis.is_finite())
             .then(|| Quat::from_axis_angle(axis, angle))
     }
@@ -332,61 +306,5 @@ fn rotate_after(joints: &mut [Vec3], k: usize, q: Quat) {
     let pivot = joints[k];
     for p in &mut joints[k + 1..] {
         *p = pivot + q * (*p - pivot);
-    }
-}
-
-/// CCD for one arm ([`super::ArmSolver::Ccd`]) with the seed's priority effectors: the
-/// aligned finger point (when the rig aligns one) first, the wrist second, the elbow toward
-/// the bend direction the analytic solver uses (pose elbow or default pole, with its
-/// continuity memory) last. With [`ArmOptions::shoulder_angle`] the shoulder bone joins the
-/// chain under a cone limit. Warm-started from the previous frame; see [`super::arm`] for
-/// rotations and twist.
-#[derive(Clone, Debug)]
-pub struct CcdArm {
-    ccd: Ccd,
-    arm: ChainArm,
-    frames: [Quat; 3],
-}
-
-impl CcdArm {
-    /// A CCD arm solver for `chain`.
-    ///
-    /// # Errors
-    /// Options out of range.
-    pub fn new(chain: &ArmChain, options: CcdOptions, arm: &ArmOptions) -> Result<Self> {
-        Ok(CcdArm {
-            ccd: Ccd::new(options)?,
-            arm: ChainArm::new(chain, arm)?,
-            frames: [Quat::IDENTITY; 3],
-        })
-    }
-
-    /// The last solve's iteration count and convergence.
-    #[must_use]
-    pub fn last_report(&self) -> ChainReport {
-        self.arm.last_report()
-    }
-}
-
-impl ArmIk for CcdArm {
-    fn solve(&mut self, chain: &ArmChain, goal: &ArmGoal, out: &mut ArmPose) -> ArmReach {
-        let ccd = self.ccd;
-        let frames = &mut self.frames;
-        self.arm
-            .solve(chain, goal, out, |c, root, _goal, effectors, joints| {
-                ccd.solve(
-                    c,
-                    root,
-                    effectors,
-                    None,
-                    None,
-                    joints,
-                    &mut frames[..c.bone_count()],
-                )
-            })
-    }
-
-    fn reset(&mut self) {
-        self.arm.reset();
     }
 }

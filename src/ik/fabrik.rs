@@ -23,7 +23,7 @@
 //! A chain lying straight along the line to a nearer target is first bowed toward the pole
 //! ([`bow_if_straight`]): from a straight chain the passes could only fold it onto the line.
 //!
-//! [`FabrikArm`] is the arm solver built on it ([`super::ArmSolver::Fabrik`]).
+//! [`super::FabrikArm`] is the arm solver built on it ([`super::ArmSolver::Fabrik`]).
 
 use glam::{Quat, Vec3};
 
@@ -34,8 +34,7 @@ use crate::kinematics::iterative::{
 };
 use crate::kinematics::{Chain, JointLimit, Pull, RootFrame};
 
-use super::arm::ChainArm;
-use super::{ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, ChainGoal, ChainReport};
+use super::goal::{ChainGoal, ChainReport};
 
 /// Options of [`Fabrik`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -222,55 +221,8 @@ fn limit_backward(limit: &JointLimit, wanted: Vec3, child: Vec3, frame: Quat) ->
             };
             // The child's signed angle about the axis from the parent.
             let angle = p.map_or(0.0, |p| w.dot(p.cross(c)).atan2(p.dot(c)));
-            let clamped = crate::kinematics::clamp(angle, min, max);
+            let clamped = crate::math::clamp(angle, min, max);
             Quat::from_axis_angle(w, -clamped) * c
         }
-    }
-}
-
-/// FABRIK for one arm ([`super::ArmSolver::Fabrik`]): the arm chain (upper arm, forearm;
-/// with [`ArmOptions::shoulder_angle`] the shoulder bone too, under a cone limit) reaches the
-/// wrist target, the elbow turned toward the same bend direction the analytic solver uses
-/// (pose elbow or default pole, with its continuity memory). Warm-started from the previous
-/// frame. See [`super::arm`] for rotations and twist.
-#[derive(Clone, Debug)]
-pub struct FabrikArm {
-    fabrik: Fabrik,
-    arm: ChainArm,
-    frames: [Quat; 3],
-}
-
-impl FabrikArm {
-    /// A FABRIK arm solver for `chain`.
-    ///
-    /// # Errors
-    /// Options out of range.
-    pub fn new(chain: &ArmChain, options: FabrikOptions, arm: &ArmOptions) -> Result<Self> {
-        Ok(FabrikArm {
-            fabrik: Fabrik::new(options)?,
-            arm: ChainArm::new(chain, arm)?,
-            frames: [Quat::IDENTITY; 3],
-        })
-    }
-
-    /// The last solve's iteration count and convergence.
-    #[must_use]
-    pub fn last_report(&self) -> ChainReport {
-        self.arm.last_report()
-    }
-}
-
-impl ArmIk for FabrikArm {
-    fn solve(&mut self, chain: &ArmChain, goal: &ArmGoal, out: &mut ArmPose) -> ArmReach {
-        let fabrik = self.fabrik;
-        let frames = &mut self.frames;
-        self.arm
-            .solve(chain, goal, out, |c, root, goal, _effectors, joints| {
-                fabrik.solve(c, root, goal, joints, &mut frames[..c.bone_count()])
-            })
-    }
-
-    fn reset(&mut self) {
-        self.arm.reset();
     }
 }

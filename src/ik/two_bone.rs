@@ -51,9 +51,10 @@ use glam::{Quat, Vec3};
 use super::arm::{
     finish_hand, shoulder_need, shoulder_root, shoulder_turn, ForearmTwist, REACH_TOLERANCE,
 };
-use super::wrist::settle;
-use super::{swing, ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, IkError};
-use crate::kinematics::angle_between;
+use super::arm::{ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, IkError};
+use super::settle::settle;
+use crate::kinematics::swing;
+use crate::math::angle_between;
 
 /// Lengths and distances below this (m) are treated as zero.
 const EPS: f32 = 1e-6;

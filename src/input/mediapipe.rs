@@ -19,7 +19,7 @@
 use glam::Vec3;
 
 use super::torso::{BodyObservation, TorsoRotations, TORSO_BONE_COUNT};
-use crate::bones::Side;
+use crate::humanoid::bones::Side;
 
 /// Number of MediaPipe hand landmarks.
 pub const HAND_LANDMARKS: usize = 21;

@@ -4,7 +4,7 @@
 
 use glam::{Quat, Vec3};
 
-use crate::bones::HumanBone;
+use crate::humanoid::bones::HumanBone;
 
 /// Number of torso bones.
 pub const TORSO_BONE_COUNT: usize = 8;

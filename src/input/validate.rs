@@ -4,8 +4,8 @@ use glam::Vec3;
 
 use super::mediapipe::{hand_landmark, FrameInput, TrackerFace, MAX_HANDS};
 use super::torso::{BodyJoint, TORSO_BONES};
-use crate::bones::Side;
 use crate::error::Result;
+use crate::humanoid::bones::Side;
 
 /// Largest magnitude of any coordinate of a frame's points: meters for world points, wrists,
 /// body joints and face points, image units for image landmarks. A body is not 1 km across, and

@@ -13,7 +13,7 @@
 //! [`JointLimit::constrain`] returns the nearest allowed direction (cone: the cone's edge on the
 //! great circle toward `dir`; hinge: the projection onto the plane, its angle clamped to the
 //! nearer end of the range) and [`JointLimit::violation`] measures by how much (radians) a
-//! direction breaks the limit. [`swing_twist`] splits a rotation into swing and twist about an
+//! direction breaks the limit. [`crate::math::swing_twist`] splits a rotation into swing and twist about an
 //! axis (the forearm twist of the arm solvers).
 
 use core::f32::consts::PI;
@@ -21,6 +21,8 @@ use core::f32::consts::PI;
 use glam::{Quat, Vec3};
 
 use crate::error::{Error, Result};
+use crate::math::angle::{angle_distance, clamp_angle_nearest};
+use crate::math::angle_between;
 
 /// Directions shorter than this are treated as zero (unit-vector arithmetic).
 const EPS: f32 = 1e-7;
@@ -137,7 +139,7 @@ impl JointLimit {
                     // Along the axis: no nearest angle; keep the previous one.
                     previous.dot(y).atan2(previous.dot(x))
                 };
-                let a = clamp_angle(angle, min, max);
+                let a = clamp_angle_nearest(angle, min, max);
                 x * a.cos() + y * a.sin()
             }
         }
@@ -156,7 +158,7 @@ impl JointLimit {
                 let in_plane = (px * px + py * py).sqrt();
                 let out_of_plane = dir.dot(axis).abs().atan2(in_plane);
                 let angle = py.atan2(px);
-                let outside = (angle_distance(angle, clamp_angle(angle, min, max))).abs();
+                let outside = (angle_distance(angle, clamp_angle_nearest(angle, min, max))).abs();
                 out_of_plane + if in_plane > EPS { outside } else { 0.0 }
             }
         }
@@ -170,63 +172,6 @@ fn hinge_basis(axis: Vec3, reference: Vec3) -> (Vec3, Vec3) {
         .try_normalize()
         .unwrap_or_else(|| axis.any_orthonormal_vector());
     (x, axis.cross(x))
-}
-
-/// `angle` (in `[-pi, pi]`) clamped to `[min, max]` on the circle: outside the range, the end
-/// nearer along the circle.
-fn clamp_angle(angle: f32, min: f32, max: f32) -> f32 {
-    if (min..=max).contains(&angle) {
-        return angle;
-    }
-    if angle_distance(angle, min).abs() <= angle_distance(angle, max).abs() {
-        min
-    } else {
-        max
-    }
-}
-
-/// Signed difference `a - b` wrapped into `(-pi, pi]`.
-fn angle_distance(a: f32, b: f32) -> f32 {
-    let d = (a - b).rem_euclid(2.0 * PI);
-    if d > PI {
-        d - 2.0 * PI
-    } else {
-        d
-    }
-}
-
-/// Angle (radians, `[0, pi]`) between unit vectors; accurate near 0 and pi, unlike `acos`.
-#[inline]
-#[must_use]
-pub fn angle_between(a: Vec3, b: Vec3) -> f32 {
-    2.0 * (a - b).length().atan2((a + b).length())
-}
-
-/// Splits `q` into `swing * twist` with `twist` a rotation about the unit `axis` and `swing`
-/// a rotation about an axis perpendicular to it (`q = swing * twist`: the twist acts first,
-/// in the frame where `axis` is the bone's direction). At a half-turn swing, where the
-/// twist is undefined, the twist is identity.
-#[must_use]
-pub fn swing_twist(q: Quat, axis: Vec3) -> (Quat, Quat) {
-    let v = Vec3::new(q.x, q.y, q.z);
-    let p = axis * v.dot(axis);
-    let twist = Quat::from_xyzw(p.x, p.y, p.z, q.w);
-    let twist = if twist.length_squared() > EPS {
-        twist.normalize()
-    } else {
-        Quat::IDENTITY
-    };
-    ((q * twist.conjugate()).normalize(), twist)
-}
-
-/// The signed angle (radians, `(-pi, pi]`) of `q`'s twist about the unit `axis` (see
-/// [`swing_twist`]).
-#[must_use]
-pub fn twist_angle(q: Quat, axis: Vec3) -> f32 {
-    let (_, twist) = swing_twist(q, axis);
-    let s = Vec3::new(twist.x, twist.y, twist.z).dot(axis);
-    let a = 2.0 * s.atan2(twist.w);
-    angle_distance(a, 0.0)
 }
 
 #[cfg(test)]
@@ -293,18 +238,5 @@ mod tests {
         .validated("c")
         .unwrap_err();
         assert!(e.to_string().starts_with("c.min"), "{e}");
-    }
-
-    #[test]
-    fn swing_twist_recomposes() {
-        let q = Quat::from_euler(glam::EulerRot::XYZ, 0.3, -1.2, 2.0);
-        let (s, t) = swing_twist(q, Vec3::X);
-        assert!((s * t).dot(q).abs() > 1.0 - 1e-6);
-        // The swing has no component about the axis.
-        assert!(s.x.abs() < 1e-6);
-        let a = twist_angle(Quat::from_rotation_x(2.5) * Quat::IDENTITY, Vec3::X);
-        assert!((a - 2.5).abs() < 1e-5);
-        let a = twist_angle(Quat::from_rotation_x(-3.0), Vec3::X);
-        assert!((a + 3.0).abs() < 1e-5, "{a}");
     }
 }

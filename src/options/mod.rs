@@ -22,11 +22,11 @@ pub mod table;
 
 use crate::align::{AlignPoint, AlignmentOptions};
 use crate::body::CalibrationOptions;
-use crate::bones::Finger;
 use crate::contact::{ContactOptions, FaceAnchorsOption};
 use crate::error::{Error, Result};
 use crate::filter::{DropoutOptions, FilterOptions};
 use crate::hand::{HandStrategy, RetargetOptions};
+use crate::humanoid::bones::Finger;
 use crate::ik::{ArmOptions, ArmSolver};
 use crate::mediapipe::CameraMapping;
 use crate::solve::least_squares::Settings;

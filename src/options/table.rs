@@ -11,7 +11,7 @@ use crate::torso::TorsoSource;
 
 use super::{HandednessPolicy, OptionDescription, OptionEnum, OptionKind, RigOptions};
 use crate::align::AlignPoint;
-use crate::bones::Finger;
+use crate::humanoid::bones::Finger;
 
 /// The type and accepted values of an option.
 #[derive(Clone, Copy, Debug, PartialEq)]

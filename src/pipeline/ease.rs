@@ -4,10 +4,10 @@
 
 use glam::Quat;
 
-use crate::bones::BONE_COUNT;
-use crate::bones::{HumanBone, Side};
 use crate::filter::{nlerp, Blend};
 use crate::hand::HandStatus;
+use crate::humanoid::bones::BONE_COUNT;
+use crate::humanoid::bones::{HumanBone, Side};
 
 use super::{Rig, SolveOutput};
 
@@ -84,7 +84,7 @@ impl Rig {
                 };
                 match group {
                     Group::Fingers => {
-                        for f in crate::bones::Finger::ALL {
+                        for f in crate::humanoid::bones::Finger::ALL {
                             side.finger(f).into_iter().for_each(&mut apply);
                         }
                     }
@@ -117,7 +117,7 @@ impl Rig {
     /// and last shown rotations, unchanged).
     pub(super) fn show_fingers(&self, side: Side, blend: Blend, local: &mut [Quat; BONE_COUNT]) {
         // The side's 15 finger bones are consecutive, thumb metacarpal first.
-        let first = side.finger(crate::bones::Finger::Thumb)[0].index();
+        let first = side.finger(crate::humanoid::bones::Finger::Thumb)[0].index();
         // An index loop: the iterator form (`enumerate().skip().take()`) costs 0.2 KiB more
         // of .wasm, which sits near its size budget.
         #[allow(clippy::needless_range_loop)]

@@ -5,9 +5,9 @@
 
 use glam::{Quat, Vec3};
 
-use crate::bones::Side;
 use crate::hand::flip::{chirality, image_agreement, MIRRORED};
 use crate::hand::{HandStatus, HandStrategy};
+use crate::humanoid::bones::Side;
 use crate::mediapipe::{FrameInput, HandObservation, HAND_LANDMARKS};
 
 use super::select::Pick;
@@ -201,7 +201,7 @@ impl Rig {
             check: verdict,
         });
         if hand_rotation.is_some() {
-            for b in crate::bones::Finger::ALL
+            for b in crate::humanoid::bones::Finger::ALL
                 .iter()
                 .flat_map(|f| side.finger(*f))
                 .chain([side.hand()])

@@ -22,7 +22,7 @@
 
 use glam::{Quat, Vec3};
 
-use crate::bones::Side;
+use crate::humanoid::bones::Side;
 
 use super::{Rig, SolveOutput};
 

@@ -56,16 +56,16 @@ mod touch;
 use glam::{Quat, Vec3};
 
 use crate::body::{ArmAnchor, BodyMapper};
-use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::contact::ContactSolver;
 use crate::error::Result;
 use crate::filter::{Clock, OneEuroQuat, PointFilters, Presence};
 use crate::hand::HandSolver;
+use crate::humanoid::bones::{HumanBone, Side, BONE_COUNT};
+use crate::humanoid::skeleton::Skeleton;
 use crate::ik::ArmSolverState;
 use crate::input::validate::validate_frame;
 use crate::mediapipe::{FrameInput, PoseObservation, HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS};
 pub use crate::options::{HandednessPolicy, RigOptions};
-use crate::skeleton::Skeleton;
 use crate::torso::{TorsoSolver, TorsoSource, BODY_JOINT_COUNT, TORSO_BONES};
 
 pub use crate::input::validate::COORDINATE_LIMIT;
@@ -188,7 +188,7 @@ impl Rig {
         let mut driven = [false; BONE_COUNT];
         for side in Side::BOTH {
             let [shoulder, upper, lower, hand] = side.arm();
-            let fingers = crate::bones::Finger::ALL
+            let fingers = crate::humanoid::bones::Finger::ALL
                 .iter()
                 .flat_map(|f| side.finger(*f));
             for b in [upper, lower, hand].into_iter().chain(fingers) {

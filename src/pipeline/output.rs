@@ -4,11 +4,11 @@ use super::HandCheck;
 use glam::{Quat, Vec3};
 
 use crate::align::AlignmentReport;
-use crate::bones::{Side, BONE_COUNT};
 use crate::contact::ContactReport;
 use crate::hand::{HandStatus, RetargetReport};
+use crate::humanoid::bones::{Side, BONE_COUNT};
+use crate::humanoid::skeleton::{VrmVersion, WorldPose};
 use crate::mediapipe::MAX_HANDS;
-use crate::skeleton::{VrmVersion, WorldPose};
 
 /// A wrist IK target in the model's own frame.
 #[derive(Clone, Copy, Debug, PartialEq)]

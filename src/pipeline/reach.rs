@@ -4,8 +4,8 @@
 use glam::{Quat, Vec3};
 
 use crate::align;
-use crate::bones::{HumanBone, Side};
-use crate::skeleton::Skeleton;
+use crate::humanoid::bones::{HumanBone, Side};
+use crate::humanoid::skeleton::Skeleton;
 
 use super::targets::Plan;
 use super::{IkTarget, Rig, SolveOutput};

@@ -2,8 +2,8 @@
 //! retargeting reports, and the whole output turned into the model's own frame.
 
 use crate::align;
-use crate::bones::{Finger, Side};
 use crate::hand::{HandStatus, RetargetReport};
+use crate::humanoid::bones::{Finger, Side};
 
 use super::{Rig, SolveOutput};
 

@@ -23,7 +23,7 @@
 
 use glam::Vec2;
 
-use crate::bones::Side;
+use crate::humanoid::bones::Side;
 use crate::mediapipe::{hand_landmark, pose_landmark, CameraMapping, FrameInput, MAX_HANDS};
 use crate::options::HandednessPolicy;
 

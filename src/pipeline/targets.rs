@@ -18,9 +18,9 @@
 use glam::{Quat, Vec3};
 
 use crate::align;
-use crate::bones::{Finger, Side, BONE_COUNT};
 use crate::contact::{HandPoints, SideTarget, Source, UserFace, UserFaces};
 use crate::filter::{DropoutOptions, Presence};
+use crate::humanoid::bones::{Finger, Side, BONE_COUNT};
 use crate::mediapipe::{pose_landmark, FrameInput};
 
 use super::hands::WristSource;
@@ -365,7 +365,7 @@ impl Rig {
             avatar_palm: if self.skeleton.has(middle) {
                 self.skeleton.rest_local(middle).length()
             } else {
-                crate::contact::colliders::avatar_palm_length(&self.skeleton)
+                crate::humanoid::measure::avatar_palm_length(&self.skeleton)
             },
         })
     }

@@ -6,7 +6,7 @@
 use glam::Quat;
 
 use crate::body::ArmAnchor;
-use crate::bones::Side;
+use crate::humanoid::bones::Side;
 use crate::mediapipe::{CameraMapping, FrameInput};
 use crate::torso::{self, TorsoPoints, TorsoSource, TORSO_BONES};
 

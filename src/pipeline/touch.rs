@@ -16,8 +16,8 @@
 
 use glam::{Quat, Vec3};
 
-use crate::bones::{Finger, Side};
 use crate::contact::ContactReport;
+use crate::humanoid::bones::{Finger, Side};
 
 use super::targets::Plan;
 use super::{Rig, SolveOutput};

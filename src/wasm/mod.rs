@@ -21,13 +21,13 @@ use glam::Vec3;
 use js_sys::{Array, Object, Reflect};
 use wasm_bindgen::prelude::*;
 
-use crate::bones::{HumanBone, Side, BONE_COUNT};
 use crate::error::Error;
 use crate::flat;
+use crate::humanoid::bones::{HumanBone, Side, BONE_COUNT};
+use crate::humanoid::skeleton::{Skeleton, VrmVersion};
 use crate::mediapipe::FrameInput;
 use crate::options::{option_descriptions, OptionKind, RigOptions};
 use crate::pipeline::{Rig, SolveOutput};
-use crate::skeleton::{Skeleton, VrmVersion};
 
 type JsResult<T> = Result<T, JsError>;
 
@@ -127,7 +127,7 @@ impl HandRig {
             .collect();
         let mut skeleton = Skeleton::new(&bones, version).map_err(js_err)?;
         if let (Some(p), Some(b)) = (skin_positions, skin_bones) {
-            let mesh = crate::contact::skin::SkinMesh::from_flat(
+            let mesh = crate::humanoid::SkinMesh::from_flat(
                 &p,
                 &b,
                 skin_triangles.as_deref().unwrap_or(&[]),
@@ -141,12 +141,12 @@ impl HandRig {
     /// `HandRig.fromVrm(bytes, options)`: reads a `.vrm` file (VRM 1.0 or 0.x) directly.
     #[wasm_bindgen(js_name = fromVrm)]
     pub fn from_vrm(bytes: &[u8], options: JsValue) -> JsResult<HandRig> {
-        let skeleton = crate::vrm::load_skeleton(bytes).map_err(js_err)?;
+        let skeleton = crate::humanoid::vrm::load_skeleton(bytes).map_err(js_err)?;
         Self::with_skeleton(skeleton, options)
     }
 
     /// `HandRig.fromGltf(bytes, boneMap, options)`: reads a glTF binary (`.glb`, or a `.vrm`)
-    /// whose humanoid is found by [`crate::gltf`]. `boneMap`: an array of strings, pairs of
+    /// whose humanoid is found by [`crate::humanoid::gltf`]. `boneMap`: an array of strings, pairs of
     /// humanoid bone name and node name (empty: find the humanoid by the VRM extension or by
     /// Mixamo / Unreal names); the JS layer read it from `options.skeleton.boneMap`.
     #[wasm_bindgen(js_name = fromGltf)]
@@ -162,7 +162,7 @@ impl HandRig {
             .chunks_exact(2)
             .map(|p| (p[0].clone(), p[1].clone()))
             .collect();
-        let (skeleton, g) = crate::gltf::load_skeleton(bytes, &pairs).map_err(js_err)?;
+        let (skeleton, g) = crate::humanoid::gltf::load_skeleton(bytes, &pairs).map_err(js_err)?;
         let mut rig = Self::with_skeleton(skeleton, options)?;
         rig.binding = g.binding.into_iter().map(|(b, _, n)| (b, n)).collect();
         Ok(rig)

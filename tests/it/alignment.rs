@@ -9,7 +9,7 @@ use crate::support::rigs;
 
 use glam::{EulerRot, Quat, Vec3};
 use handrig::align::{AlignPoint, TIP_RATIO};
-use handrig::bones::{Finger, HumanBone as B, Side};
+use handrig::humanoid::bones::{Finger, HumanBone as B, Side};
 use handrig::ik::ArmSolver;
 use handrig::mediapipe::{FrameInput, Handedness, WristObservation, HAND_LANDMARKS};
 use handrig::{Rig, RigOptions, Skeleton, SolveOutput, VrmVersion};

@@ -6,11 +6,9 @@
 use crate::support::rigs;
 
 use glam::{Quat, Vec3};
-use handrig::body::{
-    insert_sorted, robust_mean, robust_mean_sorted, BodyMapper, CalibrationOptions,
-    REFERENCE_USER_ARM,
-};
-use handrig::bones::{HumanBone as B, Side, BONE_COUNT};
+use handrig::body::{BodyMapper, CalibrationOptions, REFERENCE_USER_ARM};
+use handrig::humanoid::bones::{HumanBone as B, Side, BONE_COUNT};
+use handrig::math::{insert_sorted, robust_mean, robust_mean_sorted};
 use handrig::mediapipe::{
     pose_landmark as pl, CameraMapping, FrameInput, PoseObservation, POSE_LANDMARKS,
 };

@@ -12,12 +12,12 @@ use core::f32::consts::{FRAC_PI_2, PI};
 use arms::{arm_lengths as lengths, layouts, skeleton};
 use geometry::{across, dir};
 use glam::{Quat, Vec3};
-use handrig::bones::{HumanBone as B, Side, BONE_COUNT};
+use handrig::humanoid::bones::{HumanBone as B, Side, BONE_COUNT};
+use handrig::humanoid::skeleton::{Skeleton, VrmVersion, WorldPose};
 use handrig::ik::{
     swing, ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmSolver, ArmSolverState, TwoBoneIk,
     TwoBoneOptions,
 };
-use handrig::skeleton::{Skeleton, VrmVersion, WorldPose};
 use proptest::prelude::*;
 
 /// The analytic solver with the shoulder option and the wrist limits off: these tests check

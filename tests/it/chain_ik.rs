@@ -13,7 +13,8 @@ use glam::{Quat, Vec3};
 use handrig::ik::{
     Ccd, CcdOptions, ChainGoal, ChainMethod, ChainSolver, ChainSolverOptions, Effector,
 };
-use handrig::kinematics::{angle_between, Chain, JointLimit};
+use handrig::kinematics::{Chain, JointLimit};
+use handrig::math::angle_between;
 use proptest::prelude::*;
 
 const METHODS: [ChainMethod; 2] = [ChainMethod::Fabrik, ChainMethod::Ccd];

@@ -21,12 +21,12 @@ use crate::support::recordings;
 
 use glam::{EulerRot, Quat, Vec3};
 use handrig::align::TIP_RATIO;
-use handrig::bones::{Finger, HumanBone as B, Side};
 use handrig::contact::face::{CANONICAL_ANCHORS, CANONICAL_EYES};
 use handrig::contact::{
     ContactOptions, ContactSolver, FaceAnchor, HandPoints, SideTarget, Source, UserFace, UserFaces,
     POINTS,
 };
+use handrig::humanoid::bones::{Finger, HumanBone as B, Side};
 use handrig::mediapipe::{
     FrameInput, Handedness, PoseObservation, TrackerFace, WristObservation, HAND_LANDMARKS,
     POSE_LANDMARKS,

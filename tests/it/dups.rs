@@ -7,7 +7,7 @@
 use crate::support::recordings;
 
 use handrig::mediapipe::{FrameInput, Handedness};
-use handrig::rig::{HandResolved, HandUse, HandednessPolicy, MAX_JUMP_FRAMES};
+use handrig::pipeline::{HandResolved, HandUse, HandednessPolicy, MAX_JUMP_FRAMES};
 use handrig::{Rig, RigOptions, Side, SolveOutput};
 
 fn rig(options: RigOptions) -> Rig {

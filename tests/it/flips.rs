@@ -8,7 +8,7 @@ use glam::Quat;
 use handrig::hand::flip::{chirality, image_agreement, MIRRORED};
 use handrig::hand::HandStatus;
 use handrig::mediapipe::{CameraMapping, FrameInput};
-use handrig::rig::HandCheck;
+use handrig::pipeline::HandCheck;
 use handrig::{Rig, RigOptions, Side, SolveOutput};
 
 const PLEASE: &str = "../shared/data/asl/please.json";

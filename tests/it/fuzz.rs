@@ -237,7 +237,7 @@ fn seeded_mutations_of_vrm_files_and_flat_frames() {
             mutate_vrm(&mut rng, bytes)
         };
         files += 1;
-        let skeleton = match handrig::vrm::load_skeleton(&mutant) {
+        let skeleton = match handrig::humanoid::vrm::load_skeleton(&mutant) {
             Ok(s) => s,
             Err(e) => {
                 let msg = e.to_string();

@@ -1,4 +1,4 @@
-//! Any glTF humanoid (`handrig::gltf`): the generated MakeHuman bodies
+//! Any glTF humanoid (`handrig::humanoid::gltf`): the generated MakeHuman bodies
 //! (`tests/fixtures/avatars/`) as Mixamo-named and Unreal-named `.glb` solve to the same
 //! normalized-bone rotations as the same body as a VRM, on every frame of the shared
 //! recordings (the right-hand video and the six ASL clips with pose), also after random bone
@@ -19,8 +19,8 @@ use crate::support::recordings;
 use crate::support::vrm_fixture;
 
 use glam::Quat;
-use handrig::bones::BONE_COUNT;
-use handrig::gltf::{self, Naming};
+use handrig::humanoid::bones::BONE_COUNT;
+use handrig::humanoid::gltf::{self, Naming};
 use handrig::{Error, FrameInput, HumanBone, Rig, RigOptions, Skeleton, SolveOutput, VrmVersion};
 use serde_json::{json, Value};
 
@@ -400,7 +400,7 @@ fn mixamo_and_unreal_bodies_solve_like_their_vrm() {
         let mixamo = avatar(&format!("{body}-mixamo.glb"));
         let unreal = avatar(&format!("{body}-unreal.glb"));
         let unreal_ref = solve_all(
-            &handrig::vrm::load_skeleton(&unreal_as_vrm(&unreal)).expect("unreal as vrm"),
+            &handrig::humanoid::vrm::load_skeleton(&unreal_as_vrm(&unreal)).expect("unreal as vrm"),
         );
         let (mixamo_rolled, n) = roll_bones(&mixamo, 7);
         assert!(n > 50, "{n} nodes rolled");
@@ -507,7 +507,7 @@ fn shared_vrms_read_by_from_gltf_as_by_from_vrm() {
     for file in [recordings::ROBOT, "../shared/avatars/odd-armature-vrm0.vrm"] {
         let bytes = std::fs::read(recordings::path(file)).unwrap();
         let (a, _) = gltf::load_skeleton(&bytes, &[]).unwrap();
-        let b = handrig::vrm::load_skeleton(&bytes).unwrap();
+        let b = handrig::humanoid::vrm::load_skeleton(&bytes).unwrap();
         assert_eq!(a.version(), b.version(), "{file}");
         for bone in HumanBone::ALL {
             assert_eq!(a.rest_world(bone), b.rest_world(bone), "{file}: {bone}");

@@ -21,7 +21,7 @@ use crate::support::recordings;
 use std::io::{Read, Write};
 use std::path::PathBuf;
 
-use handrig::bones::Side;
+use handrig::humanoid::bones::Side;
 use handrig::{flat, FrameInput, Rig, RigOptions, SolveOutput};
 
 /// Largest difference allowed between a recorded and a computed output value.
@@ -69,7 +69,7 @@ fn outputs(avatar: &str, options: &str) -> Vec<(String, Vec<f32>)> {
     // a skin changes self-contact on purpose. The golden outputs keep pinning the solver on the
     // rest pose they were recorded with; the skin's effect is tested in tests/it/skin_file.rs
     // and tests/node/consumer/skin-file.test.mjs.
-    let skeleton = recordings::vrm(avatar).with_skin(handrig::contact::skin::SkinMesh::default());
+    let skeleton = recordings::vrm(avatar).with_skin(handrig::SkinMesh::default());
     let options = RigOptions::from_json(options).expect("options");
     let mut result = Vec::new();
     for (name, frames) in recordings_for(&skeleton) {

@@ -6,10 +6,10 @@ use crate::support::motion;
 use crate::support::recordings;
 
 use glam::Quat;
-use handrig::bones::Finger;
 use handrig::filter::{DropoutOptions, FilterOptions};
+use handrig::humanoid::bones::Finger;
 use handrig::mediapipe::{FrameInput, Handedness};
-use handrig::rig::{HandUse, HandednessPolicy};
+use handrig::pipeline::{HandUse, HandednessPolicy};
 use handrig::{HumanBone, Rig, RigOptions, Side, SolveOutput};
 use motion::{jitter, lag_frames, largest_step};
 

@@ -9,7 +9,7 @@
 
 use glam::{Quat, Vec3};
 use handrig::align::{self, AlignPoint, AlignedPart};
-use handrig::bones::{Finger, HumanBone, Side, BONE_COUNT};
+use handrig::humanoid::bones::{Finger, HumanBone, Side, BONE_COUNT};
 use handrig::{flat, FrameInput, Rig, RigOptions, Skeleton, SolveOutput};
 
 use crate::support::kinect_wrists;

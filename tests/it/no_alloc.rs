@@ -280,8 +280,8 @@ fn chain_solves_allocate_nothing() {
 /// tracker wrists and face points, and with pose input carrying face landmarks.
 #[test]
 fn contact_allocates_nothing() {
-    use handrig::bones::Side;
     use handrig::contact::face::{CANONICAL_ANCHORS, CANONICAL_EYES};
+    use handrig::humanoid::bones::Side;
     use handrig::mediapipe::{pose_landmark as pl, Handedness, TrackerFace, WristObservation};
 
     let hands: Vec<_> = recordings::hand_video_first()

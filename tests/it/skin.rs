@@ -3,9 +3,10 @@
 //! human-proportioned fixture's bones; hands given as spheres.
 
 use glam::{Quat, Vec3};
-use handrig::bones::{HumanBone as B, BONE_COUNT};
-use handrig::contact::skin::{self, BodySurface, SkinMesh, MAP_BONES};
-use handrig::skeleton::WorldPose;
+use handrig::contact::skin::{self, BodySurface, MAP_BONES};
+use handrig::humanoid::bones::{HumanBone as B, BONE_COUNT};
+use handrig::humanoid::skeleton::WorldPose;
+use handrig::SkinMesh;
 use handrig::{Rig, RigOptions, Side, Skeleton};
 
 use crate::support::{kinect_wrists, motion, recordings};
@@ -410,12 +411,12 @@ fn a_hand_lost_in_a_touch_stays_against_the_other() {
 /// forehead. The same hand a head breadth off the face is left alone.
 #[test]
 fn a_knuckle_on_the_forehead_lands_the_fist() {
-    use handrig::bones::{Finger, Side};
     use handrig::contact::face::{FaceFrame, FacePoints, CANONICAL_ANCHORS, CANONICAL_EYES};
     use handrig::contact::hands::PARTS;
     use handrig::contact::{
         ContactOptions, ContactSolver, FaceAnchor, HandPoints, Source, UserFace, UserFaces, POINTS,
     };
+    use handrig::humanoid::bones::{Finger, Side};
     let (skel, center, _) = fixture();
     let skel = skel.clone().with_skin(synthetic(&skel, center));
     let solver = ContactSolver::new(&skel, &ContactOptions::default());

@@ -16,8 +16,8 @@ use crate::support::recordings;
 use crate::support::vrm_fixture::{glb, unpack_glb};
 
 use glam::Vec3;
-use handrig::contact::skin::SkinMesh;
-use handrig::{gltf, vrm, HumanBone, Rig, RigOptions, Skeleton};
+use handrig::humanoid::{gltf, vrm};
+use handrig::{HumanBone, Rig, RigOptions, Skeleton, SkinMesh};
 use serde_json::{json, Value};
 
 const BODIES: [&str; 3] = ["woman", "man", "child"];

@@ -10,7 +10,7 @@ use crate::support::recordings;
 use crate::support::torso_user;
 
 use glam::{Quat, Vec3};
-use handrig::bones::{Finger, HumanBone as B, Side};
+use handrig::humanoid::bones::{Finger, HumanBone as B, Side};
 use handrig::mediapipe::{
     pose_landmark as pl, CameraMapping, FrameInput, HandObservation, Handedness, WristObservation,
     HAND_LANDMARKS,
@@ -613,9 +613,9 @@ fn limits_hold_and_odd_input_is_finite() {
             out.turn_to_internal_frame(rig.skeleton().version());
             let hips = out.local[B::Hips.index()];
             let rel = (hips.inverse() * out.world.rotation[rig.torso().top().index()]).normalize();
-            let (swing, twist) = handrig::kinematics::swing_twist(rel, Vec3::Y);
+            let (swing, twist) = handrig::math::swing_twist(rel, Vec3::Y);
             let s = swing.to_scaled_axis();
-            let t = handrig::kinematics::twist_angle(twist, Vec3::Y);
+            let t = handrig::math::twist_angle(twist, Vec3::Y);
             let eps = 1e-3;
             assert!(
                 s.x <= LIMITS.spine_flexion + eps && s.x >= -LIMITS.spine_extension - eps,
@@ -628,9 +628,9 @@ fn limits_hold_and_odd_input_is_finite() {
             let parent =
                 out.world.rotation[skel.parent(B::Neck).unwrap_or(rig.torso().top()).index()];
             let head = (parent.inverse() * out.world.rotation[B::Head.index()]).normalize();
-            let (swing, twist) = handrig::kinematics::swing_twist(head, Vec3::Y);
+            let (swing, twist) = handrig::math::swing_twist(head, Vec3::Y);
             let s = swing.to_scaled_axis();
-            let t = handrig::kinematics::twist_angle(twist, Vec3::Y);
+            let t = handrig::math::twist_angle(twist, Vec3::Y);
             assert!(
                 s.x.abs() <= LIMITS.head_flexion + eps && s.z.abs() <= LIMITS.head_lateral + eps,
                 "{path}: head {s}"

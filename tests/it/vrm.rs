@@ -5,7 +5,7 @@
 use crate::support::vrm_fixture;
 
 use glam::Vec3;
-use handrig::vrm::{load_skeleton, parse, VrmHumanoid};
+use handrig::humanoid::vrm::{load_skeleton, parse, VrmHumanoid};
 use handrig::{Error, HumanBone as B, Skeleton, VrmVersion};
 use proptest::prelude::*;
 use serde_json::{json, Value};
@@ -553,9 +553,9 @@ fn deep_and_huge_hierarchies_are_refused() {
         })
     };
     load_skeleton(&chain(100)).expect("100 extra levels are fine");
-    let e = vrm_message(parse(&chain(handrig::vrm::MAX_DEPTH + 10)));
+    let e = vrm_message(parse(&chain(handrig::humanoid::document::MAX_DEPTH + 10)));
     assert!(e.contains("levels deep"), "{e}");
-    let e = vrm_message(parse(&chain(handrig::vrm::MAX_NODES + 1)));
+    let e = vrm_message(parse(&chain(handrig::humanoid::document::MAX_NODES + 1)));
     assert!(e.contains("more than the 65536"), "{e}");
 }
 

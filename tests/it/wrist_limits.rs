@@ -10,8 +10,8 @@ use crate::support::kinect_wrists;
 use crate::support::recordings;
 
 use glam::Quat;
-use handrig::bones::{Finger, Side};
 use handrig::hand::HandStatus;
+use handrig::humanoid::bones::{Finger, Side};
 use handrig::ik::{ArmSolver, WristFrame, WRIST_RANGE};
 use handrig::mediapipe::FrameInput;
 use handrig::{Rig, RigOptions, Skeleton, SolveOutput};

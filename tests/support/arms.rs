@@ -10,8 +10,8 @@ pub use super::{recordings, rigs};
 use std::sync::OnceLock;
 
 use glam::{Quat, Vec3};
-use handrig::bones::HumanBone as B;
-use handrig::skeleton::{Skeleton, VrmVersion};
+use handrig::humanoid::bones::HumanBone as B;
+use handrig::humanoid::skeleton::{Skeleton, VrmVersion};
 
 /// A humanoid with the left arm's rest offsets `upper` (shoulder joint to elbow) and `lower`
 /// (elbow to wrist), internal frame; the right arm mirrors it. Given in the model's own frame
@@ -60,7 +60,7 @@ pub fn layouts() -> &'static [Skeleton] {
 }
 
 /// Upper and lower arm lengths (m) of `side`.
-pub fn arm_lengths(skel: &Skeleton, side: handrig::bones::Side) -> (f32, f32) {
+pub fn arm_lengths(skel: &Skeleton, side: handrig::humanoid::bones::Side) -> (f32, f32) {
     let [_, _, low, h] = side.arm();
     (skel.rest_local(low).length(), skel.rest_local(h).length())
 }

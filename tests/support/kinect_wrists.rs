@@ -16,8 +16,8 @@
 #![allow(dead_code)]
 
 use glam::Vec3;
-use handrig::body::robust_mean;
-use handrig::bones::Side;
+use handrig::humanoid::bones::Side;
+use handrig::math::robust_mean;
 use handrig::mediapipe::{FrameInput, WristObservation, MAX_HANDS};
 use handrig::Skeleton;
 

@@ -291,7 +291,7 @@ pub fn kinect() -> Kinect {
 /// The VRM file at `path` as a skeleton.
 pub fn read_vrm(path: &Path) -> Result<Skeleton, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    handrig::vrm::load_skeleton(&bytes).map_err(|e| format!("{}: {e}", path.display()))
+    handrig::humanoid::vrm::load_skeleton(&bytes).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// The VRM at `relative` (to the crate root; e.g. [`ROBOT`]) as a skeleton (panics if it

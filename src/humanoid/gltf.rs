@@ -1,11 +1,11 @@
 //! Reading any glTF humanoid (`.glb`, or a `.vrm`): Mixamo-named, Unreal-mannequin-named or
-//! bound by an explicit bone map, down to the same rest pose the VRM reader ([`crate::vrm`])
+//! bound by an explicit bone map, down to the same rest pose the VRM reader ([`crate::humanoid::vrm`])
 //! produces.
 //!
 //! How the humanoid is found, first match wins:
 //! 1. an explicit bone map (`options.skeleton.boneMap` in JavaScript: humanoid bone name ->
 //!    node name), which is the whole binding;
-//! 2. the file's `VRMC_vrm` / `VRM` extension (read exactly as [`crate::vrm::parse`] reads it);
+//! 2. the file's `VRMC_vrm` / `VRM` extension (read exactly as [`crate::humanoid::vrm::parse`] reads it);
 //! 3. node names: Mixamo's (`mixamorig:LeftHandIndex1`; the `mixamorig:` / `mixamorig1:` prefix
 //!    is optional, and three.js's sanitized `mixamorigLeftHandIndex1` is read too) or the Unreal
 //!    mannequin's (`pelvis`, `spine_01`, `upperarm_l`, `index_01_l`, ...), whichever names more
@@ -27,10 +27,12 @@
 
 use glam::Vec3;
 
-use crate::bones::{HumanBone, BONE_COUNT};
+use super::bones::{HumanBone, BONE_COUNT};
+use super::document::{Document, MAX_DEPTH};
+use super::gltf_skin::skin_of;
+use super::skeleton::{Skeleton, VrmVersion};
+use super::vrm::{self, BoneEntry, VrmHumanoid};
 use crate::error::{Error, Result};
-use crate::skeleton::{Skeleton, VrmVersion};
-use crate::vrm::{self, BoneEntry, Document, VrmHumanoid};
 
 /// Where a binding came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,7 +62,7 @@ impl Naming {
     }
 }
 
-/// A glTF humanoid: its rest pose (as [`crate::vrm::parse`] gives it) and its binding.
+/// A glTF humanoid: its rest pose (as [`crate::humanoid::vrm::parse`] gives it) and its binding.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GltfHumanoid {
     /// Rest pose: facing as `version` (`V0`: faces -Z), rest world positions, look-at.
@@ -330,7 +332,7 @@ fn bind_by_names(doc: &Document) -> Result<(Naming, Vec<BoneEntry>)> {
 fn is_ancestor(doc: &Document, a: usize, b: usize) -> bool {
     let mut cur = doc.tree.parent.get(b).copied().flatten();
     // The hierarchy is acyclic and at most MAX_DEPTH deep (checked when read).
-    for _ in 0..=vrm::MAX_DEPTH {
+    for _ in 0..=MAX_DEPTH {
         match cur {
             Some(p) if p == a => return true,
             Some(p) => cur = doc.tree.parent.get(p).copied().flatten(),
@@ -416,7 +418,7 @@ fn facing(bones: &[(HumanBone, Vec3)]) -> Result<VrmVersion> {
 /// empty, is the whole binding; otherwise the VRM extension, then Mixamo or Unreal names.
 ///
 /// # Errors
-/// [`Error::Gltf`]: the container and node errors of [`crate::vrm::parse`], no humanoid found,
+/// [`Error::Gltf`]: the container and node errors of [`crate::humanoid::vrm::parse`], no humanoid found,
 /// an unknown bone name or missing node in `bone_map`, a duplicate binding, a bone not below
 /// its humanoid parent, a model not facing +-Z, a non-finite bone position.
 pub fn parse(bytes: &[u8], bone_map: &[(String, String)]) -> Result<GltfHumanoid> {
@@ -484,7 +486,7 @@ pub fn load_skeleton(
     let skeleton = Skeleton::new(&h.bones, h.version)
         .map(|s| {
             s.with_look_at_offset(h.look_at)
-                .with_skin(doc.skin(bytes, &nodes))
+                .with_skin(skin_of(&doc, bytes, &nodes))
         })
         .map_err(|e| match e {
             Error::MissingRequiredBones(names) => err(format!(

@@ -8,7 +8,8 @@
 
 use glam::{Quat, Vec3};
 
-use crate::bones::{HumanBone, Side, BONE_COUNT};
+use super::bones::{HumanBone, Side, BONE_COUNT};
+use super::skin::{SkinMesh, MAX_REST_COORDINATE};
 use crate::error::{Error, Result};
 
 /// Which VRM specification the avatar follows; decides its facing.
@@ -74,10 +75,6 @@ impl Default for WorldPose {
     }
 }
 
-/// Largest rest coordinate accepted (meters). Bigger rest poses are rejected at load: a
-/// 1e20 m arm overflows `f32` arithmetic in the solvers (squared lengths become infinite).
-pub const MAX_REST_COORDINATE: f32 = 1000.0;
-
 /// The message of a rest position beyond [`MAX_REST_COORDINATE`], the number spelled out:
 /// formatting an `f32` would bring Rust's float formatting into the `.wasm` (over 10 KiB
 /// gzipped). A test checks it against the constant.
@@ -95,7 +92,7 @@ pub struct Skeleton {
     /// The look-at point (between the eyes) relative to the head bone at rest, internal frame.
     look_at: Option<Vec3>,
     /// The avatar's skin at rest (internal frame), when the app or the file gave it.
-    skin: Option<std::sync::Arc<crate::contact::skin::SkinMesh>>,
+    skin: Option<std::sync::Arc<SkinMesh>>,
     /// Per side, the present bones of the arm from its root (shoulder, else upper arm) down
     /// to the fingers, parent first, and how many: [`Skeleton::forward_arm`]'s walk.
     arm_order: [([HumanBone; ARM_BONES], usize); 2],
@@ -198,7 +195,7 @@ impl Skeleton {
 
     /// The same skeleton with a look-at point: `offset` from the head bone's rest position to
     /// the point between the eyes, meters, **in the model's own frame** (what
-    /// [`crate::vrm::VrmHumanoid::look_at`] reads from `VRMC_vrm.lookAt.offsetFromHeadBone`
+    /// [`crate::humanoid::vrm::VrmHumanoid::look_at`] reads from `VRMC_vrm.lookAt.offsetFromHeadBone`
     /// or VRM 0.x `firstPersonBoneOffset`). Self-contact uses it to place the avatar's face
     /// when the avatar has no eye bones. A non-finite offset, or one beyond
     /// [`MAX_REST_COORDINATE`], is ignored (it is a hint).
@@ -210,11 +207,11 @@ impl Skeleton {
         self
     }
 
-    /// The same skeleton with its skin at rest ([`crate::contact::skin::SkinMesh`], positions
+    /// The same skeleton with its skin at rest ([`SkinMesh`], positions
     /// **in the model's own frame**, converted here): self-contact learns the body's surface
     /// from it ([`crate::contact::skin`]). An empty skin is ignored.
     #[must_use]
-    pub fn with_skin(mut self, mut skin: crate::contact::skin::SkinMesh) -> Self {
+    pub fn with_skin(mut self, mut skin: SkinMesh) -> Self {
         if skin.positions.is_empty() {
             self.skin = None;
             return self;
@@ -229,7 +226,7 @@ impl Skeleton {
     /// The skin at rest (internal frame), if given.
     #[inline]
     #[must_use]
-    pub fn skin(&self) -> Option<&crate::contact::skin::SkinMesh> {
+    pub fn skin(&self) -> Option<&SkinMesh> {
         self.skin.as_deref()
     }
 
@@ -346,7 +343,7 @@ mod tests {
     }
 
     use super::*;
-    use crate::bones::HumanBone as B;
+    use crate::humanoid::bones::HumanBone as B;
 
     fn minimal() -> Vec<(HumanBone, Vec3)> {
         let mut v = vec![
