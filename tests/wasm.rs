@@ -235,12 +235,12 @@ fn constructs_from_flat_rest_positions_in_the_model_frame() {
 fn layout_matches_the_rust_constants() {
     let layout = HandRig::layout();
     assert_eq!(get(&layout, "version").as_f64(), Some(flat::VERSION as f64));
-    for (path, value) in flat::FIELDS {
+    for (path, value) in flat::fields() {
         let mut v: JsValue = layout.clone().into();
         for part in path.split('.') {
             v = get(&v, part);
         }
-        assert_eq!(v.as_f64(), Some(*value as f64), "{path}");
+        assert_eq!(v.as_f64(), Some(value as f64), "{path}");
     }
     let bones: Array = get(&layout, "bones").unchecked_into();
     assert_eq!(bones.length() as usize, handrig::BONE_COUNT);

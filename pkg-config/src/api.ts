@@ -36,6 +36,7 @@ export { LAYOUT } from "./layout.js";
 export { MotionRecorder } from "./motion-recorder.js";
 export type { BVHOptions, RecordableResult, RecordableRig, VRMAOptions } from "./motion-recorder.js";
 export type { BodyJointName, FlatLayout, HumanBoneName, TorsoBoneName } from "./layout.js";
+export type { InputLayout, OutputLayout } from "./layout-types.js";
 export type { HandRigOptions, OptionDescription } from "./options.js";
 export type {
   AlignedBone,

@@ -227,7 +227,7 @@ export function packBody(body: unknown, input: Float32Array): void {
 
 // Face points from the body tracker that gives `wrists` (the model's own frame), for
 // self-contact: `frame.face = { nose?, leftEye?, rightEye?, leftEar?, rightEar?, mouth? }`, in
-// the order of the layout's face section (src/flat.rs, `LAYOUT.facePoints`).
+// the order of the layout's face section (src/flat/layout.rs, `LAYOUT.facePoints`).
 const FACE_POINTS: readonly string[] = LAYOUT.facePoints;
 const FACE_FIELDS = FACE_POINTS.map((n) => `frame.face.${n}`);
 

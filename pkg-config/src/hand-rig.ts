@@ -1,6 +1,6 @@
 // `HandRig`, the idiomatic class over the raw wasm-bindgen `HandRig` (rapier.js style: the wasm
 // class stays thin, users get this one). Per frame nothing crosses the wasm boundary but
-// numbers: the rig owns a flat input and output buffer in wasm memory (LAYOUT, src/flat.rs);
+// numbers: the rig owns a flat input and output buffer in wasm memory (LAYOUT, src/flat/layout.rs);
 // `solve` packs the frame through a Float32Array view (frame.ts), calls `solveFlat(timeMs)` and
 // builds the result object from the output view (results.ts), reusing one object per rig (or
 // the caller's), so that a frame allocates nothing once warmed up.

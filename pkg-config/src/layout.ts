@@ -1,11 +1,12 @@
-// The flat frame layout (src/flat.rs): offsets of the input and output Float32Arrays in wasm
-// memory, and the name lists of the bones, torso bones and body joints. build.mjs reads it from
-// the wasm it just built (`HandRig.layout()`) and esbuild inlines it as `__HANDRIG_LAYOUT__`, so
+// The flat frame layout (src/flat/layout.rs): offsets of the input and output Float32Arrays in
+// wasm memory (their types generated into layout-types.ts), and the name lists of the bones,
+// torso bones and body joints. build.mjs reads it from the wasm it just built (`HandRig.layout()`) and esbuild inlines it as `__HANDRIG_LAYOUT__`, so
 // it is there before `init()` (and in the three-vrm adapter) and cannot drift from Rust; so are
 // the face points and the names of the output's hand status and hand-use codes. The
 // finger and face-anchor names come from `optionDescriptions()` (their option rows list them in
 // Rust's order), read once the module is initialized. No name list is retyped here.
 
+import { LAYOUT_VERSION, type InputLayout, type OutputLayout } from "./layout-types.js";
 import { wasm } from "./wasm.js";
 
 /** The 55 VRM 1.0 humanoid bone names, parent-first (three-vrm's order). */
@@ -42,90 +43,10 @@ export type FacePointName = "nose" | "leftEye" | "rightEye" | "leftEar" | "right
 export interface FlatLayout {
   /** Bumped whenever an offset or meaning changes. */
   readonly version: number;
-  readonly input: {
-    readonly length: number;
-    readonly handCount: number;
-    readonly imageAspect: number;
-    readonly posePresent: number;
-    readonly poseHasImage: number;
-    readonly poseImage: number;
-    readonly hands: number;
-    readonly handStride: number;
-    readonly hand: {
-      readonly handedness: number;
-      readonly score: number;
-      readonly hasWorld: number;
-      readonly hasImage: number;
-      readonly world: number;
-      readonly image: number;
-    };
-    readonly pose: number;
-    readonly poseStride: number;
-    readonly wrists: number;
-    readonly wristStride: number;
-    readonly wrist: {
-      readonly present: number;
-      readonly hasRotation: number;
-      readonly position: number;
-      readonly rotation: number;
-    };
-    readonly torso: number;
-    readonly torsoStride: number;
-    readonly torsoBone: {
-      readonly present: number;
-      readonly rotation: number;
-    };
-    readonly bodyPresent: number;
-    readonly body: number;
-    readonly bodyStride: number;
-    readonly face: number;
-    readonly faceStride: number;
-    readonly facePoint: {
-      readonly present: number;
-      readonly position: number;
-    };
-  };
-  readonly output: {
-    readonly length: number;
-    readonly boneRotations: number;
-    readonly boneFlags: number;
-    readonly bonePositions: number;
-    readonly sides: number;
-    readonly sideStride: number;
-    readonly side: {
-      readonly handStatus: number;
-      readonly handScore: number;
-      readonly targetPresent: number;
-      readonly targetPosition: number;
-      readonly targetRotation: number;
-      readonly alignmentPresent: number;
-      readonly targetDip: number;
-      readonly ikWrist: number;
-      readonly poseWrist: number;
-      readonly alignmentError: number;
-      readonly reachable: number;
-      readonly aligned: number;
-      readonly alignedBone: number;
-      readonly handIndex: number;
-      readonly handReassigned: number;
-      readonly handConfidence: number;
-      readonly handCheck: number;
-      readonly handResolved: number;
-      readonly fingertips: number;
-      readonly retargetPresent: number;
-      readonly retargetTargets: number;
-      readonly retargetScale: number;
-      readonly retargetIterations: number;
-      readonly retargetResidual: number;
-      readonly contactPresent: number;
-      readonly contactAnchor: number;
-      readonly contactWeight: number;
-      readonly contactDistance: number;
-      readonly contactHandWeight: number;
-      readonly contactPush: number;
-    };
-    readonly handUse: number;
-  };
+  /** Input offsets (generated from src/flat/layout.rs). */
+  readonly input: InputLayout;
+  /** Output offsets (generated from src/flat/layout.rs). */
+  readonly output: OutputLayout;
   /** The 55 bone names in output order. */
   readonly bones: readonly HumanBoneName[];
   /** The bones VRM requires. */
@@ -156,6 +77,10 @@ function deepFreeze<T extends object>(o: T): T {
 
 /** The flat frame layout of this build. */
 export const LAYOUT: FlatLayout = deepFreeze(__HANDRIG_LAYOUT__);
+if (LAYOUT.version !== LAYOUT_VERSION) {
+  // The generated types and the wasm come from one build; a mismatch is a broken build.
+  throw new Error(`handrig: the wasm's layout version ${LAYOUT.version} is not the TypeScript layer's ${LAYOUT_VERSION}`);
+}
 
 export const LI = LAYOUT.input;
 export const LO = LAYOUT.output;

@@ -25,7 +25,7 @@ export function quat(out: Float32Array, at: number, dst: number[]): number[] {
   return dst;
 }
 
-// The output's enumerations, named by Rust (src/flat.rs, `LAYOUT.handStatus` / `LAYOUT.handUse`):
+// The output's enumerations, named by Rust (src/flat/mod.rs, `LAYOUT.handStatus` / `LAYOUT.handUse`):
 // hand status per side, and what became of each hand. Code 0 ("none") reads as undefined / null.
 const STATUS: readonly (string | undefined)[] = [undefined, ...LAYOUT.handStatus.slice(1)];
 const HAND_USE: readonly (string | null)[] = [null, ...LAYOUT.handUse.slice(1)];

@@ -192,22 +192,29 @@ pub fn markdown() -> String {
     s
 }
 
+/// Compares `text` with the committed file at `path` (relative to the crate root), or writes
+/// it there under `HANDRIG_GENERATE=write`; `command` is what regenerates it, for the message.
+#[cfg(all(test, not(target_arch = "wasm32")))]
+pub(crate) fn compare_with_committed(path: &str, text: &str, command: &str) {
+    let full = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path);
+    if std::env::var("HANDRIG_GENERATE").is_ok_and(|v| v == "write") {
+        std::fs::create_dir_all(full.parent().expect("dir")).expect("mkdir");
+        std::fs::write(&full, text).expect("write");
+        return;
+    }
+    let committed = std::fs::read_to_string(&full).unwrap_or_default();
+    assert!(
+        committed == text,
+        "{path} is stale: regenerate with HANDRIG_GENERATE=write {command}"
+    );
+}
+
 #[cfg(all(test, not(target_arch = "wasm32")))]
 mod tests {
     use super::*;
 
     fn compare(path: &str, text: &str) {
-        let full = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path);
-        if std::env::var("HANDRIG_GENERATE").is_ok_and(|v| v == "write") {
-            std::fs::create_dir_all(full.parent().expect("dir")).expect("mkdir");
-            std::fs::write(&full, text).expect("write");
-            return;
-        }
-        let committed = std::fs::read_to_string(&full).unwrap_or_default();
-        assert!(
-            committed == text,
-            "{path} is stale: regenerate with HANDRIG_GENERATE=write cargo test --lib options"
-        );
+        compare_with_committed(path, text, "cargo test --lib options");
     }
 
     #[test]

@@ -241,19 +241,19 @@ impl HandRig {
     }
 
     /// The flat layout: `{ version, input: {...}, output: {...}, bones: [...], requiredBones,
-    /// torsoBones, bodyJoints, facePoints, handStatus, handUse }` (offsets of [`crate::flat::FIELDS`], nested by their dotted
+    /// torsoBones, bodyJoints, facePoints, handStatus, handUse }` (offsets of [`crate::flat::fields`], nested by their dotted
     /// paths; the 55 bone names in output order; the torso section's bones and the body
     /// section's joints in their order; the face section's points; the names of the hand status
     /// and hand-use codes by code).
     pub fn layout() -> Object {
         let root = Object::new();
         set(&root, "version", &JsValue::from(flat::VERSION));
-        for (path, value) in flat::FIELDS {
+        for (path, value) in flat::fields() {
             let mut o = root.clone();
             let mut parts = path.split('.').peekable();
             while let Some(part) = parts.next() {
                 if parts.peek().is_none() {
-                    set(&o, part, &JsValue::from(*value as u32));
+                    set(&o, part, &JsValue::from(value as u32));
                 } else {
                     let key = JsValue::from_str(part);
                     let next = Reflect::get(&o, &key)

@@ -178,8 +178,7 @@ fn solve_outputs_match_the_recorded_golden_outputs() {
                 if let Some((k, d)) = worst {
                     let frame = k / flat::output::LEN;
                     let slot = k % flat::output::LEN;
-                    let field = flat::FIELDS
-                        .iter()
+                    let field = flat::fields()
                         .filter(|(f, at)| f.starts_with("output.") && *at <= slot)
                         .max_by_key(|(_, at)| *at)
                         .map_or("?", |(f, _)| f);

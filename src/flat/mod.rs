@@ -7,8 +7,8 @@
 //! object API (`rig.solve(frame)`) is a thin JavaScript layer that packs MediaPipe shapes into
 //! the same input and builds its result from the same output, so the two paths cannot drift.
 //!
-//! Offsets are the constants of [`input`] and [`output`] (exported to JavaScript as
-//! `LAYOUT`); [`VERSION`] changes whenever an offset changes. Conventions as everywhere: the
+//! Offsets are the constants of [`input`] and [`output`], declared once in [`layout`] (exported
+//! to JavaScript as `LAYOUT`); [`VERSION`] changes whenever an offset changes. Conventions as everywhere: the
 //! output is in **the model's own frame** (VRM 0.x outputs are turned back), quaternions
 //! `x y z w`, meters. Hand landmarks are MediaPipe's, in MediaPipe's axes, as given.
 //!
@@ -19,7 +19,7 @@ use glam::{Quat, Vec3};
 
 use crate::error::{Error, Result};
 use crate::hand::HandStatus;
-use crate::humanoid::bones::{HumanBone, Side, BONE_COUNT};
+use crate::humanoid::bones::{HumanBone, Side};
 use crate::input::torso::{BodyJoint, BodyObservation, BODY_JOINT_COUNT, TORSO_BONES};
 use crate::input::validate::validate_frame_with;
 use crate::mediapipe::{
@@ -28,15 +28,13 @@ use crate::mediapipe::{
 };
 use crate::pipeline::{HandCheck, HandResolved, HandUse, Rig, SolveOutput};
 
-/// Layout version: bumped whenever an offset or meaning below changes. 4: the app's torso
-/// (`input.torso`) and body-tracker joints (`input.body`); 5: the tracker face input
-/// (`input.face`) and the per-side contact report (`output.side.contact*`, side stride 72);
-/// 6: what carries the aligned point (`output.side.alignedBone`) and the tracked hand's
-/// confidence and checks (`output.side.handConfidence`, `output.side.handCheck`); 7: what the
-/// hand selection resolved per side (`output.side.handResolved`), `handReassigned` also set
-/// for a label that jumped or a duplicate moved to a free side; 8: `handCheck` without its
-/// `fromImage` code (a mirrored hand is held, `mirrored` is now 1).
-pub const VERSION: u32 = 8;
+mod declare;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod generated;
+pub mod layout;
+
+pub use declare::{Detail, Row, RowKind};
+pub use layout::{input, output, VERSION};
 
 /// The names of `output.side.handStatus`'s codes, indexed by code (`LAYOUT.handStatus`; 0: no
 /// hand this frame): what the JS result's `hand.status` reads.
@@ -87,317 +85,11 @@ const fn const_str_eq(a: &str, b: &str) -> bool {
     true
 }
 
-/// Input offsets (indices into the input `f32` array).
-pub mod input {
-    use super::{HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS};
-
-    /// How many hand slots are used, `0..=MAX_HANDS` (MediaPipe's order; duplicates allowed).
-    pub const HAND_COUNT: usize = 0;
-    /// Image width / height, used only for hands given by image landmarks alone (legacy
-    /// Holistic); `0` means the default 16/9.
-    pub const IMAGE_ASPECT: usize = 1;
-    /// `1` when the pose section holds this frame's pose.
-    pub const POSE_PRESENT: usize = 2;
-    /// First hand slot; slot `i` starts at `HANDS + i * HAND_STRIDE`.
-    pub const HANDS: usize = 4;
-    /// Size of one hand slot.
-    pub const HAND_STRIDE: usize = 132;
-    /// Offsets inside a hand slot.
-    pub mod hand {
-        /// MediaPipe's label: `0` = "Left", `1` = "Right" (as given; see `inputMirrored`).
-        pub const HANDEDNESS: usize = 0;
-        /// Handedness score, `0..=1`.
-        pub const SCORE: usize = 1;
-        /// `1` when `WORLD` holds world landmarks.
-        pub const HAS_WORLD: usize = 2;
-        /// `1` when `IMAGE` holds image landmarks.
-        pub const HAS_IMAGE: usize = 3;
-        /// 21 world landmarks `x y z` (meters, MediaPipe's camera axes).
-        pub const WORLD: usize = 4;
-        /// 21 normalized image landmarks `x y z`.
-        pub const IMAGE: usize = WORLD + 3 * super::HAND_LANDMARKS;
-    }
-    /// Pose world landmarks: 33 × `x y z visibility` (meters, MediaPipe's axes; visibility
-    /// `0..=1`).
-    pub const POSE: usize = HANDS + MAX_HANDS * HAND_STRIDE;
-    /// Floats per pose landmark.
-    pub const POSE_STRIDE: usize = 4;
-    /// Wrists from another body tracker, `[left, right]` (the avatar's sides); slot of side
-    /// `s` starts at `WRISTS + s * WRIST_STRIDE`.
-    pub const WRISTS: usize = POSE + POSE_LANDMARKS * POSE_STRIDE;
-    /// Size of one wrist slot.
-    pub const WRIST_STRIDE: usize = 9;
-    /// Offsets inside a wrist slot.
-    pub mod wrist {
-        /// `1` when this wrist is given.
-        pub const PRESENT: usize = 0;
-        /// `1` when `ROTATION` is given.
-        pub const HAS_ROTATION: usize = 1;
-        /// Position `x y z`, meters, the model's own frame.
-        pub const POSITION: usize = 2;
-        /// World rotation of the normalized hand bone, `x y z w`, the model's own frame.
-        pub const ROTATION: usize = 5;
-    }
-    /// `1` when `POSE_IMAGE` holds the pose's image landmarks (read only with the pose).
-    pub const POSE_HAS_IMAGE: usize = 3;
-    /// The pose's 33 normalized image landmarks `x y z` (MediaPipe's `landmarks`).
-    pub const POSE_IMAGE: usize = WRISTS + 2 * WRIST_STRIDE;
-    /// The app's torso (`frame.torso`): one slot per torso bone in
-    /// [`crate::torso::TORSO_BONES`] order (`LAYOUT.torsoBones`), `TORSO_STRIDE` apart.
-    pub const TORSO: usize = POSE_IMAGE + 3 * POSE_LANDMARKS;
-    /// Size of one torso slot.
-    pub const TORSO_STRIDE: usize = 5;
-    /// Offsets inside a torso slot.
-    pub mod torso_bone {
-        /// `1` when this bone's rotation is given.
-        pub const PRESENT: usize = 0;
-        /// Local rotation of the normalized bone `x y z w`, the model's own frame.
-        pub const ROTATION: usize = 1;
-    }
-    /// `1` when the body section holds this frame's body-tracker joints.
-    pub const BODY_PRESENT: usize = TORSO + crate::torso::TORSO_BONE_COUNT * TORSO_STRIDE;
-    /// Body-tracker joints (`frame.body`): [`crate::torso::BodyJoint::ALL`] order
-    /// (`LAYOUT.bodyJoints`), `x y z confidence` each (meters, the model's own frame;
-    /// confidence `0..=1`, `0` for a joint not given).
-    pub const BODY: usize = BODY_PRESENT + 1;
-    /// Floats per body joint.
-    pub const BODY_STRIDE: usize = 4;
-    /// Face points from the body tracker that gives `WRISTS` (meters, the model's own frame):
-    /// nose, left eye, right eye, left ear, right ear, mouth (the avatar's sides); point `k`
-    /// starts at `FACE + k * FACE_STRIDE`. For self-contact with tracker wrists.
-    pub const FACE: usize = BODY + crate::torso::BODY_JOINT_COUNT * BODY_STRIDE;
-    /// Size of one face point.
-    pub const FACE_STRIDE: usize = 4;
-    /// Offsets inside a face point.
-    pub mod face_point {
-        /// `1` when this point is given.
-        pub const PRESENT: usize = 0;
-        /// Position `x y z`.
-        pub const POSITION: usize = 1;
-    }
-    /// Length of the input array.
-    pub const LEN: usize = FACE + crate::mediapipe::TrackerFace::POINTS * FACE_STRIDE;
+/// Every named offset of the layout as `(path, value)` (JavaScript's `LAYOUT`, nested by the
+/// dotted paths): [`layout`]'s rows.
+pub fn fields() -> impl Iterator<Item = (&'static str, usize)> {
+    layout::rows().map(|r| (r.path, r.offset))
 }
-
-/// Output offsets (indices into the output `f32` array).
-pub mod output {
-    use super::BONE_COUNT;
-
-    /// Local rotation of every humanoid bone, `x y z w`, in [`crate::HumanBone::ALL`] order
-    /// (`LAYOUT.bones` in JavaScript), the model's own frame; identity for bones not driven.
-    pub const BONE_ROTATIONS: usize = 0;
-    /// Per bone: `0` not driven by handrig (or absent from the avatar), `1` driven and solved
-    /// from this frame, `2` driven but not solved this frame (at rest, or held).
-    pub const BONE_FLAGS: usize = BONE_ROTATIONS + 4 * BONE_COUNT;
-    /// World position of every bone's joint after solving, `x y z`, meters, the model's own
-    /// frame (unspecified for absent bones).
-    pub const BONE_POSITIONS: usize = BONE_FLAGS + BONE_COUNT;
-    /// Per-side reports, `[left, right]`; side `s` starts at `SIDES + s * SIDE_STRIDE`.
-    pub const SIDES: usize = BONE_POSITIONS + 3 * BONE_COUNT;
-    /// Size of one side's report.
-    pub const SIDE_STRIDE: usize = 72;
-    /// Offsets inside a side's report.
-    pub mod side {
-        /// The tracked hand driving this side: `0` none, `1` solved, `2` held (degenerate
-        /// this frame, previous rotations kept), `3` skipped (degenerate, nothing to hold).
-        pub const HAND_STATUS: usize = 0;
-        /// Its handedness score (0 without a hand).
-        pub const HAND_SCORE: usize = 1;
-        /// `1` when the wrist IK target below is valid.
-        pub const TARGET_PRESENT: usize = 2;
-        /// Wrist IK target position `x y z`.
-        pub const TARGET_POSITION: usize = 3;
-        /// Wrist IK target rotation (world rotation of the hand bone) `x y z w`.
-        pub const TARGET_ROTATION: usize = 6;
-        /// `1` when the alignment report below is valid.
-        pub const ALIGNMENT_PRESENT: usize = 10;
-        /// Where the user's aligned finger point lands on the avatar, `x y z`.
-        pub const TARGET_DIP: usize = 11;
-        /// The aligned wrist IK target, `x y z`.
-        pub const IK_WRIST: usize = 14;
-        /// The pose wrist the target was built from, `x y z`.
-        pub const POSE_WRIST: usize = 17;
-        /// Distance (m) from the avatar's aligned point after IK to `TARGET_DIP`; NaN when
-        /// unknown.
-        pub const ALIGNMENT_ERROR: usize = 20;
-        /// `1` when the arm reached the IK wrist.
-        pub const REACHABLE: usize = 21;
-        /// `1` when the avatar has a point to align (the aligned finger or what stands in for
-        /// it, `ALIGNED_BONE`).
-        pub const ALIGNED: usize = 22;
-        /// Which input hand slot drove this side (`-1` none).
-        pub const HAND_INDEX: usize = 23;
-        /// `1` when that hand drives the side its label does not give (contradicted by the
-        /// pose, a label that jumped, a duplicate moved here; see `HAND_RESOLVED`).
-        pub const HAND_REASSIGNED: usize = 24;
-        /// The avatar's fingertips, thumb to little, `x y z` each (the distal bone extended by
-        /// the anatomical ratio, as `alignment.point: "tip"`); NaN for a finger the avatar
-        /// lacks. Every frame, every strategy.
-        pub const FINGERTIPS: usize = 25;
-        /// `1` when the retargeting report below is valid (`handStrategy: "retarget"`, a
-        /// hand freshly solved this frame).
-        pub const RETARGET_PRESENT: usize = 40;
-        /// The scaled user fingertips placed on the avatar, thumb to little, `x y z` each
-        /// (NaN where the avatar lacks the finger).
-        pub const RETARGET_TARGETS: usize = 41;
-        /// Avatar hand size over user hand size.
-        pub const RETARGET_SCALE: usize = 56;
-        /// Gauss-Newton iterations (the most any finger needed).
-        pub const RETARGET_ITERATIONS: usize = 57;
-        /// Weighted RMS fingertip-to-target distance (m).
-        pub const RETARGET_RESIDUAL: usize = 58;
-        /// `1` when the contact report below is valid (`contact.enabled`, an IK target).
-        pub const CONTACT_PRESENT: usize = 59;
-        /// The face anchor nearest the user's fingertip: 0 nose, 1 chin, 2 mouth, 3 left
-        /// cheek, 4 right cheek, 5 left ear, 6 right ear, 7 forehead; `-1` none (no face for
-        /// this side's wrist source, or no hand).
-        pub const CONTACT_ANCHOR: usize = 60;
-        /// The face contact blend applied, 0 to 1.
-        pub const CONTACT_WEIGHT: usize = 61;
-        /// Distance (m) from the avatar's fingertip after IK to that avatar anchor; NaN
-        /// when unknown.
-        pub const CONTACT_DISTANCE: usize = 62;
-        /// The hand-to-hand contact blend applied, 0 to 1.
-        pub const CONTACT_HAND_WEIGHT: usize = 63;
-        /// How far the body colliders pushed the hand (m).
-        pub const CONTACT_PUSH: usize = 64;
-        /// What carries the aligned point (with the alignment report): `0` the distal bone of
-        /// `alignment.finger`, as configured; otherwise `1 +` the index (`LAYOUT.bones`) of the
-        /// bone standing in on an avatar without it: a shallower bone of the same finger
-        /// (its tip extrapolated), another finger's bone, or the hand bone (the palm).
-        pub const ALIGNED_BONE: usize = 65;
-        /// The tracked hand's confidence, 0 to 1 (0 without a hand; see
-        /// `TrackedHand::confidence`).
-        pub const HAND_CONFIDENCE: usize = 66;
-        /// What the hand checks made of it: `0` good, `1` mirrored and held (0 without a
-        /// hand).
-        pub const HAND_CHECK: usize = 67;
-        /// What the hand selection resolved on this side: `0` nothing (or no hand), `1`
-        /// swapped (the label contradicted the pose wrists), `2` jumped (the label flipped
-        /// between frames, no pose), `3` duplicate (two hands claimed the side); names by
-        /// code: `HAND_RESOLVED_NAMES`.
-        pub const HAND_RESOLVED: usize = 68;
-    }
-    /// What became of each input hand slot (4): `0` unused, `1` drove the left side, `2` the
-    /// right side (see `side.handReassigned`), `3` ignored: score below `minHandScore`, `4`
-    /// ignored: another hand drove its side, `5` ignored: its label contradicts the pose
-    /// (`handedness: "drop"`).
-    pub const HAND_USE: usize = SIDES + 2 * SIDE_STRIDE;
-    /// Length of the output array.
-    pub const LEN: usize = HAND_USE + super::MAX_HANDS;
-}
-
-// Sub-layouts fit their strides (checked when the crate compiles).
-const _: () = {
-    assert!(input::hand::IMAGE + 3 * HAND_LANDMARKS <= input::HAND_STRIDE);
-    assert!(input::wrist::ROTATION + 4 <= input::WRIST_STRIDE);
-    assert!(output::side::HAND_RESOLVED < output::SIDE_STRIDE);
-    assert!(output::side::HAND_CHECK < output::side::HAND_RESOLVED);
-    assert!(output::side::ALIGNED_BONE < output::side::HAND_CONFIDENCE);
-    assert!(output::side::CONTACT_PUSH < output::side::ALIGNED_BONE);
-    assert!(output::side::RETARGET_RESIDUAL < output::side::CONTACT_PRESENT);
-    assert!(input::face_point::POSITION + 3 <= input::FACE_STRIDE);
-    assert!(output::side::FINGERTIPS + 15 <= output::side::RETARGET_PRESENT);
-    assert!(output::side::RETARGET_TARGETS + 15 <= output::side::RETARGET_SCALE);
-    assert!(input::POSE_HAS_IMAGE < input::HANDS);
-    assert!(input::torso_bone::ROTATION + 4 <= input::TORSO_STRIDE);
-};
-
-/// Every named offset of the layout as `(path, value)`, for exporting it (JavaScript's
-/// `LAYOUT`) and documenting it; a test checks it against the constants.
-pub const FIELDS: &[(&str, usize)] = &[
-    ("input.length", input::LEN),
-    ("input.handCount", input::HAND_COUNT),
-    ("input.imageAspect", input::IMAGE_ASPECT),
-    ("input.posePresent", input::POSE_PRESENT),
-    ("input.poseHasImage", input::POSE_HAS_IMAGE),
-    ("input.poseImage", input::POSE_IMAGE),
-    ("input.hands", input::HANDS),
-    ("input.handStride", input::HAND_STRIDE),
-    ("input.hand.handedness", input::hand::HANDEDNESS),
-    ("input.hand.score", input::hand::SCORE),
-    ("input.hand.hasWorld", input::hand::HAS_WORLD),
-    ("input.hand.hasImage", input::hand::HAS_IMAGE),
-    ("input.hand.world", input::hand::WORLD),
-    ("input.hand.image", input::hand::IMAGE),
-    ("input.pose", input::POSE),
-    ("input.poseStride", input::POSE_STRIDE),
-    ("input.wrists", input::WRISTS),
-    ("input.wristStride", input::WRIST_STRIDE),
-    ("input.wrist.present", input::wrist::PRESENT),
-    ("input.wrist.hasRotation", input::wrist::HAS_ROTATION),
-    ("input.wrist.position", input::wrist::POSITION),
-    ("input.wrist.rotation", input::wrist::ROTATION),
-    ("input.torso", input::TORSO),
-    ("input.torsoStride", input::TORSO_STRIDE),
-    ("input.torsoBone.present", input::torso_bone::PRESENT),
-    ("input.torsoBone.rotation", input::torso_bone::ROTATION),
-    ("input.bodyPresent", input::BODY_PRESENT),
-    ("input.body", input::BODY),
-    ("input.bodyStride", input::BODY_STRIDE),
-    ("input.face", input::FACE),
-    ("input.faceStride", input::FACE_STRIDE),
-    ("input.facePoint.present", input::face_point::PRESENT),
-    ("input.facePoint.position", input::face_point::POSITION),
-    ("output.length", output::LEN),
-    ("output.boneRotations", output::BONE_ROTATIONS),
-    ("output.boneFlags", output::BONE_FLAGS),
-    ("output.bonePositions", output::BONE_POSITIONS),
-    ("output.sides", output::SIDES),
-    ("output.sideStride", output::SIDE_STRIDE),
-    ("output.side.handStatus", output::side::HAND_STATUS),
-    ("output.side.handScore", output::side::HAND_SCORE),
-    ("output.side.targetPresent", output::side::TARGET_PRESENT),
-    ("output.side.targetPosition", output::side::TARGET_POSITION),
-    ("output.side.targetRotation", output::side::TARGET_ROTATION),
-    (
-        "output.side.alignmentPresent",
-        output::side::ALIGNMENT_PRESENT,
-    ),
-    ("output.side.targetDip", output::side::TARGET_DIP),
-    ("output.side.ikWrist", output::side::IK_WRIST),
-    ("output.side.poseWrist", output::side::POSE_WRIST),
-    ("output.side.alignmentError", output::side::ALIGNMENT_ERROR),
-    ("output.side.reachable", output::side::REACHABLE),
-    ("output.side.aligned", output::side::ALIGNED),
-    ("output.side.alignedBone", output::side::ALIGNED_BONE),
-    ("output.side.handIndex", output::side::HAND_INDEX),
-    ("output.side.handReassigned", output::side::HAND_REASSIGNED),
-    ("output.side.handConfidence", output::side::HAND_CONFIDENCE),
-    ("output.side.handCheck", output::side::HAND_CHECK),
-    ("output.side.handResolved", output::side::HAND_RESOLVED),
-    ("output.side.fingertips", output::side::FINGERTIPS),
-    (
-        "output.side.retargetPresent",
-        output::side::RETARGET_PRESENT,
-    ),
-    (
-        "output.side.retargetTargets",
-        output::side::RETARGET_TARGETS,
-    ),
-    ("output.side.retargetScale", output::side::RETARGET_SCALE),
-    (
-        "output.side.retargetIterations",
-        output::side::RETARGET_ITERATIONS,
-    ),
-    (
-        "output.side.retargetResidual",
-        output::side::RETARGET_RESIDUAL,
-    ),
-    ("output.side.contactPresent", output::side::CONTACT_PRESENT),
-    ("output.side.contactAnchor", output::side::CONTACT_ANCHOR),
-    ("output.side.contactWeight", output::side::CONTACT_WEIGHT),
-    (
-        "output.side.contactDistance",
-        output::side::CONTACT_DISTANCE,
-    ),
-    (
-        "output.side.contactHandWeight",
-        output::side::CONTACT_HAND_WEIGHT,
-    ),
-    ("output.side.contactPush", output::side::CONTACT_PUSH),
-    ("output.handUse", output::HAND_USE),
-];
 
 /// A flag slot: exactly `0` or `1`.
 fn flag(buf: &[f32], at: usize, field: impl FnOnce() -> String) -> Result<bool> {
@@ -830,18 +522,19 @@ mod tests {
     /// Every named offset lies inside its buffer, and no name is used twice.
     #[test]
     fn fields_fit_their_buffers_and_strides() {
-        for (name, v) in FIELDS {
+        let all: Vec<(&str, usize)> = fields().collect();
+        for &(name, v) in &all {
             let len = if name.starts_with("input") {
                 input::LEN
             } else {
                 output::LEN
             };
-            assert!(*v <= len, "{name} = {v} beyond {len}");
+            assert!(v <= len, "{name} = {v} beyond {len}");
         }
-        let mut names: Vec<&str> = FIELDS.iter().map(|(n, _)| *n).collect();
+        let mut names: Vec<&str> = all.iter().map(|(n, _)| *n).collect();
         names.sort_unstable();
         names.dedup();
-        assert_eq!(names.len(), FIELDS.len(), "duplicate field name");
+        assert_eq!(names.len(), all.len(), "duplicate field name");
     }
 
     #[test]
