@@ -26,6 +26,7 @@
 //!
 //! * [`error`]: [`Error`], every message naming the offending field.
 //! * [`math`]: clamp, angles on the circle, swing-twist, robust statistics.
+//! * [`names`]: the declaration of named enumerations (JS names, `ALL`, `index`).
 //! * [`humanoid`]: what the avatar is: the 55 humanoid [`humanoid::bones`], the rest
 //!   [`Skeleton`] with forward kinematics, its [`SkinMesh`], its measurements, and the readers
 //!   of `.vrm` ([`humanoid::vrm`]) and any glTF humanoid ([`humanoid::gltf`]) files.
@@ -64,6 +65,7 @@ pub mod ik;
 pub mod input;
 pub mod kinematics;
 pub mod math;
+pub mod names;
 pub mod options;
 pub mod pipeline;
 pub mod solve;

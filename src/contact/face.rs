@@ -31,84 +31,33 @@ use crate::humanoid::bones::{HumanBone, Side};
 use crate::humanoid::skeleton::{Skeleton, VrmVersion};
 use crate::math::clamp;
 use crate::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation, TrackerFace};
+use crate::names::named_enum;
 
 /// Number of face anchors.
-pub const ANCHORS: usize = 8;
+pub const ANCHORS: usize = FaceAnchor::COUNT;
 
-/// The named places of a face that contact maps between user and avatar (JS:
-/// `contact.faceAnchors` keys, `result.alignment.<side>.contact.anchor`). Left and right are
-/// the avatar's (VRM 1.0: its left is +X).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum FaceAnchor {
-    /// `"nose"`: the tip of the nose.
-    Nose = 0,
-    /// `"chin"`: the front of the chin.
-    Chin = 1,
-    /// `"mouth"`: the middle of the lips.
-    Mouth = 2,
-    /// `"leftCheek"`.
-    LeftCheek = 3,
-    /// `"rightCheek"`.
-    RightCheek = 4,
-    /// `"leftEar"`: the ear opening (tragion).
-    LeftEar = 5,
-    /// `"rightEar"`.
-    RightEar = 6,
-    /// `"forehead"`: its middle, above the eyebrows.
-    Forehead = 7,
-}
-
-impl FaceAnchor {
-    /// Every anchor, in index order.
-    pub const ALL: [FaceAnchor; ANCHORS] = [
-        FaceAnchor::Nose,
-        FaceAnchor::Chin,
-        FaceAnchor::Mouth,
-        FaceAnchor::LeftCheek,
-        FaceAnchor::RightCheek,
-        FaceAnchor::LeftEar,
-        FaceAnchor::RightEar,
-        FaceAnchor::Forehead,
-    ];
-
-    /// Index into anchor arrays (and the flat output's `contactAnchor`).
-    #[inline]
-    #[must_use]
-    pub const fn index(self) -> usize {
-        self as usize
-    }
-
-    /// The JS name.
-    #[must_use]
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            FaceAnchor::Nose => "nose",
-            FaceAnchor::Chin => "chin",
-            FaceAnchor::Mouth => "mouth",
-            FaceAnchor::LeftCheek => "leftCheek",
-            FaceAnchor::RightCheek => "rightCheek",
-            FaceAnchor::LeftEar => "leftEar",
-            FaceAnchor::RightEar => "rightEar",
-            FaceAnchor::Forehead => "forehead",
-        }
-    }
-
-    /// Every anchor's JS name, in [`FaceAnchor::ALL`] order.
-    pub const NAMES: &'static [&'static str] = &[
-        "nose",
-        "chin",
-        "mouth",
-        "leftCheek",
-        "rightCheek",
-        "leftEar",
-        "rightEar",
-        "forehead",
-    ];
-
-    /// Parses a JS name.
-    #[must_use]
-    pub fn from_name(name: &str) -> Option<FaceAnchor> {
-        FaceAnchor::ALL.into_iter().find(|a| a.as_str() == name)
+named_enum! {
+    /// The named places of a face that contact maps between user and avatar (JS:
+    /// `contact.faceAnchors` keys, `result.alignment.<side>.contact.anchor`). Left and right are
+    /// the avatar's (VRM 1.0: its left is +X).
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+    pub enum FaceAnchor {
+        /// `"nose"`: the tip of the nose.
+        Nose = "nose",
+        /// `"chin"`: the front of the chin.
+        Chin = "chin",
+        /// `"mouth"`: the middle of the lips.
+        Mouth = "mouth",
+        /// `"leftCheek"`.
+        LeftCheek = "leftCheek",
+        /// `"rightCheek"`.
+        RightCheek = "rightCheek",
+        /// `"leftEar"`: the ear opening (tragion).
+        LeftEar = "leftEar",
+        /// `"rightEar"`.
+        RightEar = "rightEar",
+        /// `"forehead"`: its middle, above the eyebrows.
+        Forehead = "forehead",
     }
 }
 

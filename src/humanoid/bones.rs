@@ -26,6 +26,7 @@ macro_rules! human_bones {
 /// Number of VRM 1.0 humanoid bones.
 pub const BONE_COUNT: usize = 55;
 
+use crate::names::named_enum;
 use HumanBone as B;
 
 human_bones! {
@@ -282,56 +283,24 @@ impl Side {
     }
 }
 
-/// A finger, thumb first.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Finger {
-    /// Thumb: metacarpal (CMC joint), proximal (MCP), distal (IP).
-    Thumb,
-    /// Index: proximal (MCP), intermediate (PIP), distal (DIP).
-    Index,
-    /// Middle finger.
-    Middle,
-    /// Ring finger.
-    Ring,
-    /// Little finger.
-    Little,
+named_enum! {
+    /// A finger, thumb first.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+    pub enum Finger {
+        /// Thumb: metacarpal (CMC joint), proximal (MCP), distal (IP).
+        Thumb = "thumb",
+        /// Index: proximal (MCP), intermediate (PIP), distal (DIP).
+        Index = "index",
+        /// Middle finger.
+        Middle = "middle",
+        /// Ring finger.
+        Ring = "ring",
+        /// Little finger.
+        Little = "little",
+    }
 }
 
 impl Finger {
-    /// All five, thumb first.
-    pub const ALL: [Finger; 5] = [
-        Finger::Thumb,
-        Finger::Index,
-        Finger::Middle,
-        Finger::Ring,
-        Finger::Little,
-    ];
-
-    /// 0 (thumb) to 4 (little).
-    #[inline]
-    #[must_use]
-    pub const fn index(self) -> usize {
-        self as usize
-    }
-
-    /// `"thumb"`, `"index"`, `"middle"`, `"ring"` or `"little"`.
-    #[must_use]
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            Finger::Thumb => "thumb",
-            Finger::Index => "index",
-            Finger::Middle => "middle",
-            Finger::Ring => "ring",
-            Finger::Little => "little",
-        }
-    }
-
-    /// Parses `"thumb"` ... `"little"`.
-    #[must_use]
-    pub fn from_name(name: &str) -> Option<Finger> {
-        Self::ALL.iter().copied().find(|f| f.as_str() == name)
-    }
-
     /// MediaPipe hand landmark indices of this finger: `[base, joint1, joint2, tip]`
     /// (thumb: CMC, MCP, IP, TIP; others: MCP, PIP, DIP, TIP).
     #[must_use]

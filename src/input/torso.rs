@@ -5,6 +5,7 @@
 use glam::{Quat, Vec3};
 
 use crate::humanoid::bones::HumanBone;
+use crate::names::named_enum;
 
 /// Number of torso bones.
 pub const TORSO_BONE_COUNT: usize = 8;
@@ -27,71 +28,33 @@ pub const TORSO_BONES: [HumanBone; TORSO_BONE_COUNT] = [
 pub type TorsoRotations = [Option<Quat>; TORSO_BONE_COUNT];
 
 /// Number of body-tracker joints.
-pub const BODY_JOINT_COUNT: usize = 10;
+pub const BODY_JOINT_COUNT: usize = BodyJoint::COUNT;
 
-/// The joints of `frame.body`: named by the avatar bone whose joint they are (plus the face
-/// points), so one table maps any body tracker onto them (docs/torso.md).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BodyJoint {
-    /// `hips`: the hip center (pelvis).
-    Hips,
-    /// `leftUpperLeg`: the left hip joint.
-    LeftUpperLeg,
-    /// `rightUpperLeg`: the right hip joint.
-    RightUpperLeg,
-    /// `leftUpperArm`: the left shoulder joint.
-    LeftUpperArm,
-    /// `rightUpperArm`: the right shoulder joint.
-    RightUpperArm,
-    /// `nose`: the tip of the nose.
-    Nose,
-    /// `leftEye`: the center of the left eye.
-    LeftEye,
-    /// `rightEye`: the center of the right eye.
-    RightEye,
-    /// `leftEar`: the left ear (tragus).
-    LeftEar,
-    /// `rightEar`: the right ear.
-    RightEar,
-}
-
-impl BodyJoint {
-    /// Every joint, in the order of the flat section (`LAYOUT.bodyJoints`).
-    pub const ALL: [BodyJoint; BODY_JOINT_COUNT] = [
-        BodyJoint::Hips,
-        BodyJoint::LeftUpperLeg,
-        BodyJoint::RightUpperLeg,
-        BodyJoint::LeftUpperArm,
-        BodyJoint::RightUpperArm,
-        BodyJoint::Nose,
-        BodyJoint::LeftEye,
-        BodyJoint::RightEye,
-        BodyJoint::LeftEar,
-        BodyJoint::RightEar,
-    ];
-
-    /// Position in [`BodyJoint::ALL`].
-    #[inline]
-    #[must_use]
-    pub const fn index(self) -> usize {
-        self as usize
-    }
-
-    /// The JS name, e.g. `"leftUpperArm"`.
-    #[must_use]
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            BodyJoint::Hips => "hips",
-            BodyJoint::LeftUpperLeg => "leftUpperLeg",
-            BodyJoint::RightUpperLeg => "rightUpperLeg",
-            BodyJoint::LeftUpperArm => "leftUpperArm",
-            BodyJoint::RightUpperArm => "rightUpperArm",
-            BodyJoint::Nose => "nose",
-            BodyJoint::LeftEye => "leftEye",
-            BodyJoint::RightEye => "rightEye",
-            BodyJoint::LeftEar => "leftEar",
-            BodyJoint::RightEar => "rightEar",
-        }
+named_enum! {
+    /// The joints of `frame.body`: named by the avatar bone whose joint they are (plus the face
+    /// points), so one table maps any body tracker onto them (docs/torso.md).
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub enum BodyJoint {
+        /// `hips`: the hip center (pelvis).
+        Hips = "hips",
+        /// `leftUpperLeg`: the left hip joint.
+        LeftUpperLeg = "leftUpperLeg",
+        /// `rightUpperLeg`: the right hip joint.
+        RightUpperLeg = "rightUpperLeg",
+        /// `leftUpperArm`: the left shoulder joint.
+        LeftUpperArm = "leftUpperArm",
+        /// `rightUpperArm`: the right shoulder joint.
+        RightUpperArm = "rightUpperArm",
+        /// `nose`: the tip of the nose.
+        Nose = "nose",
+        /// `leftEye`: the center of the left eye.
+        LeftEye = "leftEye",
+        /// `rightEye`: the center of the right eye.
+        RightEye = "rightEye",
+        /// `leftEar`: the left ear (tragus).
+        LeftEar = "leftEar",
+        /// `rightEar`: the right ear.
+        RightEar = "rightEar",
     }
 }
 

@@ -247,7 +247,7 @@ pub static OPTIONS: &[OptionSpec] = &[
         "Hand-to-hand contact: when the user's hands touch, both avatar targets are solved together so its hands touch too."),
     OptionSpec {
         path: "contact.faceAnchors",
-        kind: Kind::Points { names: FaceAnchor::NAMES, limit: MAX_ANCHOR_OFFSET },
+        kind: Kind::Points { names: &FaceAnchor::NAMES, limit: MAX_ANCHOR_OFFSET },
         default: Value::Points([None; ANCHORS]),
         doc: "The avatar's face points, each [x, y, z] meters from the head bone at rest in the model's axes (e.g. raycast on its mesh); missing ones are derived from the rig (eye bones, look-at offset, an average face).",
         get: |o| Value::Points(o.contact.face_anchors.to_array()),
