@@ -176,12 +176,7 @@ impl BodyMapper {
     /// Feeds one pose frame to calibration: one arm-length sample per arm whose shoulder,
     /// elbow and wrist are all visible. Does nothing with a preset scale or once calibrated.
     /// Allocates nothing.
-    pub fn observe(
-        &mut self,
-        _skeleton: &Skeleton,
-        pose: &PoseObservation,
-        _camera: CameraMapping,
-    ) {
+    pub fn observe(&mut self, pose: &PoseObservation) {
         if self.is_calibrated() {
             return;
         }

@@ -137,8 +137,6 @@ pub struct ContactOptions {
 /// Largest `contact.torsoRadius` / `contact.headRadius` (m).
 pub const MAX_COLLIDER_RADIUS: f32 = 2.0;
 
-impl ContactOptions {}
-
 /// What contact did for one side this frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactReport {

@@ -99,6 +99,20 @@ macro_rules! layout_side {
         }
     };
 
+    // ---- one row.
+    (@row $kind:ident, $path:expr, $offset:expr, $count:expr, $width:expr, $doc:expr) => {
+        $crate::flat::declare::Row {
+            path: $path,
+            offset: $offset,
+            detail: $crate::flat::declare::Detail::new(
+                $count,
+                $width,
+                $crate::flat::declare::RowKind::$kind,
+                $doc,
+            ),
+        }
+    };
+
     // ---- constants: each field's offset is the previous offset plus the previous size.
     (@consts ($off:expr)) => {
         /// Length of the array.
@@ -179,16 +193,7 @@ macro_rules! layout_side {
         $($inner:tt)*
     ] $($rest:tt)*) => {
         layout_side!(@rows $sjs [$($acc,)*
-            $crate::flat::declare::Row {
-                path: concat!($sjs, ".", $slotjs, ".", stringify!($js)),
-                offset: $slot::$name,
-                detail: $crate::flat::declare::Detail::new(
-                    $count,
-                    $width,
-                    $crate::flat::declare::RowKind::SlotField,
-                    concat!($($d),*),
-                ),
-            },
+            layout_side!(@row SlotField, concat!($sjs, ".", $slotjs, ".", stringify!($js)), $slot::$name, $count, $width, concat!($($d),*)),
         ] @slotrows $sjs2 $slotjs $slot [$($inner)*] $($rest)*)
     };
     (@rows $sjs:literal [$($acc:expr,)*] @slotrows $sjs2:literal $slotjs:literal $slot:ident [
@@ -196,57 +201,21 @@ macro_rules! layout_side {
         $($inner:tt)*
     ] $($rest:tt)*) => {
         layout_side!(@rows $sjs [$($acc,)*
-            $crate::flat::declare::Row {
-                path: concat!($sjs, ".", $slotjs, ".", stringify!($js)),
-                offset: $slot::$name,
-                detail: $crate::flat::declare::Detail::new(
-                    1,
-                    $size,
-                    $crate::flat::declare::RowKind::SlotField,
-                    concat!($($d),*),
-                ),
-            },
+            layout_side!(@row SlotField, concat!($sjs, ".", $slotjs, ".", stringify!($js)), $slot::$name, 1, $size, concat!($($d),*)),
         ] @slotrows $sjs2 $slotjs $slot [$($inner)*] $($rest)*)
     };
 
     // ---- rows, accumulated in memory order.
     (@rows $sjs:literal [$($acc:expr,)*]) => {
-        [$($acc,)* $crate::flat::declare::Row {
-            path: concat!($sjs, ".length"),
-            offset: LEN,
-            detail: $crate::flat::declare::Detail::new(
-                0,
-                0,
-                $crate::flat::declare::RowKind::Length,
-                "",
-            ),
-        }]
+        [$($acc,)* layout_side!(@row Length, concat!($sjs, ".length"), LEN, 0, 0, "")]
     };
     (@rows $sjs:literal [$($acc:expr,)*]
         $(#[doc = $d:literal])* $name:ident $js:ident : [$count:expr] stride $sname:ident $sjsn:ident = $stride:expr, slot $slot:ident $slotjs:literal { $($inner:tt)* };
         $($rest:tt)*
     ) => {
         layout_side!(@rows $sjs [$($acc,)*
-            $crate::flat::declare::Row {
-                path: concat!($sjs, ".", stringify!($js)),
-                offset: $name,
-                detail: $crate::flat::declare::Detail::new(
-                    $count,
-                    $sname,
-                    $crate::flat::declare::RowKind::Field,
-                    concat!($($d),*),
-                ),
-            },
-            $crate::flat::declare::Row {
-                path: concat!($sjs, ".", stringify!($sjsn)),
-                offset: $sname,
-                detail: $crate::flat::declare::Detail::new(
-                    1,
-                    1,
-                    $crate::flat::declare::RowKind::Stride,
-                    "",
-                ),
-            },
+            layout_side!(@row Field, concat!($sjs, ".", stringify!($js)), $name, $count, $sname, concat!($($d),*)),
+            layout_side!(@row Stride, concat!($sjs, ".", stringify!($sjsn)), $sname, 1, 1, ""),
             ] @slotrows $sjs $slotjs $slot [$($inner)*] $($rest)*)
     };
     (@rows $sjs:literal [$($acc:expr,)*]
@@ -254,26 +223,8 @@ macro_rules! layout_side {
         $($rest:tt)*
     ) => {
         layout_side!(@rows $sjs [$($acc,)*
-            $crate::flat::declare::Row {
-                path: concat!($sjs, ".", stringify!($js)),
-                offset: $name,
-                detail: $crate::flat::declare::Detail::new(
-                    $count,
-                    $sname,
-                    $crate::flat::declare::RowKind::Field,
-                    concat!($($d),*),
-                ),
-            },
-            $crate::flat::declare::Row {
-                path: concat!($sjs, ".", stringify!($sjsn)),
-                offset: $sname,
-                detail: $crate::flat::declare::Detail::new(
-                    1,
-                    1,
-                    $crate::flat::declare::RowKind::Stride,
-                    "",
-                ),
-            },
+            layout_side!(@row Field, concat!($sjs, ".", stringify!($js)), $name, $count, $sname, concat!($($d),*)),
+            layout_side!(@row Stride, concat!($sjs, ".", stringify!($sjsn)), $sname, 1, 1, ""),
         ] $($rest)*)
     };
     (@rows $sjs:literal [$($acc:expr,)*]
@@ -281,16 +232,7 @@ macro_rules! layout_side {
         $($rest:tt)*
     ) => {
         layout_side!(@rows $sjs [$($acc,)*
-            $crate::flat::declare::Row {
-                path: concat!($sjs, ".", stringify!($js)),
-                offset: $name,
-                detail: $crate::flat::declare::Detail::new(
-                    $count,
-                    $width,
-                    $crate::flat::declare::RowKind::Field,
-                    concat!($($d),*),
-                ),
-            },
+            layout_side!(@row Field, concat!($sjs, ".", stringify!($js)), $name, $count, $width, concat!($($d),*)),
         ] $($rest)*)
     };
     (@rows $sjs:literal [$($acc:expr,)*]
@@ -298,16 +240,7 @@ macro_rules! layout_side {
         $($rest:tt)*
     ) => {
         layout_side!(@rows $sjs [$($acc,)*
-            $crate::flat::declare::Row {
-                path: concat!($sjs, ".", stringify!($js)),
-                offset: $name,
-                detail: $crate::flat::declare::Detail::new(
-                    1,
-                    $size,
-                    $crate::flat::declare::RowKind::Field,
-                    concat!($($d),*),
-                ),
-            },
+            layout_side!(@row Field, concat!($sjs, ".", stringify!($js)), $name, 1, $size, concat!($($d),*)),
         ] $($rest)*)
     };
 

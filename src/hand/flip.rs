@@ -1,4 +1,4 @@
-//! Witnesses of a MediaPipe hand whose 3D shape is wrong (issue 27): on real video the hand
+//! Witnesses of a MediaPipe hand whose 3D shape is wrong: on real video the hand
 //! world landmarks turn, for a few frames, into a hand whose fingers bend backwards (its
 //! palm's front and back swapped: the mirror image of the hand) or whose knuckles lie across
 //! the palm the other way than the image shows. Three witnesses, all per frame and

@@ -445,7 +445,7 @@ impl Rig {
         out.local = [Quat::IDENTITY; BONE_COUNT];
 
         let picks = self.select_hands(frame, camera, out);
-        self.observe_pose(frame, camera, dt);
+        self.observe_pose(frame, dt);
         // The torso (from the app or tracking), and its forward kinematics: the world pose the
         // arms hang from, once per frame (arms and hands do not move it).
         self.torso_stage(frame, camera, dt, out);

@@ -1,18 +1,13 @@
 //! Stage 2, **pose**: the pose landmarks, One Euro filtered ([`crate::filter`]), feed
 //! body-scale calibration ([`crate::body`]).
 
-use crate::mediapipe::{pose_landmark, CameraMapping, FrameInput};
+use crate::mediapipe::{pose_landmark, FrameInput};
 
 use super::Rig;
 
 impl Rig {
     /// Stage 2: this frame's pose, filtered, observed for body-scale calibration.
-    pub(super) fn observe_pose(
-        &mut self,
-        frame: &FrameInput,
-        camera: CameraMapping,
-        dt: Option<f32>,
-    ) {
+    pub(super) fn observe_pose(&mut self, frame: &FrameInput, dt: Option<f32>) {
         self.scratch.pose = frame.pose;
         if let Some(pose) = self.scratch.pose.as_mut() {
             if self.options.filter.enabled {
@@ -26,7 +21,7 @@ impl Rig {
                     &o,
                 );
             }
-            self.body.observe(&self.skeleton, pose, camera);
+            self.body.observe(pose);
         }
     }
 }

@@ -9,11 +9,10 @@
 //! shown, which keeps the forearm's share of the twist. Both are held and eased out with the
 //! dropout timings (`options.dropout`), as the lost hand's own rotation is (the easing stage
 //! holds the hand bone, then eases it to rest). Its contact points as last seen keep the held
-//! hand's palm and fingertips out of the body (`Plan::Reach::held`). Before, a hand MediaPipe
-//! dropped for one frame turned the forearm by its whole twist share and jumped to the bare
-//! wrist: 17.8 degrees median on the woman over the ASL clips with one hand-frame in ten
-//! dropped, 2.6 now (`tests/it/hand_loss.rs`). A hand solved again is aligned in that frame:
-//! its hand bone shows the solve at once (`ease.rs`), its fingers blend in.
+//! hand's palm and fingertips out of the body (`Plan::Reach::held`). So a hand MediaPipe drops
+//! for a frame neither turns the forearm by its whole twist share nor jumps to the bare wrist
+//! (`tests/it/hand_loss.rs`). A hand solved again is aligned in that frame: its hand bone shows
+//! the solve at once (`ease.rs`), its fingers blend in.
 
 use glam::{Quat, Vec3};
 

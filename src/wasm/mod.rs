@@ -3,9 +3,9 @@
 //! Thin by design (rapier.js style). Per frame no JS value crosses the boundary: the rig owns
 //! a flat input and a flat output buffer ([`crate::flat`]) in wasm memory, JavaScript writes
 //! and reads them through `Float32Array` views (`inputPtr`, `outputPtr`, `memory`), and
-//! `solveFlat(timeMs)` takes and returns plain numbers. The package's JS layer
-//! (`pkg-config/src/handrig-core.js`) packs MediaPipe's result shapes into the input and builds
-//! result objects from the output.
+//! `solveFlat(timeMs)` takes and returns plain numbers. The package's TypeScript layer
+//! (`pkg-config/src/`: `frame*.ts` packs MediaPipe's result shapes into the input, `results.ts`
+//! builds result objects from the output).
 //!
 //! No user JS code runs while Rust is on the stack: the constructor takes rest positions as a
 //! typed array and the options as a plain object the JS layer built (its own copy of the

@@ -65,14 +65,14 @@ fn scale_is_avatar_arm_over_user_arm() {
     let p = pose(0.30, 0.26);
     for i in 0..options.frames {
         assert!(!m.is_calibrated(), "calibrated after {i} frames");
-        m.observe(&skel, &p, CameraMapping::default());
+        m.observe(&p);
         // Provisional estimates are already right on consistent input.
         assert!((m.scale() - 0.5 / 0.56).abs() < 1e-5, "{}", m.scale());
     }
     assert!(m.is_calibrated());
     assert_eq!(m.frames_observed(), 30);
     // Calibrated: further frames (a different user) change nothing.
-    m.observe(&skel, &pose(0.2, 0.2), CameraMapping::default());
+    m.observe(&pose(0.2, 0.2));
     assert!((m.scale() - 0.5 / 0.56).abs() < 1e-5);
 }
 
@@ -94,7 +94,7 @@ fn outliers_beyond_twenty_percent_of_the_median_are_dropped() {
             _ => 0.55 + 0.01 * ((i % 3) as f32 - 1.0),
         };
         let p = pose(total * 0.55, total * 0.45);
-        m.observe(&skel, &p, CameraMapping::default());
+        m.observe(&p);
         lengths.push(total);
         lengths.push(total);
     }
@@ -162,14 +162,14 @@ fn low_visibility_landmarks_are_ignored() {
     // Both elbows hidden: no calibration sample.
     p.visibility[pl::LEFT_ELBOW] = 0.2;
     p.visibility[pl::RIGHT_ELBOW] = 0.49;
-    m.observe(&skel, &p, CameraMapping::default());
+    m.observe(&p);
     assert_eq!(m.frames_observed(), 0);
     assert_eq!(m.scale(), before);
     // NaN visibility counts as not seen.
     let mut q = pose(0.3, 0.25);
     q.visibility[pl::LEFT_WRIST] = f32::NAN;
     q.visibility[pl::RIGHT_WRIST] = 0.0;
-    m.observe(&skel, &q, CameraMapping::default());
+    m.observe(&q);
     assert_eq!(m.frames_observed(), 0);
     // Mapping: a hidden elbow gives no pole, a hidden wrist or shoulder no mapping at all.
     let cam = CameraMapping::default();
@@ -201,7 +201,7 @@ fn preset_scale_and_reset() {
     let mut m = BodyMapper::new(&skel, &options);
     assert!(m.is_calibrated());
     for _ in 0..40 {
-        m.observe(&skel, &pose(0.3, 0.3), CameraMapping::default());
+        m.observe(&pose(0.3, 0.3));
     }
     assert_eq!(m.scale(), 0.8);
     m.reset();
@@ -209,7 +209,7 @@ fn preset_scale_and_reset() {
 
     let mut auto = BodyMapper::new(&skel, &CalibrationOptions::default());
     for _ in 0..30 {
-        auto.observe(&skel, &pose(0.3, 0.3), CameraMapping::default());
+        auto.observe(&pose(0.3, 0.3));
     }
     assert!(auto.is_calibrated() && (auto.scale() - 0.5 / 0.6).abs() < 1e-5);
     auto.reset();
@@ -217,7 +217,7 @@ fn preset_scale_and_reset() {
     assert_eq!(auto.frames_observed(), 0);
     assert!((auto.scale() - 0.5 / REFERENCE_USER_ARM).abs() < 1e-6);
     // A new user after reset.
-    auto.observe(&skel, &pose(0.2, 0.2), CameraMapping::default());
+    auto.observe(&pose(0.2, 0.2));
     assert!((auto.scale() - 0.5 / 0.4).abs() < 1e-5);
 }
 

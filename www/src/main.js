@@ -468,7 +468,6 @@ async function loadAvatar(bytes, name) {
     throw e;
   }
   const old = VIEW_KEYS.map((k) => views[k].avatar);
-  const oldRigs = VIEW_KEYS.map((k) => views[k].rig);
   VIEW_KEYS.forEach((key) => (views[key].avatar = next[key]));
   try {
     createRigs();
@@ -480,7 +479,6 @@ async function loadAvatar(bytes, name) {
       views[key].rig = null;
     });
     if (old[0]) createRigs();
-    void oldRigs;
     throw e;
   }
   for (const a of old) a?.dispose();
