@@ -14,8 +14,7 @@
 //! FABRIK and CCD iteration counts on real recordings are printed by
 //! `cargo run --release --example eval_alignment`.
 
-#[path = "../tests/support/recordings.rs"]
-mod recordings;
+use handrig_support::recordings;
 
 use core::f32::consts::PI;
 
@@ -122,15 +121,13 @@ fn arms(c: &mut Criterion) {
                     if cold {
                         state.reset();
                     }
-                    state.solve(
-                        Side::Right,
+                    let to = handrig::ik::ArmTarget {
                         target,
-                        Some(hand),
-                        Some(pole),
-                        None,
-                        &mut local,
-                        &world,
-                    )
+                        hand_rotation: Some(hand),
+                        pole: Some(pole),
+                        finger: None,
+                    };
+                    state.solve(Side::Right, &to, &mut local, &world)
                 })
             });
         }

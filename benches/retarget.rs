@@ -5,8 +5,7 @@
 //! `cargo bench --bench retarget`. The target is at most 20 microseconds per hand natively
 //! for `"retarget"`; the seed reports 5 ms per frame for its implementation.
 
-#[path = "../tests/support/recordings.rs"]
-mod recordings;
+use handrig_support::recordings;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Quat;

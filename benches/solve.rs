@@ -7,8 +7,7 @@
 //! alignment (the wrist target from this frame's finger FK), one arm's IK (two-bone), and the
 //! flat layout's decode + encode. Native figures are a lower bound for wasm.
 
-#[path = "../tests/support/recordings.rs"]
-mod recordings;
+use handrig_support::recordings;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use handrig::{FrameInput, Rig, RigOptions, SolveOutput};
@@ -86,15 +85,13 @@ fn bench(c: &mut Criterion) {
     skeleton.forward(&local, &mut world);
     stages.bench_function("arm IK (two-bone, one arm)", |b| {
         b.iter(|| {
-            arms.solve(
-                side,
-                recordings::RIGHT_WRIST,
-                Some(hand_rotation),
-                None,
-                None,
-                &mut local,
-                &world,
-            )
+            let to = handrig::ik::ArmTarget {
+                target: recordings::RIGHT_WRIST,
+                hand_rotation: Some(hand_rotation),
+                pole: None,
+                finger: None,
+            };
+            arms.solve(side, &to, &mut local, &world)
         })
     });
     let mut rig = Rig::new(skeleton.clone(), RigOptions::default()).expect("rig");

@@ -14,8 +14,7 @@
 //! line per avatar also counts the right hand's `none` frames within 2 cm of the head and its
 //! frames more than 1 cm inside it (the same estimate), over all six clips.
 
-#[path = "../tests/support/recordings.rs"]
-mod recordings;
+use handrig_support::recordings;
 
 use handrig::contact::skin::{HEAD_MAP, MAP_BONES};
 use handrig::humanoid::bones::{HumanBone, Side};

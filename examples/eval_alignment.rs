@@ -67,8 +67,7 @@
 //! elbow is ill-conditioned: at 99.8% of an equal-boned arm's length, 0.3 mm of reach moves
 //! the elbow 2.4 mm, and the iterative solvers stop within their tolerance of the wrist).
 
-#[path = "../tests/support/recordings.rs"]
-mod recordings;
+use handrig_support::recordings;
 
 use glam::{Quat, Vec3};
 use handrig::humanoid::bones::{Finger, Side};

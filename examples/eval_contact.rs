@@ -37,8 +37,7 @@
 //! distance, the median avatar distance without and with contact, and the median and p95 of
 //! |avatar - expected| without and with contact (mm).
 
-#[path = "../tests/support/recordings.rs"]
-mod recordings;
+use handrig_support::recordings;
 
 use glam::Vec3;
 use handrig::contact::face::pose_tip;

@@ -25,13 +25,10 @@
 //! options: --avatar NAME (one of the five), --detail (per bone, limit-free / limit-active)
 //! ```
 
-#[path = "../tests/support/finger_dirs.rs"]
-mod finger_dirs;
-#[path = "../tests/support/recordings.rs"]
-mod recordings;
-#[path = "../tests/support/stats.rs"]
-mod stats;
 use finger_dirs::{avatar_bone_dir, mp_segment};
+use handrig_support::finger_dirs;
+use handrig_support::recordings;
+use handrig_support::stats;
 
 use glam::{Quat, Vec3};
 use handrig::align::fingertip;

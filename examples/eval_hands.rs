@@ -16,13 +16,10 @@
 //! `--rest` reads rest positions instead of a `.vrm`: `{ "vrmVersion": "1", "bones": { name:
 //! [x, y, z] } }` or an object of such entries (first entry, or `--rest-key`).
 
-#[path = "../tests/support/finger_dirs.rs"]
-mod finger_dirs;
-#[path = "../tests/support/recordings.rs"]
-mod recordings;
-#[path = "../tests/support/stats.rs"]
-mod stats;
 use finger_dirs::{avatar_bone_dir, mp_segment};
+use handrig_support::finger_dirs;
+use handrig_support::recordings;
+use handrig_support::stats;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -10,10 +10,8 @@
 //! Jitter = mean angular acceleration of a bone's local rotation (rad/s^2); lag = the frame
 //! shift that best matches the filtered angle series to the raw one.
 
-#[path = "../tests/support/motion.rs"]
-mod motion;
-#[path = "../tests/support/recordings.rs"]
-mod recordings;
+use handrig_support::motion;
+use handrig_support::recordings;
 
 use glam::Quat;
 use handrig::filter::{DropoutOptions, FilterOptions};

@@ -28,10 +28,8 @@
 //! cargo run --release --example eval_retarget -- --json  # machine-readable
 //! ```
 
-#[path = "../tests/support/recordings.rs"]
-mod recordings;
-#[path = "../tests/support/stats.rs"]
-mod stats;
+use handrig_support::recordings;
+use handrig_support::stats;
 
 use std::time::Instant;
 

@@ -48,12 +48,9 @@
 //! MediaPipe Pose + Hands of four signers, `torso: "pose"` from the pose, default options:
 //! the same ranges and steps, and the rig's own alignment report for the signer's right hand.
 
-#[path = "../tests/support/recordings.rs"]
-mod recordings;
-#[path = "../tests/support/stats.rs"]
-mod stats;
-#[path = "../tests/support/torso_user.rs"]
-mod torso_user;
+use handrig_support::recordings;
+use handrig_support::stats;
+use handrig_support::torso_user;
 
 use glam::{Quat, Vec3};
 use handrig::humanoid::bones::{Finger, HumanBone as B, Side};

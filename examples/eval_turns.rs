@@ -20,10 +20,8 @@
 //! slowed, and counts what the hand selection resolved (`TrackedHand::resolved`: swapped
 //! labels, label jumps, duplicates) per side on the clips and the hand video.
 
-#[path = "../tests/support/kinect_wrists.rs"]
-mod kinect_wrists;
-#[path = "../tests/support/recordings.rs"]
-mod recordings;
+use handrig_support::kinect_wrists;
+use handrig_support::recordings;
 
 use glam::{Quat, Vec3, Vec4};
 use handrig::hand::palm_frame;

@@ -33,12 +33,9 @@
 //! more than 0.5 degree and the index distal within 0.01 mm of the target DIP (median) and
 //! 2 mm (max), on every row.
 
-#[path = "../tests/support/kinect_wrists.rs"]
-mod kinect_wrists;
-#[path = "../tests/support/recordings.rs"]
-mod recordings;
-#[path = "../tests/support/stats.rs"]
-mod stats;
+use handrig_support::kinect_wrists;
+use handrig_support::recordings;
+use handrig_support::stats;
 
 use glam::Quat;
 use handrig::hand::HandStatus;

@@ -6,8 +6,7 @@
 //!
 //! `cargo run --example gen_fixtures`
 
-#[path = "../tests/support/vrm_fixture.rs"]
-mod vrm_fixture;
+use handrig_support::vrm_fixture;
 
 use std::path::Path;
 use std::process::ExitCode;

@@ -12,9 +12,8 @@
 //!
 //! Under `perf record` for a profile; `--passes` under `valgrind --tool=callgrind` for an
 //! instruction count that does not depend on how busy the machine is.
-#[path = "../tests/support/recordings.rs"]
-mod recordings;
 use handrig::{FrameInput, Rig, RigOptions, SolveOutput};
+use handrig_support::recordings;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -199,6 +199,22 @@ impl ArmChain {
     }
 }
 
+/// What one arm reaches this frame, as the rig gives it to [`super::ArmSolverState::solve`]
+/// (world, internal frame); the solver adds what it reads from the posed parents to make the
+/// [`ArmGoal`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArmTarget {
+    /// Where the wrist should go.
+    pub target: Vec3,
+    /// The hand's world rotation; `None` leaves the hand bone alone.
+    pub hand_rotation: Option<Quat>,
+    /// A world point the elbow points toward (the pose elbow landmark).
+    pub pole: Option<Vec3>,
+    /// The offset (world) from the wrist to the aligned finger point (CCD's first effector;
+    /// the wrist limits turn the hand about it).
+    pub finger: Option<Vec3>,
+}
+
 /// What one arm must reach this frame (world, internal frame).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArmGoal {

@@ -2,14 +2,14 @@
 //! from the avatar, the method in force (enum dispatch: no boxing), the shared options and the
 //! wrist limits' last report per side.
 
-use glam::{Quat, Vec3};
+use glam::Quat;
 
 use crate::error::Result;
 use crate::humanoid::bones::{Side, BONE_COUNT};
 use crate::humanoid::skeleton::{Skeleton, WorldPose};
 use crate::kinematics::RootFrame;
 
-use super::arm::{ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, ArmSolver};
+use super::arm::{ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, ArmSolver, ArmTarget};
 use super::ccd::CcdOptions;
 use super::chain_arm::{CcdArm, FabrikArm};
 use super::fabrik::FabrikOptions;
@@ -187,25 +187,25 @@ impl ArmSolverState {
         }
     }
 
-    /// Solves one arm: writes upperArm, lowerArm and (with `hand_rotation`) hand local
-    /// rotations into `local` so the wrist reaches `target` and the hand's world rotation is
-    /// `hand_rotation`; with the shoulder option the shoulder's local rotation is turned
+    /// Solves one arm: writes upperArm, lowerArm and (with `to.hand_rotation`) hand local
+    /// rotations into `local` so the wrist reaches `to.target` and the hand's world rotation is
+    /// `to.hand_rotation`; with the shoulder option the shoulder's local rotation is turned
     /// further when the reach is far. `world` must hold forward kinematics of `local` for the
     /// arm's parents (the shoulder position and rotations are read from it); it is not
-    /// updated. `pole` is a world point for the elbow (pose elbow landmark); `finger` the
-    /// offset (world) from the wrist to the aligned finger point, for CCD's first effector.
-    /// Internal frame throughout. Allocates nothing.
-    #[allow(clippy::too_many_arguments)]
+    /// updated. Internal frame throughout. Allocates nothing.
     pub fn solve(
         &mut self,
         side: Side,
-        target: Vec3,
-        hand_rotation: Option<Quat>,
-        pole: Option<Vec3>,
-        finger: Option<Vec3>,
+        to: &ArmTarget,
         local: &mut [Quat; BONE_COUNT],
         world: &WorldPose,
     ) -> ArmReach {
+        let ArmTarget {
+            target,
+            hand_rotation,
+            pole,
+            finger,
+        } = *to;
         let chain = &self.chains[side.index()];
         let [upper, lower, hand] = chain.bones;
         let shoulder_root = chain.shoulder.map(|s| RootFrame {

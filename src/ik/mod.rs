@@ -60,7 +60,8 @@ pub mod wrist;
 
 pub use crate::kinematics::swing;
 pub use arm::{
-    ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, ArmSolver, ForearmTwist, IkError,
+    ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, ArmSolver, ArmTarget, ForearmTwist,
+    IkError,
 };
 pub use arms::ArmSolverState;
 pub use ccd::{Ccd, CcdOptions};

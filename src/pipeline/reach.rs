@@ -6,6 +6,7 @@ use glam::{Quat, Vec3};
 use crate::align;
 use crate::humanoid::bones::{HumanBone, Side};
 use crate::humanoid::skeleton::Skeleton;
+use crate::ik::ArmTarget;
 
 use super::targets::Plan;
 use super::{IkTarget, Rig, SolveOutput};
@@ -37,7 +38,16 @@ impl Rig {
                 // No hand this frame: the arm reaches the wrist with the rotation it has (a
                 // lost hand's as shown, which keeps the forearm's twist), and the hand bone is
                 // the easing's (held, then eased to rest). Nothing aligned to report.
-                self.reach(side, target, hand_rotation, pole, None, out);
+                self.reach(
+                    side,
+                    &ArmTarget {
+                        target,
+                        hand_rotation,
+                        pole,
+                        finger: None,
+                    },
+                    out,
+                );
                 if carried {
                     out.solved[side.hand().index()] = false;
                 }
@@ -74,7 +84,13 @@ impl Rig {
             }
             _ => finger,
         };
-        let reach = self.reach(side, target, Some(hand_rot), pole, finger, out);
+        let to = ArmTarget {
+            target,
+            hand_rotation: Some(hand_rot),
+            pole,
+            finger,
+        };
+        let reach = self.reach(side, &to, out);
         if let Some(limited) = reach.wrist {
             // The wrist limits turned the hand: report the target and rotation reached.
             let turn = limited.hand_rotation * hand_rot.conjugate();
@@ -127,29 +143,17 @@ impl Rig {
         }
     }
 
-    #[allow(clippy::too_many_arguments)]
     // Out of line: called from two places a side, inlined at each (.wasm size).
     #[inline(never)]
     pub(super) fn reach(
         &mut self,
         side: Side,
-        target: Vec3,
-        hand_rotation: Option<Quat>,
-        pole: Option<Vec3>,
-        finger: Option<Vec3>,
+        to: &ArmTarget,
         out: &mut SolveOutput,
     ) -> crate::ik::ArmReach {
         // `out.world` holds the arm's parent chain (posed once per frame in `solve`; neither
         // side's arm moves it).
-        let reach = self.arms.solve(
-            side,
-            target,
-            hand_rotation,
-            pole,
-            finger,
-            &mut out.local,
-            &out.world,
-        );
+        let reach = self.arms.solve(side, to, &mut out.local, &out.world);
         for b in side.arm() {
             if b != side.arm()[0] || self.arms.moves_shoulder(side) {
                 out.solved[b.index()] |= self.skeleton.has(b);

@@ -57,7 +57,13 @@ fn solve_fk(
     local[side.arm()[0].index()] = shoulder_rot;
     let mut world = WorldPose::default();
     skel.forward(&local, &mut world);
-    let reach = state.solve(side, target, hand, pole, None, &mut local, &world);
+    let to = handrig::ik::ArmTarget {
+        target,
+        hand_rotation: hand,
+        pole,
+        finger: None,
+    };
+    let reach = state.solve(side, &to, &mut local, &world);
     skel.forward(&local, &mut world);
     let [_, up, low, h] = side.arm();
     for q in local.iter() {

@@ -90,7 +90,13 @@ fn solve(
     local[sh.index()] = shoulder_rot;
     let mut world = WorldPose::default();
     skel.forward(&local, &mut world);
-    let reach = state.solve(side, target, hand, pole, None, &mut local, &world);
+    let to = handrig::ik::ArmTarget {
+        target,
+        hand_rotation: hand,
+        pole,
+        finger: None,
+    };
+    let reach = state.solve(side, &to, &mut local, &world);
     skel.forward(&local, &mut world);
     assert!(local.iter().all(|q| q.is_finite()), "non-finite rotation");
     Arm {

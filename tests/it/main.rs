@@ -6,8 +6,7 @@
 
 #![cfg(not(target_arch = "wasm32"))]
 
-#[path = "../support/mod.rs"]
-mod support;
+use handrig_support as support;
 
 mod alignment;
 mod arm_body;

@@ -2,8 +2,6 @@
 //! (the right arm mirrors it) and the rest layouts the property tests run on.
 //!
 //! Uses its siblings `recordings` and `rigs` (re-exported).
-// Each including crate uses a subset of these helpers; the rest would warn as dead code there.
-#![allow(dead_code)]
 
 pub use super::{recordings, rigs};
 

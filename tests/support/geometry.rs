@@ -1,9 +1,5 @@
 //! Small geometry helpers the IK tests share: directions from angles, components across an
 //! axis, rotation angles.
-//!
-//! Included with `#[path = "support/geometry.rs"] mod geometry;`.
-// Each including crate uses a subset of these helpers; the rest would warn as dead code there.
-#![allow(dead_code)]
 
 use glam::{Quat, Vec3};
 

@@ -5,8 +5,6 @@
 //! independently (cumulative elevations in a vertical plane for fingers, rotations about the
 //! index metacarpal line for the thumb) so the tests check the solver against the
 //! definitions, not against its own code.
-// Each including test uses a subset of these helpers; the rest would warn as dead code there.
-#![allow(dead_code)]
 
 use super::rigs;
 

@@ -10,10 +10,6 @@
 //!   arm; the subject's a robust mean over the session and both arms) and placed at the
 //!   avatar's upperArm rest position; VRM 0.x models get it in their own frame (turned 180
 //!   degrees about +Y).
-//!
-//! Included with `#[path = "support/kinect_wrists.rs"] mod kinect_wrists;` next to
-//! `recordings` (tests) or with `../tests/support/...` paths (examples).
-#![allow(dead_code)]
 
 use glam::Vec3;
 use handrig::humanoid::bones::Side;

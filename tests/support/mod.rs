@@ -1,8 +1,10 @@
-//! Shared support of the integration tests (`tests/it/`, one binary): real recordings, rig
-//! fixtures, synthetic hands and arms, geometry and statistics helpers. Benches and examples
-//! include single files of it with `#[path = "../tests/support/<file>.rs"]`.
+//! Shared support of handrig's integration tests (`tests/it/`), benches and evals (`examples/`):
+//! real recordings, rig fixtures, synthetic hands and arms, geometry and statistics helpers. A
+//! dev-only crate (`handrig-support`, a dev-dependency of handrig), so every user imports it the
+//! same way: `use handrig_support::recordings;`.
 
 pub mod arms;
+pub mod finger_dirs;
 pub mod geometry;
 pub mod hand_model;
 pub mod kinect_wrists;

@@ -1,10 +1,6 @@
 //! Motion metrics over per-frame rotation series, shared by the live-tracking tests and
 //! `examples/eval_live.rs`: jitter (angular acceleration), lag between two series, and the
 //! largest frame-to-frame step.
-//!
-//! Included with `#[path = "support/motion.rs"] mod motion;` (tests) or
-//! `#[path = "../tests/support/motion.rs"]` (examples).
-#![allow(dead_code)]
 
 use glam::Quat;
 

@@ -2,11 +2,8 @@
 //! the MediaPipe hand recordings, the Kinect body session and the VRM avatars (the shared
 //! robot and the generated fixtures), plus the frame builders the solve loops share.
 //!
-//! Included with `#[path = "support/recordings.rs"] mod recordings;` (tests) or
-//! `#[path = "../tests/support/recordings.rs"]` (benches, examples). Paths are relative to the
-//! crate root (`CARGO_MANIFEST_DIR`); `../shared` is the read-only data beside the repo.
-// Each including crate uses a subset of these helpers; the rest would warn as dead code there.
-#![allow(dead_code)]
+//! Paths are relative to the repository root; `../shared` is the read-only data beside the
+//! repo.
 
 use std::path::{Path, PathBuf};
 
@@ -31,9 +28,12 @@ pub const FIXTURE_VRM1: &str = "tests/fixtures/human-proportions-vrm1.vrm";
 /// The generated VRM 0.x fixture with fingers (Blender-style rolls, faces -Z).
 pub const FIXTURE_VRM0: &str = "tests/fixtures/vrm0-fingers.vrm";
 
-/// `relative` (to the crate root) as an absolute path, so tests run from any directory.
+/// `relative` (to the repository root, two folders above this crate's) as an absolute path,
+/// so tests run from any directory.
 pub fn path(relative: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(relative)
 }
 
 fn read_json(path: &Path) -> Result<Value, String> {

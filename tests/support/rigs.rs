@@ -1,11 +1,6 @@
 //! Synthetic T-pose test bodies: one builder for the symmetric humanoids the native tests
 //! rig, each test giving its own proportions (they differ on purpose: arm lengths, hand
 //! shapes, shoulder heights), and the VRM 0.x variant of any of them.
-//!
-//! Included with `#[path = "support/rigs.rs"] mod rigs;` (or `#[path = "rigs.rs"]` from
-//! another support module).
-// Each including crate uses a subset of these helpers; the rest would warn as dead code there.
-#![allow(dead_code)]
 
 use glam::Vec3;
 use handrig::{HumanBone, Skeleton, VrmVersion};

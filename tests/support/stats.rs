@@ -1,8 +1,4 @@
 //! Summary statistics the evals share.
-//!
-//! Included with `#[path = "../tests/support/stats.rs"] mod stats;` (examples, benches).
-// Each including crate uses a subset of these helpers; the rest would warn as dead code there.
-#![allow(dead_code)]
 
 /// The `p`-th percentile (0..100) of ascending `sorted`, linearly interpolated between ranks;
 /// NaN when empty.

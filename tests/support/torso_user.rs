@@ -9,11 +9,6 @@
 //! eye and ear-to-nose pitches handrig documents (`handrig::torso::EYE_PITCH`,
 //! `NOSE_PITCH`): the test checks the frames, sharing, limits and mappings, not those
 //! anthropometric constants (the eval reads them on the real recordings).
-//!
-//! Included with `#[path = "support/torso_user.rs"] mod torso_user;` (tests) or
-//! `#[path = "../tests/support/torso_user.rs"]` (examples).
-// Each including crate uses a subset of these helpers; the rest would warn as dead code there.
-#![allow(dead_code)]
 
 use core::f32::consts::PI;
 

@@ -25,8 +25,6 @@
 //! Also: [`glb`] packs any glTF JSON (+ BIN) into a GLB and [`unpack_glb`] reads one back, for
 //! tests that edit real files.
 
-#![allow(dead_code)]
-
 use handrig::HumanBone;
 use serde_json::{json, Map, Value};
 
@@ -639,7 +637,7 @@ pub fn human_proportions_vrm1() -> Fixture {
 #[must_use]
 pub fn glb(json: &Value, bin: Option<&[u8]>) -> Vec<u8> {
     let mut j = serde_json::to_vec(json).expect("a JSON value serializes");
-    while j.len() % 4 != 0 {
+    while !j.len().is_multiple_of(4) {
         j.push(b' ');
     }
     let mut body = Vec::new();
