@@ -13,4 +13,5 @@ export const avatarFile = (a) => join(REPO, "tests", "fixtures", "avatars", `${a
 export const videoFile = (avatar, clip) => join(CLIP_DIR, `${avatar}-${clip.id}.mp4`);
 /** MediaPipe mode per clip: holistic (pose + hands) for body clips, hands (world landmarks) for hand clips. */
 export const modeOf = (clip) => (clip.kind === "hand" ? "hands" : "holistic");
-export const recordingFile = (avatar, clip) => join(CLIP_DIR, `${avatar}-${clip.id}-${modeOf(clip)}.json`);
+export const recordingFile = (avatar, clip, tracker = "legacy") =>
+  join(CLIP_DIR, `${avatar}-${clip.id}-${tracker === "tasks" ? "tasks" : modeOf(clip)}.json`);

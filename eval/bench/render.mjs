@@ -26,10 +26,15 @@ import { AVATARS, CLIP_DIR, HERE, REPO, videoFile } from "./common.mjs";
 export const WIDTH = 640;
 export const HEIGHT = 480;
 
-const TYPES = { ".html": "text/html", ".js": "text/javascript", ".mjs": "text/javascript", ".vrm": "model/gltf-binary" };
+const TYPES = { ".html": "text/html", ".js": "text/javascript", ".mjs": "text/javascript", ".vrm": "model/gltf-binary", ".wasm": "application/wasm" };
 
-/** Headless Chromium with the renderer page; files come from disk through page.route (no server). */
-export async function openRenderer() {
+/**
+ * Headless Chromium on one of the bench's pages (`/bench/NAME.html`), with the files served from
+ * disk through page.route (no server): /bench/ = eval/bench, /node_modules/ = www/node_modules,
+ * /avatars/ = tests/fixtures/avatars, /www/ = www, /models/ = ../shared/data/models.
+ * Waits until the page sets `window.__benchReady`.
+ */
+export async function openBenchPage(html) {
   const { chromium } = createRequire(join(REPO, "www", "package.json"))("playwright-core");
   const profile = mkdtempSync(join(tmpdir(), "handrig-bench-"));
   const context = await chromium.launchPersistentContext(profile, {
@@ -46,18 +51,30 @@ export async function openRenderer() {
     "/bench/": HERE,
     "/node_modules/": join(REPO, "www", "node_modules"),
     "/avatars/": join(REPO, "tests", "fixtures", "avatars"),
+    "/www/": join(REPO, "www"),
+    "/models/": resolve(process.env.HANDRIG_SHARED ?? join(REPO, "..", "shared"), "data", "models"),
   };
   await page.route("http://bench.invalid/**", async (route) => {
     const path = new URL(route.request().url()).pathname;
     const prefix = Object.keys(roots).find((p) => path.startsWith(p));
-    const file = prefix ? resolve(roots[prefix], `.${path.slice(prefix.length - 1)}`) : null;
+    const file = prefix ? resolve(roots[prefix], `.${decodeURIComponent(path.slice(prefix.length - 1))}`) : null;
     if (!file || !file.startsWith(roots[prefix]) || !existsSync(file)) return route.fulfill({ status: 404, body: "not found" });
     return route.fulfill({ status: 200, contentType: TYPES[extname(file)] ?? "application/octet-stream", body: readFileSync(file) });
   });
-  await page.goto("http://bench.invalid/bench/render-page.html");
-  await page.waitForFunction(() => window.__benchReady || null, null, { timeout: 60_000 }).catch((e) => {
-    throw new Error(`renderer page did not start: ${errors.join("; ") || e.message}`);
+  await page.goto(`http://bench.invalid/bench/${html}`);
+  await page.waitForFunction(() => window.__benchReady || null, null, { timeout: 120_000 }).catch((e) => {
+    throw new Error(`${html} did not start: ${errors.join("; ") || e.message}`);
   });
+  const close = async () => {
+    await context.close().catch(() => {});
+    rmSync(profile, { recursive: true, force: true });
+  };
+  return { page, errors, close };
+}
+
+/** The renderer page (render-page.js). */
+export async function openRenderer() {
+  const { page, errors, close } = await openBenchPage("render-page.html");
   const userAgent = await page.evaluate(() => navigator.userAgent);
   return {
     page,
@@ -74,10 +91,7 @@ export async function openRenderer() {
     async frame(i) {
       return Buffer.from(await page.evaluate((k) => window.__bench.frame(k), i), "base64");
     },
-    async close() {
-      await context.close().catch(() => {});
-      rmSync(profile, { recursive: true, force: true });
-    },
+    close,
   };
 }
 
