@@ -290,11 +290,17 @@ function kalidokitBody(frame, rec) {
 function newAcc() {
   const acc = {};
   for (const m of METHODS) {
-    acc[m] = { joint: {}, jointAll: [], tip: [], palm: [], dir: { UpperArm: [], LowerArm: [], Hand: [] }, pos: { elbow: [], wrist: [] } };
+    acc[m] = { joint: {}, jointAll: [], signed: [], bins: [[], [], [], []], tip: [], palm: [], dir: { UpperArm: [], LowerArm: [], Hand: [] }, pos: { elbow: [], wrist: [] } };
   }
   return acc;
 }
 const rightHandOf = (frame) => frame.hands?.find((h) => h.handedness === "Left");
+/** The frame with its best-scoring hand labelled "Left" and no pose (see handsOnly). */
+function relabelled(frame) {
+  if (!frame.hands?.length) return { frame: frame.frame, timeMs: frame.timeMs, hands: [] };
+  const best = frame.hands.reduce((a, b) => ((b.score ?? 0) > (a.score ?? 0) ? b : a));
+  return { frame: frame.frame, timeMs: frame.timeMs, hands: [{ ...best, handedness: "Left" }] };
+}
 
 function scoreClip(body, restPose, clip, rec, acc, perFrame, cam) {
   // "hands" (hands only, world landmarks), "holistic" (pose; hands with image landmarks only) or
@@ -309,16 +315,23 @@ function scoreClip(body, restPose, clip, rec, acc, perFrame, cam) {
   const avatarShoulderWidth = len(sub(body.rest.leftUpperArm.p, body.rest.rightUpperArm.p));
   const det = { frames: rec.frames.length, hand: 0, handAny: 0, handMislabelled: 0, pose: 0 };
   const kept = { handrig: null, retarget: null, oracle: null };
-  rec.frames.forEach((frame, i) => {
+  // Tasks API on the hand close-ups: the HandLandmarker labels the one (right) hand in view
+  // "Right" in nearly every frame (the legacy Hands model "Left", correctly, in 85-100%), and the
+  // PoseLandmarker reports a pose from the face and shoulder in view. To score the fingers, those
+  // frames keep only the best-scoring hand, relabelled "Left", and no pose (as in hands mode);
+  // the detection table counts the labels as MediaPipe gave them.
+  const handsOnly = mode === "tasks" && clip.kind === "hand";
+  rec.frames.forEach((original, i) => {
+    const frame = handsOnly ? relabelled(original) : original;
     // Truth.
     body.reset();
     body.set(clipPose(clip, i));
     const truth = body.sample();
     const mpRight = rightHandOf(frame);
-    if (frame.hands?.length) det.handAny++;
-    if (mpRight) det.hand++;
-    else if (frame.hands?.length) det.handMislabelled++;
-    if (frame.pose) det.pose++;
+    if (original.hands?.length) det.handAny++;
+    if (rightHandOf(original)) det.hand++;
+    else if (original.hands?.length) det.handMislabelled++;
+    if (original.pose) det.pose++;
     const samples = {};
     // handrig: the user's loop (rig.solve -> applyToVRM on a persistent avatar pose).
     for (const m of ["handrig", "retarget", "oracle"]) {
@@ -326,7 +339,9 @@ function scoreClip(body, restPose, clip, rec, acc, perFrame, cam) {
       body.reset();
       if (kept[m]) body.set(kept[m]);
       const input =
-        m === "oracle" ? { timeMs: frame.timeMs, hands: [idealHand(truth.hand.right, cam, aspect)] } : mode === "hands" ? frame : { ...frame, imageAspect: aspect };
+        m === "oracle"
+          ? { timeMs: frame.timeMs, hands: [idealHand(truth.hand.right, cam, aspect)] }
+          : mode === "hands" || handsOnly ? frame : { ...frame, imageAspect: aspect };
       const result = rigs[m].solve(input);
       applyToVRM(body.vrm, result);
       kept[m] = Object.fromEntries(body.names.map((n) => [n, body.h.getNormalizedBoneNode(n).quaternion.toArray()]));
@@ -336,7 +351,7 @@ function scoreClip(body, restPose, clip, rec, acc, perFrame, cam) {
     body.reset();
     if (frame.pose) {
       body.set(kalidokitBody(frame, rec));
-    } else if (mode === "hands" && mpRight) {
+    } else if ((mode === "hands" || handsOnly) && mpRight) {
       body.set(kalidokitFingers(mpRight.worldLandmarks, false).bones);
     }
     samples.kalidokit = body.sample();
@@ -359,6 +374,10 @@ function scoreClip(body, restPose, clip, rec, acc, perFrame, cam) {
           (acc[m].joint[name] ??= []).push(e);
         });
         acc[m].jointAll.push(...errs);
+        a.forEach((x, k) => {
+          acc[m].signed.push(x - tAngles[k]);
+          acc[m].bins[Math.min(3, Math.floor(tAngles[k] / 30))].push(errs[k]);
+        });
         const k = m === "mediapipe" ? palmLength(truth.hand.right) / palmLength(mp) : 1;
         const tips = tipsInPalm(h, k);
         acc[m].tip.push(...tips.map((t, j) => len(sub(t, tTips[j]))));
@@ -430,6 +449,8 @@ for (const avatar of avatars) {
       const g = groups[clip.kind][m];
       for (const [j, v] of Object.entries(acc[m].joint)) (g.joint[j] ??= []).push(...v);
       g.jointAll.push(...acc[m].jointAll);
+      g.signed.push(...acc[m].signed);
+      acc[m].bins.forEach((b, k) => g.bins[k].push(...b));
       g.tip.push(...acc[m].tip);
       g.palm.push(...acc[m].palm);
       for (const b of BONES) g.dir[b].push(...acc[m].dir[b]);
@@ -473,6 +494,10 @@ for (const kind of ["hand", "body"]) {
     const v = (m) => ["index", "middle", "ring", "little"].flatMap((f) => g[m].joint[`${f} ${j}`] ?? []);
     line(`| &nbsp; ${j}, four fingers | ${METHODS.map((m) => mp(v(m))).join(" | ")} |`);
   }
+  line(`| joint angle, method - truth (deg): median [p5, p95] | ${METHODS.map((m) => (g[m].signed.length ? `${f1(percentile(g[m].signed, 50))} [${f1(percentile(g[m].signed, 5))}, ${f1(percentile(g[m].signed, 95))}]` : "-")).join(" | ")} |`);
+  ["0-30", "30-60", "60-90", "90+"].forEach((b, k) => {
+    line(`| &nbsp; error where the true angle is ${b} deg (${g.mediapipe.bins[k].length} joint-frames) | ${METHODS.map((m) => mp(g[m].bins[k])).join(" | ")} |`);
+  });
   line(`| fingertip position in the palm frame (mm) | ${METHODS.map((m) => mp(g[m].tip)).join(" | ")} |`);
   line(`| palm facing (deg) | ${METHODS.map((m) => mp(g[m].palm)).join(" | ")} |`);
   if (kind === "body") {
