@@ -475,9 +475,12 @@ for (const c of byClip) {
   line(`| ${c.avatar} | ${c.clip} | ${c.kind} | ${c.mode} | ${c.det.frames} | ${pct(c.det.hand, c.det.frames)} | ${c.det.handMislabelled} | ${c.mode === "hands" ? "-" : pct(c.det.pose, c.det.frames)} |`);
 }
 line();
-const header = `| figure | ${METHODS.map((m) => METHOD_LABEL[m]).join(" | ")} |`;
-const sep = `| --- | ${METHODS.map(() => "---:").join(" | ")} |`;
+// "handrig on ideal landmarks" exists for hand clips only.
+const methodsOf = (kind) => (kind === "hand" ? METHODS : METHODS.filter((m) => m !== "oracle"));
 for (const kind of ["hand", "body"]) {
+  const METHODS = methodsOf(kind);
+  const header = `| figure | ${METHODS.map((m) => METHOD_LABEL[m]).join(" | ")} |`;
+  const sep = `| --- | ${METHODS.map(() => "---:").join(" | ")} |`;
   const g = groups[kind];
   const n = byClip.filter((c) => c.kind === kind);
   if (!n.length) continue;
@@ -515,10 +518,10 @@ for (const c of byClip) line(`| ${c.avatar} | ${c.clip} | ${c.det.hand} | ${METH
 line();
 line("### Arm figures per body clip (median / p95): forearm direction (deg), wrist position (mm)");
 line();
-line(`| avatar | clip | frames | ${METHODS.map((m) => METHOD_LABEL[m]).join(" | ")} |`);
-line(`| --- | --- | ---: | ${METHODS.map(() => "---:").join(" | ")} |`);
+line(`| avatar | clip | frames | ${methodsOf("body").map((m) => METHOD_LABEL[m]).join(" | ")} |`);
+line(`| --- | --- | ---: | ${methodsOf("body").map(() => "---:").join(" | ")} |`);
 for (const c of byClip.filter((x) => x.kind === "body")) {
-  line(`| ${c.avatar} | ${c.clip} | ${c.det.pose} | ${METHODS.map((m) => `${mp(c.acc[m].dir.LowerArm)}; ${mp(c.acc[m].pos.wrist)}`).join(" | ")} |`);
+  line(`| ${c.avatar} | ${c.clip} | ${c.det.pose} | ${methodsOf("body").map((m) => `${mp(c.acc[m].dir.LowerArm)}; ${mp(c.acc[m].pos.wrist)}`).join(" | ")} |`);
 }
 line();
 const seconds = (performance.now() - started) / 1000;
