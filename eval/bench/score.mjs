@@ -7,7 +7,7 @@
 //
 //   make pkg && npm ci --prefix eval && npm ci --prefix tests/node     # once
 //   node eval/bench/score.mjs [--avatars woman,child] [--clips reach,fist,...] [--tracker legacy|tasks]
-//        [--options JSON] [--json FILE] [--frames]
+//        [--options JSON] [--json FILE] [--frames] [--no-kalidokit]
 //
 // --tracker tasks scores the Tasks API recordings (tasks.mjs, *-tasks.json) instead of the
 // legacy Hands/Holistic ones; --options adds handrig options to every handrig rig.
@@ -51,6 +51,7 @@ const { values: o } = parseArgs({
     avatars: { type: "string" }, clips: { type: "string" }, json: { type: "string" }, frames: { type: "boolean" }, pkg: { type: "string" },
     tracker: { type: "string", default: "legacy" },
     options: { type: "string", default: "{}" },
+    "no-kalidokit": { type: "boolean" },
   },
 });
 if (!["legacy", "tasks"].includes(o.tracker)) throw new Error(`--tracker must be legacy or tasks, got ${o.tracker}`);
@@ -62,12 +63,14 @@ const pkgDir = o.pkg ?? join(REPO, "pkg");
 const { HandRig } = await import(pathToFileURL(join(pkgDir, "index.mjs")).href);
 const { restPoseFromVRM, applyToVRM } = await import(pathToFileURL(join(pkgDir, "three-vrm.js")).href);
 const { loadVrm } = await import(pathToFileURL(join(REPO, "tests", "node", "consumer", "skin-measure.mjs")).href);
-let Kalidokit;
-try {
-  Kalidokit = createRequire(join(REPO, "eval", "package.json"))("kalidokit/dist/kalidokit.umd.js");
-} catch (e) {
-  console.error(`kalidokit not installed (${e.code ?? e.message}): run \`npm ci --prefix eval\` first`);
-  process.exit(1);
+let Kalidokit = null;
+if (!o["no-kalidokit"]) {
+  try {
+    Kalidokit = createRequire(join(REPO, "eval", "package.json"))("kalidokit/dist/kalidokit.umd.js");
+  } catch (e) {
+    console.error(`kalidokit not installed (${e.code ?? e.message}): run \`npm ci --prefix eval\` first (or pass --no-kalidokit)`);
+    process.exit(1);
+  }
 }
 
 // ---- vector math -------------------------------------------------------------------------------
@@ -229,7 +232,7 @@ const percentile = (v, p) => {
   const hi = Math.ceil(rank);
   return s[lo] + (s[hi] - s[lo]) * (rank - lo);
 };
-const METHODS = ["handrig", "retarget", "kalidokit", "mediapipe", "oracle"];
+const METHODS = ["handrig", "retarget", "kalidokit", "mediapipe", "oracle"].filter((m) => m !== "kalidokit" || Kalidokit);
 const METHOD_LABEL = {
   handrig: "handrig (defaults)", retarget: "handrig retarget", kalidokit: "Kalidokit 1.1.5", mediapipe: "MediaPipe raw",
   oracle: "handrig on ideal landmarks",
@@ -327,6 +330,15 @@ function scoreClip(body, restPose, clip, rec, acc, perFrame, cam) {
     body.reset();
     body.set(clipPose(clip, i));
     const truth = body.sample();
+    // Self-check of the metric: MediaPipe-style landmarks made from the truth measure as the truth.
+    {
+      const ideal = idealHand(truth.hand.right, cam, aspect);
+      const a = jointAngles(mpHand(ideal.worldLandmarks));
+      const t = jointAngles(truth.hand.right);
+      const palm = angle(palmNormal(mpHand(ideal.worldLandmarks.map(toAvatar))), palmNormal(truth.hand.right));
+      const worst = Math.max(palm, ...a.map((x, k) => Math.abs(x - t[k])));
+      selfCheck = Math.max(selfCheck, worst);
+    }
     const mpRight = rightHandOf(frame);
     if (original.hands?.length) det.handAny++;
     if (rightHandOf(original)) det.hand++;
@@ -348,13 +360,15 @@ function scoreClip(body, restPose, clip, rec, acc, perFrame, cam) {
       samples[m] = body.sample();
     }
     // Kalidokit.
-    body.reset();
-    if (frame.pose) {
-      body.set(kalidokitBody(frame, rec));
-    } else if ((mode === "hands" || handsOnly) && mpRight) {
-      body.set(kalidokitFingers(mpRight.worldLandmarks, false).bones);
+    if (Kalidokit) {
+      body.reset();
+      if (frame.pose) {
+        body.set(kalidokitBody(frame, rec));
+      } else if ((mode === "hands" || handsOnly) && mpRight) {
+        body.set(kalidokitFingers(mpRight.worldLandmarks, false).bones);
+      }
+      samples.kalidokit = body.sample();
     }
-    samples.kalidokit = body.sample();
 
     const row = { frame: i, hand: !!mpRight, pose: !!frame.pose, err: {} };
     // Hand figures.
@@ -427,6 +441,7 @@ function scoreClip(body, restPose, clip, rec, acc, perFrame, cam) {
 }
 
 // ---- run -----------------------------------------------------------------------------------------
+let selfCheck = 0;
 const avatars = (o.avatars ?? AVATARS.join(",")).split(",");
 const clips = o.clips ? CLIPS.filter((c) => o.clips.split(",").includes(c.id)) : CLIPS;
 const groups = { hand: newAcc(), body: newAcc() };
@@ -524,12 +539,24 @@ for (const c of byClip.filter((x) => x.kind === "body")) {
   line(`| ${c.avatar} | ${c.clip} | ${c.det.pose} | ${methodsOf("body").map((m) => `${mp(c.acc[m].dir.LowerArm)}; ${mp(c.acc[m].pos.wrist)}`).join(" | ")} |`);
 }
 line();
+if (!(selfCheck < 0.05)) {
+  console.error(`metric self-check failed: landmarks made from the truth measure ${selfCheck} deg from it`);
+  process.exit(1);
+}
+line(`metric self-check (truth-made landmarks vs truth, joint angles and palm normal): max ${selfCheck.toExponential(1)} deg`);
 const seconds = (performance.now() - started) / 1000;
 line(`(score.mjs: ${byClip.length} recordings, ${seconds.toFixed(1)} s)`);
 console.log(out.join("\n"));
 if (o.json) {
   const strip = (acc) => Object.fromEntries(METHODS.map((m) => [m, { jointAll: acc[m].jointAll.length, palm: acc[m].palm.length }]));
-  writeFileSync(o.json, JSON.stringify({ byClip: byClip.map((c) => ({ ...c, acc: strip(c.acc) })), perFrame }, null, 1));
+  const st = (v) => ({ n: v.length, median: percentile(v, 50), p95: percentile(v, 95) });
+  const summary = {};
+  for (const [kind, g] of Object.entries(groups)) {
+    summary[kind] = Object.fromEntries(
+      METHODS.map((m) => [m, { joint: st(g[m].jointAll), tip: st(g[m].tip), palm: st(g[m].palm), forearm: st(g[m].dir.LowerArm), wrist: st(g[m].pos.wrist) }]),
+    );
+  }
+  writeFileSync(o.json, JSON.stringify({ tracker: o.tracker, selfCheck, summary, byClip: byClip.map((c) => ({ ...c, acc: strip(c.acc) })), perFrame }, null, 1));
 }
 if (o.frames) {
   for (const [name, rows] of Object.entries(perFrame)) {

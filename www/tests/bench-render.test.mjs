@@ -1,12 +1,16 @@
 // The ground-truth bench's renders are reproducible (issue 47): eval/bench/render.mjs re-renders
 // frames of committed clips in headless Chromium (SwiftShader WebGL) and their RGBA pixels hash
 // to the values in eval/bench/clips/frames.json, which the committed videos were encoded from.
-// Also: rendering one frame twice in a session gives the same pixels, and every clip's joint
-// angles stay inside the ranges motions.mjs declares.
+// Also: rendering one frame twice in a session gives the same pixels, every clip's joint
+// angles stay inside the ranges motions.mjs declares, and score.mjs measures the committed
+// recordings of two clips (handrig from pkg/; Kalidokit left out, eval/'s npm deps are not
+// part of `make setup`).
 
 import { after, before, test } from "node:test";
 import assert from "node:assert/strict";
-import { readFileSync } from "node:fs";
+import { execFileSync } from "node:child_process";
+import { mkdtempSync, readFileSync, rmSync } from "node:fs";
+import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { REPO } from "./helpers.mjs";
 
@@ -70,5 +74,33 @@ test("the truth: every clip's joint angles are inside the declared ranges, rotat
       prev = key;
     }
     assert.ok(moving > clip.frames / 2, `${clip.id}: only ${moving} frames move`);
+  }
+});
+
+test("score.mjs on the committed pinch and wave recordings: the metric's self-check passes, handrig on ideal landmarks is near the truth, on MediaPipe's not (no truth leaks in)", () => {
+  const dir = mkdtempSync(join(tmpdir(), "handrig-bench-score-"));
+  try {
+    const out = join(dir, "score.json");
+    execFileSync(process.execPath, [join(BENCH, "score.mjs"), "--avatars", "woman", "--clips", "pinch,wave", "--no-kalidokit", "--json", out], {
+      stdio: ["ignore", "ignore", "inherit"],
+    });
+    const r = JSON.parse(readFileSync(out, "utf8"));
+    assert.ok(r.selfCheck < 0.05, `self-check ${r.selfCheck} deg`);
+    const hand = r.summary.hand;
+    // 75 frames with the hand found, 15 joints each, the same frames for every method.
+    for (const m of ["handrig", "retarget", "mediapipe", "oracle"]) assert.equal(hand[m].joint.n, 75 * 15, m);
+    assert.ok(hand.oracle.joint.median < 5 && hand.oracle.joint.p95 < 20, `ideal landmarks: ${JSON.stringify(hand.oracle.joint)}`);
+    assert.ok(hand.oracle.palm.median < 1, `ideal landmarks, palm: ${JSON.stringify(hand.oracle.palm)}`);
+    for (const m of ["handrig", "retarget", "mediapipe"]) {
+      assert.ok(hand[m].joint.median > 2 && hand[m].joint.median < 60, `${m}: ${JSON.stringify(hand[m].joint)}`);
+    }
+    // The wave clip: both arms over 75 frames with a pose.
+    const body = r.summary.body;
+    for (const m of ["handrig", "mediapipe"]) {
+      assert.equal(body[m].forearm.n, 150, m);
+      assert.ok(body[m].forearm.median > 0.5 && body[m].forearm.median < 60, `${m} forearm: ${JSON.stringify(body[m].forearm)}`);
+    }
+  } finally {
+    rmSync(dir, { recursive: true, force: true });
   }
 });
