@@ -38,7 +38,7 @@
 // on the un-mirrored render); arm figures where it found the pose. The same frames for every
 // method. handrig is fed every frame in order (a rig keeps state between frames).
 
-import { readFileSync, writeFileSync } from "node:fs";
+import { existsSync, readFileSync, writeFileSync } from "node:fs";
 import { createRequire } from "node:module";
 import { join } from "node:path";
 import { pathToFileURL } from "node:url";
@@ -454,6 +454,10 @@ for (const avatar of avatars) {
   const body = new Body(vrm);
   for (const clip of clips) {
     const file = recordingFile(avatar, clip, o.tracker);
+    if (!existsSync(file)) {
+      console.error(`${file} missing: run ${o.tracker === "tasks" ? "make bench-tasks (node eval/bench/tasks.mjs)" : "make bench-track (node eval/bench/track.mjs)"} first`);
+      process.exit(1);
+    }
     const rec = JSON.parse(readFileSync(file, "utf8"));
     if (rec.frames.length !== clip.frames) throw new Error(`${file}: ${rec.frames.length} frames, the clip has ${clip.frames}`);
     const acc = newAcc();
