@@ -25,7 +25,8 @@ NODE_DIRS := pkg-config tests/node $(if $(wildcard www/package-lock.json),www)
 NODE_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NODE_DIRS))
 
 .PHONY: help setup setup-system setup-rust setup-node pkg pkg-dev \
-        test test-rust test-wasm test-node test-www test-docs docs demo eval bench record-check avatars clean
+        test test-rust test-wasm test-node test-www test-docs docs demo eval bench record-check avatars clean \
+        bench-truth bench-render bench-track bench-tasks bench-score
 
 help:
 	@echo "make demo       build the package (pkg/) and serve the demo on 127.0.0.1"
@@ -40,6 +41,11 @@ help:
 	@echo "make docs       the JS API reference from the TypeScript sources (TypeDoc) into target/docs/api/"
 	@echo "make eval       every evaluation, then one table of all methods (eval/table.mjs)"
 	@echo "make bench      criterion benchmarks: Rig::solve, chain IK, retargeting (native)"
+	@echo "make bench-truth  the ground-truth bench (eval/bench): bench-render, bench-track, bench-tasks, bench-score"
+	@echo "make bench-render render the known motions on the avatars to eval/bench/clips/*.mp4 (headless Chromium)"
+	@echo "make bench-track  MediaPipe (npm, headless Chromium) over the clips: eval/bench/clips/*-{hands,holistic}.json"
+	@echo "make bench-tasks  the same with the MediaPipe Tasks API and ../shared/data/models: eval/bench/clips/*-tasks.json"
+	@echo "make bench-score  solve the recordings with handrig and Kalidokit, compare with the truth (prints the tables)"
 	@echo "make avatars    regenerate the human avatars in tests/fixtures/avatars/ from ../shared/data/makehuman (tools/avatars/)"
 	@echo "make record-check  record the shared videos with tools/record-video.mjs and compare with the shared recordings"
 	@echo "make clean      remove pkg/ and the package build's scratch files (not target/)"
@@ -137,6 +143,26 @@ bench: setup
 	cargo bench --bench solve
 	cargo bench --bench chain
 	cargo bench --bench retarget
+
+# The ground-truth bench (issue 47, eval/bench/, described in eval/README.md): known motion rendered on
+# the generated avatars, tracked by MediaPipe, solved, compared with the truth
+# (docs/ground-truth-bench.md). The clips and the Hands/Holistic recordings are committed:
+# bench-score alone re-scores them; the Tasks API recordings (6.5 MB) are not: make bench-tasks.
+bench-truth: bench-render bench-track bench-tasks bench-score
+
+bench-render: setup-node
+	node eval/bench/render.mjs
+
+bench-track: setup-node
+	node eval/bench/track.mjs
+
+bench-tasks: setup-node
+	node eval/bench/tasks.mjs
+
+bench-score: pkg eval/node_modules/.package-lock.json tests/node/node_modules/.package-lock.json
+	node eval/bench/score.mjs
+	@if compgen -G "eval/bench/clips/*-tasks.json" >/dev/null; then node eval/bench/score.mjs --tracker tasks; \
+	else echo "bench-score: no Tasks API recordings (not committed): make bench-tasks for the second table"; fi
 
 # MediaPipe from npm on the shared videos (tools/record-video.mjs), compared landmark by landmark
 # with the shared recordings made by other MediaPipe builds; artifacts/recordings/summary.md.

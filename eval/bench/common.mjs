@@ -1,0 +1,17 @@
+// Paths and names shared by the bench scripts (issue 47).
+
+import { dirname, join, resolve } from "node:path";
+import { fileURLToPath } from "node:url";
+
+export const HERE = dirname(fileURLToPath(import.meta.url));
+export const REPO = resolve(HERE, "..", "..");
+/** The committed clips, their recordings and frame hashes. */
+export const CLIP_DIR = join(HERE, "clips");
+/** The rendered avatars: tests/fixtures/avatars/NAME-vrm1.vrm. */
+export const AVATARS = ["woman", "child"];
+export const avatarFile = (a) => join(REPO, "tests", "fixtures", "avatars", `${a}-vrm1.vrm`);
+export const videoFile = (avatar, clip) => join(CLIP_DIR, `${avatar}-${clip.id}.mp4`);
+/** MediaPipe mode per clip: holistic (pose + hands) for body clips, hands (world landmarks) for hand clips. */
+export const modeOf = (clip) => (clip.kind === "hand" ? "hands" : "holistic");
+export const recordingFile = (avatar, clip, tracker = "legacy") =>
+  join(CLIP_DIR, `${avatar}-${clip.id}-${tracker === "tasks" ? "tasks" : modeOf(clip)}.json`);

@@ -1,0 +1,165 @@
+// The bench's renderer page (issue 47), driven by render.mjs through playwright-core in headless
+// Chromium (SwiftShader WebGL): loads a VRM 1.0 avatar with three-vrm, dresses it by vertex
+// colour (shirt, trousers, shoes, skin; the eyes keep their material), poses its normalized
+// humanoid with the truth of motions.mjs and returns each frame's RGBA pixels, top row first.
+
+import * as THREE from "three";
+import { GLTFLoader } from "three/addons/loaders/GLTFLoader.js";
+import { VRMLoaderPlugin } from "@pixiv/three-vrm";
+import { clipById, clipPose } from "/bench/motions.mjs";
+
+export const WIDTH = 640;
+export const HEIGHT = 480;
+
+// Linear colours by body region (skin bones after the region tables below).
+const COLOURS = {
+  skin: [0.72, 0.45, 0.33],
+  shirt: [0.08, 0.2, 0.45],
+  trousers: [0.09, 0.09, 0.1],
+  shoes: [0.25, 0.12, 0.05],
+  hair: [0.05, 0.03, 0.02],
+};
+const REGION = {
+  hips: "trousers", leftUpperLeg: "trousers", rightUpperLeg: "trousers", leftLowerLeg: "trousers", rightLowerLeg: "trousers",
+  leftFoot: "shoes", rightFoot: "shoes", leftToes: "shoes", rightToes: "shoes",
+  spine: "shirt", chest: "shirt", upperChest: "shirt", leftShoulder: "shirt", rightShoulder: "shirt",
+  leftUpperArm: "shirt", rightUpperArm: "shirt",
+};
+
+const canvas = document.createElement("canvas");
+canvas.width = WIDTH;
+canvas.height = HEIGHT;
+document.body.append(canvas);
+const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDrawingBuffer: true, alpha: false });
+renderer.setPixelRatio(1);
+renderer.setSize(WIDTH, HEIGHT, false);
+renderer.outputColorSpace = THREE.SRGBColorSpace;
+const gl = renderer.getContext();
+
+const scene = new THREE.Scene();
+scene.background = new THREE.Color(0.42, 0.45, 0.48);
+scene.add(new THREE.HemisphereLight(0xffffff, 0x445566, 1.4));
+const key = new THREE.DirectionalLight(0xffffff, 2.0);
+key.position.set(0.6, 2.5, 3);
+scene.add(key);
+const fill = new THREE.DirectionalLight(0xffffff, 0.6);
+fill.position.set(-2, 1, 1);
+scene.add(fill);
+const camera = new THREE.PerspectiveCamera(40, WIDTH / HEIGHT, 0.05, 20);
+
+let vrm = null;
+
+/** Vertex colours from each vertex's dominant skin bone (its nearest humanoid ancestor). */
+function dress(v) {
+  const humanOf = new Map();
+  for (const [name, bone] of Object.entries(v.humanoid.humanBones)) if (bone?.node) humanOf.set(bone.node, name);
+  const head = v.humanoid.getRawBoneNode("head");
+  head.updateWorldMatrix(true, false);
+  const eyeY = v.humanoid.getRawBoneNode("leftEye")?.getWorldPosition(new THREE.Vector3()).y ?? Infinity;
+  v.scene.traverse((o) => {
+    if (!o.isSkinnedMesh) return;
+    const g = o.geometry;
+    const mats = Array.isArray(o.material) ? o.material : [o.material];
+    if (!mats.some((m) => m.name === "skin")) return;
+    const n = g.attributes.position.count;
+    const col = new Float32Array(n * 3);
+    const p = new THREE.Vector3();
+    for (let i = 0; i < n; i++) {
+      let best = 0;
+      let bw = -1;
+      for (let k = 0; k < g.attributes.skinIndex.itemSize; k++) {
+        const w = g.attributes.skinWeight.getComponent(i, k);
+        if (w > bw) {
+          bw = w;
+          best = g.attributes.skinIndex.getComponent(i, k);
+        }
+      }
+      let node = o.skeleton.bones[best];
+      while (node && !humanOf.has(node)) node = node.parent;
+      let region = REGION[humanOf.get(node)] ?? "skin";
+      if (humanOf.get(node) === "head") {
+        // Hair: the skull above the eyes and the back of the head.
+        p.fromBufferAttribute(g.attributes.position, i).applyMatrix4(o.matrixWorld);
+        if (p.y > eyeY + 0.045 || (p.z < -0.01 && p.y > eyeY - 0.06)) region = "hair";
+      }
+      col.set(COLOURS[region], i * 3);
+    }
+    g.setAttribute("color", new THREE.BufferAttribute(col, 3));
+    for (const m of mats) {
+      if (m.name !== "skin") continue;
+      m.vertexColors = true;
+      m.color.setRGB(1, 1, 1);
+      m.needsUpdate = true;
+    }
+  });
+}
+
+async function load(url) {
+  if (vrm) scene.remove(vrm.scene);
+  const loader = new GLTFLoader();
+  loader.register((parser) => new VRMLoaderPlugin(parser, { autoUpdateHumanBones: true }));
+  const gltf = await loader.loadAsync(url);
+  vrm = gltf.userData.vrm;
+  if (vrm.meta?.metaVersion !== "1") throw new Error(`${url}: the bench poses VRM 1.0 avatars only`);
+  vrm.scene.traverse((o) => (o.frustumCulled = false));
+  vrm.scene.updateMatrixWorld(true);
+  dress(vrm);
+  scene.add(vrm.scene);
+  return { name: url.split("/").pop() };
+}
+
+function pose(clip, i) {
+  const q = clipPose(clip, i);
+  for (const name of Object.keys(vrm.humanoid.humanBones)) {
+    const node = vrm.humanoid.getNormalizedBoneNode(name);
+    if (!node) continue;
+    const r = q[name];
+    if (r) node.quaternion.set(r[0], r[1], r[2], r[3]);
+    else node.quaternion.identity();
+  }
+  vrm.update(0);
+  vrm.scene.updateMatrixWorld(true);
+}
+
+const world = (name) => vrm.humanoid.getNormalizedBoneNode(name).getWorldPosition(new THREE.Vector3());
+
+/** Camera of a clip: body clips before the chest at about 1.35 x the head's height; hand clips 0.5 m before the right hand at the clip's first frame. */
+function placeCamera(clip) {
+  if (clip.kind === "hand") {
+    pose(clip, 0);
+    const c = world("rightHand").add(world("rightMiddleProximal")).multiplyScalar(0.5);
+    camera.position.set(c.x, c.y, c.z + 0.5);
+    camera.lookAt(c.x, c.y, c.z);
+    return { distance: 0.5, target: c.toArray() };
+  }
+  const headY = world("head").y;
+  const y = world("upperChest").y + 0.1 * headY;
+  const d = 1.35 * headY;
+  camera.position.set(0, y, d);
+  camera.lookAt(0, y, 0);
+  return { distance: d, target: [0, y, 0] };
+}
+
+let current = null;
+window.__bench = {
+  load,
+  /** Selects a clip: poses frame 0 and places the camera; returns the camera. */
+  clip(id) {
+    current = clipById(id);
+    return { ...placeCamera(current), fov: camera.fov, position: camera.position.toArray() };
+  },
+  /** Renders frame `i` of the current clip: base64 RGBA, WIDTH x HEIGHT, top row first. */
+  frame(i) {
+    pose(current, i);
+    renderer.render(scene, camera);
+    const px = new Uint8Array(WIDTH * HEIGHT * 4);
+    gl.readPixels(0, 0, WIDTH, HEIGHT, gl.RGBA, gl.UNSIGNED_BYTE, px);
+    const flipped = new Uint8Array(px.length);
+    const row = WIDTH * 4;
+    for (let y = 0; y < HEIGHT; y++) flipped.set(px.subarray((HEIGHT - 1 - y) * row, (HEIGHT - y) * row), y * row);
+    let s = "";
+    for (let k = 0; k < flipped.length; k += 0x8000) s += String.fromCharCode.apply(null, flipped.subarray(k, k + 0x8000));
+    return btoa(s);
+  },
+};
+window.__benchReady = true;
