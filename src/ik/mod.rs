@@ -58,7 +58,7 @@ use crate::kinematics::RootFrame;
 use crate::skeleton::{Skeleton, WorldPose};
 
 pub use crate::kinematics::swing;
-pub use arm::{ArmOptions, ForearmTwist};
+pub use arm::{idle_arm, ArmIdle, ArmOptions, ForearmTwist};
 pub use ccd::{Ccd, CcdArm, CcdOptions, Effector};
 pub use chain_solver::{
     ChainGoal, ChainMethod, ChainReport, ChainSolution, ChainSolver, ChainSolverOptions,

@@ -11,6 +11,7 @@ mod support;
 
 mod alignment;
 mod arm_body;
+mod arm_idle;
 mod arm_ik;
 mod arm_solvers;
 mod bad_frames;
