@@ -32,15 +32,15 @@ use core::f32::consts::PI;
 
 use glam::{Quat, Vec3};
 
-use crate::bones::Side;
 use crate::error::{Error, Result};
 use crate::kinematics::{angle_between, twist_angle, Chain, JointLimit, RootFrame};
+use crate::Side;
 
 use super::ccd::Effector;
 use super::two_bone::TwoBoneIk;
 use super::wrist::settle;
 use super::{ArmChain, ArmGoal, ArmPose, ArmReach, ChainGoal, ChainReport, TwoBoneOptions};
-use crate::skeleton::Skeleton;
+use crate::Skeleton;
 
 /// Slack (m) on the reach limits before a target counts as unreachable.
 pub(crate) const REACH_TOLERANCE: f32 = 1e-5;
