@@ -1,7 +1,11 @@
 #!/usr/bin/env node
 // The handrig command line (the package's `bin`, copied into the package by build.mjs):
 //
-//   handrig export RECORDING.json... --avatar AVATAR.vrm (--out OUT.vrma|OUT.bvh | --out-dir DIR)
+//   handrig export RECORDING.json... --avatar AVATAR.vrm|AVATAR.glb (--out OUT.vrma|OUT.bvh | --out-dir DIR)
+//
+// The avatar is read as the library reads it: a .glb (VRM extension, Mixamo or Unreal names) by
+// HandRig.fromGltf, a .vrm (or anything else) by HandRig.fromVrm. The mirroring defaults are the README quick
+// start's (mirror: true, inputMirrored: false), so an export moves as the app's avatar does.
 //
 // Solves recordings in the shared JSON format (tools/record-video.mjs, the demo's recorder) on
 // an avatar and writes VRM Animation (.vrma) or BVH files through MotionRecorder. Many
@@ -18,13 +22,19 @@ import { Worker, isMainThread, parentPort, workerData } from "node:worker_thread
 
 const { HandRig, MotionRecorder, version } = createRequire(import.meta.url)("./index.cjs");
 
-const USAGE = `usage: handrig export RECORDING.json|DIR... --avatar AVATAR.vrm (--out OUT.vrma|OUT.bvh | --out-dir DIR) [options]
+const USAGE = `usage: handrig export RECORDING.json|DIR... --avatar AVATAR.vrm|AVATAR.glb (--out OUT.vrma|OUT.bvh | --out-dir DIR) [options]
 
-  --avatar FILE      the avatar (.vrm, VRM 1.0 or 0.x) the recordings are solved on
+  --avatar FILE      the avatar the recordings are solved on: a .vrm (VRM 1.0 or 0.x), or any glTF
+                     humanoid .glb (VRM extension, Mixamo or Unreal bone names), as HandRig.fromGltf reads it
   --out FILE         the file to write, for one recording: .vrma (VRM Animation) or .bvh
   --out-dir DIR      for any number of recordings: DIR/NAME.vrma (or .bvh with --format bvh)
   --format F         vrma (default) or bvh, with --out-dir
-  --options JSON     handrig rig options, e.g. '{"torso":"pose"}' (see docs/options.md)
+  --mirror           the avatar mirrors the user (options.mirror: true), as in the README's quick start: the default
+  --no-mirror        the avatar does not mirror the user (options.mirror: false)
+  --input-mirrored   the recording's images were flipped horizontally, selfie view (options.inputMirrored: true;
+                     default false, as MediaPipe's recordings of a plain camera image)
+  --options JSON     handrig rig options, e.g. '{"torso":"pose"}' (see docs/options.md); mirror and
+                     inputMirrored given here are used as given (not with the flags above)
   --tolerance DEG    .vrma key reduction: drop keys interpolation reproduces within DEG degrees (default 0: every frame)
   --fps N            .bvh frame rate (default: the recording's)
   --unit cm|m        .bvh length unit (default cm)
@@ -36,6 +46,11 @@ A directory stands for the .json files in it. Recordings are the shared format: 
 frames or { width, height, frames: [{ timeMs, hands, pose }] } (docs/export.md).`;
 
 class UsageError extends Error {}
+
+/** The rig for the avatar's bytes: HandRig.fromGltf for a glTF (`gltf`), else HandRig.fromVrm. */
+function openAvatar(bytes, gltf, rigOptions) {
+  return gltf ? HandRig.fromGltf(bytes, rigOptions) : HandRig.fromVrm(bytes, rigOptions);
+}
 
 /** Exports one recording; returns its figures. Throws an Error naming the file (and frame). */
 function exportOne(task, avatar) {
@@ -53,7 +68,7 @@ function exportOne(task, avatar) {
   }
   if (frames.length === 0) throw new Error(`${file}: the recording has no frames`);
   const aspect = rec.width > 0 && rec.height > 0 ? rec.width / rec.height : undefined;
-  const rig = HandRig.fromVrm(avatar, rigOptions);
+  const rig = openAvatar(avatar, task.gltf, rigOptions);
   try {
     const recorder = new MotionRecorder(rig);
     const result = {};
@@ -109,6 +124,9 @@ function parse(argv) {
         out: { type: "string" },
         "out-dir": { type: "string" },
         format: { type: "string" },
+        mirror: { type: "boolean" },
+        "no-mirror": { type: "boolean" },
+        "input-mirrored": { type: "boolean" },
         options: { type: "string" },
         tolerance: { type: "string" },
         fps: { type: "string" },
@@ -124,6 +142,28 @@ function parse(argv) {
     throw new UsageError(`${String(e.message).split(". ")[0]} (handrig --help lists the options)`);
   }
   return parsed;
+}
+
+/**
+ * The rig options with the mirroring flags: the quick start's `mirror: true` unless
+ * `--no-mirror`, `inputMirrored` from `--input-mirrored`; what `--options` sets is kept (a flag
+ * saying otherwise is an error).
+ */
+function mirroring(v, given) {
+  if (v.mirror && v["no-mirror"]) throw new UsageError("--mirror and --no-mirror: give one");
+  if (given !== undefined && (given === null || typeof given !== "object" || Array.isArray(given))) return given; // the rig names it
+  const options = { ...given };
+  const set = (key, value, flag) => {
+    if (key in options && options[key] !== value) {
+      throw new UsageError(`${flag}: --options sets ${key}: ${JSON.stringify(options[key])}; give it in one place`);
+    }
+    options[key] = value;
+  };
+  if (v["no-mirror"]) set("mirror", false, "--no-mirror");
+  else if (v.mirror) set("mirror", true, "--mirror");
+  else if (!("mirror" in options)) options.mirror = true;
+  if (v["input-mirrored"]) set("inputMirrored", true, "--input-mirrored");
+  return options;
 }
 
 function number(v, flag, ok) {
@@ -168,7 +208,7 @@ async function main(argv) {
     throw new UsageError(command === undefined ? `no command\n${USAGE}` : `unknown command ${JSON.stringify(command)} (the command is "export")`);
   }
   if (inputs.length === 0) throw new UsageError("export: no recording given");
-  if (v.avatar === undefined) throw new UsageError("export: --avatar AVATAR.vrm is required");
+  if (v.avatar === undefined) throw new UsageError("export: --avatar AVATAR.vrm (or .glb) is required");
   if ((v.out === undefined) === (v["out-dir"] === undefined)) throw new UsageError("export: give --out FILE (one recording) or --out-dir DIR");
   let rigOptions;
   if (v.options !== undefined) {
@@ -178,6 +218,7 @@ async function main(argv) {
       throw new UsageError(`--options: not JSON (${e.message})`);
     }
   }
+  rigOptions = mirroring(v, rigOptions);
   const tolerance = (number(v.tolerance, "--tolerance", (n) => n >= 0 && n < 180) ?? 0) * (Math.PI / 180);
   const fps = number(v.fps, "--fps", (n) => n > 0 && n <= 1000);
   const unit = v.unit ?? "cm";
@@ -192,10 +233,11 @@ async function main(argv) {
     throw new UsageError(`--avatar ${v.avatar}: ${e.code === "ENOENT" ? "no such file" : e.message}`);
   }
   // The avatar and the options, checked once here: the rig's Error names the bad field.
+  const gltf = /^\.(glb|gltf)$/i.test(path.extname(v.avatar));
   try {
-    HandRig.fromVrm(avatar, rigOptions).free();
+    openAvatar(avatar, gltf, rigOptions).free();
   } catch (e) {
-    throw new UsageError(`${/^vrm:/.test(e.message) ? `--avatar ${v.avatar}` : "--options"}: ${e.message}`);
+    throw new UsageError(`${/^(vrm|gltf):/.test(e.message) ? `--avatar ${v.avatar}` : "--options"}: ${e.message}`);
   }
 
   const files = recordings(inputs);
@@ -217,7 +259,7 @@ async function main(argv) {
       return { file, out, format };
     });
   }
-  for (const t of tasks) Object.assign(t, { rigOptions, tolerance, fps, unit });
+  for (const t of tasks) Object.assign(t, { rigOptions, tolerance, fps, unit, gltf });
 
   const t0 = process.hrtime.bigint();
   const workers = Math.max(1, Math.min(jobs, tasks.length));

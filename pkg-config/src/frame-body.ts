@@ -35,6 +35,9 @@ export function packPose(frame: Bag, input: Float32Array): boolean {
       list = pose.worldLandmarks;
       name = "frame.pose.worldLandmarks";
       if (list === undefined || list === null) {
+        // Holistic results name their pose fields pose*: a whole result here would lose its
+        // hands (looked at only when the PoseLandmarker field is absent).
+        if (pose.leftHandLandmarks !== undefined || pose.rightHandLandmarks !== undefined) holisticAsPose();
         list = pose.poseWorldLandmarks;
         name = "frame.pose.poseWorldLandmarks";
       }
@@ -81,6 +84,15 @@ export function packPose(frame: Bag, input: Float32Array): boolean {
   packPoints(list, input, LI.pose, POSE_POINTS, LI.poseStride, name, person, "");
   input[LI.posePresent] = 1;
   return true;
+}
+
+/** A Holistic result given as frame.pose: its hands would be dropped without a word. */
+function holisticAsPose(): never {
+  return fail(
+    "frame.pose",
+    "is a Holistic result (it has leftHandLandmarks / rightHandLandmarks): as frame.pose its hands would be ignored. " +
+      "Spread it into the frame instead: rig.solve({ timeMs, ...holisticResult })",
+  );
 }
 
 /**

@@ -84,7 +84,12 @@ function packHand(
 export function packHandList(hands: readonly unknown[], input: Float32Array): number {
   at("frame.hands", -1, "");
   const n = hands.length;
-  if (!(n <= MAX_HANDS)) fail("frame.hands", `at most ${MAX_HANDS} hands per frame, got ${n}`);
+  if (!(n <= MAX_HANDS)) {
+    if (isOneHandsPoints(hands)) {
+      fail("frame.hands", `is one hand's ${HAND_POINTS} landmarks, not a list of hands: give [{ handedness, worldLandmarks, landmarks? }] or a HandLandmarker result`);
+    }
+    fail("frame.hands", `at most ${MAX_HANDS} hands per frame, got ${n}`);
+  }
   for (let i = 0; i < n; i++) {
     at("frame.hands", i, "");
     const h: unknown = hands[i];
@@ -116,11 +121,33 @@ export function isListOfLists(v: unknown): boolean {
   return ArrayBuffer.isView(first) || (Array.isArray(first) && first.length > 0 && typeof first[0] !== "number");
 }
 
+/**
+ * Whether `v` is one hand's 21 points ({x, y, z} or [x, y, z] each, or a typed array of 63)
+ * rather than a list of hands.
+ */
+export function isOneHandsPoints(v: unknown): boolean {
+  if (isView(v)) return v.length === HAND_POINTS * 3;
+  if (!Array.isArray(v) || v.length !== HAND_POINTS || isListOfLists(v)) return false;
+  const p: unknown = v[0];
+  return (isObject(p) && !Array.isArray(p) && typeof p.x === "number") || (Array.isArray(p) && typeof p[0] === "number");
+}
+
+/** One hand's points where a list of hands belongs: say so, and how to wrap it. */
+export function unwrappedHand(field: string): never {
+  return fail(field, `is one hand's ${HAND_POINTS} points, not a list of hands: wrap it in [ ] (one list of points per hand)`);
+}
+
 /** A per-hand list of a result shape (one landmark list per hand): as many as labels. */
 function checkPerHandList(list: unknown, listPath: string, n: number, labelPath: string): void {
   if (list === undefined || list === null) return;
-  if (!Array.isArray(list)) fail(listPath, `must be an array (one list per hand), got ${describe(list)}`);
-  if (list.length !== n) fail(listPath, `has ${list.length} hand(s) but ${labelPath} has ${n}: one entry per hand`);
+  if (!Array.isArray(list)) {
+    if (isOneHandsPoints(list)) unwrappedHand(listPath);
+    fail(listPath, `must be an array (one list per hand), got ${describe(list)}`);
+  }
+  if (list.length !== n) {
+    if (isOneHandsPoints(list)) unwrappedHand(listPath);
+    fail(listPath, `has ${list.length} hand(s) but ${labelPath} has ${n}: one entry per hand`);
+  }
 }
 
 // Field paths of MediaPipe result shapes, made once (a good frame builds no strings).
@@ -247,7 +274,16 @@ function packHolisticHand(
       }
       world = world[0];
     }
-  } else world = null;
+  } else {
+    // Legacy Holistic: one hand's image landmarks per side, and no world landmarks. World
+    // landmarks beside them are tasks-vision's lists of hands, unwrapped.
+    if (world !== undefined && world !== null) {
+      if (isOneHandsPoints(world)) unwrappedHand(worldPath);
+      if (isListOfLists(world) && isOneHandsPoints(image)) unwrappedHand(imagePath);
+      fail(worldPath, `must be a list of hands like tasks-vision's ([[...${HAND_POINTS} points]] or []), got ${describe(world)}`);
+    }
+    world = null;
+  }
   input[LI.hands + n * LI.handStride + LI.hand.score] = 1;
   packHand(input, n, label, world, image, fi, worldPath, "", imagePath, "");
   return n + 1;

@@ -160,28 +160,39 @@ export interface FaceInput {
   mouth?: Vec3 | Landmark;
 }
 
-/** One frame of tracking. A MediaPipe result object may also be passed as the frame itself. */
+/**
+ * One frame of tracking. A MediaPipe result object may also be passed as the frame itself. A
+ * field given as `undefined` is not given (also under `exactOptionalPropertyTypes`).
+ */
 export interface Frame {
-  /** Timestamp, milliseconds. Default 0. */
-  timeMs?: number;
+  /**
+   * Timestamp, milliseconds (`performance.now()`, or a video frame's time * 1000). A frame
+   * without it is taken as 33.3 ms (one frame at 30 fps) after the rig's last frame (0 for the
+   * first), and the rig warns once.
+   */
+  timeMs?: number | undefined;
   /** Hands: handrig's own list, or a HandLandmarker / legacy Hands result. */
-  hands?: ReadonlyArray<HandInput> | HandLandmarkerResultLike | LegacyHandsResultLike;
+  hands?: ReadonlyArray<HandInput> | HandLandmarkerResultLike | LegacyHandsResultLike | undefined;
   /** Pose landmarks. */
-  pose?: PoseInput;
+  pose?: PoseInput | undefined;
   /** Legacy Pose / Holistic: world landmarks at the top level of the frame. */
-  poseWorldLandmarks?: LandmarkList;
+  poseWorldLandmarks?: LandmarkList | undefined;
   /** Legacy Pose / Holistic: the pose's image landmarks (with the hands' image landmarks they check handedness). */
-  poseLandmarks?: LandmarkList;
+  poseLandmarks?: LandmarkList | undefined;
   /** Wrists from another body tracker (used instead of pose wrists). */
-  wrists?: { left?: WristInput; right?: WristInput };
+  wrists?: { left?: WristInput; right?: WristInput } | undefined;
   /** The app's torso (local rotations, model frame): forward kinematics, alignment and arm IK work from it. */
-  torso?: TorsoInput;
+  torso?: TorsoInput | undefined;
   /** Body-tracker joints: the torso for `torso: "pose"` (preferred over the pose's). */
-  body?: BodyInput;
+  body?: BodyInput | undefined;
   /** Face points from the same tracker, for self-contact with tracker wrists (pose wrists use the pose's face landmarks). */
-  face?: FaceInput;
-  /** Image width / height, used to scale image-only hand landmarks. Default 16/9. */
-  imageAspect?: number;
+  face?: FaceInput | undefined;
+  /**
+   * Image width / height, used to scale image-only hand landmarks (legacy Holistic and Hands
+   * results, which carry no world landmarks for the hands). Default 16/9: give it for a 4:3 or
+   * portrait camera.
+   */
+  imageAspect?: number | undefined;
 }
 
 /** What `solve` accepts. */

@@ -57,7 +57,7 @@ const KNOWN_FRAME_KEYS = [
 // ignored, they would leave the frame without its time or its hands. Looked up only when the
 // right name is absent. (No one-letter names: legacy MediaPipe results carry minified fields
 // such as `za`.)
-const TIME_ALIASES = ["timestamp", "timeStamp", "time", "timestampMs"];
+const TIME_ALIASES = ["timestamp", "timeStamp", "time", "timestampMs", "timems", "timeMS", "TimeMs", "time_ms"];
 const HAND_ALIASES = ["hand", "Hands", "handLandmarks", "multiHands"];
 const WRIST_ALIASES = ["wrist", "Wrists"];
 const POSE_ALIASES = ["poses", "Pose"];
@@ -80,8 +80,8 @@ function misnamed(frame: Bag, aliases: readonly string[], hint: string): void {
 /**
  * A field handrig does not read holding an object or array: a result nested under a name of the
  * app's (`{ timeMs, holistic: result }`), silently leaving the frame empty. Looked for in a rig's
- * first frames (an app's frames all have one shape); names of one or two letters are a legacy
- * result's minified fields.
+ * first frames (an app's frames all have one shape) and in frames with nothing to solve; names
+ * of one or two letters are a legacy result's minified fields.
  */
 function checkUnknownObjects(frame: Bag): void {
   for (const key in frame) {
@@ -99,10 +99,11 @@ function checkUnknownObjects(frame: Bag): void {
 }
 
 /**
- * The frame's timestamp, kept in a typed array rather than returned (a returned double is boxed:
- * an allocation per frame).
+ * The frame's timestamp (TIME[0]) and whether the frame had none (TIME[1] = 1: TIME[0] is then
+ * 0, and the rig puts the frame one 30 fps frame after its last), kept in a typed array rather
+ * than returned (a returned double is boxed: an allocation per frame).
  */
-export const TIME = new Float64Array(1);
+export const TIME = new Float64Array(2);
 
 /**
  * Packs one frame into `input` and its timestamp (ms) into TIME[0]. Throws a FieldError naming
@@ -121,10 +122,13 @@ export function packFrame(frame: unknown, input: Float32Array, lookAround: boole
   for (let k = 0; k < FACE_POINT_COUNT; k++) input[LI.face + k * LI.faceStride + LI.facePoint.present] = 0;
 
   const t = frame.timeMs;
-  if (t === undefined || t === null) TIME[0] = 0;
-  else {
+  if (t === undefined || t === null) {
+    TIME[0] = 0;
+    TIME[1] = 1;
+  } else {
     if (!isFiniteNumber(t)) notFinite(t, "frame.timeMs");
     TIME[0] = t;
+    TIME[1] = 0;
   }
   const aspect = frame.imageAspect;
   if (aspect === undefined || aspect === null) input[LI.imageAspect] = 0;
@@ -134,11 +138,12 @@ export function packFrame(frame: unknown, input: Float32Array, lookAround: boole
     input[LI.imageAspect] = aspect as number;
   }
 
-  let found = t !== undefined;
+  // Whether the frame gave anything to solve (its time aside).
+  let given = false;
   const hands = frame.hands;
   let handCount = 0;
   if (hands !== undefined && hands !== null) {
-    found = true;
+    given = true;
     if (Array.isArray(hands)) handCount = packHandList(hands, input);
     else if (isObject(hands) && !isView(hands)) {
       if (looksLikeOneHand(hands)) {
@@ -155,15 +160,15 @@ export function packFrame(frame: unknown, input: Float32Array, lookAround: boole
     // A MediaPipe result passed as the frame itself.
     handCount = packResultShape(frame, input, "frame");
     if (handCount < 0) handCount = 0;
-    else found = true;
+    else given = true;
   }
   input[LI.handCount] = handCount;
 
-  if (packPose(frame, input)) found = true;
+  if (packPose(frame, input)) given = true;
 
   const wrists = frame.wrists;
   if (wrists !== undefined && wrists !== null) {
-    found = true;
+    given = true;
     packWrists(wrists, input);
   }
   // Misnamed fields: looked for in a rig's first frames (an app's frames all have one shape: a
@@ -177,27 +182,30 @@ export function packFrame(frame: unknown, input: Float32Array, lookAround: boole
 
   const torso = frame.torso;
   if (torso !== undefined && torso !== null) {
-    found = true;
+    given = true;
     packTorso(torso, input);
   }
 
   const body = frame.body;
   if (body !== undefined && body !== null) {
-    found = true;
+    given = true;
     packBody(body, input);
   }
 
   const face = frame.face;
   if (face !== undefined && face !== null) {
-    found = true;
+    given = true;
     packFace(face, input);
   }
 
-  if (!found) {
+  if (!given && t === undefined) {
     const keys = Object.keys(frame);
     if (keys.length > 0 && !keys.some((k) => KNOWN_FRAME_KEYS.includes(k))) {
       fail("frame", `has none of timeMs, hands, pose, wrists (nor a MediaPipe result's fields); got keys ${keys.slice(0, 8).join(", ")}`);
     }
   }
-  if (lookAround) checkUnknownObjects(frame);
+  // A result nested under a field of the app's leaves every frame with nothing to solve: looked
+  // for in a rig's first frames and in any frame that gives nothing (frames with hands, a pose
+  // or wrists walk no keys).
+  if (lookAround || !given) checkUnknownObjects(frame);
 }

@@ -83,23 +83,73 @@ function kalidokitCall(frame: unknown, side: string): never {
 const SECONDS_STEP_MIN = 0.004;
 const SECONDS_STEP_MAX = 0.15;
 const SECONDS_FRAMES = 5;
+// A timeMs step of exactly 1 or 2, this many frames in a row, is frame numbers given for
+// milliseconds (a camera's frames come 10-70 ms apart, and performance.now() and video times are
+// not whole numbers frame after frame).
+const INDEX_STEP_MAX = 2;
+const INDEX_FRAMES = 5;
+/** The time step (ms) a frame without `timeMs` is taken to come after the last: 30 fps. */
+export const MISSING_TIME_STEP_MS = 1000 / 30;
 
-/** Warns once per rig when timeMs advances like seconds (clock: last time, run length, warned). */
-function secondsCheck(clock: Float64Array, t: number): void {
-  const step = t - clock[0]!;
-  clock[0] = t;
-  if (!(step >= SECONDS_STEP_MIN && step <= SECONDS_STEP_MAX)) {
-    clock[1] = 0;
+// The rig's clock (a Float64Array: double fields would be boxed per frame): the last frame's
+// time (NaN before the first), seconds-like steps in a row, frame-number-like steps in a row, and
+// per warning whether it was said.
+const LAST = 0;
+const SECONDS_RUN = 1;
+const INDEX_RUN = 2;
+const SAID_SECONDS = 3;
+const SAID_INDEX = 4;
+const SAID_MISSING = 5;
+
+function warn(message: string): void {
+  const log = (globalThis as { console?: { warn?: (message: string) => void } }).console;
+  log?.warn?.(message);
+}
+
+/**
+ * The frame's time in TIME[0], checked against the rig's clock: a frame without `timeMs`
+ * (TIME[1]) is put one 30 fps frame after the last (0 for a rig's first frame) and warns once;
+ * steps that look like seconds or frame numbers warn once each. Results stay in typed arrays (no
+ * boxed doubles).
+ */
+function clockCheck(clock: Float64Array): void {
+  const last = clock[LAST]!;
+  if (TIME[1] === 1) {
+    TIME[0] = last === last ? last + MISSING_TIME_STEP_MS : 0;
+    clock[LAST] = TIME[0]!;
+    if (clock[SAID_MISSING] === 0) {
+      clock[SAID_MISSING] = 1;
+      warn(
+        "handrig: frame.timeMs is missing: each frame without it is taken as 33.3 ms (one frame at 30 fps) after the last. " +
+          "Give every frame its time in milliseconds (performance.now(), or a video frame's time * 1000): the filters, " +
+          "the dropout hold and the turn limits run on it. (Said once per rig.)",
+      );
+    }
     return;
   }
-  if (++clock[1]! < SECONDS_FRAMES) return;
-  clock[2] = 1;
-  const log = (globalThis as { console?: { warn?: (message: string) => void } }).console;
-  log?.warn?.(
-    `handrig: frame.timeMs advanced by ${step.toFixed(3)} a frame for ${SECONDS_FRAMES} frames: it looks like seconds. ` +
-      "timeMs is milliseconds (performance.now(), or a video frame's time * 1000); in seconds the filters and the " +
-      "dropout hold see frames microseconds apart. (Said once per rig.)",
-  );
+  const t = TIME[0]!;
+  const step = t - last;
+  clock[LAST] = t;
+  if (step >= SECONDS_STEP_MIN && step <= SECONDS_STEP_MAX) clock[SECONDS_RUN]!++;
+  else clock[SECONDS_RUN] = 0;
+  if (step >= 1 && step <= INDEX_STEP_MAX && step === Math.floor(step)) clock[INDEX_RUN]!++;
+  else clock[INDEX_RUN] = 0;
+  if (clock[SECONDS_RUN]! >= SECONDS_FRAMES && clock[SAID_SECONDS] === 0) {
+    clock[SAID_SECONDS] = 1;
+    warn(
+      `handrig: frame.timeMs advanced by ${step.toFixed(3)} a frame for ${SECONDS_FRAMES} frames: it looks like seconds. ` +
+        "timeMs is milliseconds (performance.now(), or a video frame's time * 1000); in seconds the filters and the " +
+        "dropout hold see frames microseconds apart. (Said once per rig.)",
+    );
+  }
+  if (clock[INDEX_RUN]! >= INDEX_FRAMES && clock[SAID_INDEX] === 0) {
+    clock[SAID_INDEX] = 1;
+    warn(
+      `handrig: frame.timeMs advanced by ${step} a frame for ${INDEX_FRAMES} frames: it looks like frame numbers. ` +
+        "timeMs is milliseconds (performance.now(), a video frame's time * 1000, or frame number * 1000 / fps); as frame " +
+        "numbers the filters see 1000 frames a second and the dropout hold lasts 30 times too long. (Said once per rig.)",
+    );
+  }
 }
 
 /** The solver for one avatar. Create once, `solve` every frame, `free()` when done. */
@@ -113,9 +163,8 @@ export class HandRig {
   // Per side the bone carrying the aligned point, then per side 1 for a stand-in (alignedBones()).
   #aligned: Uint8Array = new Uint8Array(4);
   #framesRead = 0;
-  // The last frame's timeMs, how many frames in a row advanced it by a step that looks like
-  // seconds, and whether that was said (a typed array: a double field would be boxed per frame).
-  #clock = new Float64Array([Number.NaN, 0, 0]);
+  // The last frame's time, and the time checks' state (clockCheck).
+  #clock = new Float64Array([Number.NaN, 0, 0, 0, 0, 0]);
 
   /**
    * `new HandRig(restPose, options?)`: a solver for one avatar. `restPose.bones` maps VRM 1.0
@@ -317,8 +366,13 @@ export class HandRig {
       this.#views("solve");
       throw new Error("frame: reading it changed wasm memory (a getter created or freed rigs); the frame was not solved, solve it again");
     }
-    if (r.solveFlat(TIME[0]!) !== 0) throw new Error(r.takeError());
-    if (this.#clock[2] === 0) secondsCheck(this.#clock, TIME[0]!);
+    const clock = this.#clock;
+    const last = clock[LAST]!;
+    clockCheck(clock);
+    if (r.solveFlat(TIME[0]!) !== 0) {
+      clock[LAST] = last;
+      throw new Error(r.takeError());
+    }
     return fillResult(result as object, this.#output, this.#input, this.#driven, this.#present, this.#aligned) as SolveResult;
   }
 
@@ -405,6 +459,9 @@ export class HandRig {
   /** Forgets all history: filters, dropout holds and blends, held hands, elbow swivel, body-scale calibration. */
   reset(): void {
     this.#live("reset").reset();
+    this.#clock[LAST] = Number.NaN;
+    this.#clock[SECONDS_RUN] = 0;
+    this.#clock[INDEX_RUN] = 0;
   }
 
   /**

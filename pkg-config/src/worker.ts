@@ -20,6 +20,7 @@
  * @module handrig/worker
  */
 
+import type { FrameInput } from "./frame-types.js";
 import type { HumanBoneName } from "./layout.js";
 import { BONES, LO } from "./layout.js";
 import type { HandRigOptions } from "./options.js";
@@ -41,12 +42,12 @@ export interface RigWorkerOptions {
   /** The avatar: a `.vrm` / `.glb` file's bytes (transferred to the worker when an ArrayBuffer). */
   avatar: ArrayBuffer | ArrayBufferView;
   /** `HandRig.fromVrm`'s options. */
-  options?: HandRigOptions;
+  options?: HandRigOptions | undefined;
   /**
    * What the worker's `init()` is given: a `.wasm` URL (string) for `handrig` when the bundler
    * does not locate it; nothing for `handrig/compat`, or when the bundler does.
    */
-  wasm?: string;
+  wasm?: string | undefined;
 }
 
 /** One solved frame, as `onResult` sees it. */
@@ -88,9 +89,12 @@ export interface RigWorker {
   /**
    * Solves `frame` in the worker: sent now if the worker is idle (returns true), otherwise kept
    * as the pending frame, replacing (dropping) any older pending one (returns false). The frame
-   * is structured-cloned when sent: do not change it until then.
+   * is structured-cloned when sent: do not change it until then. The frame is the one
+   * `HandRig.solve` takes, checked the same way in the worker: a bad one comes back through
+   * `onError` with the message naming the field, and the warnings (a missing `timeMs`, times
+   * in seconds or frame numbers) go to the worker's console.
    */
-  solve(frame: object): boolean;
+  solve(frame: FrameInput): boolean;
   /** Called with each result, in order. */
   onResult: ((result: RigWorkerResult) => void) | null;
   /** Called when the worker rejects a frame (a bad frame: the rig stays usable). */
@@ -104,7 +108,7 @@ export interface RigWorker {
 // The messages between the sides.
 type ToWorker =
   | { type: "init"; avatar: ArrayBuffer | ArrayBufferView; options: HandRigOptions | undefined; wasm: string | undefined }
-  | { type: "solve"; frame: object | null; output: ArrayBuffer | null };
+  | { type: "solve"; frame: FrameInput | null; output: ArrayBuffer | null };
 type FromWorker =
   | { type: "ready"; bones: HumanBoneName[]; length: number }
   | { type: "solved"; output: ArrayBuffer; timeMs: number; us: number }
@@ -150,7 +154,7 @@ class PageRig implements RigWorker {
   // The buffer the page may send next (null while it is in the worker, or held as `latest`).
   #free: ArrayBuffer | null;
   #busy = false;
-  #pending: object | null = null;
+  #pending: FrameInput | null = null;
   #waiting: (() => void)[] = [];
   // One message object and one result object, reused for every frame.
   #msg: ToWorker & { type: "solve" } = { type: "solve", frame: null, output: null };
@@ -167,7 +171,7 @@ class PageRig implements RigWorker {
     worker.onerror = (ev: { message?: string }) => this.#fail(`handrig/worker: ${ev?.message ?? "worker error"}`);
   }
 
-  solve(frame: object): boolean {
+  solve(frame: FrameInput): boolean {
     this.stats.frames++;
     if (this.#busy) {
       if (this.#pending !== null) this.stats.dropped++;
@@ -178,7 +182,7 @@ class PageRig implements RigWorker {
     return true;
   }
 
-  #send(frame: object): void {
+  #send(frame: FrameInput): void {
     const buffer = this.#free ?? this.#spare!;
     if (buffer === this.#free) this.#free = null;
     else this.#spare = null;
@@ -322,10 +326,11 @@ export function serveRig(handrig: HandrigModule, scope: WorkerScopeLike = global
     try {
       if (rig === null) throw new Error("handrig/worker: a frame came before the rig was ready");
       const t0 = performance.now();
-      rig.solve(m.frame!);
+      const result = rig.solve(m.frame!) as { timeMs?: number } | null;
       new Float32Array(buffer, 0, LO.length).set(rig.output);
       solved.output = buffer;
-      solved.timeMs = (m.frame as { timeMs?: number }).timeMs ?? Number.NaN;
+      // The rig's time of the frame (a frame without timeMs gets one from the rig).
+      solved.timeMs = result?.timeMs ?? (m.frame as { timeMs?: number }).timeMs ?? Number.NaN;
       solved.us = (performance.now() - t0) * 1000;
       scope.postMessage(solved, one);
       solved.output = null;

@@ -69,14 +69,17 @@ impl Blend {
     /// the hemisphere of `shown`, so the rotation never takes the long way round.
     #[must_use]
     pub fn show(&self, solved: Quat, anchor: &mut Quat, shown: Quat) -> Quat {
+        self.show_with_rest(solved, Quat::IDENTITY, anchor, shown)
+    }
+
+    /// [`Blend::show`] for a bone whose rest is `rest` rather than the avatar's rest pose (an
+    /// idle arm, [`crate::ik::ArmIdle`]): a lost bone eases to it.
+    #[must_use]
+    pub fn show_with_rest(&self, solved: Quat, rest: Quat, anchor: &mut Quat, shown: Quat) -> Quat {
         if self.capture {
             *anchor = shown;
         }
-        let target = if self.to_solved {
-            solved
-        } else {
-            Quat::IDENTITY
-        };
+        let target = if self.to_solved { solved } else { rest };
         let q = if self.is_exact() {
             target
         } else if self.weight <= 0.0 {

@@ -292,6 +292,53 @@ pub(crate) const REACH_TOLERANCE: f32 = 1e-5;
 /// from, before the forearm's share wraps to the other side: 60 degrees.
 pub const TWIST_HYSTERESIS: f32 = PI / 3.0;
 
+/// Where an arm with nothing to follow rests (JS: `options.arm.idle`): no wrist from the pose
+/// or a tracker, hands alone, or tracking lost and eased out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ArmIdle {
+    /// `"down"`: hanging by the side, the elbow slightly bent ([`idle_arm`]).
+    #[default]
+    Down,
+    /// `"tpose"`: the avatar's rest pose (the VRM T-pose).
+    TPose,
+}
+
+/// Angle (radians) of an idle upper arm out from hanging straight down, away from the body:
+/// clears the hips of slim and wide avatars alike.
+pub const IDLE_ARM_OUT: f32 = 0.2;
+/// Angle (radians) an idle arm's elbow bends forward: slightly bent, as a relaxed arm hangs.
+pub const IDLE_ELBOW_BEND: f32 = 0.3;
+
+/// The idle arm's local rotations `[upper arm, lower arm]` (internal frame, relative to the
+/// rest pose) for `idle`: identity for the T-pose; for `Down` the upper arm turned from its
+/// rest direction to hanging down ([`IDLE_ARM_OUT`] away from the body), the forearm bent
+/// forward by [`IDLE_ELBOW_BEND`], palms toward the thighs. Directions come from the
+/// skeleton's rest offsets, so A-posed rests work alike.
+// Out of line: called from the easing and the hands-only plan (.wasm size).
+#[inline(never)]
+#[must_use]
+pub fn idle_arm(skeleton: &Skeleton, side: Side, idle: ArmIdle) -> [Quat; 2] {
+    let [_, _, lower, hand] = side.arm();
+    // The upper and lower arm's rest directions (the lower arm's and hand's offsets from their
+    // parents, required bones).
+    let upper_dir = skeleton.rest_local(lower).normalize_or_zero();
+    let lower_dir = skeleton.rest_local(hand).normalize_or_zero();
+    if idle == ArmIdle::TPose || upper_dir == Vec3::ZERO || lower_dir == Vec3::ZERO {
+        return [Quat::IDENTITY; 2];
+    }
+    // The internal frame: +Y up, facing +Z, the avatar's left on +X.
+    let (s, c) = IDLE_ARM_OUT.sin_cos();
+    let out = if side == Side::Left { s } else { -s };
+    let hang = Vec3::new(out, -c, 0.0);
+    let (s, c) = IDLE_ELBOW_BEND.sin_cos();
+    let forearm = hang * c + Vec3::Z * s;
+    let upper = Quat::from_rotation_arc(upper_dir, hang);
+    [
+        upper,
+        Quat::from_rotation_arc(lower_dir, upper.conjugate() * forearm),
+    ]
+}
+
 /// Options every arm solver shares (JS: `options.arm`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArmOptions {
@@ -324,6 +371,9 @@ pub struct ArmOptions {
     /// faster, and one real motion is slowed by a few degrees (`docs/hands-on-video.md`).
     /// 0 = no limit. The arm solvers themselves ignore it.
     pub max_turn_speed: f32,
+    /// Where an arm with nothing to follow rests ([`ArmIdle`]). Default [`ArmIdle::Down`]:
+    /// by the side, eased into and out of with the dropout timings.
+    pub idle: ArmIdle,
 }
 
 /// The angle (radians, `0..=max_angle`) the shoulder bone must turn from rest toward the

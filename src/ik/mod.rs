@@ -60,8 +60,8 @@ pub mod wrist;
 
 pub use crate::kinematics::swing;
 pub use arm::{
-    ArmChain, ArmGoal, ArmIk, ArmOptions, ArmPose, ArmReach, ArmSolver, ArmTarget, ForearmTwist,
-    IkError,
+    idle_arm, ArmChain, ArmGoal, ArmIdle, ArmIk, ArmOptions, ArmPose, ArmReach, ArmSolver,
+    ArmTarget, ForearmTwist, IkError,
 };
 pub use arms::ArmSolverState;
 pub use ccd::{Ccd, CcdOptions};

@@ -107,7 +107,7 @@ pub fn typescript() -> String {
         match spec.path.split_once('.') {
             None => {
                 s.push_str(&format!(
-                    "  /** {} ({}.) */\n  {}?: {};\n",
+                    "  /** {} ({}.) */\n  {}?: {} | undefined;\n",
                     spec.doc,
                     summary(spec),
                     spec.path,
@@ -138,13 +138,19 @@ pub fn typescript() -> String {
                 {
                     let name = &o.path[group.len() + 1..];
                     s.push_str(&format!(
-                        "{pad}/** {} ({}.) */\n{pad}{name}?: {};\n",
+                        "{pad}/** {} ({}.) */\n{pad}{name}?: {} | undefined;\n",
                         o.doc,
                         summary(o),
                         ts_type(o)
                     ));
                 }
-                s.push_str(if switch { "      };\n" } else { "  };\n" });
+                // `| undefined` throughout: the options accept undefined as "not given", also
+                // under TypeScript's exactOptionalPropertyTypes.
+                s.push_str(if switch {
+                    "      }\n    | undefined;\n"
+                } else {
+                    "  } | undefined;\n"
+                });
             }
             Some(_) => {}
         }

@@ -27,7 +27,7 @@ use crate::error::{Error, Result};
 use crate::filter::{DropoutOptions, FilterOptions};
 use crate::hand::{HandStrategy, RetargetOptions};
 use crate::humanoid::bones::Finger;
-use crate::ik::{ArmOptions, ArmSolver};
+use crate::ik::{ArmIdle, ArmOptions, ArmSolver};
 use crate::mediapipe::CameraMapping;
 use crate::solve::least_squares::Settings;
 use crate::torso::TorsoSource;
@@ -119,6 +119,7 @@ macro_rules! option_enum {
 option_enum! {
     HandStrategy { Analytic = "analytic", Retarget = "retarget" }
     ArmSolver { TwoBone = "twoBone", Fabrik = "fabrik", Ccd = "ccd" }
+    ArmIdle { Down = "down", TPose = "tpose" }
     AlignPoint { Dip = "dip", Tip = "tip" }
     Finger { Thumb = "thumb", Index = "index", Middle = "middle", Ring = "ring", Little = "little" }
     HandednessPolicy { Reassign = "reassign", Drop = "drop", Trust = "trust" }
@@ -153,6 +154,7 @@ impl RigOptions {
             forearm_twist: 0.0,
             wrist_limits: false,
             max_turn_speed: 0.0,
+            idle: ArmIdle::Down,
         },
         calibration: CalibrationOptions {
             body_scale: None,

@@ -6,7 +6,7 @@ use crate::contact::{
     FaceAnchor, FaceAnchorsOption, ANCHORS, MAX_ANCHOR_OFFSET, MAX_COLLIDER_RADIUS,
 };
 use crate::hand::HandStrategy;
-use crate::ik::ArmSolver;
+use crate::ik::{ArmIdle, ArmSolver};
 use crate::torso::TorsoSource;
 
 use super::{HandednessPolicy, OptionDescription, OptionEnum, OptionKind, RigOptions};
@@ -201,6 +201,8 @@ pub static OPTIONS: &[OptionSpec] = &[
         "Clamp wrist flexion (80°), extension (70°), radial (20°) and ulnar (40°) deviation against the forearm; the hand turns about the aligned fingertip, so alignment stays exact."),
     number!("arm.maxTurnSpeed", arm.max_turn_speed, 0.0, 1000.0, 1.0, 23.0,
         "Fastest turn of an arm or hand (rad/s): a faster one (a tracking flip) is spread over frames. 0 = no limit."),
+    choice!("arm.idle", arm.idle: ArmIdle, "down",
+        "Where an arm with no wrist to follow rests: down = by the side, elbow slightly bent; tpose = the avatar's rest pose."),
     flag!("alignment.enabled", alignment.enabled, true,
         "Fingertip alignment: place the wrist so the avatar's finger lands where the user's is."),
     choice!("alignment.finger", alignment.finger: Finger, "index", "Which finger is aligned. On an avatar without its distal bone, its deepest bone, another finger or the palm stands in (reported in alignment.<side>.finger and .bone; docs/alignment-ik.md)."),

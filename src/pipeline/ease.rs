@@ -36,6 +36,13 @@ impl Rig {
         let mut eased = [false; 2];
         for side in Side::BOTH {
             let [shoulder, upper, lower, hand] = side.arm();
+            // Where the arm rests with nothing to follow (`arm.idle`): its upper and lower
+            // arm's rest in the easing.
+            let idle = if out.solved[upper.index()] {
+                [Quat::IDENTITY; 2]
+            } else {
+                crate::ik::idle_arm(&self.skeleton, side, self.options.arm.idle)
+            };
             // A hand held against the other (`touch.rs`) keeps its fingers as shown.
             let live_fingers = out.hands[side.index()]
                 .is_some_and(|h| matches!(h.status, HandStatus::Solved | HandStatus::Held))
@@ -78,7 +85,19 @@ impl Rig {
                     if !self.driven[i] {
                         return;
                     }
-                    let q = blend.show(out.local[i], &mut self.anchor[i], self.shown[i]);
+                    let rest = if b == upper {
+                        idle[0]
+                    } else if b == lower {
+                        idle[1]
+                    } else {
+                        Quat::IDENTITY
+                    };
+                    let q = blend.show_with_rest(
+                        out.local[i],
+                        rest,
+                        &mut self.anchor[i],
+                        self.shown[i],
+                    );
                     out.local[i] = q;
                     self.shown[i] = q;
                 };

@@ -17,6 +17,12 @@ impl Rig {
         let (target, hand_rot, pole, points) = match plan {
             Plan::Rest => return,
             Plan::HandOnly(q) => {
+                // The hand's world rotation on the arm as it will rest (`arm.idle`, eased to
+                // by stage 8).
+                let [_, upper, lower, _] = side.arm();
+                let idle = crate::ik::idle_arm(&self.skeleton, side, self.options.arm.idle);
+                out.local[upper.index()] = idle[0];
+                out.local[lower.index()] = idle[1];
                 set_hand_world_rotation(&self.skeleton, side, q, out);
                 return;
             }

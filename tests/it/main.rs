@@ -10,6 +10,7 @@ use handrig_support as support;
 
 mod alignment;
 mod arm_body;
+mod arm_idle;
 mod arm_ik;
 mod arm_solvers;
 mod bad_frames;

@@ -95,7 +95,7 @@ for (const id of GENERATED) {
     assert.ok(s.avatar.parser.maxDiff < 1e-5, `HandRig.fromVrm vs three-vrm: ${s.avatar.parser.maxDiff} m`);
     const r = await rects();
     const shots = {};
-    // At rest: the rigs see no hands, the arms stay in the T-pose.
+    // At rest: the rigs see no hands, the arms rest down by the sides (arm.idle).
     await page.evaluate(() => window.__handrigDemo.showFrames([{ timeMs: 0, hands: [] }]));
     for (const view of ["front", "side"]) {
       await page.evaluate((v) => window.__handrigDemo.setBodyView(v), view);

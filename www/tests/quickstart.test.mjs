@@ -74,6 +74,18 @@ export function applyToVRM(vrm, result) {
   qs.applied++;
   qs.written = written;
   qs.vrm = vrm;
+  // The upper arms' largest angle from hanging straight down over every frame (degrees): a hand
+  // tracker gives no wrist, so the arms rest (arm.idle), never in the T-pose.
+  for (const side of ["left", "right"]) {
+    const upper = vrm.humanoid.getNormalizedBoneNode(side + "UpperArm");
+    const lower = vrm.humanoid.getNormalizedBoneNode(side + "LowerArm");
+    lower.updateWorldMatrix(true, false);
+    const a = upper.matrixWorld.elements;
+    const b = lower.matrixWorld.elements;
+    const d = [b[12] - a[12], b[13] - a[13], b[14] - a[14]];
+    const deg = (Math.acos(-d[1] / Math.hypot(d[0], d[1], d[2])) * 180) / Math.PI;
+    qs.armFromDown = Math.max(qs.armFromDown ?? 0, deg);
+  }
   return written;
 }
 `;
@@ -151,6 +163,7 @@ test("the browser quick start runs as written: the hands of the recording drive 
     return {
       detections: qs.detections,
       applied: qs.applied,
+      armFromDown: qs.armFromDown,
       written: qs.written,
       options: qs.options,
       wasmBase: qs.wasmBase,
@@ -171,6 +184,8 @@ test("the browser quick start runs as written: the hands of the recording drive 
   const turned = (q) => Math.abs(q[3]) < 0.9999;
   assert.ok(turned(state.normalized.leftHand) && turned(state.normalized.leftIndexProximal), JSON.stringify(state.normalized));
   assert.deepEqual(state.normalized.rightIndexProximal, [0, 0, 0, 1]);
+  // No wrist to follow: both arms rest down by the sides on every frame, never the T-pose.
+  assert.ok(state.armFromDown < 30, `an upper arm ${state.armFromDown.toFixed(1)} degrees from hanging down`);
   // vrm.update copied the normalized rotations onto the model's own bones.
   const dot = Math.abs(state.raw.reduce((s, v, k) => s + v * state.rawRest[k], 0));
   assert.ok(dot < 0.9999, `raw leftIndexProximal still at rest: ${state.raw} vs ${state.rawRest}`);

@@ -68,7 +68,8 @@ describe("handrig export (the package's bin)", () => {
       // The same bytes as MotionRecorder on the same frames (with the recording's image aspect).
       const rec = JSON.parse(fs.readFileSync(name === path.basename(handsFile) ? handsFile : path.join(asl, name), "utf8"));
       const list = Array.isArray(rec) ? rec : rec.frames;
-      const rig = HandRig.fromVrm(readBytes(avatar));
+      // The README quick start's mirroring, the command's default.
+      const rig = HandRig.fromVrm(readBytes(avatar), { mirror: true });
       const recorder = new MotionRecorder(rig);
       for (const f of list) {
         recorder.add(f.timeMs, rig.solve({ ...f, imageAspect: rec.width ? rec.width / rec.height : undefined }));
@@ -116,6 +117,37 @@ describe("handrig export (the package's bin)", () => {
     assert.match(r.stdout, /1 of 4 written: .*; 3 failed/);
   });
 
+  it("a .glb avatar through HandRig.fromGltf, mirrored like the app by default; --no-mirror, --input-mirrored", () => {
+    const glb = avatarFiles(".glb").find((f) => f.endsWith("man-mixamo.glb"));
+    const rec = JSON.parse(fs.readFileSync(handsFile, "utf8"));
+    const list = Array.isArray(rec) ? rec : rec.frames;
+    /** MotionRecorder's .vrma of the hands recording on the .glb with `options`. */
+    const expected = (options) => {
+      const rig = HandRig.fromGltf(readBytes(glb), options);
+      const recorder = new MotionRecorder(rig);
+      for (const f of list) recorder.add(f.timeMs, rig.solve({ ...f, imageAspect: rec.width ? rec.width / rec.height : undefined }));
+      rig.free();
+      return Buffer.from(recorder.toVRMA());
+    };
+    const exported = (...flags) => {
+      const out = path.join(tmp, `glb${flags.join("")}.vrma`);
+      const r = handrig("export", handsFile, "--avatar", glb, "--out", out, "--quiet", ...flags);
+      assert.equal(r.status, 0, r.stderr);
+      return fs.readFileSync(out);
+    };
+    const app = expected({ mirror: true });
+    assert.ok(exported().equals(app), "the default: the quick start's mirror: true");
+    assert.ok(exported("--mirror").equals(app));
+    assert.ok(!app.equals(expected({ mirror: false })), "mirroring changes the motion");
+    assert.ok(exported("--no-mirror").equals(expected({ mirror: false })));
+    assert.ok(exported("--input-mirrored").equals(expected({ mirror: true, inputMirrored: true })));
+    assert.ok(exported("--options", '{"mirror":false}').equals(expected({ mirror: false })), "--options' mirror is kept");
+    const help = handrig("--help").stdout;
+    assert.match(help, /--mirror +the avatar mirrors the user \(options\.mirror: true\), as in the README's quick start: the default/);
+    assert.match(help, /--input-mirrored/);
+    assert.match(help, /\.glb/);
+  });
+
   it("a missing avatar, an unknown option, a bad --options: one line, exit 2, nothing written", () => {
     const out = path.join(tmp, "none");
     const cases = [
@@ -125,6 +157,9 @@ describe("handrig export (the package's bin)", () => {
       [["--avatar", avatar, "--options", '{"torsoo":"pose"}'], /^handrig: --options: .*torsoo/],
       [["--avatar", avatar, "--options", "{torso"], /^handrig: --options: not JSON/],
       [["--avatar", avatar, "--format", "fbx"], /^handrig: --format: must be vrma or bvh/],
+      [["--avatar", avatar, "--mirror", "--no-mirror"], /^handrig: --mirror and --no-mirror: give one$/],
+      [["--avatar", avatar, "--no-mirror", "--options", '{"mirror":true}'], /^handrig: --no-mirror: --options sets mirror: true; give it in one place$/],
+      [["--avatar", path.join(tmp, "nobody.glb")], /^handrig: --avatar .*nobody\.glb: no such file$/],
     ];
     for (const [args, pattern] of cases) {
       const r = handrig("export", asl, "--out-dir", out, ...args);

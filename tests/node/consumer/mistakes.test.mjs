@@ -12,6 +12,12 @@ const robotBytes = readBytes(avatars.robot);
 const frames = readRecording();
 const hand = frames[10].hands[0];
 
+/** The angle (radians) between two rotations [x, y, z, w]. */
+function angle(a, b) {
+  const d = Math.abs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]);
+  return 2 * Math.acos(Math.min(1, d));
+}
+
 function throwsWith(fn, message) {
   assert.throws(fn, (e) => {
     assert.ok(e instanceof Error, `threw a non-Error: ${String(e)}`);
@@ -195,14 +201,25 @@ describe("lost tracking: every driven bone in every result, applied by the adapt
     rig.free();
   });
 
-  it("with dropout off, a lost hand and stopped wrists go back to rest at once", () => {
-    const rig = HandRig.fromVrm(robotBytes, { dropout: false });
-    const r1 = rig.solve({ ...frames[10], wrists: { right: { position: [-0.4, 1.2, 0.25] } } }, {});
-    assert.ok(!isIdentity(r1.bones.rightUpperArm) && !isIdentity(r1.bones.rightIndexProximal));
-    const r2 = rig.solve({ timeMs: frames[10].timeMs + 33 }, {});
-    assert.ok(isIdentity(r2.bones.rightUpperArm) && isIdentity(r2.bones.rightLowerArm), "the arm rests");
-    assert.ok(isIdentity(r2.bones.rightIndexProximal), "the finger rests");
-    rig.free();
+  it("with dropout off, a lost hand and stopped wrists go back to rest at once (the arm to its idle rest)", () => {
+    // The arm's idle rest (arm.idle "down", the default): what a rig that never saw the arm shows.
+    const idle = HandRig.fromVrm(robotBytes).solve({ timeMs: 0 }, {}).bones;
+    assert.ok(!isIdentity(idle.rightUpperArm), "down by the side, not the T-pose");
+    for (const [options, rest] of [
+      [{ dropout: false }, idle],
+      [{ dropout: false, arm: { idle: "tpose" } }, { rightUpperArm: [0, 0, 0, 1], rightLowerArm: [0, 0, 0, 1] }],
+    ]) {
+      const rig = HandRig.fromVrm(robotBytes, options);
+      const r1 = rig.solve({ ...frames[10], wrists: { right: { position: [-0.4, 1.2, 0.25] } } }, {});
+      const r2 = rig.solve({ timeMs: frames[10].timeMs + 33 }, {});
+      for (const bone of ["rightUpperArm", "rightLowerArm"]) {
+        assert.ok(angle(r1.bones[bone], rest[bone]) > 0.1, `${bone} moved by the wrist`);
+        assert.ok(angle(r2.bones[bone], rest[bone]) < 1e-3, `${JSON.stringify(options)}: ${bone} rests`);
+      }
+      assert.ok(!isIdentity(r1.bones.rightIndexProximal));
+      assert.ok(isIdentity(r2.bones.rightIndexProximal), "the finger rests");
+      rig.free();
+    }
   });
 });
 
@@ -305,8 +322,9 @@ describe("legacy Holistic results", () => {
     const pt = ([x, y, z, visibility]) => ({ x, y, z, visibility });
     for (const key of ["za", "ea"]) {
       let driven = 0;
-      const plain = HandRig.fromVrm(robotBytes);
-      const holistic = HandRig.fromVrm(robotBytes);
+      // Arms without a wrist at the T-pose (identity): a rotation away from it is the pose's.
+      const plain = HandRig.fromVrm(robotBytes, { arm: { idle: "tpose" } });
+      const holistic = HandRig.fromVrm(robotBytes, { arm: { idle: "tpose" } });
       for (const f of clip.frames) {
         const world = f.pose.worldLandmarks.map(pt);
         const image = f.pose.landmarks.map(pt);
@@ -341,7 +359,7 @@ describe("issue 30: mistakes a new user makes, named", () => {
       rightHandLandmarks: [],
       rightHandWorldLandmarks: [],
     };
-    const rig = HandRig.fromVrm(robotBytes);
+    const rig = HandRig.fromVrm(robotBytes, { arm: { idle: "tpose" } });
     throwsWith(() => rig.solve({ timeMs: 1, holistic: result }), /^frame\.holistic: unknown field holding an object: handrig reads timeMs, hands, pose, .*rig\.solve\(\{ timeMs, \.\.\.result \}\)/);
     throwsWith(() => rig.solve({ timeMs: 1, results: [hand] }), /^frame\.results: unknown field holding an array of 1: /);
     // Spread into the frame, the same result drives the arms; numbers and strings of the app's

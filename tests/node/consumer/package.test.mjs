@@ -63,6 +63,19 @@ describe("the packed tarball", () => {
     assert.equal(customSections.length, 0, "release wasm keeps no name section");
   });
 
+  it("the README's sizes are the packed files' (gzip -9, within 5%)", () => {
+    const readme = fs.readFileSync(path.join(installed, "README.md"), "utf8");
+    const m = readme.match(/(\d+) KiB gzip in one file instead of `index\.js`'s (\d+) KiB \+ the `\.wasm`'s (\d+) KiB \(the SIMD build's (\d+) KiB\)/);
+    assert.ok(m, "README states compat.js, index.js and the .wasm files' gzip sizes");
+    const gzipKiB = (f) => zlib.gzipSync(fs.readFileSync(path.join(installed, f)), { level: 9 }).length / 1024;
+    const files = ["compat.js", "index.js", "wasm/handrig_bg.wasm", "wasm/handrig_simd_bg.wasm"];
+    files.forEach((f, i) => {
+      const stated = Number(m[i + 1]);
+      const actual = gzipKiB(f);
+      assert.ok(Math.abs(stated - actual) <= Math.max(1, 0.05 * actual), `${f}: README says ${stated} KiB, the package has ${actual.toFixed(1)} KiB gzip (node pkg-config/build.mjs prints it)`);
+    });
+  });
+
   it("README and LICENSE are the repository's", () => {
     const repo = process.env.HANDRIG_REPO;
     for (const f of ["README.md", "LICENSE"]) {

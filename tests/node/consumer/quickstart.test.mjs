@@ -81,7 +81,7 @@ describe("README quick start (Node)", () => {
 
 // The README's "Quick start: HolisticLandmarker" block (the tracker and the loop of main.js) runs
 // as written in Node, on the shared `thanks` sign-language clip: the names it takes from main.js
-// (vision, video, rig, vrm, renderer, scene, camera, clock, applyToVRM) are defined before it,
+// (vision, video, rig, vrm, renderer, scene, camera, lastMs, applyToVRM) are defined before it,
 // HolisticLandmarker is a stand-in whose detectForVideo returns the clip's frames as tasks-vision
 // HolisticLandmarkerResults (hands by the subject's side), and the rig is the quick start's
 // (`mirror: true`, the robot).
@@ -120,7 +120,7 @@ const video = {};
 const scene = {};
 const camera = {};
 const vrm = { update() {} };
-const clock = { getDelta: () => 1 / 30 };
+let lastMs = 0;
 let t = 0;
 const performance = { now: () => (t += 1000 / 30) };
 const renderer = { setAnimationLoop(loop) { for (const _ of clip.frames) loop(); }, render() {} };
@@ -129,11 +129,8 @@ const seen = { frames: clip.frames.length, applied: 0, handsInClip: 0, handsSolv
 function applyToVRM(vrm, result) {
   seen.applied++;
   for (const side of ["left", "right"]) if (result.hands[side]?.status === "solved") seen.handsSolved++;
-  // An upper arm turned more than 20 degrees from rest: the pose drives the arms.
-  for (const side of ["left", "right"]) {
-    const q = result.bones[side + "UpperArm"];
-    if (q && 2 * Math.acos(Math.min(1, Math.abs(q[3]))) > (20 * Math.PI) / 180) { seen.armRaised++; break; }
-  }
+  // An arm reaching a wrist target: the pose drives the arms (an arm without one rests down).
+  if (result.ikTargets.left || result.ikTargets.right) seen.armRaised++;
   return 0;
 }
 for (const f of clip.frames) seen.handsInClip += Math.min(1, f.hands.filter((h) => h.handedness === "Left").length) + Math.min(1, f.hands.filter((h) => h.handedness === "Right").length);

@@ -39,8 +39,10 @@ describe("handrig/worker", () => {
   });
 
   it("solves a clip frame by frame as a rig on this side does, in two ping-ponged buffers", async () => {
-    const rig = await createRigWorker(pair(), { avatar: avatar() });
-    const local = HandRig.fromVrm(new Uint8Array(fs.readFileSync(avatarPath)));
+    // Arms without a wrist at the T-pose (identity), so a rotation away from it is the tracking's.
+    const options = { arm: { idle: "tpose" } };
+    const rig = await createRigWorker(pair(), { avatar: avatar(), options });
+    const local = HandRig.fromVrm(new Uint8Array(fs.readFileSync(avatarPath)), options);
     assert.deepEqual(rig.bones, local.boneNames());
     assert.equal(rig.latest, null);
     const seen = [];
@@ -110,7 +112,7 @@ describe("handrig/worker", () => {
   });
 
   it("serves handrig/compat the same way", async () => {
-    const rig = await createRigWorker(pair(compat), { avatar: avatar() });
+    const rig = await createRigWorker(pair(compat), { avatar: avatar(), options: { arm: { idle: "tpose" } } });
     rig.solve(frames[20]);
     await rig.idle();
     const q = readRotation(rig.latest, "rightUpperArm");

@@ -87,3 +87,28 @@ rig.solve();
 rig.solve({ hands: [{ handedness: "Middle", worldLandmarks: landmarks }] });
 // @ts-expect-error vrmVersion is read-only
 rig.vrmVersion = "0";
+
+// handrig/worker: the page side takes the frames HandRig.solve takes, with their types.
+import type { RigWorker } from "handrig/worker";
+declare const rigWorker: RigWorker;
+for (const f of frames) rigWorker.solve(f);
+rigWorker.solve({ timeMs: 4, hands: { worldLandmarks: [landmarks], landmarks: [landmarks], handedness: [[{ categoryName: "Left", score: 1 }]] } });
+// @ts-expect-error handedness is "Left" or "Right", in a worker too
+rigWorker.solve({ hands: [{ handedness: "Middle", worldLandmarks: landmarks }] });
+// @ts-expect-error timeMs is a number, in a worker too
+rigWorker.solve({ timeMs: "5" });
+
+// Optional fields take undefined (not given), under exactOptionalPropertyTypes too
+// (tsconfig.strict.json): options, frames and the worker's options, as apps build them.
+declare const maybe: boolean;
+const optionsMaybe: HandRigOptions = {
+  mirror: maybe ? true : undefined,
+  arm: { idle: maybe ? "tpose" : undefined, maxTurnSpeed: undefined },
+  filter: maybe ? false : undefined,
+  calibration: undefined,
+};
+HandRig.fromVrm(bytes, optionsMaybe);
+rig.solve({ timeMs: maybe ? 1 : undefined, hands: maybe ? [] : undefined, imageAspect: maybe ? 4 / 3 : undefined });
+import type { RigWorkerOptions } from "handrig/worker";
+const workerOptions: RigWorkerOptions = { avatar: bytes, options: maybe ? optionsMaybe : undefined, wasm: maybe ? "x.wasm" : undefined };
+void workerOptions;
