@@ -222,6 +222,10 @@ describe("skin measurement (issue 26)", () => {
     assert.deepEqual([fs_.deep.frames, fs_.deep.pct, fs_.deep.maxMm], [4, 25, 20]);
     assert.equal(fs_.alignmentMedianMm, 1);
     assert.equal(fs_.touchTracked, 100 / 3);
+    // Issue 52's face figure: within 2 cm of the face AND the hand no more than 1 cm inside.
+    assert.deepEqual([fs_.face.cleanPct, fs_.chest.cleanPct], [50, 100]);
+    const sunk = figures(score([{ right: g(0.0, 0.3, 0.5, 0.03), left: g(0.5, 0.3, 0.5, 0) }, measures[0]], { right: ["face", "face"], left: ["none", "none"] }));
+    assert.deepEqual([sunk.face.n, sunk.face.pct, sunk.face.cleanPct], [2, 100, 50]);
   });
 
   it("the visual labels cover every frame of their clips, with known labels", () => {
