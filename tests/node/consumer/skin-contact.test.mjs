@@ -270,3 +270,28 @@ describe("skin measurement (issue 26)", () => {
     assert.ok(face >= 30 && none >= 50, `${face} face and ${none} none frames checked`);
   });
 });
+
+describe("the near-face frame set of issue 52 (eval/frames/hands-near-face.json)", () => {
+  it("equals a fresh build from the shared clips; every frame has both hands within half a head breadth of each other and of the face", async () => {
+    const { pathToFileURL } = await import("node:url");
+    const nf = await import(pathToFileURL(path.join(repo, "eval", "near-face-frames.mjs")).href);
+    const fresh = nf.build();
+    const committed = JSON.parse(fs.readFileSync(nf.NEAR_FACE_FILE, "utf8"));
+    assert.deepEqual(committed, JSON.parse(JSON.stringify(fresh)), "run node eval/near-face-frames.mjs and commit");
+    assert.ok(committed.frames.length >= 20, `${committed.frames.length} frames`);
+    for (const f of committed.frames) {
+      assert.deepEqual(f.hands.map((h) => h.handedness).sort(), ["Left", "Right"]);
+      const n = nf.nearness(f, committed.width, committed.height);
+      assert.ok(n.between <= 0.5 && Math.max(...n.face) <= 0.5, JSON.stringify(n));
+    }
+    // The rig drives both hands on them.
+    const rig = new HandRig(restPoseFromVRM(await loadVrm(path.join(repo, "tests", "fixtures", "avatars", "woman-vrm1.vrm"))));
+    let both = 0;
+    for (const f of committed.frames) {
+      const r = rig.solve(f);
+      if (r.hands?.left && r.hands?.right) both++;
+    }
+    rig.free();
+    assert.ok(both >= 0.9 * committed.frames.length, `both hands solved on ${both} of ${committed.frames.length} frames`);
+  });
+});
