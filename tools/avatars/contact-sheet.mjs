@@ -7,8 +7,15 @@
 // warnings) under each. Exits 1 when an avatar fails to load, has a warning or draws nothing.
 //
 //   node tools/avatars/contact-sheet.mjs [--out artifacts/screenshots/avatars-contact-sheet.png]
+//   node tools/avatars/contact-sheet.mjs --touches
 //
 // Needs no handrig build. Takes about 30 s.
+// --touches (needs pkg/, `make pkg`): the chibi (woman-head2-vrm1) and the figure of primitives
+// driven by handrig with default options through its three-vrm adapter over the shared clips
+// `eat` (fingertips at the mouth, frame 22: the middle of its labeled face run) and `hungry`
+// (a curved hand on the chest, frame 36), drawn front and side at that frame into
+// artifacts/screenshots/touch-<avatar>-<clip>-<frame>-<front|side>.png (issue 52's "before"
+// pictures).
 
 import fs from "node:fs";
 import http from "node:http";
@@ -36,9 +43,12 @@ const avatars = [
   ...figureFileNames().map((n) => [n.replace(/\.vrm$/, ""), path.join(FIGURES_OUT, n)]),
 ];
 
+const touches = argv.includes("--touches");
+const TOUCHES = [["eat", 22], ["hungry", 36]];
+const TOUCH_AVATARS = ["woman-head2-vrm1", "primitive-vrm1"];
 const PAGE = `<!doctype html><html><head><meta charset="utf-8"><link rel="icon" href="data:,">
 <script type="importmap">{"imports":{"three":"/m/three/build/three.module.js","three/addons/":"/m/three/examples/jsm/",
-"@pixiv/three-vrm":"/m/@pixiv/three-vrm/lib/three-vrm.module.js"}}</script></head><body style="margin:0;background:#202329">
+"@pixiv/three-vrm":"/m/@pixiv/three-vrm/lib/three-vrm.module.js","handrig":"/handrig/index.js","handrig/three-vrm":"/handrig/three-vrm.js"}}</script></head><body style="margin:0;background:#202329">
 <canvas id="sheet"></canvas>
 <script type="module">
 import * as THREE from "three";
@@ -112,6 +122,46 @@ window.__sheet = async (avatars, cols) => {
   }
   return { report, png: sheet.toDataURL("image/png") };
 };
+// Issue 52's touch pictures: the avatar driven by handrig (defaults) up to \`frame\` of a clip.
+window.__touch = async (url, frames, frame) => {
+  const { default: init, HandRig } = await import("handrig");
+  const { applyToVRM, restPoseFromVRM } = await import("handrig/three-vrm");
+  if (typeof init === "function") await init();
+  const loader = new GLTFLoader();
+  loader.register((parser) => new VRMLoaderPlugin(parser));
+  const vrm = (await loader.loadAsync(url)).userData.vrm;
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color(0x202329);
+  scene.add(new THREE.HemisphereLight(0xffffff, 0x404050, 2.2));
+  const key = new THREE.DirectionalLight(0xffffff, 2.0); key.position.set(1, 2, 3); scene.add(key);
+  const fill = new THREE.DirectionalLight(0xffffff, 0.8); fill.position.set(-3, 1, 0.5); scene.add(fill);
+  scene.add(vrm.scene);
+  const rig = new HandRig(restPoseFromVRM(vrm));
+  let res;
+  for (let i = 0; i <= frame; i++) res = rig.solve(frames[i]);
+  applyToVRM(vrm, res);
+  vrm.humanoid.update();
+  vrm.scene.updateMatrixWorld(true);
+  rig.free();
+  const w = (n) => vrm.humanoid.getNormalizedBoneNode(n).getWorldPosition(new THREE.Vector3());
+  const head = w("head"), hips = w("hips");
+  const box = new THREE.Box3().setFromObject(vrm.scene, true);
+  const top = box.max.y + 0.03, bottom = hips.y - 0.05;
+  const c = new THREE.Vector3(head.x, (top + bottom) / 2, head.z + 0.05);
+  const half = ((top - bottom) / 2) * 1.05;
+  renderer.setSize(480, 480, false);
+  const shots = {};
+  for (const view of ["front", "side"]) {
+    const cam = new THREE.OrthographicCamera(-half, half, half, -half, 0.01, 20);
+    if (view === "front") cam.position.set(c.x, c.y, c.z + 5);
+    else cam.position.set(c.x - 5, c.y, c.z);
+    cam.lookAt(c);
+    renderer.render(scene, cam);
+    shots[view] = gl.toDataURL("image/png");
+  }
+  renderer.setSize(W, H, false);
+  return { shots, solved: { left: Boolean(res.hands?.left), right: Boolean(res.hands?.right) } };
+};
 window.__ready = true;
 </script></body></html>`;
 
@@ -127,6 +177,10 @@ const server = http.createServer((req, res) => {
   if (url.startsWith("/m/")) {
     file = path.join(www, "node_modules", path.normalize(url.slice(3)).replace(/^(\.\.[/\\])+/, ""));
     if (file.endsWith(".js")) type = "text/javascript";
+  } else if (url.startsWith("/handrig/")) {
+    file = path.join(repo, "pkg", path.normalize(url.slice(9)).replace(/^(\.\.[/\\])+/, ""));
+    if (file.endsWith(".js")) type = "text/javascript";
+    if (file.endsWith(".wasm")) type = "application/wasm";
   } else if (files.has(url)) file = files.get(url);
   if (!file || !fs.existsSync(file)) {
     res.writeHead(404);
@@ -151,6 +205,25 @@ try {
   page.on("pageerror", (e) => errors.push(e.message));
   await page.goto(`http://127.0.0.1:${server.address().port}/`);
   await page.waitForFunction(() => window.__ready === true, null, { timeout: 60_000 });
+  if (touches) {
+    const shared = path.resolve(process.env.HANDRIG_SHARED || path.join(repo, "..", "shared"));
+    for (const [clip, frame] of TOUCHES) {
+      const rec = JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", `${clip}.json`), "utf8"));
+      const frames = rec.frames.map((f) => ({ timeMs: f.timeMs, hands: f.hands, pose: f.pose, imageAspect: rec.width / rec.height }));
+      for (const a of TOUCH_AVATARS) {
+        const r = await page.evaluate(([u, fr, i]) => window.__touch(u, fr, i), [`/f/${a}.vrm`, frames, frame]);
+        for (const [view, data] of Object.entries(r.shots)) {
+          const file = path.join(path.dirname(out), `touch-${a}-${clip}-${frame}-${view}.png`);
+          fs.writeFileSync(file, Buffer.from(data.split(",")[1], "base64"));
+          console.log(`${path.relative(repo, file)} (hands solved: ${JSON.stringify(r.solved)})`);
+        }
+      }
+    }
+    if (errors.length) (failed++, console.log("page errors:", errors));
+    await browser.close();
+    server.close();
+    process.exit(failed ? 1 : 0);
+  }
   const { report, png } = await page.evaluate(
     ([list]) => window.__sheet(list, 8),
     [avatars.map(([n]) => [n, `/f/${n}.vrm`])],
