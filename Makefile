@@ -173,9 +173,10 @@ demo: pkg
 	@[ -f www/serve.mjs ] || { echo "demo: www/serve.mjs not found" >&2; exit 1; }
 	node www/serve.mjs
 
-# The human avatars (VRM 1.0, VRM 0.x, Mixamo- and Unreal-named glTF) from MakeHuman's CC0 body:
-# plain Node, no dependencies; tests/node/consumer/avatars.test.mjs checks that the committed
-# files equal a fresh generation.
+# The human avatars (VRM 1.0, VRM 0.x, Mixamo- and Unreal-named glTF) from MakeHuman's CC0 body,
+# and the figure of primitives and the voxel figure (tests/fixtures/avatars/figures): plain Node,
+# no dependencies; tests/node/consumer/avatars.test.mjs checks that the committed files equal a
+# fresh generation. The stylized variants (not committed): node tools/avatars/generate.mjs --stylized.
 avatars:
 	node tools/avatars/generate.mjs
 

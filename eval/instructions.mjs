@@ -5,7 +5,12 @@
 // their garbage), so the ratios here and speed.mjs's differ; this is for before/after of a change
 // and for where the work goes, speed.mjs for what a user sees.
 //
-//   node eval/instructions.mjs [--pkg DIR] [--passes N] [--only CASE,...]
+//   node eval/instructions.mjs [--pkg DIR] [--passes N] [--only CASE,...] [--avatar FILE] [--frames FILE]
+//
+// --avatar: a .vrm (default ../shared/avatars/debug-robot.vrm; the skinned human
+// tests/fixtures/avatars/woman-vrm1.vrm counts self-contact on the skin); --frames: full frames
+// from a JSON file ({ frames: [...] }, e.g. eval/frames/hands-near-face.json, both hands near
+// each other and near the face) instead of the 250 ASL frames.
 //
 // Needs valgrind (`apt-get install -y valgrind`) and `npm ci --prefix eval` (Kalidokit 1.1.5).
 // Each case runs in its own `node` under `valgrind --tool=callgrind` twice: 30 warm-up passes
@@ -19,7 +24,8 @@
 // Cases: `kalidokit` (Pose.solve + Hand.solve per hand, as eval/speed.mjs), `object` (handrig's
 // object API, default options), `scope` (the object API with what Kalidokit does not do turned
 // off: speed.mjs's "Kalidokit's scope"), `flat` (the flat path, defaults: frames packed once
-// beforehand and copied into the input view), `flatScope`.
+// beforehand and copied into the input view), `flatScope`, `noContact` (the object API with
+// `contact.enabled: false`, all else default).
 
 import { execFileSync } from "node:child_process";
 import { readFileSync } from "node:fs";
@@ -38,7 +44,8 @@ const arg = (name, dflt) => {
   return i > 0 ? process.argv[i + 1] : dflt;
 };
 
-const CASES = ["kalidokit", "object", "scope", "flat", "flatScope"];
+const CASES = ["kalidokit", "object", "scope", "flat", "flatScope", "noContact"];
+const framesOf = (file) => (file ? JSON.parse(readFileSync(file, "utf8")).frames : aslFrames(shared));
 const WARMUP = 30;
 
 if (process.argv.includes("--child")) child();
@@ -47,7 +54,7 @@ else driver();
 // One case: the warm-up passes, then `--passes` more.
 function child() {
   const [kind, passes, pkg] = [arg("--case"), Number(arg("--passes")), arg("--pkg")];
-  const frames = aslFrames(shared);
+  const frames = framesOf(arg("--frames", null));
   let sink = 0;
   let pass;
   if (kind === "kalidokit") {
@@ -58,10 +65,11 @@ function child() {
     };
   } else {
     const { HandRig } = require(resolve(pkg));
-    const robot = readFileSync(`${shared}/avatars/debug-robot.vrm`);
-    const options = kind === "scope" || kind === "flatScope" ? KALIDOKIT_SCOPE : undefined;
+    const robot = readFileSync(arg("--avatar", `${shared}/avatars/debug-robot.vrm`));
+    const options =
+      kind === "scope" || kind === "flatScope" ? KALIDOKIT_SCOPE : kind === "noContact" ? { contact: { enabled: false } } : undefined;
     const rig = HandRig.fromVrm(robot, options);
-    if (kind === "object" || kind === "scope") {
+    if (kind === "object" || kind === "scope" || kind === "noContact") {
       pass = () => {
         for (const f of frames) sink += rig.solve(f).timeMs;
       };
@@ -85,7 +93,7 @@ function child() {
   if (!Number.isFinite(sink)) throw new Error("no result");
 }
 
-function refs(kind, passes, pkg) {
+function refs(kind, passes, pkg, extra) {
   // valgrind writes its summary to stderr: both streams are read.
   const args = [
     "--tool=callgrind",
@@ -102,6 +110,7 @@ function refs(kind, passes, pkg) {
     String(passes),
     "--pkg",
     pkg,
+    ...extra,
   ];
   let out;
   try {
@@ -126,15 +135,23 @@ function driver() {
   if (!(Number.isInteger(passes) && passes >= 5)) throw new Error(`--passes: an integer of at least 5, got ${arg("--passes")}`);
   const only = arg("--only", CASES.join(",")).split(",");
   for (const c of only) if (!CASES.includes(c)) throw new Error(`--only: unknown case ${c} (${CASES.join(", ")})`);
-  const frames = 250 * passes;
+  const extra = [];
+  const avatar = arg("--avatar", null);
+  const framesFile = arg("--frames", null);
+  if (avatar) extra.push("--avatar", resolve(avatar));
+  if (framesFile) extra.push("--frames", resolve(framesFile));
+  const perPass = framesOf(framesFile && resolve(framesFile)).length;
+  const frames = perPass * passes;
   const rows = [];
   for (const kind of only) {
-    const counted = refs(kind, passes, pkg) - refs(kind, 0, pkg);
+    const counted = refs(kind, passes, pkg, extra) - refs(kind, 0, pkg, extra);
     rows.push([kind, counted / frames]);
     console.error(`${kind}: ${Math.round(counted / frames)} instructions per frame`);
   }
   const kd = rows.find(([k]) => k === "kalidokit")?.[1];
-  console.log(`Instructions per full frame (valgrind, ${passes} passes of 250 ASL frames after ${WARMUP}; robot; ${pkg})`);
+  const avatarName = avatar ? avatar.replace(/^.*\//, "") : "robot";
+  const framesName = framesFile ? framesFile.replace(/^.*\//, "") : "ASL";
+  console.log(`Instructions per full frame (valgrind, ${passes} passes of ${perPass} ${framesName} frames after ${WARMUP}; ${avatarName}; ${pkg})`);
   console.log(`${"case".padEnd(12)} ${"instructions".padStart(12)}   Kalidokit / this`);
   for (const [kind, n] of rows) {
     const ratio = kd === undefined ? "-" : (kd / n).toFixed(2);

@@ -5,9 +5,12 @@
 // `Hand.solve` for every tracked hand.
 //
 //   make pkg && npm ci --prefix eval     # once
-//   node eval/speed.mjs [--passes N] [--warmup W] [--json] [--pkg DIR] [--avatar FILE]
+//   node eval/speed.mjs [--passes N] [--warmup W] [--json] [--pkg DIR] [--avatar FILE] [--frames FILE]
 //   (DIR: a built package, default pkg/; FILE: a .vrm, default the robot. A generated avatar
-//   with its skin, e.g. tests/fixtures/avatars/woman-vrm1.vrm, times self-contact on the skin)
+//   with its skin, e.g. tests/fixtures/avatars/woman-vrm1.vrm, times self-contact on the skin.
+//   --frames: the full frames from a JSON file ({ frames: [...] } of rig.solve inputs with pose
+//   and hands) instead of the four ASL clips, e.g. eval/frames/hands-near-face.json: both hands
+//   near each other and near the face, where self-contact engages; eval/near-face-frames.mjs)
 //
 // Frames:
 // - full frame: the four sign-language clips ../shared/data/asl/*.json (250 frames, pose and
@@ -64,7 +67,9 @@ const json = process.argv.includes("--json");
 // The avatar (named `robot` below: the default).
 const robot = readFileSync(arg("--avatar", `${shared}/avatars/debug-robot.vrm`));
 const handFrames = JSON.parse(readFileSync(`${shared}/data/hands/right-hand-video-mediapipe.json`, "utf8"));
-const aslFrames = readAslFrames(shared);
+const framesFile = arg("--frames", null);
+const aslFrames = framesFile ? JSON.parse(readFileSync(framesFile, "utf8")).frames : readAslFrames(shared);
+const framesName = framesFile ? framesFile.replace(/^.*\//, "") : "ASL";
 // Kalidokit's inputs: {x, y, z(, visibility)} objects, converted once (not timed).
 const kalidokitFull = aslFrames.map(kalidokitFrame);
 const kalidokitHands = handFrames.map((f) => f.hands[0].landmarks.map(xyz));
@@ -124,6 +129,8 @@ const packed = aslFrames.map((f) => {
   return Float32Array.from(packer.input);
 });
 const flatRig = HandRig.fromVrm(robot);
+// Self-contact off, all else default: what contact costs on these frames.
+const noContactRig = HandRig.fromVrm(robot, { contact: { enabled: false } });
 // Kalidokit's scope (eval/full-frame.mjs): what the JS boundary and the core solvers cost
 // for equal work.
 const scopeRig = HandRig.fromVrm(robot, KALIDOKIT_SCOPE);
@@ -140,8 +147,9 @@ const flatCall = (r) => {
     sink += output[0];
   };
 };
-const [full, flat, scoped, scopedFlat, kdFull] = timeTogether(aslFrames.length, [
+const [full, noContact, flat, scoped, scopedFlat, kdFull] = timeTogether(aslFrames.length, [
   ["handrig object API: full frame", (i) => (sink += rig.solve(aslFrames[i]).timeMs)],
+  ["handrig object API: full frame, contact off", (i) => (sink += noContactRig.solve(aslFrames[i]).timeMs)],
   ["handrig flat path: full frame", flatCall(flatRig)],
   ["handrig object API: full frame, Kalidokit's scope", (i) => (sink += scopeRig.solve(aslFrames[i]).timeMs)],
   ["handrig flat path: full frame, Kalidokit's scope", flatCall(scopeFlatRig)],
@@ -201,10 +209,11 @@ for (let p = 0; p < passes; p++) {
   manyBest = Math.min(manyBest, Number(process.hrtime.bigint() - t0) / 1e6);
 }
 const rigsPerMs = (rigs.length * aslFrames.length) / manyBest;
-for (const r of [rig, packer, flatRig, scopeRig, scopeFlatRig, handRig, many, ...rigs]) r.free();
+for (const r of [rig, noContactRig, packer, flatRig, scopeRig, scopeFlatRig, handRig, many, ...rigs]) r.free();
 
 const rows = [
   { ...full, vs: kdFull },
+  { ...noContact, vs: kdFull },
   { ...flat, vs: kdFull },
   { ...scoped, vs: kdFull },
   { ...scopedFlat, vs: kdFull },
@@ -214,10 +223,11 @@ const rows = [
   { ...kdHand, vs: kdHand },
 ];
 if (json) {
-  console.log(JSON.stringify({ node: process.version, passes, warmup, rows, rigsPerMs, chainRows }, null, 2));
+  console.log(JSON.stringify({ node: process.version, passes, warmup, avatar: arg("--avatar", "debug-robot.vrm"), frames: framesName, rows, rigsPerMs, chainRows }, null, 2));
 } else {
   console.log(
-    `Per-frame cost, Node ${process.version}, ${passes} passes after ${warmup} warm-up passes; full frame: ${aslFrames.length} ASL frames ` +
+    `Per-frame cost, Node ${process.version}, ${passes} passes after ${warmup} warm-up passes; avatar ${arg("--avatar", "debug-robot.vrm").replace(/^.*\//, "")}; ` +
+      `full frame: ${aslFrames.length} ${framesName} frames ` +
       `(pose + 0-2 hands), one hand: ${handFrames.length} frames (sink ${sink > 0})`,
   );
   console.log("method                                                        median us    p95 us   Kalidokit / this (median)");

@@ -3,11 +3,14 @@
 // VRM 0.x avatar (T-pose), a Mixamo-named glTF (T-pose) and an Unreal-mannequin-named glTF
 // (the base mesh's A-pose), all skinned with MPFB's game-engine rig and weights.
 //
-//   node tools/avatars/generate.mjs [--out DIR] [--data DIR] [--check]
+//   node tools/avatars/generate.mjs [--out DIR] [--data DIR] [--check] [--stylized]
 //
-// --out: where to write (default tests/fixtures/avatars); --data: the makehuman folder
-// (default $HANDRIG_SHARED/data/makehuman or ../shared/data/makehuman); --check: write
-// nothing, exit 1 when a committed file differs from a fresh generation.
+// --out: where to write (default tests/fixtures/avatars, and its figures/ folder for the figure
+// of primitives and the voxel figure); --data: the makehuman folder (default
+// $HANDRIG_SHARED/data/makehuman or ../shared/data/makehuman); --check: write nothing, exit 1
+// when a committed file differs from a fresh generation; --stylized: write the stylized
+// variants of issue 52 instead (head 1.5x and 2x, deep and wide chest, long and short arms,
+// large hands; default target/avatars, not committed).
 // What each step does and why: tests/fixtures/avatars/PROVENANCE.md.
 
 import fs from "node:fs";
@@ -15,6 +18,8 @@ import path from "node:path";
 import { fileURLToPath } from "node:url";
 
 import { writeGlb } from "./gltf.mjs";
+import { figureFileNames, figureMesh, figureShapes, FIGURES } from "./figures.mjs";
+import { stylize } from "./stylize.mjs";
 import {
   applyTarget,
   blenderBoneRotation,
@@ -158,12 +163,14 @@ function readSource(data) {
 }
 
 function prepareBody(src, data, body) {
-  const positions = applyTarget(src.positions, path.join(data, "targets", `${body.target}.target.gz`));
-  const skeleton = buildSkeleton(path.join(data, "rigs", "rig.game_engine.json"), src.groups, positions, EYE_BONES);
+  let positions = applyTarget(src.positions, path.join(data, "targets", `${body.target}.target.gz`));
+  let skeleton = buildSkeleton(path.join(data, "rigs", "rig.game_engine.json"), src.groups, positions, EYE_BONES);
   const weights = readWeights(path.join(data, "rigs", "weights.game_engine.json"), skeleton, positions.length / 3, [
     { ranges: src.groups["helper-l-eye"], bone: "eye_l" },
     { ranges: src.groups["helper-r-eye"], bone: "eye_r" },
   ]);
+  // Stylized variants (issue 52): the rest mesh and skeleton deformed before the T-pose bake.
+  if (body.style) ({ positions, skeleton } = stylize(positions, skeleton, weights, body.style));
   const byName = Object.fromEntries(skeleton.map((b) => [b.name, b]));
   const aimEnd = (b) => (b.name.startsWith("hand_") ? byName[`middle_01_${b.name.slice(-1)}`].head : b.tail);
   const tPose = poseBySwings(skeleton, T_AIMS, aimEnd);
@@ -336,7 +343,7 @@ const turnRot = (q) => qnormalize(qmul([0, 1, 0, 0], q));
 
 function assemble(src, prep, posed, opts) {
   const sk = skeletonNodes(prep, posed, opts);
-  const mesh = meshArrays(src, prep, posed, opts.frame, sk.jointOfBone);
+  const mesh = opts.buildMesh ? opts.buildMesh(sk) : meshArrays(src, prep, posed, opts.frame, sk.jointOfBone);
   const nodes = sk.nodes;
   nodes.push({ name: opts.meshName, mesh: 0, skin: 0 });
   const bodyNode = nodes.length - 1;
@@ -363,7 +370,7 @@ function lookAtOffset(prep, posed, frame) {
 
 function vrm1Extension(body, prep, posed, sk, bodyNode) {
   const humanBones = {};
-  for (const [bone, vrmName] of Object.entries(VRM1_BONES)) humanBones[vrmName] = { node: sk.nodeOf.get(bone) };
+  for (const [bone, vrmName] of Object.entries(VRM1_BONES)) if (sk.nodeOf.has(bone)) humanBones[vrmName] = { node: sk.nodeOf.get(bone) };
   const range = (input, output) => ({ inputMaxValue: input, outputScale: output });
   return {
     VRMC_vrm: {
@@ -402,7 +409,7 @@ function vrm1Extension(body, prep, posed, sk, bodyNode) {
 }
 
 function vrm0Extension(body, prep, posed, sk, bodyNode) {
-  const humanBones = Object.entries(VRM0_BONES).map(([bone, vrmName]) => ({
+  const humanBones = Object.entries(VRM0_BONES).filter(([bone]) => sk.nodeOf.has(bone)).map(([bone, vrmName]) => ({
     bone: vrmName,
     node: sk.nodeOf.get(bone),
     useDefaultValues: true,
@@ -467,17 +474,17 @@ function vrm0Extension(body, prep, posed, sk, bodyNode) {
 }
 
 /** Every file of one body: { name: Buffer }. */
-function generateBody(src, data, body) {
+function generateBody(src, data, body, formats = ["vrm1", "vrm0", "mixamo", "unreal"]) {
   const prep = prepareBody(src, data, body);
   const tPosed = bodyInPose(src, prep, prep.tPose);
   const aPosed = bodyInPose(src, prep, prep.aPose);
   const out = {};
-  out[`${body.id}-vrm1.vrm`] = assemble(src, prep, tPosed, {
+  if (formats.includes("vrm1")) out[`${body.id}-vrm1.vrm`] = assemble(src, prep, tPosed, {
     names: identityNames(prep), frame: identityFrame, frameRot: (q) => q, rotations: false,
     tips: (b) => `${b.name}_end`, meshName: "Body",
     extensions: (sk, bodyNode) => vrm1Extension(body, prep, tPosed, sk, bodyNode),
   });
-  out[`${body.id}-vrm0.vrm`] = assemble(src, prep, tPosed, {
+  if (formats.includes("vrm0")) out[`${body.id}-vrm0.vrm`] = assemble(src, prep, tPosed, {
     names: identityNames(prep), frame: turnFrame, frameRot: turnRot, rotations: false,
     tips: (b) => `${b.name}_end`, meshName: "Body",
     extensions: (sk, bodyNode) => vrm0Extension(body, prep, tPosed, sk, bodyNode),
@@ -485,16 +492,76 @@ function generateBody(src, data, body) {
   // Mixamo: T-pose, bones under an "Armature" node turned +90 degrees about X and scaled
   // 0.01 (bone values in centimeters, Z up), as Mixamo FBX files come through Blender.
   const h = Math.SQRT1_2;
-  out[`${body.id}-mixamo.glb`] = assemble(src, prep, tPosed, {
+  if (formats.includes("mixamo")) out[`${body.id}-mixamo.glb`] = assemble(src, prep, tPosed, {
     names: MIXAMO_NAMES, frame: identityFrame, frameRot: (q) => q, rotations: true,
     armature: { name: "Armature", rotation: [h, 0, 0, h], scale: 0.01 },
     tips: mixamoTipName, meshName: "Body",
   });
   // Unreal mannequin: the base mesh's A-pose, meters, the rig's own names (Root -> root).
   const unrealNames = { ...identityNames(prep), Root: "root" };
-  out[`${body.id}-unreal.glb`] = assemble(src, prep, aPosed, {
+  if (formats.includes("unreal")) out[`${body.id}-unreal.glb`] = assemble(src, prep, aPosed, {
     names: unrealNames, frame: identityFrame, frameRot: (q) => q, rotations: true, meshName: "Body",
   });
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Stylized variants and figures (issue 52)
+
+/**
+ * Stylized variants of the woman: one defining proportion each (tools/avatars/stylize.mjs), VRM
+ * 1.0 (the chibi also VRM 0.x). About 0.8 MB each, like the human files: not committed, made
+ * into target/avatars/ by `node tools/avatars/generate.mjs --stylized` (eval/skin-contact.mjs
+ * makes them when missing), about 1.5 s each.
+ */
+const woman = BODIES[0];
+export const STYLES = [
+  { id: "woman-head15", style: { head: 1.5 }, what: "head 1.5x (anime)", formats: ["vrm1"] },
+  { id: "woman-head2", style: { head: 2 }, what: "head 2x (chibi)", formats: ["vrm1", "vrm0"] },
+  { id: "woman-deepchest", style: { chestDepth: 1.4 }, what: "chest 1.4x deeper", formats: ["vrm1"] },
+  { id: "woman-widechest", style: { chestWidth: 1.3 }, what: "chest 1.3x wider", formats: ["vrm1"] },
+  { id: "woman-longarms", style: { arms: 1.25 }, what: "arms 1.25x longer", formats: ["vrm1"] },
+  { id: "woman-shortarms", style: { arms: 0.75 }, what: "arms 0.75x", formats: ["vrm1"] },
+  { id: "woman-largehands", style: { hands: 1.4 }, what: "hands 1.4x", formats: ["vrm1"] },
+].map((v) => ({ ...v, target: woman.target, title: `handrig adult woman, ${v.what} (MakeHuman CC0)` }));
+export const DEFAULT_STYLIZED_OUT = path.join(REPO, "target", "avatars");
+export const stylizedFileNames = () => STYLES.flatMap((v) => v.formats.map((f) => `${v.id}-${f}.vrm`));
+
+/** The stylized variants in memory: Map(name -> Buffer), in `stylizedFileNames()` order. */
+export function generateStylized({ data = defaultDataDir(), styles = STYLES } = {}) {
+  const src = readSource(data);
+  const out = new Map();
+  for (const v of styles) {
+    const files = generateBody(src, data, v, v.formats);
+    for (const f of v.formats) out.set(`${v.id}-${f}.vrm`, files[`${v.id}-${f}.vrm`]);
+  }
+  return out;
+}
+
+/**
+ * The figure of primitives and the voxel figure (tools/avatars/figures.mjs), VRM 1.0, on the
+ * woman's skeleton; small (tens of KB): committed in tests/fixtures/avatars/figures/.
+ */
+export const FIGURES_OUT = path.join(DEFAULT_OUT, "figures");
+export { figureFileNames };
+export function generateFigures({ data = defaultDataDir() } = {}) {
+  const src = readSource(data);
+  const out = new Map();
+  for (const figure of FIGURES) {
+    const body = BODIES.find((b) => b.id === figure.from);
+    const prep = prepareBody(src, data, body);
+    const tPosed = bodyInPose(src, prep, prep.tPose);
+    const { shapes, heads } = figureShapes(figure, src, prep, tPosed);
+    const posed = { ...tPosed, heads };
+    const names = Object.fromEntries(prep.skeleton.filter((b) => !figure.dropBone(b.name)).map((b) => [b.name, b.name]));
+    const meta = { ...body, title: figure.title };
+    out.set(`${figure.id}-vrm1.vrm`, assemble(src, prep, posed, {
+      names, frame: identityFrame, frameRot: (q) => q, rotations: false,
+      tips: (b) => `${b.name}_end`, meshName: "Body",
+      buildMesh: (sk) => figureMesh(shapes, identityFrame, sk.jointOfBone),
+      extensions: (sk, bodyNode) => vrm1Extension(meta, prep, posed, sk, bodyNode),
+    }));
+  }
   return out;
 }
 
@@ -507,27 +574,38 @@ export function generate({ data = defaultDataDir(), bodies = BODIES } = {}) {
 }
 
 function main(argv) {
-  let out = DEFAULT_OUT;
+  let out = null;
   let data = defaultDataDir();
   let check = false;
+  let stylized = false;
   for (let i = 0; i < argv.length; i++) {
     if (argv[i] === "--out") out = path.resolve(argv[++i]);
     else if (argv[i] === "--data") data = path.resolve(argv[++i]);
     else if (argv[i] === "--check") check = true;
-    else throw new Error(`unknown argument ${argv[i]} (usage: generate.mjs [--out DIR] [--data DIR] [--check])`);
+    else if (argv[i] === "--stylized") stylized = true;
+    else throw new Error(`unknown argument ${argv[i]} (usage: generate.mjs [--out DIR] [--data DIR] [--check] [--stylized])`);
   }
-  const files = generate({ data });
+  // Default: the human files (tests/fixtures/avatars) and the figures (its figures/ folder);
+  // --stylized: the stylized variants (target/avatars); --out replaces the folder(s).
+  const sets = stylized
+    ? [[out ?? DEFAULT_STYLIZED_OUT, generateStylized({ data })]]
+    : [
+        [out ?? DEFAULT_OUT, generate({ data })],
+        [out ?? FIGURES_OUT, generateFigures({ data })],
+      ];
   let differ = 0;
-  if (!check) fs.mkdirSync(out, { recursive: true });
-  for (const [name, bytes] of files) {
-    const file = path.join(out, name);
-    if (check) {
-      const same = fs.existsSync(file) && Buffer.compare(fs.readFileSync(file), bytes) === 0;
-      if (!same) differ++;
-      console.log(`${same ? "same   " : "DIFFERS"} ${name}`);
-    } else {
-      fs.writeFileSync(file, bytes);
-      console.log(`${name}  ${(bytes.length / 1e6).toFixed(2)} MB`);
+  for (const [dir, files] of sets) {
+    if (!check) fs.mkdirSync(dir, { recursive: true });
+    for (const [name, bytes] of files) {
+      const file = path.join(dir, name);
+      if (check) {
+        const same = fs.existsSync(file) && Buffer.compare(fs.readFileSync(file), bytes) === 0;
+        if (!same) differ++;
+        console.log(`${same ? "same   " : "DIFFERS"} ${path.relative(REPO, file)}`);
+      } else {
+        fs.writeFileSync(file, bytes);
+        console.log(`${path.relative(REPO, file)}  ${(bytes.length / 1e6).toFixed(3)} MB`);
+      }
     }
   }
   if (differ) {

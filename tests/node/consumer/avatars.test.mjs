@@ -198,3 +198,113 @@ describe("generated human avatars (tests/fixtures/avatars)", () => {
     });
   }
 });
+
+// Issue 52: the stylized variants (made at eval time into target/avatars, not committed) and the
+// figures of primitives and voxels (committed in tests/fixtures/avatars/figures).
+const { readGlb, measure } = await import(pathToFileURL(path.join(tools, "proportions.mjs")));
+
+/** Extents (m) of the rest mesh's vertices whose largest weight is one of `boneNames` (VRM 1.0 humanoid names). */
+function partExtent(file, boneNames) {
+  const g = readGlb(fs.readFileSync(file));
+  const bones = g.json.extensions.VRMC_vrm.humanoid.humanBones;
+  const nodes = new Set(boneNames.filter((b) => bones[b]).map((b) => bones[b].node));
+  const joints = g.json.skins[0].joints;
+  const min = [Infinity, Infinity, Infinity];
+  const max = [-Infinity, -Infinity, -Infinity];
+  let oneBone = true;
+  for (const prim of g.json.meshes[0].primitives) {
+    const pos = g.accessor(prim.attributes.POSITION);
+    const jt = g.accessor(prim.attributes.JOINTS_0);
+    const wt = g.accessor(prim.attributes.WEIGHTS_0);
+    for (let i = 0; i < pos.length / 3; i++) {
+      if (wt[4 * i] !== 1) oneBone = false;
+      if (!nodes.has(joints[jt[4 * i]])) continue;
+      for (let k = 0; k < 3; k++) (min[k] = Math.min(min[k], pos[3 * i + k])), (max[k] = Math.max(max[k], pos[3 * i + k]));
+    }
+  }
+  return { size: [0, 1, 2].map((k) => max[k] - min[k]), oneBone };
+}
+const CHEST = ["chest", "upperChest"];
+
+describe("stylized variants and figures (issue 52)", () => {
+  const woman = path.join(repo, "tests", "fixtures", "avatars", "woman-vrm1.vrm");
+  const ref = measure(woman);
+  const refHead = partExtent(woman, ["head"]).size;
+  const refChest = partExtent(woman, CHEST).size;
+
+  it("a fresh generation of the figures equals the committed files", () => {
+    const fresh = gen.generateFigures();
+    assert.deepEqual([...fresh.keys()], gen.figureFileNames());
+    for (const [name, bytes] of fresh) {
+      const file = path.join(gen.FIGURES_OUT, name);
+      assert.ok(fs.existsSync(file) && Buffer.compare(bytes, fs.readFileSync(file)) === 0, `${name} differs: run make avatars`);
+      assert.ok(bytes.length < 300e3, `${name}: ${bytes.length} bytes`);
+    }
+  });
+
+  it("the figures load in three-vrm without warnings; rigid skin; a sphere head twice the human's, a 1.5x box head without thumbs and distal bones", async (t) => {
+    for (const [name, bones, headScale] of [["primitive-vrm1.vrm", 54, 2], ["voxel-vrm1.vrm", 40, 1.5]]) {
+      const file = path.join(gen.FIGURES_OUT, name);
+      const [vrm, warnings] = await withWarnings(() => loadVRM(file));
+      assert.deepEqual(warnings, [], `${name}: three-vrm warnings`);
+      const p = await threeNormalizedWorldPositions(vrm);
+      assert.equal(Object.keys(p).length, bones, `${name}: humanoid bones`);
+      const head = partExtent(file, ["head"]);
+      assert.ok(head.oneBone, `${name}: every vertex weighted 1 to one bone`);
+      // The head's height against the human's (chin to crown); the grid may round by a cell.
+      const ratio = head.size[1] / refHead[1];
+      t.diagnostic(`${name}: head height ${ratio.toFixed(3)}x the woman's`);
+      assert.ok(Math.abs(ratio - headScale) < 0.1, `${name}: head ${ratio.toFixed(2)}x the woman's`);
+      if (bones === 40) {
+        assert.ok(!p.leftThumbProximal && !p.rightThumbMetacarpal && !p.leftIndexDistal, "no thumbs, no distal bones");
+        assert.ok(p.leftIndexIntermediate && p.rightLittleIntermediate, "intermediate bones kept");
+      }
+    }
+  });
+
+  it("the stylized variants: deterministic, load in three-vrm without warnings (54 bones, T-pose), and change their defining proportion only", async (t) => {
+    const a = gen.generateStylized();
+    const b = gen.generateStylized({ styles: gen.STYLES.slice(0, 1) });
+    assert.deepEqual([...a.keys()], gen.stylizedFileNames());
+    assert.equal(Buffer.compare(a.get("woman-head15-vrm1.vrm"), b.get("woman-head15-vrm1.vrm")), 0, "two generations differ");
+    const dir = fs.mkdtempSync(path.join((await import("node:os")).tmpdir(), "handrig-stylized-"));
+    try {
+      for (const [name, bytes] of a) {
+        const file = path.join(dir, name);
+        fs.writeFileSync(file, bytes);
+        const [vrm, warnings] = await withWarnings(() => loadVRM(file));
+        assert.deepEqual(warnings, [], `${name}: three-vrm warnings`);
+        assert.equal(vrm.meta.metaVersion, name.includes("-vrm0") ? "0" : "1");
+        const p = await threeNormalizedWorldPositions(vrm);
+        assert.equal(Object.keys(p).length, 54, `${name}: humanoid bones`);
+        const f = name.includes("-vrm0") ? -1 : 1;
+        const arm = unit(sub(p.leftHand, p.leftUpperArm));
+        assert.ok(f * arm[0] > 0.9999, `${name}: T-pose left arm ${arm}`);
+        if (name.includes("-vrm0")) continue;
+        const m = measure(file);
+        const head = partExtent(file, ["head"]).size;
+        const chest = partExtent(file, CHEST).size;
+        const r = {
+          head: head[1] / refHead[1],
+          arm: m.arm / ref.arm,
+          hand: m.hand / ref.hand,
+          chestDepth: chest[2] / refChest[2],
+          chestWidth: chest[0] / refChest[0],
+        };
+        const style = gen.STYLES.find((s) => name.startsWith(`${s.id}-`)).style;
+        t.diagnostic(`${name}: ${Object.entries(r).map(([k, x]) => `${k} ${x.toFixed(3)}`).join(", ")} (x the woman's)`);
+        const key = { head: "head", arms: "arm", hands: "hand", chestDepth: "chestDepth", chestWidth: "chestWidth" };
+        for (const [k, measured] of Object.entries(r)) {
+          const styleKey = Object.keys(key).find((s) => key[s] === k);
+          const want = style[styleKey] ?? 1;
+          // Skin weights blend the change near the joints, so a part's extent follows it
+          // within 10%; the other proportions stay within 3%.
+          const tol = style[styleKey] ? 0.1 * want : 0.03;
+          assert.ok(Math.abs(measured - want) < tol, `${name}: ${k} ${measured.toFixed(3)}x the woman's, want ${want}`);
+        }
+      }
+    } finally {
+      fs.rmSync(dir, { recursive: true, force: true });
+    }
+  });
+});

@@ -222,11 +222,15 @@ describe("skin measurement (issue 26)", () => {
     assert.deepEqual([fs_.deep.frames, fs_.deep.pct, fs_.deep.maxMm], [4, 25, 20]);
     assert.equal(fs_.alignmentMedianMm, 1);
     assert.equal(fs_.touchTracked, 100 / 3);
+    // Issue 52's face figure: within 2 cm of the face AND the hand no more than 1 cm inside.
+    assert.deepEqual([fs_.face.cleanPct, fs_.chest.cleanPct], [50, 100]);
+    const sunk = figures(score([{ right: g(0.0, 0.3, 0.5, 0.03), left: g(0.5, 0.3, 0.5, 0) }, measures[0]], { right: ["face", "face"], left: ["none", "none"] }));
+    assert.deepEqual([sunk.face.n, sunk.face.pct, sunk.face.cleanPct], [2, 100, 50]);
   });
 
   it("the visual labels cover every frame of their clips, with known labels", () => {
     const clips = labeledClips(repo);
-    assert.deepEqual(clips, ["again", "brother", "eat", "please", "sister", "thanks"]);
+    assert.deepEqual(clips, ["again", "brother", "eat", "hungry", "please", "sister", "thanks"]);
     const allowed = new Set(["face", "chest", "hand", "none", "unsure"]);
     const seen = new Set();
     for (const c of clips) {
@@ -264,5 +268,30 @@ describe("skin measurement (issue 26)", () => {
       });
     }
     assert.ok(face >= 30 && none >= 50, `${face} face and ${none} none frames checked`);
+  });
+});
+
+describe("the near-face frame set of issue 52 (eval/frames/hands-near-face.json)", () => {
+  it("equals a fresh build from the shared clips; every frame has both hands within half a head breadth of each other and of the face", async () => {
+    const { pathToFileURL } = await import("node:url");
+    const nf = await import(pathToFileURL(path.join(repo, "eval", "near-face-frames.mjs")).href);
+    const fresh = nf.build();
+    const committed = JSON.parse(fs.readFileSync(nf.NEAR_FACE_FILE, "utf8"));
+    assert.deepEqual(committed, JSON.parse(JSON.stringify(fresh)), "run node eval/near-face-frames.mjs and commit");
+    assert.ok(committed.frames.length >= 20, `${committed.frames.length} frames`);
+    for (const f of committed.frames) {
+      assert.deepEqual(f.hands.map((h) => h.handedness).sort(), ["Left", "Right"]);
+      const n = nf.nearness(f, committed.width, committed.height);
+      assert.ok(n.between <= 0.5 && Math.max(...n.face) <= 0.5, JSON.stringify(n));
+    }
+    // The rig drives both hands on them.
+    const rig = new HandRig(restPoseFromVRM(await loadVrm(path.join(repo, "tests", "fixtures", "avatars", "woman-vrm1.vrm"))));
+    let both = 0;
+    for (const f of committed.frames) {
+      const r = rig.solve(f);
+      if (r.hands?.left && r.hands?.right) both++;
+    }
+    rig.free();
+    assert.ok(both >= 0.9 * committed.frames.length, `both hands solved on ${both} of ${committed.frames.length} frames`);
   });
 });

@@ -516,6 +516,8 @@ export function score(measures, labels, { touch = 0.02, deep = 0.01 } = {}, acc 
         acc[l].n++;
         if (g.tracked) acc[l].tracked++;
         if (g[l] <= touch) acc[l].hit++;
+        // Issue 52: the touch lands on the skin, not sunk into the body (this hand no deeper than `deep`).
+        if (g[l] <= touch && !(g.depth > deep)) acc[l].clean++;
         acc[l].gaps.push(g[l]);
       } else if (l === "none") {
         acc.none.n++;
@@ -532,17 +534,19 @@ export function score(measures, labels, { touch = 0.02, deep = 0.01 } = {}, acc 
 }
 
 export function newScore() {
-  const t = () => ({ n: 0, hit: 0, tracked: 0, gaps: [] });
+  const t = () => ({ n: 0, hit: 0, clean: 0, tracked: 0, gaps: [] });
   return { face: t(), chest: t(), hand: t(), none: t(), frames: 0, deepFrames: 0, maxDepth: 0, alignment: [] };
 }
 
 /** Score -> printable figures (percentages, mm). */
 export function figures(s) {
   const pct = (t) => (t.n ? (100 * t.hit) / t.n : NaN);
+  // cleanPct: within `touch` and this hand no more than `deep` inside head or torso (issue 52).
+  const clean = (t) => (t.n ? (100 * t.clean) / t.n : NaN);
   return {
-    face: { n: s.face.n, pct: pct(s.face), medianMm: 1000 * median(s.face.gaps) },
-    chest: { n: s.chest.n, pct: pct(s.chest), medianMm: 1000 * median(s.chest.gaps) },
-    hand: { n: s.hand.n, pct: pct(s.hand), medianMm: 1000 * median(s.hand.gaps) },
+    face: { n: s.face.n, pct: pct(s.face), cleanPct: clean(s.face), medianMm: 1000 * median(s.face.gaps) },
+    chest: { n: s.chest.n, pct: pct(s.chest), cleanPct: clean(s.chest), medianMm: 1000 * median(s.chest.gaps) },
+    hand: { n: s.hand.n, pct: pct(s.hand), cleanPct: clean(s.hand), medianMm: 1000 * median(s.hand.gaps) },
     falseTouch: { n: s.none.n, pct: pct(s.none) },
     // Touch hand-frames where the rig had a tracked hand on that side (the others are held or eased).
     touchTracked: (() => {
