@@ -507,8 +507,9 @@ async function main() {
     fail("--js-only needs the wasm of a full build in place: run node pkg-config/build.mjs first");
   }
 
-  // The layout comes from the module just built, so the JS constants cannot drift from Rust.
-  const layout = createRequire(import.meta.url)(path.join(out, "wasm", "handrig_wasm.cjs")).HandRig.layout();
+  // The layout's values, generated from its declaration in Rust (src/flat/layout.rs; a Rust test
+  // fails when this file is stale), so the JS constants cannot drift from the wasm.
+  const layout = JSON.parse(fs.readFileSync(path.join(here, "src", "layout.json"), "utf8"));
 
   const v = cargo.version;
   typeCheck(work, layout);

@@ -232,22 +232,6 @@ fn constructs_from_flat_rest_positions_in_the_model_frame() {
 }
 
 #[wasm_bindgen_test]
-fn layout_matches_the_rust_constants() {
-    let layout = HandRig::layout();
-    assert_eq!(get(&layout, "version").as_f64(), Some(flat::VERSION as f64));
-    for (path, value) in flat::fields() {
-        let mut v: JsValue = layout.clone().into();
-        for part in path.split('.') {
-            v = get(&v, part);
-        }
-        assert_eq!(v.as_f64(), Some(value as f64), "{path}");
-    }
-    let bones: Array = get(&layout, "bones").unchecked_into();
-    assert_eq!(bones.length() as usize, handrig::BONE_COUNT);
-    assert_eq!(bones.get(20).as_string().as_deref(), Some("leftHand"));
-}
-
-#[wasm_bindgen_test]
 fn solves_a_real_frame_through_the_memory_views() {
     let mut rig = HandRig::new(&rest_pose(1), 1, JsValue::UNDEFINED, None, None, None).unwrap();
     write_frame(&rig, &recording_frame(0));

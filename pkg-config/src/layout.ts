@@ -1,8 +1,8 @@
 // The flat frame layout (src/flat/layout.rs): offsets of the input and output Float32Arrays in
-// wasm memory (their types generated into layout-types.ts), and the name lists of the bones,
-// torso bones and body joints. build.mjs reads it from the wasm it just built (`HandRig.layout()`) and esbuild inlines it as `__HANDRIG_LAYOUT__`, so
-// it is there before `init()` (and in the three-vrm adapter) and cannot drift from Rust; so are
-// the face points and the names of the output's hand status and hand-use codes. The
+// wasm memory, the name lists of the bones, torso bones, body joints and face points, and the
+// names of the output's codes. Its values (layout.json) and types (layout-types.ts) are generated
+// from the Rust declaration; build.mjs inlines the values as `__HANDRIG_LAYOUT__`, so they are
+// there before `init()` (and in the three-vrm adapter) and cannot drift from Rust. The
 // finger and face-anchor names come from `optionDescriptions()` (their option rows list them in
 // Rust's order), read once the module is initialized. No name list is retyped here.
 
@@ -67,7 +67,7 @@ export interface FlatLayout {
   readonly handUse: readonly string[];
 }
 
-// Defined by build.mjs (esbuild `define`): `HandRig.layout()` of the wasm just built.
+// Defined by build.mjs (esbuild `define`): layout.json, generated from the Rust declaration.
 declare const __HANDRIG_LAYOUT__: FlatLayout;
 
 function deepFreeze<T extends object>(o: T): T {

@@ -50,7 +50,6 @@ export interface RawHandRigClass {
   fromVrm(bytes: Uint8Array, options: unknown): RawHandRig;
   fromGltf(bytes: Uint8Array, boneMap: string[], options: unknown): RawHandRig;
   memory(): unknown;
-  layout(): unknown;
   optionDescriptions(): unknown[];
 }
 

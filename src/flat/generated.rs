@@ -1,20 +1,76 @@
-//! Files generated from the layout declaration ([`super::layout`]): the TypeScript offsets
-//! type (`pkg-config/src/layout-types.ts`) and the layout table of `docs/flat-layout.md`
-//! (between its `layout-table` markers). A test compares both with the committed files;
+//! Files generated from the layout declaration ([`super::layout`]): `LAYOUT`'s values
+//! (`pkg-config/src/layout.json`, which the package build inlines into the JS layer), the
+//! TypeScript offsets type (`pkg-config/src/layout-types.ts`) and the layout table of
+//! `docs/flat-layout.md` (between its `layout-table` markers). A test compares both with the committed files;
 //! `HANDRIG_GENERATE=write cargo test --lib flat` rewrites them.
 
 use super::declare::RowKind;
 use super::layout::{input, output, VERSION};
 use super::Row;
+use crate::humanoid::bones::HumanBone;
+use crate::input::torso::{BodyJoint, TORSO_BONES};
+use crate::mediapipe::TrackerFace;
 
 /// Where the TypeScript type is committed, relative to the crate root.
 pub const TYPESCRIPT_PATH: &str = "pkg-config/src/layout-types.ts";
+/// Where `LAYOUT`'s values are committed (read by `pkg-config/build.mjs`, which inlines them
+/// into the JS layer), relative to the crate root.
+pub const JSON_PATH: &str = "pkg-config/src/layout.json";
 /// The page whose layout table is generated, relative to the crate root.
 pub const MARKDOWN_PATH: &str = "docs/flat-layout.md";
 /// The markers around the generated table in [`MARKDOWN_PATH`].
 pub const TABLE_BEGIN: &str = "<!-- layout-table: generated from src/flat/layout.rs -->";
 /// See [`TABLE_BEGIN`].
 pub const TABLE_END: &str = "<!-- /layout-table -->";
+
+/// JavaScript's `LAYOUT`: `{ version, input: {...}, output: {...}, bones, requiredBones,
+/// torsoBones, bodyJoints, facePoints, handStatus, handCheck, handResolved, handUse }` (the
+/// offsets of [`super::fields`] nested by their dotted paths; the 55 bone names in output
+/// order; the torso section's bones, the body section's joints and the face section's points
+/// in their order; the names of the output's codes by code), as pretty JSON.
+#[must_use]
+pub fn layout_json() -> String {
+    use serde_json::{json, Map, Value};
+    let mut root = Map::new();
+    root.insert("version".into(), json!(VERSION));
+    for (path, value) in super::fields() {
+        let mut o = &mut root;
+        let mut parts = path.split('.').peekable();
+        while let Some(part) = parts.next() {
+            if parts.peek().is_none() {
+                o.insert(part.into(), json!(value));
+            } else {
+                let next = o.entry(part).or_insert_with(|| Value::Object(Map::new()));
+                o = next.as_object_mut().expect("a path's parent is an object");
+            }
+        }
+    }
+    let bones: Vec<&str> = HumanBone::ALL.iter().map(|b| b.as_str()).collect();
+    root.insert("bones".into(), json!(bones));
+    let required: Vec<&str> = HumanBone::ALL
+        .iter()
+        .filter(|b| b.is_required())
+        .map(|b| b.as_str())
+        .collect();
+    root.insert("requiredBones".into(), json!(required));
+    let torso: Vec<&str> = TORSO_BONES.iter().map(|b| b.as_str()).collect();
+    root.insert("torsoBones".into(), json!(torso));
+    root.insert("bodyJoints".into(), json!(BodyJoint::NAMES.to_vec()));
+    root.insert("facePoints".into(), json!(TrackerFace::NAMES.to_vec()));
+    root.insert(
+        "handStatus".into(),
+        json!(super::HAND_STATUS_NAMES.to_vec()),
+    );
+    root.insert("handUse".into(), json!(super::HAND_USE_NAMES.to_vec()));
+    root.insert("handCheck".into(), json!(super::HAND_CHECK_NAMES.to_vec()));
+    root.insert(
+        "handResolved".into(),
+        json!(super::HAND_RESOLVED_NAMES.to_vec()),
+    );
+    let mut s = serde_json::to_string_pretty(&Value::Object(root)).expect("JSON");
+    s.push('\n');
+    s
+}
 
 /// A row's description on one line, as the TypeScript comment and the table show it.
 fn one_line(doc: &str) -> String {
@@ -140,6 +196,11 @@ mod tests {
     #[test]
     fn generated_typescript_is_committed() {
         compare_with_committed(TYPESCRIPT_PATH, &typescript(), COMMAND);
+    }
+
+    #[test]
+    fn generated_layout_json_is_committed() {
+        compare_with_committed(JSON_PATH, &layout_json(), COMMAND);
     }
 
     #[test]

@@ -288,98 +288,26 @@ impl ChainArm {
     }
 }
 
-/// A chain method as an arm's reach step: FABRIK ([`Fabrik`]) or CCD ([`Ccd`]).
-pub trait ReachMethod: Copy + core::fmt::Debug {
-    /// The method's options.
-    type Options;
-
-    /// The method with `options`.
-    ///
-    /// # Errors
-    /// Options out of range.
-    fn with_options(options: Self::Options) -> Result<Self>;
-
-    /// Moves `joints` of chain `c` toward `goal` (FABRIK) or the `effectors` (CCD), with
-    /// `frames` as the bones' frame storage.
-    fn reach(
-        &self,
-        c: &Chain,
-        root: &RootFrame,
-        goal: &ChainGoal,
-        effectors: &[Effector],
-        joints: &mut [Vec3],
-        frames: &mut [Quat],
-    ) -> ChainReport;
-}
-
-impl ReachMethod for Fabrik {
-    type Options = FabrikOptions;
-
-    fn with_options(options: FabrikOptions) -> Result<Self> {
-        Fabrik::new(options)
-    }
-
-    fn reach(
-        &self,
-        c: &Chain,
-        root: &RootFrame,
-        goal: &ChainGoal,
-        _effectors: &[Effector],
-        joints: &mut [Vec3],
-        frames: &mut [Quat],
-    ) -> ChainReport {
-        self.solve(c, root, goal, joints, frames)
-    }
-}
-
-impl ReachMethod for Ccd {
-    type Options = CcdOptions;
-
-    fn with_options(options: CcdOptions) -> Result<Self> {
-        Ccd::new(options)
-    }
-
-    fn reach(
-        &self,
-        c: &Chain,
-        root: &RootFrame,
-        _goal: &ChainGoal,
-        effectors: &[Effector],
-        joints: &mut [Vec3],
-        frames: &mut [Quat],
-    ) -> ChainReport {
-        self.solve(c, root, effectors, None, None, joints, frames)
-    }
-}
-
-/// An arm reached by a chain method `M`: the arm chain (upper arm, forearm; with
-/// [`ArmOptions::shoulder_angle`] the shoulder bone too, under a cone limit), the elbow turned
-/// toward the same bend direction the analytic solver uses (pose elbow or default pole, with
-/// its continuity memory). Warm-started from the previous frame. See [`super::arm`] for
-/// rotations and twist.
+/// FABRIK for one arm ([`super::ArmSolver::Fabrik`]): the arm chain (upper arm, forearm;
+/// with [`ArmOptions::shoulder_angle`] the shoulder bone too, under a cone limit) reaches the
+/// wrist target, the elbow turned toward the same bend direction the analytic solver uses
+/// (pose elbow or default pole, with its continuity memory). Warm-started from the previous
+/// frame. See [`super::arm`] for rotations and twist.
 #[derive(Clone, Debug)]
-pub struct MethodArm<M> {
-    method: M,
+pub struct FabrikArm {
+    fabrik: Fabrik,
     arm: ChainArm,
     frames: [Quat; 3],
 }
 
-/// FABRIK for one arm ([`super::ArmSolver::Fabrik`]): the chain reaches the wrist target.
-pub type FabrikArm = MethodArm<Fabrik>;
-
-/// CCD for one arm ([`super::ArmSolver::Ccd`]) with the seed's priority effectors: the aligned
-/// finger point (when the rig aligns one) first, the wrist second, the elbow toward the bend
-/// direction last.
-pub type CcdArm = MethodArm<Ccd>;
-
-impl<M: ReachMethod> MethodArm<M> {
-    /// An arm solver for `chain` with the method's `options`.
+impl FabrikArm {
+    /// A FABRIK arm solver for `chain`.
     ///
     /// # Errors
     /// Options out of range.
-    pub fn new(chain: &ArmChain, options: M::Options, arm: &ArmOptions) -> Result<Self> {
-        Ok(MethodArm {
-            method: M::with_options(options)?,
+    pub fn new(chain: &ArmChain, options: FabrikOptions, arm: &ArmOptions) -> Result<Self> {
+        Ok(FabrikArm {
+            fabrik: Fabrik::new(options)?,
             arm: ChainArm::new(chain, arm)?,
             frames: [Quat::IDENTITY; 3],
         })
@@ -392,17 +320,66 @@ impl<M: ReachMethod> MethodArm<M> {
     }
 }
 
-impl<M: ReachMethod> ArmIk for MethodArm<M> {
+impl ArmIk for FabrikArm {
     fn solve(&mut self, chain: &ArmChain, goal: &ArmGoal, out: &mut ArmPose) -> ArmReach {
-        let method = self.method;
+        let fabrik = self.fabrik;
         let frames = &mut self.frames;
         self.arm
-            .solve(chain, goal, out, |c, root, goal, effectors, joints| {
-                method.reach(
+            .solve(chain, goal, out, |c, root, goal, _effectors, joints| {
+                fabrik.solve(c, root, goal, joints, &mut frames[..c.bone_count()])
+            })
+    }
+
+    fn reset(&mut self) {
+        self.arm.reset();
+    }
+}
+
+/// CCD for one arm ([`super::ArmSolver::Ccd`]) with the seed's priority effectors: the
+/// aligned finger point (when the rig aligns one) first, the wrist second, the elbow toward
+/// the bend direction the analytic solver uses (pose elbow or default pole, with its
+/// continuity memory) last. With [`ArmOptions::shoulder_angle`] the shoulder bone joins the
+/// chain under a cone limit. Warm-started from the previous frame; see [`super::arm`] for
+/// rotations and twist.
+#[derive(Clone, Debug)]
+pub struct CcdArm {
+    ccd: Ccd,
+    arm: ChainArm,
+    frames: [Quat; 3],
+}
+
+impl CcdArm {
+    /// A CCD arm solver for `chain`.
+    ///
+    /// # Errors
+    /// Options out of range.
+    pub fn new(chain: &ArmChain, options: CcdOptions, arm: &ArmOptions) -> Result<Self> {
+        Ok(CcdArm {
+            ccd: Ccd::new(options)?,
+            arm: ChainArm::new(chain, arm)?,
+            frames: [Quat::IDENTITY; 3],
+        })
+    }
+
+    /// The last solve's iteration count and convergence.
+    #[must_use]
+    pub fn last_report(&self) -> ChainReport {
+        self.arm.last_report()
+    }
+}
+
+impl ArmIk for CcdArm {
+    fn solve(&mut self, chain: &ArmChain, goal: &ArmGoal, out: &mut ArmPose) -> ArmReach {
+        let ccd = self.ccd;
+        let frames = &mut self.frames;
+        self.arm
+            .solve(chain, goal, out, |c, root, _goal, effectors, joints| {
+                ccd.solve(
                     c,
                     root,
-                    goal,
                     effectors,
+                    None,
+                    None,
                     joints,
                     &mut frames[..c.bone_count()],
                 )

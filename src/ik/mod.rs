@@ -65,7 +65,7 @@ pub use arm::{
 };
 pub use arms::ArmSolverState;
 pub use ccd::{Ccd, CcdOptions};
-pub use chain_arm::{CcdArm, FabrikArm, MethodArm, ReachMethod};
+pub use chain_arm::{CcdArm, FabrikArm};
 pub use chain_solver::{ChainMethod, ChainSolution, ChainSolver, ChainSolverOptions};
 pub use fabrik::{Fabrik, FabrikOptions};
 pub use goal::{ChainGoal, ChainReport, Effector};
