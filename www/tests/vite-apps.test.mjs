@@ -48,7 +48,8 @@ function makeProject() {
       "declare const vrmBytes: Uint8Array;\n" +
       'declare const options: import("handrig").HandRigOptions;\n' +
       "declare const vrm: Parameters<typeof applyToVRM>[0];\n" +
-      "declare const holisticResult: { timeMs: number; poseWorldLandmarks: { x: number; y: number; z: number }[][] };\n",
+      'declare const handLandmarker: { detectForVideo(video: HTMLVideoElement, timeMs: number): NonNullable<import("handrig").FrameInput["hands"]> };\n' +
+      "declare const video: HTMLVideoElement;\n",
   );
   writeFileSync(
     join(dir, "worker", "tsconfig.docs.json"),
