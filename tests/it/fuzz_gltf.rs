@@ -308,7 +308,7 @@ fn apply(json: &mut Value, bin: &mut Vec<u8>, op: u8, a: u64, b: u64) {
                     }
                 }
             } else if let Some(v) = item(json, "bufferViews", a) {
-                v[fields[(b % 5) as usize]] = hostile(b / 5);
+                set(v, fields[(b % 5) as usize], hostile(b / 5));
             }
         }
         // A sparse accessor.
