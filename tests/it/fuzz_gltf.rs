@@ -19,7 +19,7 @@
 //! allocator); and a skeleton that loads must give a rig that solves a frame to finite unit
 //! rotations. Corpus: the shared avatars, the generated fixtures (VRM 1.0 and 0.x, Mixamo- and
 //! Unreal-named `.glb`) and `tests/fuzz-corpus/`. Cases: `HANDRIG_GLTF_FUZZ_CASES` (default
-//! 600 in a release build, 100 in a debug one; `make fuzz` runs 100,000), seed
+//! 600 in a release build, 50 in a debug one; `make fuzz` runs 100,000), seed
 //! `HANDRIG_FUZZ_SEED`.
 
 use crate::no_alloc::{live_bytes, peak_since_reset, reset_peak};
@@ -38,7 +38,7 @@ fn cases() -> u32 {
         .ok()
         .and_then(|s| s.parse().ok())
         // A debug build (plain `cargo test`, `make test-rust`) reads files about ten times slower.
-        .unwrap_or(if cfg!(debug_assertions) { 100 } else { 600 })
+        .unwrap_or(if cfg!(debug_assertions) { 50 } else { 600 })
 }
 
 fn seed() -> u64 {
