@@ -60,7 +60,7 @@ function chainOptions(given: unknown): object {
   // Fields this function does not read go to Rust as given: its reader (serde, unknown fields
   // denied) names them and lists the known ones, so no list of names is kept here. Fields set to
   // undefined are absent (givenFields).
-  const options = givenFields(given);
+  const options = givenFields(given, "options");
   const out: { [key: string]: unknown } = { ...options };
   const method = options.method;
   if (method !== undefined) {
@@ -80,7 +80,7 @@ function chainOptions(given: unknown): object {
       if (c === null || c === undefined) return null;
       if (!isObject(c)) fail(field, `must be { type: "cone", maxAngle } or { type: "hinge", axis, min, max } or null, got ${describe(c)}`);
       // Unread fields pass through to Rust, which names them (as above).
-      const g = givenFields(c);
+      const g = givenFields(c, field);
       if (g.type === "cone") {
         return { ...g, type: "cone", maxAngle: finite(g.maxAngle, `${field}.maxAngle`) };
       }

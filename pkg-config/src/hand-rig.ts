@@ -28,12 +28,12 @@ function splitSkeletonOptions(options: unknown): { boneMap: string[]; rest: unkn
   return readUser("options", () => {
     if (!isObject(options) || !("skeleton" in options)) return { boneMap: [], rest: options };
     // Fields set to undefined are absent (givenFields), here as in the other options.
-    const { skeleton, ...rest } = givenFields(options);
+    const { skeleton, ...rest } = givenFields(options, "options");
     const pairs: string[] = [];
     if (skeleton === undefined) return { boneMap: pairs, rest };
     reading.part = "options.skeleton";
     if (!isObject(skeleton) || Array.isArray(skeleton)) fail("options.skeleton", `must be an object { boneMap }, got ${describe(skeleton)}`);
-    const given = givenFields(skeleton);
+    const given = givenFields(skeleton, "options.skeleton");
     for (const key of Object.keys(given)) {
       if (key !== "boneMap") fail(`options.skeleton.${key}`, "unknown option (options.skeleton has boneMap only)");
     }
@@ -43,7 +43,7 @@ function splitSkeletonOptions(options: unknown): { boneMap: string[]; rest: unkn
     if (!isObject(boneMap) || Array.isArray(boneMap)) {
       fail("options.skeleton.boneMap", `must be an object { [humanBoneName]: nodeName }, got ${describe(boneMap)}`);
     }
-    const map = givenFields(boneMap);
+    const map = givenFields(boneMap, "options.skeleton.boneMap");
     for (const bone of Object.keys(map)) {
       const field = `options.skeleton.boneMap.${bone}`;
       reading.part = field;

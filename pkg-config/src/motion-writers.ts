@@ -80,7 +80,7 @@ function parents(bones: readonly string[]): number[] {
 function check(options: unknown, method: string, known: readonly string[]): { [k: string]: unknown } {
   if (options === undefined || options === null) return {};
   if (!isObject(options) || Array.isArray(options)) throw new TypeError(`${method}: options must be an object, got ${describe(options)}`);
-  const given = givenFields(options);
+  const given = givenFields(options, `${method}: options`);
   for (const k of Object.keys(given)) {
     if (!known.includes(k)) throw new TypeError(`${method}: unknown option ${JSON.stringify(k)} (known: ${known.join(", ")})`);
   }

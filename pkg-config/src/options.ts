@@ -101,7 +101,7 @@ function checkOptionValue(d: OptionDescription, value: unknown, field: string): 
         fail(field, `must be an object { ${d.names.join(", ")} } of [x, y, z] (meters), got ${describe(value)}`);
       }
       const out: { [name: string]: [number, number, number] } = {};
-      const given = givenFields(value);
+      const given = givenFields(value, field);
       for (const key of Object.keys(given)) {
         if (!d.names.includes(key)) {
           fail(`${field}.${key}`, `unknown point (expected one of ${d.names.join(", ")})`);
@@ -149,7 +149,7 @@ function normalizeOptions(options: unknown): Nested | undefined {
   const seen = new Set<string>();
   const walk = (obj: Bag, prefix: string): void => {
     reading.part = prefix === "" ? "options" : `options.${prefix}`;
-    const given = givenFields(obj);
+    const given = givenFields(obj, prefix === "" ? "options" : `options.${prefix}`);
     for (const key of Object.keys(given)) {
       const path = prefix === "" ? key : `${prefix}.${key}`;
       const field = `options.${path}`;

@@ -127,7 +127,7 @@ export function createRigWorker(worker: WorkerLike, options: RigWorkerOptions): 
     return Promise.reject(new TypeError(`options: must be an object { avatar, options?, wasm? }, got ${describe(options)}`));
   }
   // Fields set to undefined are absent (givenFields), as in every options object.
-  const given = givenFields(options);
+  const given = givenFields(options, "options");
   const avatar = given.avatar as ArrayBuffer | ArrayBufferView;
   if (!(avatar instanceof ArrayBuffer) && !ArrayBuffer.isView(avatar)) {
     return Promise.reject(new TypeError(`options.avatar: must be the bytes of a .vrm / .glb file (an ArrayBuffer or a Uint8Array), got ${describe(avatar)}`));
