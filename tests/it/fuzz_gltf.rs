@@ -14,7 +14,7 @@
 //! shrunk to its smallest edits.
 //!
 //! Each case must load or fail with an error naming the reader (`vrm:` / `gltf:`); never panic;
-//! finish within a time limit (2 s in release builds, 30 s in debug); hold at most 64 MiB plus
+//! finish within a time limit (5 s per reader in release builds, 30 s in debug); hold at most 64 MiB plus
 //! 40 times the file's size at its peak (this thread's allocations, counted by `no_alloc`'s
 //! allocator); and a skeleton that loads must give a rig that solves a frame to finite unit
 //! rotations. Corpus: the shared avatars, the generated fixtures (VRM 1.0 and 0.x, Mixamo- and
@@ -534,7 +534,8 @@ fn check_case(bytes: &[u8], map: &[(String, String)], frame: &FrameInput) -> Res
     let limit = if cfg!(debug_assertions) {
         Duration::from_secs(30)
     } else {
-        Duration::from_secs(2)
+        // A 70,000-node chain takes up to 0.9 s per reader on a loaded 2-core machine.
+        Duration::from_secs(5)
     };
     let memory = (64 << 20) + 40 * bytes.len();
     let readers: [(&str, &dyn Fn() -> handrig::Result<handrig::Skeleton>); 3] = [
