@@ -26,7 +26,7 @@ NODE_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NODE_DIRS))
 
 .PHONY: help setup setup-system setup-rust setup-node pkg pkg-dev \
         test test-rust test-wasm test-node test-www test-docs docs demo eval bench record-check avatars clean \
-        bench-truth bench-render bench-track bench-tasks bench-score
+        bench-truth bench-render bench-track bench-tasks bench-score fuzz soak
 
 help:
 	@echo "make demo       build the package (pkg/) and serve the demo on 127.0.0.1"
@@ -48,6 +48,8 @@ help:
 	@echo "make bench-score  solve the recordings with handrig and Kalidokit, compare with the truth (prints the tables)"
 	@echo "make avatars    regenerate the human avatars in tests/fixtures/avatars/ from ../shared/data/makehuman (tools/avatars/)"
 	@echo "make record-check  record the shared videos with tools/record-video.mjs and compare with the shared recordings"
+	@echo "make fuzz       issue 49's fuzzers at full length: 100,000 cases per surface (glTF readers; MotionRecorder, worker, CLI)"
+	@echo "make soak       issue 49's soak at full length: 108,000 frames through a worker-hosted rig, 100 rigs x 18,000 frames"
 	@echo "make clean      remove pkg/ and the package build's scratch files (not target/)"
 
 setup: setup-system setup-rust setup-node
@@ -108,6 +110,19 @@ test-wasm: setup
 
 test-node: pkg
 	node tests/node/run.mjs
+
+# Issue 49 (docs/robustness.md): the fuzzers at full length, not part of `make test` (whose runs
+# are short: a few hundred glTF cases, 3,000 per JS surface). The glTF readers run in a release
+# build; HANDRIG_FUZZ_SEED changes the seed.
+FUZZ_CASES ?= 100000
+fuzz: pkg
+	HANDRIG_GLTF_FUZZ_CASES=$(FUZZ_CASES) cargo test --release --test it fuzz_gltf -- --nocapture
+	HANDRIG_NODE_FUZZ_CASES=$(FUZZ_CASES) HANDRIG_NODE_FUZZ_CLI_FILES=$(FUZZ_CASES) node tests/node/run.mjs --only '^fuzz\.test'
+
+# Issue 49's soak at full length (an hour of 30 fps frames through a worker-hosted rig with
+# recording on; 100 rigs for 10 minutes of frames); `make test` runs a short one.
+soak: pkg
+	HANDRIG_SOAK=long node tests/node/run.mjs --only '^soak-worker\.test'
 
 # The JS API reference: TypeDoc over pkg-config/src (pkg-config/typedoc.json; warnings are
 # errors), into target/docs/api/ (not committed).

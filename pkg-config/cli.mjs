@@ -58,7 +58,7 @@ function exportOne(task, avatar) {
   const name = path.basename(file);
   let rec;
   try {
-    rec = JSON.parse(fs.readFileSync(file, "utf8"));
+    rec = JSON.parse(readFile(file, "utf8"));
   } catch (e) {
     throw new Error(`${file}: ${e.code === "ENOENT" ? "no such file" : e instanceof SyntaxError ? `not JSON (${e.message})` : e.message}`);
   }
@@ -86,10 +86,39 @@ function exportOne(task, avatar) {
     }
     const data = format === "bvh" ? recorder.toBVH({ fps, unit }) : recorder.toVRMA({ tolerance });
     fs.mkdirSync(path.dirname(path.resolve(out)), { recursive: true });
-    fs.writeFileSync(out, data);
+    writeAtomically(out, data);
     return { file: name, out, frames: recorder.frameCount, seconds: recorder.duration / 1000, bytes: fs.statSync(out).size };
   } finally {
     rig.free();
+  }
+}
+
+/** The longest file read (bytes): a JSON recording is read as one string, whose length V8 bounds. */
+const MAX_FILE_BYTES = 2 ** 29 - 24;
+
+/**
+ * A file's contents, only when it is a regular file within MAX_FILE_BYTES: a FIFO or a device
+ * would block or never end, a larger file cannot become one string (issue 49).
+ */
+function readFile(file, encoding) {
+  const st = fs.statSync(file);
+  if (!st.isFile()) throw new Error(st.isDirectory() ? "a directory, not a file" : "not a regular file");
+  if (st.size > MAX_FILE_BYTES) throw new Error(`too large (${st.size} bytes; handrig reads files up to ${MAX_FILE_BYTES} bytes)`);
+  return fs.readFileSync(file, encoding);
+}
+
+/**
+ * Writes `out` whole or not at all: the data goes to a temporary file next to it, renamed over
+ * `out` once complete, so a failed export leaves no partial file (and an older `out` as it was).
+ */
+function writeAtomically(out, data) {
+  const tmp = path.join(path.dirname(out), `.${path.basename(out)}.${process.pid}.${Math.random().toString(36).slice(2)}.tmp`);
+  try {
+    fs.writeFileSync(tmp, data);
+    fs.renameSync(tmp, out);
+  } catch (e) {
+    fs.rmSync(tmp, { force: true });
+    throw new Error(`${out}: cannot write it (${e.code ?? e.message})`);
   }
 }
 
@@ -228,7 +257,7 @@ async function main(argv) {
 
   let avatar;
   try {
-    avatar = new Uint8Array(fs.readFileSync(v.avatar));
+    avatar = new Uint8Array(readFile(v.avatar));
   } catch (e) {
     throw new UsageError(`--avatar ${v.avatar}: ${e.code === "ENOENT" ? "no such file" : e.message}`);
   }

@@ -2,7 +2,7 @@
 // flat goal and pose buffers in wasm memory (src/wasm/chain.rs). Options are checked for shape
 // here (field-named errors, no user code run inside wasm); Rust checks the geometry.
 
-import { asError, describe, fail, finite, FieldError, isObject, readUser, reading, userError } from "./errors.js";
+import { asError, describe, fail, finite, FieldError, givenFields, isObject, readUser, reading, userError } from "./errors.js";
 import type { Landmark, Quat, Vec3 } from "./frame-types.js";
 import { point3, readVec3 } from "./points.js";
 import { quat, vec } from "./results.js";
@@ -53,14 +53,15 @@ const CHAIN_LIMIT = 1e9;
  * Checks the shape of ChainSolver options in JS (field-named errors, no user code run inside
  * wasm) and returns a plain copy for the Rust side, which checks the geometry.
  */
-function chainOptions(options: unknown): object {
-  if (!isObject(options) || Array.isArray(options)) {
-    fail("options", `must be an object { method?, joints, constraints?, iterations?, tolerance? }, got ${describe(options)}`);
+function chainOptions(given: unknown): object {
+  if (!isObject(given) || Array.isArray(given)) {
+    fail("options", `must be an object { method?, joints, constraints?, iterations?, tolerance? }, got ${describe(given)}`);
   }
   // Fields this function does not read go to Rust as given: its reader (serde, unknown fields
-  // denied) names them and lists the known ones, so no list of names is kept here.
-  const out: { [key: string]: unknown } = {};
-  for (const k of Object.keys(options)) out[k] = options[k];
+  // denied) names them and lists the known ones, so no list of names is kept here. Fields set to
+  // undefined are absent (givenFields).
+  const options = givenFields(given, "options");
+  const out: { [key: string]: unknown } = { ...options };
   const method = options.method;
   if (method !== undefined) {
     if (method !== "fabrik" && method !== "ccd") fail("options.method", `must be "fabrik" or "ccd", got ${describe(method)}`);
@@ -71,26 +72,28 @@ function chainOptions(options: unknown): object {
   if (joints.length < 3) fail("options.joints", `needs at least 3 joints (2 bones), got ${joints.length}`);
   out.joints = joints.map((p: unknown, i) => point3(p, `options.joints[${i}]`, CHAIN_LIMIT));
   const constraints = options.constraints;
-  if (constraints !== undefined && constraints !== null) {
+  if (constraints === null) delete out.constraints;
+  else if (constraints !== undefined) {
     if (!Array.isArray(constraints)) fail("options.constraints", `must be an array (one entry per bone, or null), got ${describe(constraints)}`);
     out.constraints = constraints.map((c: unknown, i) => {
       const field = `options.constraints[${i}]`;
       if (c === null || c === undefined) return null;
       if (!isObject(c)) fail(field, `must be { type: "cone", maxAngle } or { type: "hinge", axis, min, max } or null, got ${describe(c)}`);
       // Unread fields pass through to Rust, which names them (as above).
-      if (c.type === "cone") {
-        return { ...c, type: "cone", maxAngle: finite(c.maxAngle, `${field}.maxAngle`) };
+      const g = givenFields(c, field);
+      if (g.type === "cone") {
+        return { ...g, type: "cone", maxAngle: finite(g.maxAngle, `${field}.maxAngle`) };
       }
-      if (c.type === "hinge") {
+      if (g.type === "hinge") {
         return {
-          ...c,
+          ...g,
           type: "hinge",
-          axis: point3(c.axis, `${field}.axis`),
-          min: finite(c.min, `${field}.min`),
-          max: finite(c.max, `${field}.max`),
+          axis: point3(g.axis, `${field}.axis`),
+          min: finite(g.min, `${field}.min`),
+          max: finite(g.max, `${field}.max`),
         };
       }
-      return fail(`${field}.type`, `must be "cone" or "hinge", got ${describe(c.type)}`);
+      return fail(`${field}.type`, `must be "cone" or "hinge", got ${describe(g.type)}`);
     });
   }
   if (options.iterations !== undefined) {

@@ -40,6 +40,27 @@ export function isObject(v: unknown): v is Bag {
   return v !== null && typeof v === "object";
 }
 
+/**
+ * The fields of an options object that are given: its own enumerable fields, except those set to
+ * `undefined`, which mean absent, as TypeScript's optional fields do (`{ constraints: undefined }`
+ * reads as `{}`). The one rule for every options object of the package (HandRig's options, the
+ * ChainSolver's and its constraints, fromGltf's `skeleton`, toVRMA/toBVH's, createRigWorker's):
+ * each reader reads the user's object through this, once per field (a getter runs once), and
+ * passes on only this plain copy (no `undefined` reaches Rust's serde reader). `field` is the
+ * object's path (`options.skeleton`), for errors.
+ */
+export function givenFields(options: Bag, field: string): { [key: string]: unknown } {
+  const out: { [key: string]: unknown } = {};
+  // `reading.part` names what a throwing getter or Proxy trap was reading (see readUser).
+  reading.part = field;
+  for (const key of Object.keys(options)) {
+    reading.part = `${field}.${key}`;
+    const value = options[key];
+    if (value !== undefined) out[key] = value;
+  }
+  return out;
+}
+
 /** A typed array or DataView (its length and elements read like an array's). */
 export function isView(v: unknown): v is ArrayBufferView & Bag {
   return ArrayBuffer.isView(v);

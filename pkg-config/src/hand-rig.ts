@@ -5,7 +5,7 @@
 // builds the result object from the output view (results.ts), reusing one object per rig (or
 // the caller's), so that a frame allocates nothing once warmed up.
 
-import { asError, describe, fail, isObject, readError, readUser, reading } from "./errors.js";
+import { asError, describe, fail, givenFields, isObject, readError, readUser, reading } from "./errors.js";
 import type { BoneMap, FrameInput, RestPose, Vec3 } from "./frame-types.js";
 import { TIME, packFrame } from "./frame.js";
 import { BONES, BONE_COUNT, BONE_INDEX, LAYOUT, LI, LO, optionNames, type FlatLayout, type HumanBoneName } from "./layout.js";
@@ -27,20 +27,23 @@ export interface GltfOptions {
 function splitSkeletonOptions(options: unknown): { boneMap: string[]; rest: unknown } {
   return readUser("options", () => {
     if (!isObject(options) || !("skeleton" in options)) return { boneMap: [], rest: options };
-    const { skeleton, ...rest } = options as { skeleton?: unknown };
+    // Fields set to undefined are absent (givenFields), here as in the other options.
+    const { skeleton, ...rest } = givenFields(options, "options");
     const pairs: string[] = [];
     if (skeleton === undefined) return { boneMap: pairs, rest };
     reading.part = "options.skeleton";
     if (!isObject(skeleton) || Array.isArray(skeleton)) fail("options.skeleton", `must be an object { boneMap }, got ${describe(skeleton)}`);
-    for (const key of Object.keys(skeleton)) {
+    const given = givenFields(skeleton, "options.skeleton");
+    for (const key of Object.keys(given)) {
       if (key !== "boneMap") fail(`options.skeleton.${key}`, "unknown option (options.skeleton has boneMap only)");
     }
-    const map = skeleton.boneMap;
-    if (map === undefined) return { boneMap: pairs, rest };
+    const boneMap = given.boneMap;
+    if (boneMap === undefined) return { boneMap: pairs, rest };
     reading.part = "options.skeleton.boneMap";
-    if (!isObject(map) || Array.isArray(map)) {
-      fail("options.skeleton.boneMap", `must be an object { [humanBoneName]: nodeName }, got ${describe(map)}`);
+    if (!isObject(boneMap) || Array.isArray(boneMap)) {
+      fail("options.skeleton.boneMap", `must be an object { [humanBoneName]: nodeName }, got ${describe(boneMap)}`);
     }
+    const map = givenFields(boneMap, "options.skeleton.boneMap");
     for (const bone of Object.keys(map)) {
       const field = `options.skeleton.boneMap.${bone}`;
       reading.part = field;

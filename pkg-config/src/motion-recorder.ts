@@ -26,6 +26,11 @@ export interface RecordableResult {
   worldPositions?: { [boneName: string]: ArrayLike<number> | undefined };
 }
 
+/** `add`'s bound on times (ms): a JavaScript Date's range. */
+const TIME_LIMIT = 8.64e15;
+/** `add`'s bound on the hips position (m): float32 and BVH's fixed-point numbers hold it. */
+const POSITION_LIMIT = 1e9;
+
 /**
  * Records solved frames and exports them: `const rec = new MotionRecorder(rig)`, then
  * `rec.add(timeMs, rig.solve(frame))` every frame, then `rec.toVRMA()` (the bytes of a `.vrma`)
@@ -104,6 +109,9 @@ export class MotionRecorder {
     if (typeof timeMs !== "number" || !Number.isFinite(timeMs)) {
       throw new TypeError(`timeMs: must be a finite number, got ${describe(timeMs)}`);
     }
+    // Beyond a JavaScript Date's range, differences of times lose their milliseconds and a
+    // file's seconds overflow (issue 49's fuzzing: a span of 1e308 ms made infinite key times).
+    if (Math.abs(timeMs) > TIME_LIMIT) throw new RangeError(`timeMs: must be within -${TIME_LIMIT}..${TIME_LIMIT} (a Date's range), got ${timeMs}`);
     const n = this.#count;
     const last = n > 0 ? this.#times[n - 1]! : -Infinity;
     if (timeMs < last) throw new RangeError(`timeMs: ${timeMs} goes back in time (the last frame recorded is at ${last} ms)`);
@@ -125,10 +133,15 @@ export class MotionRecorder {
     let hipsIn: ArrayLike<number> | undefined;
     const world = result.worldPositions;
     if (isObject(world)) {
-      hipsIn = world.hips;
+      // null, like undefined: no hips position (the rest one is recorded). Issue 49's fuzzing:
+      // null threw "Cannot read properties of null".
+      hipsIn = world.hips ?? undefined;
       if (hipsIn !== undefined) {
         for (let c = 0; c < 3; c++) {
-          if (!Number.isFinite(hipsIn[c])) throw new TypeError(`result.worldPositions.hips[${c}]: must be a finite number, got ${describe(hipsIn[c])}`);
+          const v = hipsIn[c];
+          if (!Number.isFinite(v)) throw new TypeError(`result.worldPositions.hips[${c}]: must be a finite number, got ${describe(v)}`);
+          // Written as float32 (.vrma) and fixed-point text (BVH): 1e39 became Infinity in the file.
+          if (Math.abs(v!) > POSITION_LIMIT) throw new RangeError(`result.worldPositions.hips[${c}]: must be within -${POSITION_LIMIT}..${POSITION_LIMIT} (meters), got ${v}`);
         }
       }
     }

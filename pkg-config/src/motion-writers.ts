@@ -3,7 +3,7 @@
 // and BVH text, from the recorded frames (already in VRM 1.0's convention). No dependency: the
 // glTF holds nodes, accessors and one animation, the GLB container is a header and two chunks.
 
-import { describe, isObject } from "./errors.js";
+import { describe, givenFields, isObject } from "./errors.js";
 import type { HumanBoneName } from "./layout.js";
 
 /** Options of `MotionRecorder.toVRMA`. */
@@ -80,10 +80,11 @@ function parents(bones: readonly string[]): number[] {
 function check(options: unknown, method: string, known: readonly string[]): { [k: string]: unknown } {
   if (options === undefined || options === null) return {};
   if (!isObject(options) || Array.isArray(options)) throw new TypeError(`${method}: options must be an object, got ${describe(options)}`);
-  for (const k of Object.keys(options)) {
+  const given = givenFields(options, `${method}: options`);
+  for (const k of Object.keys(given)) {
     if (!known.includes(k)) throw new TypeError(`${method}: unknown option ${JSON.stringify(k)} (known: ${known.join(", ")})`);
   }
-  return options as { [k: string]: unknown };
+  return given;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -344,6 +345,9 @@ function median(values: number[]): number {
   return s.length === 0 ? NaN : s[s.length >> 1]!;
 }
 
+/** The most characters a BVH text may have (V8's longest string is 2^29 - 24). */
+const BVH_MAX_CHARS = 2 ** 29 - 2 ** 20;
+
 export function writeBVH(d: MotionData, options: BVHOptions | undefined): string {
   const o = check(options, "toBVH", ["unit", "fps"]);
   const unit = o.unit ?? "cm";
@@ -395,6 +399,16 @@ export function writeBVH(d: MotionData, options: BVHOptions | undefined): string
   const t0 = d.times[0]!;
   const span = (d.times[d.count - 1]! - t0) / 1000;
   const frames = Math.floor(span / frameTime + 1e-6) + 1;
+  // The text must fit one JavaScript string (about 2^29 characters): a recording resampled at a
+  // tiny frame time, or spanning years, would not (and would take as long to write). At most
+  // about 12 characters per channel value.
+  const channels = 3 * d.bones.length + 3;
+  if (!(frames * (channels * 12 + 1) <= BVH_MAX_CHARS)) {
+    throw new RangeError(
+      `toBVH: ${frames} frames of ${channels} channels (${(span).toFixed(3)} s at ${(1 / frameTime).toPrecision(6)} fps) is more BVH text than a string holds; ` +
+        "give options.fps a lower rate, or record less",
+    );
+  }
   lines.push("MOTION", `Frames: ${frames}`, `Frame Time: ${frameTime.toFixed(6)}`);
   const stride = 4 * d.driven.length;
   const q = new Float64Array(4);

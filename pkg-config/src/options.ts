@@ -5,7 +5,7 @@
 // `optionDescriptions()`. Their TypeScript type, `HandRigOptions`, is generated from the same
 // table (options-types.ts).
 
-import { describe, fail, isObject, readUser, reading, type Bag } from "./errors.js";
+import { describe, fail, givenFields, isObject, readUser, reading, type Bag } from "./errors.js";
 import type { HandRigOptions } from "./options-types.js";
 import { point3 } from "./points.js";
 import { wasm, type RawOptionDescription } from "./wasm.js";
@@ -101,12 +101,13 @@ function checkOptionValue(d: OptionDescription, value: unknown, field: string): 
         fail(field, `must be an object { ${d.names.join(", ")} } of [x, y, z] (meters), got ${describe(value)}`);
       }
       const out: { [name: string]: [number, number, number] } = {};
-      for (const key of Object.keys(value)) {
+      const given = givenFields(value, field);
+      for (const key of Object.keys(given)) {
         if (!d.names.includes(key)) {
           fail(`${field}.${key}`, `unknown point (expected one of ${d.names.join(", ")})`);
         }
-        const p = value[key];
-        if (p === undefined || p === null) continue;
+        const p = given[key];
+        if (p === null) continue;
         out[key] = point3(p, `${field}.${key}`);
       }
       return out;
@@ -148,12 +149,12 @@ function normalizeOptions(options: unknown): Nested | undefined {
   const seen = new Set<string>();
   const walk = (obj: Bag, prefix: string): void => {
     reading.part = prefix === "" ? "options" : `options.${prefix}`;
-    for (const key of Object.keys(obj)) {
+    const given = givenFields(obj, prefix === "" ? "options" : `options.${prefix}`);
+    for (const key of Object.keys(given)) {
       const path = prefix === "" ? key : `${prefix}.${key}`;
       const field = `options.${path}`;
       reading.part = field;
-      const value = obj[key];
-      if (value === undefined) continue;
+      const value = given[key];
       const d = known.get(path);
       if (d !== undefined) {
         if (seen.has(path)) fail(field, "given twice (as a nested object and as a dotted path)");

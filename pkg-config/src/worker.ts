@@ -21,6 +21,7 @@
  */
 
 import type { FrameInput } from "./frame-types.js";
+import { describe, givenFields, isObject } from "./errors.js";
 import type { HumanBoneName } from "./layout.js";
 import { BONES, LO } from "./layout.js";
 import type { HandRigOptions } from "./options.js";
@@ -126,15 +127,28 @@ type FromWorker =
  * ```
  */
 export function createRigWorker(worker: WorkerLike, options: RigWorkerOptions): Promise<RigWorker> {
-  const { avatar, wasm } = options;
+  if (!isObject(options) || Array.isArray(options)) {
+    return Promise.reject(new TypeError(`options: must be an object { avatar, options?, wasm? }, got ${describe(options)}`));
+  }
+  // Fields set to undefined are absent (givenFields), as in every options object.
+  const given = givenFields(options, "options");
+  const avatar = given.avatar as ArrayBuffer | ArrayBufferView;
+  if (!(avatar instanceof ArrayBuffer) && !ArrayBuffer.isView(avatar)) {
+    return Promise.reject(new TypeError(`options.avatar: must be the bytes of a .vrm / .glb file (an ArrayBuffer or a Uint8Array), got ${describe(avatar)}`));
+  }
+  const wasm = given.wasm;
+  if (wasm !== undefined && typeof wasm !== "string") {
+    return Promise.reject(new TypeError(`options.wasm: must be the URL of the .wasm file (a string), got ${describe(wasm)}`));
+  }
   const transfer = avatar instanceof ArrayBuffer ? [avatar] : [];
-  const init: ToWorker = { type: "init", avatar, options: options.options, wasm };
+  const init: ToWorker = { type: "init", avatar, options: given.options as HandRigOptions | undefined, wasm };
   return new Promise<RigWorker>((resolve, reject) => {
     worker.onerror = (ev: { message?: string }) => {
       reject(new Error(`handrig/worker: the worker failed to start: ${ev?.message ?? "unknown error"}`));
     };
     worker.onmessage = (ev: { data: FromWorker }) => {
-      const m = ev.data;
+      const m = (isObject(ev) ? ev.data : undefined) as FromWorker | undefined;
+      if (!isObject(m)) return;
       if (m.type === "ready") resolve(new PageRig(worker, m.bones, m.length));
       else if (m.type === "error") reject(new Error(m.message));
     };
@@ -167,7 +181,7 @@ class PageRig implements RigWorker {
     this.#free = new ArrayBuffer(4 * length);
     // The second buffer of the pair becomes `latest` with the first result; made here, once.
     this.#spare = new ArrayBuffer(4 * length);
-    worker.onmessage = (ev: { data: FromWorker }) => this.#receive(ev.data);
+    worker.onmessage = (ev: { data: FromWorker }) => this.#receive((isObject(ev) ? ev.data : undefined) as FromWorker);
     worker.onerror = (ev: { message?: string }) => this.#fail(`handrig/worker: ${ev?.message ?? "worker error"}`);
   }
 
@@ -198,7 +212,9 @@ class PageRig implements RigWorker {
   }
 
   #receive(m: FromWorker): void {
-    if (m.type === "ready") return;
+    // Only the worker's own replies count (a message of another shape is not one of them).
+    if (!isObject(m) || (m.type !== "solved" && m.type !== "error")) return;
+    if (m.type === "solved" && !(m.output instanceof ArrayBuffer)) return;
     this.#busy = false;
     if (m.type === "solved") {
       // The previous `latest` buffer is free again; the new one is held until the next result.
@@ -212,7 +228,7 @@ class PageRig implements RigWorker {
       r.solveUs = m.us;
       this.onResult?.(r);
     } else {
-      if (m.output !== null) {
+      if (m.output instanceof ArrayBuffer) {
         if (this.#free === null) this.#free = m.output;
         else this.#spare = m.output;
       }
@@ -309,22 +325,47 @@ export function serveRig(handrig: HandrigModule, scope: WorkerScopeLike = global
   let rig: RigLike | null = null;
   const one: ArrayBuffer[] = [];
   const solved = { type: "solved" as const, output: null as ArrayBuffer | null, timeMs: 0, us: 0 };
+  // A reply to a message that is not one of createRigWorker's: the error names what is wrong,
+  // and the worker goes on (nothing is thrown inside the handler, nothing is transferred).
+  const refuse = (message: string, fatal: boolean): void => {
+    scope.postMessage({ type: "error", message: `handrig/worker: ${message}`, output: null, fatal }, []);
+  };
   scope.onmessage = async (ev: { data: ToWorker }) => {
-    const m = ev.data;
+    const m = (isObject(ev) ? ev.data : undefined) as unknown;
+    if (!isObject(m) || (m.type !== "init" && m.type !== "solve")) {
+      const type = isObject(m) ? ` with type ${describe(m.type)}` : "";
+      refuse(`a message must be { type: "init", avatar, options?, wasm? } or { type: "solve", frame, output }, got ${describe(m)}${type}`, false);
+      return;
+    }
     if (m.type === "init") {
       try {
+        const avatar = m.avatar;
+        if (!(avatar instanceof ArrayBuffer) && !ArrayBuffer.isView(avatar)) {
+          throw new Error(`handrig/worker: init.avatar must be the bytes of a .vrm / .glb file, got ${describe(avatar)}`);
+        }
+        if (m.wasm !== undefined && typeof m.wasm !== "string") {
+          throw new Error(`handrig/worker: init.wasm must be a string (the .wasm URL), got ${describe(m.wasm)}`);
+        }
         await handrig.default(m.wasm);
-        rig = handrig.HandRig.fromVrm(m.avatar, m.options);
+        const next = handrig.HandRig.fromVrm(avatar, m.options);
+        // A second init replaces the rig (the old one's wasm memory is released).
+        (rig as { free?: () => void } | null)?.free?.();
+        rig = next;
         scope.postMessage({ type: "ready", bones: rig.boneNames(), length: LO.length }, []);
       } catch (e) {
-        scope.postMessage({ type: "error", message: (e as Error).message, output: null, fatal: true }, []);
+        scope.postMessage({ type: "error", message: String((e as Error)?.message ?? e), output: null, fatal: true }, []);
       }
       return;
     }
-    const buffer = m.output!;
+    const buffer = m.output;
+    if (!(buffer instanceof ArrayBuffer) || buffer.byteLength < 4 * LO.length) {
+      refuse(`solve.output must be an ArrayBuffer of at least ${4 * LO.length} bytes, got ${describe(buffer)}${buffer instanceof ArrayBuffer ? ` of ${buffer.byteLength} bytes` : ""}`, false);
+      return;
+    }
     one[0] = buffer;
     try {
       if (rig === null) throw new Error("handrig/worker: a frame came before the rig was ready");
+      if (!isObject(m.frame)) throw new Error(`frame: must be an object { timeMs, hands?, pose? }, got ${describe(m.frame)}`);
       const t0 = performance.now();
       const result = rig.solve(m.frame!) as { timeMs?: number } | null;
       new Float32Array(buffer, 0, LO.length).set(rig.output);
@@ -335,7 +376,7 @@ export function serveRig(handrig: HandrigModule, scope: WorkerScopeLike = global
       scope.postMessage(solved, one);
       solved.output = null;
     } catch (e) {
-      scope.postMessage({ type: "error", message: (e as Error).message, output: buffer, fatal: false }, one);
+      scope.postMessage({ type: "error", message: String((e as Error)?.message ?? e), output: buffer, fatal: false }, one);
     }
   };
 }

@@ -94,8 +94,9 @@ struct ChainSolverJson {
     #[serde(default)]
     method: ChainMethod,
     joints: Vec<[f32; 3]>,
+    /// `null` (or, from JS, `undefined`) is none, as when left out.
     #[serde(default)]
-    constraints: Vec<Option<JointLimit>>,
+    constraints: Option<Vec<Option<JointLimit>>>,
     #[serde(default)]
     iterations: Option<u32>,
     #[serde(default)]
@@ -150,7 +151,7 @@ impl ChainSolverOptions {
         Ok(ChainSolverOptions {
             method: o.method,
             joints: o.joints.into_iter().map(Vec3::from_array).collect(),
-            constraints: o.constraints,
+            constraints: o.constraints.unwrap_or_default(),
             iterations: o.iterations,
             tolerance: o.tolerance,
             max_step_angle: o.max_step_angle,

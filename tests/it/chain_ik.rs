@@ -661,6 +661,10 @@ fn options_deserialize_from_the_js_shape() {
     // null for an optional number: unset.
     let o = ChainSolverOptions::from_json(r#"{ "joints": [], "tolerance": null }"#).unwrap();
     assert_eq!(o.tolerance, None);
+    // null constraints: none, as when left out (issue 49: from JS, `constraints: null` or
+    // `undefined` failed with a serde type error).
+    let o = ChainSolverOptions::from_json(r#"{ "joints": [], "constraints": null }"#).unwrap();
+    assert!(o.constraints.is_empty());
 }
 
 #[test]

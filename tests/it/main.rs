@@ -19,6 +19,7 @@ mod contact;
 mod dups;
 mod flips;
 mod fuzz;
+mod fuzz_gltf;
 mod gltf;
 mod golden;
 mod hand_loss;

@@ -24,11 +24,39 @@ struct Counting;
 thread_local! {
     // `const` initialisation: no lazy setup (which could itself allocate) on first use.
     static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+    // Bytes this thread holds (allocated minus freed by it) and the most it held since
+    // `reset_peak`: the fuzzers' bound on memory per case (issue 49).
+    static LIVE: Cell<isize> = const { Cell::new(0) };
+    static PEAK: Cell<isize> = const { Cell::new(0) };
 }
 
 fn count() {
     // `try_with`: the slot is gone while a thread shuts down; those allocations do not matter.
     let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+}
+
+fn held(delta: isize) {
+    let _ = LIVE.try_with(|l| {
+        let now = l.get() + delta;
+        l.set(now);
+        let _ = PEAK.try_with(|p| p.set(p.get().max(now)));
+    });
+}
+
+/// Starts measuring this thread's peak memory from what it holds now.
+pub(crate) fn reset_peak() {
+    let now = LIVE.with(Cell::get);
+    PEAK.with(|p| p.set(now));
+}
+
+/// The most bytes this thread held beyond what it held at `reset_peak`.
+pub(crate) fn peak_since_reset(at_reset: isize) -> usize {
+    usize::try_from(PEAK.with(Cell::get) - at_reset).unwrap_or(0)
+}
+
+/// Bytes this thread holds now (allocated minus freed by it).
+pub(crate) fn live_bytes() -> isize {
+    LIVE.with(Cell::get)
 }
 
 /// Allocations made by this thread so far.
@@ -39,13 +67,16 @@ fn allocations() -> usize {
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         count();
+        held(layout.size() as isize);
         unsafe { System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        held(-(layout.size() as isize));
         unsafe { System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
         count();
+        held(new_size as isize - layout.size() as isize);
         unsafe { System.realloc(ptr, layout, new_size) }
     }
 }
