@@ -61,17 +61,7 @@ fn corpus() -> Vec<(String, Vec<u8>)> {
         recordings::FIXTURE_VRM1.to_string(),
         recordings::FIXTURE_VRM0.to_string(),
     ];
-    let dir = recordings::path("tests/fuzz-corpus");
-    let mut extra: Vec<String> = std::fs::read_dir(&dir)
-        .map(|d| {
-            d.filter_map(|e| e.ok())
-                .map(|e| format!("tests/fuzz-corpus/{}", e.file_name().to_string_lossy()))
-                .filter(|f| f.ends_with(".vrm"))
-                .collect()
-        })
-        .unwrap_or_default();
-    extra.sort();
-    files.extend(extra);
+    files.extend(recordings::fuzz_corpus(&[".vrm"]));
     files
         .into_iter()
         .map(|f| {

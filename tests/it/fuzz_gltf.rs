@@ -65,16 +65,7 @@ fn corpus() -> Vec<Seed> {
         "tests/fixtures/avatars/child-unreal.glb".to_string(),
         "tests/fixtures/avatars/child-vrm1.vrm".to_string(),
     ];
-    let mut extra: Vec<String> = std::fs::read_dir(recordings::path("tests/fuzz-corpus"))
-        .map(|d| {
-            d.filter_map(|e| e.ok())
-                .map(|e| format!("tests/fuzz-corpus/{}", e.file_name().to_string_lossy()))
-                .filter(|f| f.ends_with(".vrm") || f.ends_with(".glb"))
-                .collect()
-        })
-        .unwrap_or_default();
-    extra.sort();
-    files.extend(extra);
+    files.extend(recordings::fuzz_corpus(&[".vrm", ".glb"]));
     files
         .into_iter()
         .map(|f| {

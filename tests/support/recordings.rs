@@ -36,6 +36,21 @@ pub fn path(relative: &str) -> PathBuf {
         .join(relative)
 }
 
+/// The committed fuzz seeds (`tests/fuzz-corpus/`) whose names end with one of `extensions`,
+/// as repository-relative paths in name order.
+pub fn fuzz_corpus(extensions: &[&str]) -> Vec<String> {
+    let mut files: Vec<String> = std::fs::read_dir(path("tests/fuzz-corpus"))
+        .map(|d| {
+            d.filter_map(|e| e.ok())
+                .map(|e| format!("tests/fuzz-corpus/{}", e.file_name().to_string_lossy()))
+                .filter(|f| extensions.iter().any(|x| f.ends_with(x)))
+                .collect()
+        })
+        .unwrap_or_default();
+    files.sort();
+    files
+}
+
 fn read_json(path: &Path) -> Result<Value, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
