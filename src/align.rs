@@ -18,7 +18,7 @@ use glam::{Quat, Vec3};
 
 use crate::humanoid::bones::{Finger, HumanBone, Side, BONE_COUNT};
 use crate::humanoid::skeleton::{Skeleton, WorldPose};
-use crate::mediapipe::{hand_landmark, HAND_LANDMARKS};
+use crate::input::mediapipe::{hand_landmark, HAND_LANDMARKS};
 
 /// Which point of the finger is aligned.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

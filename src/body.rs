@@ -69,8 +69,8 @@ use glam::{Quat, Vec3};
 use crate::humanoid::bones::Side;
 use crate::humanoid::measure::avatar_arm_length;
 use crate::humanoid::skeleton::Skeleton;
+use crate::input::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation};
 use crate::math::{insert_sorted, robust_mean_sorted};
-use crate::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation};
 
 /// Largest accepted [`CalibrationOptions::frames`]; sizes the sample buffer.
 pub const MAX_CALIBRATION_FRAMES: usize = 300;

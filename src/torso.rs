@@ -74,9 +74,9 @@ use glam::{Mat3, Quat, Vec3};
 use crate::filter::{DropoutOptions, Presence};
 use crate::humanoid::bones::{HumanBone, Side, BONE_COUNT};
 use crate::humanoid::skeleton::{Skeleton, VrmVersion};
+use crate::input::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation};
 use crate::math::clamp;
 use crate::math::{insert_sorted, robust_mean_sorted};
-use crate::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation};
 
 /// Where the torso comes from (JS: `options.torso`). See the module docs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

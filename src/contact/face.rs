@@ -29,8 +29,8 @@ use glam::{Mat3, Quat, Vec3};
 
 use crate::humanoid::bones::{HumanBone, Side};
 use crate::humanoid::skeleton::{Skeleton, VrmVersion};
+use crate::input::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation, TrackerFace};
 use crate::math::clamp;
-use crate::mediapipe::{pose_landmark as pl, CameraMapping, PoseObservation, TrackerFace};
 use crate::names::named_enum;
 
 /// Number of face anchors.
@@ -319,7 +319,7 @@ impl ImageFit {
     #[must_use]
     pub fn from_pose(
         pose: &PoseObservation,
-        image: &[Vec3; crate::mediapipe::POSE_LANDMARKS],
+        image: &[Vec3; crate::input::mediapipe::POSE_LANDMARKS],
         min_visibility: f32,
     ) -> Option<ImageFit> {
         let face = [

@@ -54,7 +54,7 @@ use glam::Vec3;
 
 use crate::humanoid::bones::{Finger, HumanBone, Side};
 use crate::humanoid::skeleton::{Skeleton, WorldPose};
-use crate::mediapipe::CameraMapping;
+use crate::input::mediapipe::CameraMapping;
 
 pub use colliders::{BodyColliders, Shape};
 pub use face::{AvatarFace, FaceAnchor, FaceFrame, FacePoints, ImageFit, UserFace, ANCHORS};

@@ -8,8 +8,8 @@ use super::declare::RowKind;
 use super::layout::{input, output, VERSION};
 use super::Row;
 use crate::humanoid::bones::HumanBone;
+use crate::input::mediapipe::TrackerFace;
 use crate::input::torso::{BodyJoint, TORSO_BONES};
-use crate::mediapipe::TrackerFace;
 
 /// Where the TypeScript type is committed, relative to the crate root.
 pub const TYPESCRIPT_PATH: &str = "pkg-config/src/layout-types.ts";

@@ -10,8 +10,8 @@
 
 use super::declare::{layout_side, Row};
 use crate::humanoid::bones::BONE_COUNT;
+use crate::input::mediapipe::{TrackerFace, HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS};
 use crate::input::torso::{BODY_JOINT_COUNT, TORSO_BONE_COUNT};
-use crate::mediapipe::{TrackerFace, HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS};
 
 /// Layout version: bumped whenever an offset or meaning changes, and with it
 /// [`LAYOUT_SIGNATURE`] (a test checks that they move together).

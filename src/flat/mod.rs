@@ -20,12 +20,12 @@ use glam::{Quat, Vec3};
 use crate::error::{Error, Result};
 use crate::hand::HandStatus;
 use crate::humanoid::bones::{HumanBone, Side};
-use crate::input::torso::{BodyJoint, BodyObservation, BODY_JOINT_COUNT, TORSO_BONES};
-use crate::input::validate::validate_frame_with;
-use crate::mediapipe::{
+use crate::input::mediapipe::{
     FrameInput, HandObservation, Handedness, PoseObservation, TrackerFace, WristObservation,
     HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS,
 };
+use crate::input::torso::{BodyJoint, BodyObservation, BODY_JOINT_COUNT, TORSO_BONES};
+use crate::input::validate::validate_frame_with;
 use crate::pipeline::{HandCheck, HandResolved, HandUse, Rig, SolveOutput};
 
 mod declare;
@@ -209,7 +209,7 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
                     return Err(Error::invalid(name(&format!(".landmarks[{k}]")), e));
                 }
                 hand.world = image;
-                crate::mediapipe::image_to_pseudo_world(&mut hand.world, aspect);
+                crate::input::mediapipe::image_to_pseudo_world(&mut hand.world, aspect);
                 if hand.world.iter().any(|p| !p.is_finite()) {
                     return Err(Error::invalid(
                         name(".landmarks"),

@@ -27,7 +27,7 @@
 use glam::Vec3;
 
 use crate::humanoid::bones::Side;
-use crate::mediapipe::{hand_landmark as lm, HAND_LANDMARKS};
+use crate::input::mediapipe::{hand_landmark as lm, HAND_LANDMARKS};
 
 use super::palm_frame;
 

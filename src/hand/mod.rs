@@ -63,7 +63,7 @@ use glam::{Mat3, Quat, Vec3};
 use crate::error::Result;
 use crate::humanoid::bones::{Finger, HumanBone, Side, BONE_COUNT};
 use crate::humanoid::skeleton::Skeleton;
-use crate::mediapipe::HAND_LANDMARKS;
+use crate::input::mediapipe::HAND_LANDMARKS;
 
 mod chain;
 pub mod flip;
@@ -316,7 +316,7 @@ impl HandSolver {
     /// Options failing [`RetargetOptions::is_valid`] (named `options.retarget`).
     pub fn set_retarget_options(&mut self, options: RetargetOptions) -> Result<()> {
         if !options.is_valid() {
-            return Err(crate::Error::invalid(
+            return Err(crate::error::Error::invalid(
                 "options.retarget",
                 "weights must be finite and non-negative, the temporal weight positive",
             ));

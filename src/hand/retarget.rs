@@ -99,8 +99,8 @@ use super::{orthonormal_frame, HandReport, SideRest};
 use crate::align::tip_offset;
 use crate::humanoid::bones::{Finger, Side};
 use crate::humanoid::skeleton::Skeleton;
+use crate::input::mediapipe::HAND_LANDMARKS;
 use crate::math::wrap;
-use crate::mediapipe::HAND_LANDMARKS;
 use crate::solve::least_squares::{minimize, Model, Objective, Settings};
 
 /// Weights and stopping rule of the retargeting objective (see the module docs). Costs are

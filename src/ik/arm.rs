@@ -110,11 +110,13 @@ impl fmt::Display for IkError {
 
 impl std::error::Error for IkError {}
 
-impl From<IkError> for crate::Error {
+impl From<IkError> for crate::error::Error {
     fn from(e: IkError) -> Self {
         match e {
-            IkError::MissingBone(b) => crate::Error::MissingRequiredBones(vec![b.as_str()]),
-            IkError::InvalidOption { field, problem } => crate::Error::invalid(field, problem),
+            IkError::MissingBone(b) => crate::error::Error::MissingRequiredBones(vec![b.as_str()]),
+            IkError::InvalidOption { field, problem } => {
+                crate::error::Error::invalid(field, problem)
+            }
         }
     }
 }

@@ -100,14 +100,14 @@ pub(crate) fn validate_frame_with(
     metric_world: [bool; MAX_HANDS],
 ) -> Result<()> {
     if !frame.time_ms.is_finite() {
-        return Err(crate::Error::invalid(
+        return Err(crate::error::Error::invalid(
             "frame.timeMs",
             "must be a finite number",
         ));
     }
     for (i, h) in frame.hands().iter().enumerate() {
         if let Some((k, e)) = points_problem(&h.world) {
-            return Err(crate::Error::invalid(
+            return Err(crate::error::Error::invalid(
                 format!("frame.hands[{i}].worldLandmarks[{k}]"),
                 e,
             ));
@@ -121,13 +121,13 @@ pub(crate) fn validate_frame_with(
                 .iter()
                 .any(|p| (*p - wrist).length_squared() > HAND_SPAN_LIMIT * HAND_SPAN_LIMIT)
         {
-            return Err(crate::Error::invalid(
+            return Err(crate::error::Error::invalid(
                 format!("frame.hands[{i}].worldLandmarks"),
                 "the hand is more than 1 m across: world landmarks are meters (centimeters given?)",
             ));
         }
         if metric_world[i] && looks_image_normalized(&h.world) {
-            return Err(crate::Error::invalid(
+            return Err(crate::error::Error::invalid(
                 format!("frame.hands[{i}].worldLandmarks"),
                 "these look like image-normalized landmarks (within the image's 0..1, centered \
                  far from the origin): world landmarks are meters centered on the hand, MediaPipe's \
@@ -135,13 +135,13 @@ pub(crate) fn validate_frame_with(
             ));
         }
         if let Some((k, e)) = h.image.as_ref().and_then(|p| points_problem(p)) {
-            return Err(crate::Error::invalid(
+            return Err(crate::error::Error::invalid(
                 format!("frame.hands[{i}].landmarks[{k}]"),
                 e,
             ));
         }
         if !(0.0..=1.0).contains(&h.score) {
-            return Err(crate::Error::invalid(
+            return Err(crate::error::Error::invalid(
                 format!("frame.hands[{i}].score"),
                 "must be a number in 0..1",
             ));
@@ -149,7 +149,7 @@ pub(crate) fn validate_frame_with(
     }
     if let Some(p) = &frame.pose {
         if let Some((k, e)) = points_problem(&p.world) {
-            return Err(crate::Error::invalid(
+            return Err(crate::error::Error::invalid(
                 format!("frame.pose.worldLandmarks[{k}]"),
                 e,
             ));
@@ -160,7 +160,7 @@ pub(crate) fn validate_frame_with(
             .iter()
             .fold(0.0f32, |m, q| m.max(q.length_squared()));
         if reach > POSE_REACH_LIMIT * POSE_REACH_LIMIT {
-            return Err(crate::Error::invalid(
+            return Err(crate::error::Error::invalid(
                 "frame.pose.worldLandmarks",
                 "a point is more than 4 m from the hips: pose world landmarks are meters \
                  centered between the hips (pixels given? MediaPipe's result.worldLandmarks go \
@@ -169,7 +169,7 @@ pub(crate) fn validate_frame_with(
         }
         for (k, v) in p.visibility.iter().enumerate() {
             if !(0.0..=1.0).contains(v) {
-                return Err(crate::Error::invalid(
+                return Err(crate::error::Error::invalid(
                     format!("frame.pose.worldLandmarks[{k}].visibility"),
                     "must be a number in 0..1",
                 ));
@@ -177,7 +177,7 @@ pub(crate) fn validate_frame_with(
         }
     }
     if let Some((k, e)) = frame.pose_image.as_ref().and_then(|p| points_problem(p)) {
-        return Err(crate::Error::invalid(
+        return Err(crate::error::Error::invalid(
             format!("frame.pose.landmarks[{k}]"),
             e,
         ));
@@ -185,14 +185,14 @@ pub(crate) fn validate_frame_with(
     for side in Side::BOTH {
         if let Some(w) = &frame.wrists[side.index()] {
             if let Some(e) = point_problem(w.position) {
-                return Err(crate::Error::invalid(
+                return Err(crate::error::Error::invalid(
                     format!("frame.wrists.{}.position", side.as_str()),
                     e,
                 ));
             }
             if let Some(q) = w.rotation {
                 if !q.is_finite() || (q.length() - 1.0).abs() > 1e-2 {
-                    return Err(crate::Error::invalid(
+                    return Err(crate::error::Error::invalid(
                         format!("frame.wrists.{}.rotation", side.as_str()),
                         "must be a unit quaternion [x, y, z, w]",
                     ));
@@ -203,7 +203,7 @@ pub(crate) fn validate_frame_with(
     for (bone, q) in TORSO_BONES.iter().zip(frame.torso.iter()) {
         if let Some(q) = q {
             if !q.is_finite() || (q.length() - 1.0).abs() > 1e-2 {
-                return Err(crate::Error::invalid(
+                return Err(crate::error::Error::invalid(
                     format!("frame.torso.{bone}"),
                     "must be a unit quaternion [x, y, z, w]",
                 ));
@@ -214,13 +214,13 @@ pub(crate) fn validate_frame_with(
         for j in BodyJoint::ALL {
             let k = j.index();
             if let Some(e) = point_problem(body.position[k]) {
-                return Err(crate::Error::invalid(
+                return Err(crate::error::Error::invalid(
                     format!("frame.body.{}", j.as_str()),
                     e,
                 ));
             }
             if !(0.0..=1.0).contains(&body.confidence[k]) {
-                return Err(crate::Error::invalid(
+                return Err(crate::error::Error::invalid(
                     format!("frame.body.{}.confidence", j.as_str()),
                     "must be a number in 0..1",
                 ));
@@ -230,7 +230,7 @@ pub(crate) fn validate_frame_with(
     if let Some(face) = &frame.face {
         for k in 0..TrackerFace::POINTS {
             if let Some(e) = face.point(k).and_then(point_problem) {
-                return Err(crate::Error::invalid(
+                return Err(crate::error::Error::invalid(
                     format!("frame.face.{}", TrackerFace::NAMES[k]),
                     e,
                 ));

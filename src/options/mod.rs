@@ -28,7 +28,7 @@ use crate::filter::{DropoutOptions, FilterOptions};
 use crate::hand::{HandStrategy, RetargetOptions};
 use crate::humanoid::bones::Finger;
 use crate::ik::{ArmIdle, ArmOptions, ArmSolver};
-use crate::mediapipe::CameraMapping;
+use crate::input::mediapipe::CameraMapping;
 use crate::solve::least_squares::Settings;
 use crate::torso::TorsoSource;
 

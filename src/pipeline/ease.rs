@@ -1,15 +1,16 @@
-//! Stage 8, **ease**: groups whose tracking was lost hold, then ease to rest (a shoulder to
+//! The **ease** stage: groups whose tracking was lost hold, then ease to rest (a shoulder to
 //! the torso's rotation of it); returning ones blend in ([`crate::filter::dropout`]); rotations
 //! keep their hemisphere.
 
 use glam::Quat;
 
-use crate::filter::{nlerp, Blend};
+use crate::filter::{nlerp, Blend, Presence};
 use crate::hand::HandStatus;
 use crate::humanoid::bones::BONE_COUNT;
 use crate::humanoid::bones::{HumanBone, Side};
 
-use super::{Rig, SolveOutput};
+use super::frame::{Context, Frame};
+use super::output::SolveOutput;
 
 /// The bone groups that come and go with tracking, per side.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -26,13 +27,65 @@ enum Group {
 /// once instead of blending in.
 pub const TOUCH_COMPLETES_BLEND: f32 = 0.5;
 
-impl Rig {
-    /// Stage 8: hold and ease the groups whose tracking was lost, blend in the returning ones
+/// The ease stage: per side the presence of each group, per bone the rotation shown last frame
+/// and the anchor of its running blend, per shoulder the arm solver's turn as shown and its
+/// blend's anchor.
+#[derive(Clone, Debug)]
+pub(super) struct Ease {
+    presence: [[Presence; 3]; 2],
+    shown: [Quat; BONE_COUNT],
+    anchor: [Quat; BONE_COUNT],
+    shoulder_turn_shown: [Quat; 2],
+    shoulder_turn_anchor: [Quat; 2],
+}
+
+impl Default for Ease {
+    fn default() -> Self {
+        Ease {
+            presence: [[Presence::default(); 3]; 2],
+            shown: [Quat::IDENTITY; BONE_COUNT],
+            anchor: [Quat::IDENTITY; BONE_COUNT],
+            shoulder_turn_shown: [Quat::IDENTITY; 2],
+            shoulder_turn_anchor: [Quat::IDENTITY; 2],
+        }
+    }
+}
+
+impl Ease {
+    /// Forgets the history (what was shown is identity again; anchors are captured before
+    /// they are read).
+    pub(super) fn restart(&mut self) {
+        let anchor = self.anchor;
+        *self = Ease {
+            anchor,
+            ..Ease::default()
+        };
+    }
+
+    /// The rotations shown last frame.
+    pub(super) fn shown(&self) -> &[Quat; BONE_COUNT] {
+        &self.shown
+    }
+
+    /// The rotations shown, for a later stage that changes what is shown (the turn limit).
+    pub(super) fn shown_mut(&mut self) -> &mut [Quat; BONE_COUNT] {
+        &mut self.shown
+    }
+
+    /// Holds and eases the groups whose tracking was lost, blend in the returning ones
     /// (see [`crate::filter::dropout`]), and keep every driven rotation in the hemisphere of
     /// last frame's (so that apps interpolating output never go the long way round). Returns,
     /// per side, whether anything shown differs from what was solved (a blend under way).
-    pub(super) fn ease(&mut self, now_ms: f64, out: &mut SolveOutput) -> [bool; 2] {
-        let timing = self.options.dropout.effective();
+    pub(super) fn run(
+        &mut self,
+        cx: &Context,
+        moves_shoulder: [bool; 2],
+        touch_held: [bool; 2],
+        f: &Frame,
+        out: &mut SolveOutput,
+    ) -> [bool; 2] {
+        let now_ms = cx.now_ms;
+        let timing = cx.options.dropout.effective();
         let mut eased = [false; 2];
         for side in Side::BOTH {
             let [shoulder, upper, lower, hand] = side.arm();
@@ -41,12 +94,12 @@ impl Rig {
             let idle = if out.solved[upper.index()] {
                 [Quat::IDENTITY; 2]
             } else {
-                crate::ik::idle_arm(&self.skeleton, side, self.options.arm.idle)
+                crate::ik::idle_arm(cx.skeleton, side, cx.options.arm.idle)
             };
             // A hand held against the other (`touch.rs`) keeps its fingers as shown.
             let live_fingers = out.hands[side.index()]
                 .is_some_and(|h| matches!(h.status, HandStatus::Solved | HandStatus::Held))
-                || self.touch[side.index()].held();
+                || touch_held[side.index()];
             // The hand bone is also driven by a tracker wrist's rotation without a hand.
             let groups = [
                 (Group::Fingers, live_fingers),
@@ -67,9 +120,9 @@ impl Rig {
             // the hand's turn instead. The fingers still blend in.
             let aligned = out.alignment[side.index()].is_some();
             // Fingers blending in that alignment and contact already placed as shown
-            // ([`Rig::fingers_blend`]) keep blending: completing them would move the
+            // ([`Ease::fingers_blend`]) keep blending: completing them would move the
             // fingertip off what was placed.
-            let placed_blending = self.scratch.fingers_blending[side.index()];
+            let placed_blending = f.fingers_blending[side.index()];
             for (group, live) in groups {
                 let presence = &mut self.presence[side.index()][group as usize];
                 let mut blend = presence.update(now_ms, live, &timing);
@@ -82,7 +135,7 @@ impl Rig {
                 eased[side.index()] |= !(blend.is_exact() && blend.to_solved);
                 let mut apply = |b: HumanBone| {
                     let i = b.index();
-                    if !self.driven[i] {
+                    if !cx.driven[i] {
                         return;
                     }
                     let rest = if b == upper {
@@ -110,8 +163,8 @@ impl Rig {
                     Group::Hand => apply(hand),
                     Group::Arm => {
                         [upper, lower].into_iter().for_each(apply);
-                        if self.arms.moves_shoulder(side) && self.skeleton.has(shoulder) {
-                            self.ease_shoulder(side, blend, out);
+                        if moves_shoulder[side.index()] && cx.skeleton.has(shoulder) {
+                            self.ease_shoulder(side, f.shoulder_base[side.index()], blend, out);
                         }
                     }
                 }
@@ -120,28 +173,35 @@ impl Rig {
         eased
     }
 
-    /// How stage 8 will show the fingers of `side`'s hand, solved this frame: `None` as
-    /// solved, or the blend-in of fingers returning after a loss. Stage 6 places the fingertip
+    /// How the easing will show the fingers of `side`'s hand, solved this frame: `None` as
+    /// solved, or the blend-in of fingers returning after a loss. The targets and contact stages place the fingertip
     /// (alignment, contact points) with the fingers as they will be shown
-    /// ([`Rig::show_fingers`]), so a returning hand's blend-in does not move it off the user's.
-    pub(super) fn fingers_blend(&self, side: Side, now_ms: f64) -> Option<Blend> {
-        let timing = self.options.dropout.effective();
-        // A copy: stage 8 advances the state itself, to the same blend (the hand is live).
+    /// ([`Ease::show_fingers`]), so a returning hand's blend-in does not move it off the user's.
+    pub(super) fn fingers_blend(&self, cx: &Context, side: Side) -> Option<Blend> {
+        let now_ms = cx.now_ms;
+        let timing = cx.options.dropout.effective();
+        // A copy: the easing advances the state itself, to the same blend (the hand is live).
         let mut presence = self.presence[side.index()][Group::Fingers as usize];
         let blend = presence.update(now_ms, true, &timing);
         (!blend.is_exact()).then_some(blend)
     }
 
-    /// `local` with `side`'s finger rotations as `blend` will show them (stage 8's anchors
+    /// `local` with `side`'s finger rotations as `blend` will show them (the easing's anchors
     /// and last shown rotations, unchanged).
-    pub(super) fn show_fingers(&self, side: Side, blend: Blend, local: &mut [Quat; BONE_COUNT]) {
+    pub(super) fn show_fingers(
+        &self,
+        cx: &Context,
+        side: Side,
+        blend: Blend,
+        local: &mut [Quat; BONE_COUNT],
+    ) {
         // The side's 15 finger bones are consecutive, thumb metacarpal first.
         let first = side.finger(crate::humanoid::bones::Finger::Thumb)[0].index();
         // An index loop: the iterator form (`enumerate().skip().take()`) costs 0.2 KiB more
         // of .wasm, which sits near its size budget.
         #[allow(clippy::needless_range_loop)]
         for i in first..first + 15 {
-            if self.driven[i] {
+            if cx.driven[i] {
                 let mut anchor = self.anchor[i];
                 local[i] = blend.show(local[i], &mut anchor, self.shown[i]);
             }
@@ -151,15 +211,15 @@ impl Rig {
     /// Eases the arm's share of a shoulder: the turn the arm solver put on top of the torso's
     /// rotation of the bone (`shoulder_base`), so that a lost arm's shoulder goes back to the
     /// torso's (shrug, or the app's) while the torso keeps moving.
-    pub(super) fn ease_shoulder(
+    fn ease_shoulder(
         &mut self,
         side: Side,
+        base: Quat,
         blend: crate::filter::Blend,
         out: &mut SolveOutput,
     ) {
         let s = side.index();
         let i = side.arm()[0].index();
-        let base = self.scratch.shoulder_base[s];
         if blend.capture {
             self.shoulder_turn_anchor[s] = self.shoulder_turn_shown[s];
         }

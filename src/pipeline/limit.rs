@@ -1,4 +1,4 @@
-//! Stage 8b, **turn limit**: an arm (shoulder, upper arm, forearm, hand) cannot turn faster
+//! The **turn limit** stage: an arm (shoulder, upper arm, forearm, hand) cannot turn faster
 //! than `arm.maxTurnSpeed`; a faster turn is shown over as many frames as it takes.
 //!
 //! What turns that fast on real video is not the user: MediaPipe's hand flipping its depth for
@@ -22,9 +22,10 @@
 
 use glam::{Quat, Vec3};
 
-use crate::humanoid::bones::Side;
+use crate::humanoid::bones::{Side, BONE_COUNT};
 
-use super::{Rig, SolveOutput};
+use super::frame::Context;
+use super::output::SolveOutput;
 
 /// The arm's bones the limit turns: shoulder, upper arm, forearm, hand.
 const ARM: usize = 4;
@@ -32,16 +33,27 @@ const ARM: usize = 4;
 /// One side's arm as shown last frame (local rotations of the shoulder, upper arm, forearm and
 /// hand), when it was solved there.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub(super) struct TurnLimit {
+struct TurnLimit {
     shown: Option<[Quat; ARM]>,
     /// Frames this side was slowed, since the rig was made or reset (diagnostics).
     limited: u32,
 }
 
-impl TurnLimit {
-    /// The number of frames this side's arm was slowed since the rig was made or reset.
-    pub(super) fn limited(&self) -> u32 {
-        self.limited
+/// The turn limit stage: per side the arm as shown last frame, and how often it was slowed.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub(super) struct Limit {
+    sides: [TurnLimit; 2],
+}
+
+impl Limit {
+    /// How many frames `side`'s arm was slowed since the rig was made or reset.
+    pub(super) fn limited(&self, side: Side) -> u32 {
+        self.sides[side.index()].limited
+    }
+
+    /// Forgets the history.
+    pub(super) fn restart(&mut self) {
+        *self = Limit::default();
     }
 }
 
@@ -76,20 +88,26 @@ fn step(a: Quat, b: Quat) -> (Vec3, f32) {
     (if d.w < 0.0 { -d } else { d }).normalize().to_axis_angle()
 }
 
-impl Rig {
-    /// Stage 8b: slow each side's arm to `arm.maxTurnSpeed` (see the module docs). `dt` is
-    /// the frame's step (`None` on a new session: nothing to compare with). Returns, per
+impl Limit {
+    /// Slows each side's arm to `arm.maxTurnSpeed` (see the module docs) in `out.local` and
+    /// in `shown` (what the easing shows); nothing on a session's first frame. Returns, per
     /// side, whether it slowed the arm (what is shown then differs from the solve).
-    pub(super) fn limit_turns(&mut self, dt: Option<f32>, out: &mut SolveOutput) -> [bool; 2] {
+    pub(super) fn run(
+        &mut self,
+        cx: &Context,
+        shown: &mut [Quat; BONE_COUNT],
+        out: &mut SolveOutput,
+    ) -> [bool; 2] {
+        let dt = cx.dt;
         let mut limited = [false; 2];
-        let speed = self.options.arm.max_turn_speed;
+        let speed = cx.options.arm.max_turn_speed;
         for side in Side::BOTH {
             let s = side.index();
             let arm = side.arm();
             let upper = arm[1];
             let bones = arm.map(|b| b.index());
             let now = bones.map(|i| out.local[i]);
-            let state = &mut self.turn_limit[s];
+            let state = &mut self.sides[s];
             let solved = out.solved[upper.index()];
             let last = state.shown.take();
             if !solved {
@@ -110,10 +128,10 @@ impl Rig {
             // nearly equal solves are shown nearly equal).
             let steps = core::array::from_fn(|k| step(last[k], now[k]));
             let mut t = allowed / largest;
-            let mut shown = now;
+            let mut slowed = now;
             for _ in 0..5 {
-                shown = turned_by(last, steps, t);
-                let turned = largest_turn(last, shown);
+                slowed = turned_by(last, steps, t);
+                let turned = largest_turn(last, slowed);
                 if turned <= allowed * 1.001 {
                     break;
                 }
@@ -121,14 +139,14 @@ impl Rig {
             }
             for k in 0..ARM {
                 // In the hemisphere of the solve's (which the easing kept in last frame's).
-                if shown[k].dot(now[k]) < 0.0 {
-                    shown[k] = -shown[k];
+                if slowed[k].dot(now[k]) < 0.0 {
+                    slowed[k] = -slowed[k];
                 }
             }
             for (k, i) in bones.into_iter().enumerate() {
-                if self.driven[i] {
-                    out.local[i] = shown[k];
-                    self.shown[i] = shown[k];
+                if cx.driven[i] {
+                    out.local[i] = slowed[k];
+                    shown[i] = slowed[k];
                 }
             }
             state.shown = Some(bones.map(|i| out.local[i]));

@@ -1,6 +1,5 @@
 //! What [`Rig::solve`](super::Rig::solve) produces: [`SolveOutput`] and the types it reports.
 
-use super::HandCheck;
 use glam::{Quat, Vec3};
 
 use crate::align::AlignmentReport;
@@ -8,7 +7,28 @@ use crate::contact::ContactReport;
 use crate::hand::{HandStatus, RetargetReport};
 use crate::humanoid::bones::{Side, BONE_COUNT};
 use crate::humanoid::skeleton::{VrmVersion, WorldPose};
-use crate::mediapipe::MAX_HANDS;
+use crate::input::mediapipe::MAX_HANDS;
+
+/// What the rig's hand checks (the observe stage, [`super::Rig::solve`]) made of a side's hand this frame (see
+/// [`crate::hand::flip`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum HandCheck {
+    /// The world landmarks pass the checks (or there was nothing to check).
+    #[default]
+    Good,
+    /// The world landmarks were mirrored (fingers bending backwards) or their knuckle line
+    /// crossed the image's: the side's last solved hand was held (or, after
+    /// `MAX_HELD_FRAMES` (3) held frames, the tracked hand taken as it is).
+    Mirrored,
+}
+
+impl HandCheck {
+    /// Whether the rig holds the side's last solved hand this frame.
+    #[must_use]
+    pub fn holds(self) -> bool {
+        self == HandCheck::Mirrored
+    }
+}
 
 /// A wrist IK target in the model's own frame.
 #[derive(Clone, Copy, Debug, PartialEq)]

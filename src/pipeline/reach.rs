@@ -1,50 +1,71 @@
-//! Stage 7, per side, **IK**: the arm solver ([`crate::ik`]) reaches the target from the posed
-//! torso, and the reports that need the result.
+//! The **reach** stage, per side: the arm solver ([`crate::ik`]) reaches the target from the
+//! posed torso, and the reports that need the result.
 
 use glam::{Quat, Vec3};
 
 use crate::align;
+use crate::contact::ContactSolver;
+use crate::error::Result;
 use crate::humanoid::bones::{HumanBone, Side};
 use crate::humanoid::skeleton::Skeleton;
-use crate::ik::ArmTarget;
+use crate::ik::{ArmSolverState, ArmTarget};
+use crate::options::RigOptions;
 
-use super::targets::Plan;
-use super::{IkTarget, Rig, SolveOutput};
+use super::frame::{Context, Frame, Plan};
+use super::output::{IkTarget, SolveOutput};
 
-impl Rig {
-    /// Stage 7: the arm reaching the side's target, and the reports that need the result.
-    pub(super) fn reach_target(&mut self, side: Side, plan: Plan, out: &mut SolveOutput) {
-        let (target, hand_rot, pole, points) = match plan {
+/// The reach stage: the arm solvers (their warm starts and elbow swivels are history).
+#[derive(Clone, Debug)]
+pub(super) struct Reach {
+    pub(super) arms: ArmSolverState,
+}
+
+impl Reach {
+    pub(super) fn new(skeleton: &Skeleton, options: &RigOptions) -> Result<Self> {
+        Ok(Reach {
+            arms: ArmSolverState::with_options(skeleton, options.arm_solver, &options.arm)?,
+        })
+    }
+
+    /// The side's arm reaches its plan (`f.plans`) into `out.local`; the IK target, the
+    /// alignment's error and the contact distance reported.
+    pub(super) fn run(
+        &mut self,
+        cx: &Context,
+        contact: &ContactSolver,
+        side: Side,
+        f: &Frame,
+        out: &mut SolveOutput,
+    ) {
+        let (target, hand_rot, pole) = match f.plans[side.index()] {
             Plan::Rest => return,
             Plan::HandOnly(q) => {
                 // The hand's world rotation on the arm as it will rest (`arm.idle`, eased to
-                // by stage 8).
+                // by the easing).
                 let [_, upper, lower, _] = side.arm();
-                let idle = crate::ik::idle_arm(&self.skeleton, side, self.options.arm.idle);
+                let idle = crate::ik::idle_arm(cx.skeleton, side, cx.options.arm.idle);
                 out.local[upper.index()] = idle[0];
                 out.local[lower.index()] = idle[1];
-                set_hand_world_rotation(&self.skeleton, side, q, out);
+                set_hand_world_rotation(cx.skeleton, side, q, out);
                 return;
             }
             Plan::Reach {
                 target,
                 hand_rotation: Some(q),
                 pole,
-                points,
                 carried: false,
-                ..
-            } => (target, q, pole, points),
+            } => (target, q, pole),
             Plan::Reach {
                 target,
                 hand_rotation,
                 pole,
                 carried,
-                ..
             } => {
                 // No hand this frame: the arm reaches the wrist with the rotation it has (a
                 // lost hand's as shown, which keeps the forearm's twist), and the hand bone is
                 // the easing's (held, then eased to rest). Nothing aligned to report.
                 self.reach(
+                    cx,
                     side,
                     &ArmTarget {
                         target,
@@ -67,14 +88,14 @@ impl Rig {
         // The aligned finger point (CCD's first-priority effector; the wrist limits turn the
         // hand about it). With `alignment.weight` w the IK wrist moves by w times the avatar
         // offset, so the point that stays put is w of the way along it.
-        let weight = self.options.alignment.effective_weight();
+        let weight = cx.options.alignment.effective_weight();
         let finger = out.alignment[side.index()]
             .filter(|a| a.aligned && weight > 0.0)
             .map(|a| a.avatar_offset * weight);
         // In contact, the touching point is what must stay put, so the wrist limits turn the
         // hand about it (as far as the blends go): the point touching the other hand, then a
         // fingertip on the face (which wins).
-        let finger = match (out.contact[side.index()], points) {
+        let finger = match (out.contact[side.index()], f.points[side.index()]) {
             (Some(c), Some(p)) => {
                 let mut pivot = finger;
                 let mut toward = |point: Option<Vec3>, weight: f32| {
@@ -84,7 +105,7 @@ impl Rig {
                 };
                 toward(c.hand_meet, c.hand_weight);
                 let touch =
-                    self.aligned_parts[side.index()].touch_finger(self.options.alignment.finger);
+                    cx.aligned_parts[side.index()].touch_finger(cx.options.alignment.finger);
                 toward(c.face_meet.or(p.avatar[1 + touch.index()]), c.weight);
                 pivot
             }
@@ -96,7 +117,7 @@ impl Rig {
             pole,
             finger,
         };
-        let reach = self.reach(side, &to, out);
+        let reach = self.reach(cx, side, &to, out);
         if let Some(limited) = reach.wrist {
             // The wrist limits turned the hand: report the target and rotation reached.
             let turn = limited.hand_rotation * hand_rot.conjugate();
@@ -112,9 +133,9 @@ impl Rig {
         if let Some(report) = out.alignment[side.index()].as_mut() {
             report.reachable = reach.reachable;
             report.error = align::alignment_error(
-                &self.skeleton,
+                cx.skeleton,
                 side,
-                &self.options.alignment,
+                &cx.options.alignment,
                 report,
                 &out.local,
                 &mut out.world,
@@ -125,16 +146,16 @@ impl Rig {
                 // Forward kinematics of the arm just solved (alignment_error ran it when
                 // there was a report; run it here otherwise).
                 if out.alignment[side.index()].is_none() {
-                    self.skeleton.forward_arm(side, &out.local, &mut out.world);
+                    cx.skeleton.forward_arm(side, &out.local, &mut out.world);
                 }
                 // The touching point: the aligned finger's tip, or what stands in for it.
-                let part = self.aligned_parts[side.index()];
+                let part = cx.aligned_parts[side.index()];
                 let tip = match part {
                     align::AlignedPart::Finger { finger, depth: 2 } => {
-                        align::fingertip(&self.skeleton, &out.world, side, finger)
+                        align::fingertip(cx.skeleton, &out.world, side, finger)
                     }
                     _ => Some(align::part_world(
-                        &self.skeleton,
+                        cx.skeleton,
                         &out.world,
                         &out.local,
                         side,
@@ -143,7 +164,7 @@ impl Rig {
                     )),
                 };
                 c.distance = tip.map_or(f32::NAN, |tip| {
-                    (tip - self.contact.anchor_world(anchor, &out.world)).length()
+                    (tip - contact.anchor_world(anchor, &out.world)).length()
                 });
             }
         }
@@ -151,8 +172,9 @@ impl Rig {
 
     // Out of line: called from two places a side, inlined at each (.wasm size).
     #[inline(never)]
-    pub(super) fn reach(
+    fn reach(
         &mut self,
+        cx: &Context,
         side: Side,
         to: &ArmTarget,
         out: &mut SolveOutput,
@@ -162,7 +184,7 @@ impl Rig {
         let reach = self.arms.solve(side, to, &mut out.local, &out.world);
         for b in side.arm() {
             if b != side.arm()[0] || self.arms.moves_shoulder(side) {
-                out.solved[b.index()] |= self.skeleton.has(b);
+                out.solved[b.index()] |= cx.skeleton.has(b);
             }
         }
         reach

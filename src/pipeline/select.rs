@@ -1,4 +1,4 @@
-//! Stage 1, **select hands**: which tracked hand drives each avatar side; low scores ignored,
+//! The **select** stage: which tracked hand drives each avatar side; low scores ignored,
 //! labels that contradict the pose wrists reassigned (`options.handedness`), labels that jump
 //! to the other side between frames (no pose) relabelled, two hands on one side resolved.
 //! What was resolved is reported per side ([`HandResolved`]).
@@ -24,10 +24,11 @@
 use glam::Vec2;
 
 use crate::humanoid::bones::Side;
-use crate::mediapipe::{hand_landmark, pose_landmark, CameraMapping, FrameInput, MAX_HANDS};
+use crate::input::mediapipe::{hand_landmark, pose_landmark, CameraMapping, MAX_HANDS};
 use crate::options::HandednessPolicy;
 
-use super::{HandResolved, HandUse, Rig, SolveOutput};
+use super::frame::{Context, Frame, Pick};
+use super::output::{HandResolved, HandUse, SolveOutput};
 
 /// A hand's label contradicts the pose when its wrist is nearer the other side's pose wrist
 /// than this fraction of its distance to its own side's (in the image).
@@ -44,21 +45,10 @@ pub const MAX_JUMP_FRAMES: u8 = 3;
 /// one hand found twice.
 pub const DISTINCT_HANDS: f32 = 0.5;
 
-/// The hand picked for a side by [`Rig::select_hands`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Pick {
-    pub(super) index: usize,
-    pub(super) reassigned: bool,
-    /// What the selection resolved for this side this frame.
-    pub(super) resolved: HandResolved,
-    /// Image distance from the hand's wrist to this side's pose wrist, when known.
-    pub(super) distance: Option<f32>,
-    pub(super) score: f32,
-}
-
-/// Per side, what the selection carries between frames.
+/// The select stage: which tracked hand drives each side. Carries, per side, the hand of the frame
+/// before.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub(super) struct SelectState {
+pub(super) struct Select {
     /// The image wrist of the hand that drove the side in the frame before (`None`: no hand,
     /// or no image landmarks).
     wrist: [Option<Vec2>; 2],
@@ -83,21 +73,17 @@ fn distance(a: Option<Vec2>, b: Option<Vec2>) -> Option<f32> {
     a.zip(b).map(|(a, b)| (a - b).length())
 }
 
-impl Rig {
-    /// Stage 1: which tracked hand drives each side (`[left, right]`), recording what became
-    /// of every hand in `out.hand_use` and what was resolved per side in the picks.
-    pub(super) fn select_hands(
-        &mut self,
-        frame: &FrameInput,
-        camera: CameraMapping,
-        out: &mut SolveOutput,
-    ) -> [Option<Pick>; 2] {
-        let policy = self.options.handedness;
+impl Select {
+    /// Which tracked hand drives each side (`f.picks`, `[left, right]`), recording what
+    /// became of every hand in `out.hand_use` and what was resolved per side in the picks.
+    pub(super) fn run(&mut self, cx: &Context, f: &mut Frame, out: &mut SolveOutput) {
+        let (frame, camera, options) = (cx.input, cx.camera, cx.options);
+        let policy = options.handedness;
         // Cleared by a new session (`Rig::new_session`): only the frame just before counts.
         let last = if policy == HandednessPolicy::Trust {
             [None, None]
         } else {
-            self.selection.wrist
+            self.wrist
         };
         // The pose wrists in the image, per avatar side, when both are visible.
         let pose_wrists = match (&frame.pose, &frame.pose_image) {
@@ -107,7 +93,7 @@ impl Rig {
                         Side::Left => pose_landmark::LEFT_WRIST,
                         Side::Right => pose_landmark::RIGHT_WRIST,
                     };
-                    (pose.visibility[k] >= self.options.calibration.min_visibility)
+                    (pose.visibility[k] >= options.calibration.min_visibility)
                         .then(|| image[k].truncate())
                 };
                 at(Side::Left).zip(at(Side::Right)).map(|(l, r)| [l, r])
@@ -119,7 +105,7 @@ impl Rig {
         // Witness 1, the pose: each hand's side.
         let mut cands: [Option<Candidate>; MAX_HANDS] = [None; MAX_HANDS];
         for (index, h) in frame.hands().iter().enumerate() {
-            if h.score < self.options.min_hand_score {
+            if h.score < options.min_hand_score {
                 out.hand_use[index] = HandUse::LowScore;
                 continue;
             }
@@ -184,7 +170,7 @@ impl Rig {
             if there < CONTRADICTION_RATIO * here
                 && there < palm
                 && !taken
-                && self.selection.jumped[to.index()] < MAX_JUMP_FRAMES
+                && self.jumped[to.index()] < MAX_JUMP_FRAMES
             {
                 cands[i] = Some(Candidate {
                     side: to,
@@ -246,7 +232,9 @@ impl Rig {
             for (i, c) in cands.iter().enumerate() {
                 if i != k && c.is_some_and(|c| c.side == side) {
                     out.hand_use[i] = HandUse::Duplicate;
-                    if moved.is_none() && self.distinct_second_hand(&kc, c.as_ref(), last, camera) {
+                    if moved.is_none()
+                        && distinct_second_hand(&kc, c.as_ref(), last, camera, policy)
+                    {
                         moved = Some(i);
                     }
                 }
@@ -272,49 +260,45 @@ impl Rig {
             if let Some(p) = picks[s] {
                 out.hand_use[p.index] = HandUse::Drove(side);
             }
-            self.selection.wrist[s] = picks[s].and_then(|p| cands[p.index].and_then(|c| c.wrist));
-            self.selection.jumped[s] = if jumped_to[s] {
-                self.selection.jumped[s] + 1
-            } else {
-                0
-            };
+            self.wrist[s] = picks[s].and_then(|p| cands[p.index].and_then(|c| c.wrist));
+            self.jumped[s] = if jumped_to[s] { self.jumped[s] + 1 } else { 0 };
         }
-        picks
+        f.picks = picks;
     }
+}
 
-    /// Whether `second`, which lost its side to `keeper`, is a distinct hand that belongs on
-    /// the other side (no pose witness, image landmarks on both, wrists apart by more than
-    /// [`DISTINCT_HANDS`] palm lengths, and on the other side's part of the image: nearer
-    /// where that side's hand was last frame than the keeper, else further that way in the
-    /// image's left-right order).
-    fn distinct_second_hand(
-        &self,
-        keeper: &Candidate,
-        second: Option<&Candidate>,
-        last: [Option<Vec2>; 2],
-        camera: CameraMapping,
-    ) -> bool {
-        let Some(second) = second else { return false };
-        if keeper.posed || second.posed || self.options.handedness == HandednessPolicy::Trust {
-            return false;
-        }
-        let (Some(a), Some(b)) = (keeper.wrist, second.wrist) else {
-            return false;
-        };
-        let palm = keeper.palm.unwrap_or(0.0).max(second.palm.unwrap_or(0.0));
-        if (a - b).length() <= DISTINCT_HANDS * palm {
-            return false;
-        }
-        let to = second.side.opposite();
-        if let Some(there) = last[to.index()] {
-            return (b - there).length() < (a - there).length();
-        }
-        // The avatar's left is +x in its frame; image x turns into avatar x as world x does.
-        let towards_left = if camera.flips_x() {
-            b.x < a.x
-        } else {
-            b.x > a.x
-        };
-        towards_left == (to == Side::Left)
+/// Whether `second`, which lost its side to `keeper`, is a distinct hand that belongs on
+/// the other side (no pose witness, image landmarks on both, wrists apart by more than
+/// [`DISTINCT_HANDS`] palm lengths, and on the other side's part of the image: nearer
+/// where that side's hand was last frame than the keeper, else further that way in the
+/// image's left-right order).
+fn distinct_second_hand(
+    keeper: &Candidate,
+    second: Option<&Candidate>,
+    last: [Option<Vec2>; 2],
+    camera: CameraMapping,
+    policy: HandednessPolicy,
+) -> bool {
+    let Some(second) = second else { return false };
+    if keeper.posed || second.posed || policy == HandednessPolicy::Trust {
+        return false;
     }
+    let (Some(a), Some(b)) = (keeper.wrist, second.wrist) else {
+        return false;
+    };
+    let palm = keeper.palm.unwrap_or(0.0).max(second.palm.unwrap_or(0.0));
+    if (a - b).length() <= DISTINCT_HANDS * palm {
+        return false;
+    }
+    let to = second.side.opposite();
+    if let Some(there) = last[to.index()] {
+        return (b - there).length() < (a - there).length();
+    }
+    // The avatar's left is +x in its frame; image x turns into avatar x as world x does.
+    let towards_left = if camera.flips_x() {
+        b.x < a.x
+    } else {
+        b.x > a.x
+    };
+    towards_left == (to == Side::Left)
 }

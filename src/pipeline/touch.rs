@@ -1,4 +1,4 @@
-//! Stage 6c, **touch hold**: a hand that MediaPipe loses while it touches the other hand stays
+//! The **touch hold**, in the contact stage: a hand that MediaPipe loses while it touches the other hand stays
 //! against it. Stacked or clasped hands are where the hand tracker loses one of them most
 //! often (on the shared `sister` clip the signer's right hand, resting on the left, is lost
 //! for 24 frames while the pose still sees both wrists); without this the lost hand would
@@ -17,10 +17,10 @@
 use glam::{Quat, Vec3};
 
 use crate::contact::ContactReport;
-use crate::humanoid::bones::{Finger, Side};
+use crate::humanoid::bones::{Finger, Side, BONE_COUNT};
 
-use super::targets::Plan;
-use super::{Rig, SolveOutput};
+use super::frame::{Frame, Plan};
+use super::output::SolveOutput;
 
 /// The hand-to-hand blend from which two tracked hands count as touching.
 pub const TOUCH_WEIGHT: f32 = 0.5;
@@ -47,76 +47,78 @@ impl TouchHold {
     }
 }
 
-/// A tracked hand's target and rotation in `plan` (a hand solved this frame, contact on).
-fn tracked(plan: &Plan) -> Option<(Vec3, Quat)> {
-    match *plan {
+/// A side's wrist target and hand rotation, when its hand was placed with contact points this
+/// frame.
+fn tracked(f: &Frame, s: usize) -> Option<(Vec3, Quat)> {
+    match f.plans[s] {
         Plan::Reach {
             target,
             hand_rotation: Some(q),
-            points: Some(_),
             ..
-        } => Some((target, q)),
+        } if f.points[s].is_some() => Some((target, q)),
         _ => None,
     }
 }
 
-impl Rig {
-    /// Stage 6c: record touching hands, hold a lost one against the other (see the module).
-    /// Runs after the contact stage has placed both targets.
-    pub(super) fn touch_hold(&mut self, now_ms: f64, plans: &mut [Plan; 2], out: &mut SolveOutput) {
-        for side in Side::BOTH {
-            let (s, o) = (side.index(), 1 - side.index());
-            let other = tracked(&plans[o]);
-            let hold = &mut self.touch[s];
-            if let Some((target, rotation)) = tracked(&plans[s]) {
-                let touching = out.contact[s].is_some_and(|c| c.hand_weight >= TOUCH_WEIGHT);
-                hold.relative = match other {
-                    Some((t, q)) if touching => {
-                        let back = q.conjugate();
-                        Some((back * (target - t), (back * rotation).normalize()))
-                    }
-                    _ => None,
-                };
-                hold.since = None;
-                continue;
-            }
-            let (Some((offset, turn)), Some((t, q))) = (hold.relative, other) else {
-                *hold = TouchHold::default();
-                continue;
-            };
-            let since = *hold.since.get_or_insert(now_ms);
-            let target = t + q * offset;
-            let (pose_wrist, pole) = match plans[s] {
-                Plan::Reach {
-                    target: wrist,
-                    pole,
-                    ..
-                } => (Some(wrist), pole),
-                _ => (None, None),
-            };
-            let left =
-                pose_wrist.is_some_and(|w| (w - target).truncate().length() > TOUCH_RELEASE_M);
-            if now_ms - since > TOUCH_HOLD_MS || left || !target.is_finite() {
-                *hold = TouchHold::default();
-                continue;
-            }
-            plans[s] = Plan::Reach {
-                target,
-                hand_rotation: Some((q * turn).normalize()),
-                pole,
-                points: None,
-                carried: false,
-                held: None,
-            };
-            // The fingers keep the pose they were shown with (the easing stage holds them).
-            for f in Finger::ALL {
-                for b in side.finger(f) {
-                    out.local[b.index()] = self.shown[b.index()];
+/// Records touching hands and holds a lost one against the other (see the module), with
+/// `shown` the rotations shown last frame. Runs after contact has placed both targets.
+pub(super) fn hold(
+    holds: &mut [TouchHold; 2],
+    shown: &[Quat; BONE_COUNT],
+    now_ms: f64,
+    f: &mut Frame,
+    out: &mut SolveOutput,
+) {
+    for side in Side::BOTH {
+        let (s, o) = (side.index(), 1 - side.index());
+        let other = tracked(f, o);
+        let hold = &mut holds[s];
+        if let Some((target, rotation)) = tracked(f, s) {
+            let touching = out.contact[s].is_some_and(|c| c.hand_weight >= TOUCH_WEIGHT);
+            hold.relative = match other {
+                Some((t, q)) if touching => {
+                    let back = q.conjugate();
+                    Some((back * (target - t), (back * rotation).normalize()))
                 }
-            }
-            out.contact[s]
-                .get_or_insert_with(ContactReport::default)
-                .hand_weight = 1.0;
+                _ => None,
+            };
+            hold.since = None;
+            continue;
         }
+        let (Some((offset, turn)), Some((t, q))) = (hold.relative, other) else {
+            *hold = TouchHold::default();
+            continue;
+        };
+        let since = *hold.since.get_or_insert(now_ms);
+        let target = t + q * offset;
+        let (pose_wrist, pole) = match f.plans[s] {
+            Plan::Reach {
+                target: wrist,
+                pole,
+                ..
+            } => (Some(wrist), pole),
+            _ => (None, None),
+        };
+        let left = pose_wrist.is_some_and(|w| (w - target).truncate().length() > TOUCH_RELEASE_M);
+        if now_ms - since > TOUCH_HOLD_MS || left || !target.is_finite() {
+            *hold = TouchHold::default();
+            continue;
+        }
+        f.plans[s] = Plan::Reach {
+            target,
+            hand_rotation: Some((q * turn).normalize()),
+            pole,
+            carried: false,
+        };
+        f.points[s] = None;
+        // The fingers keep the pose they were shown with (the easing stage holds them).
+        for f in Finger::ALL {
+            for b in side.finger(f) {
+                out.local[b.index()] = shown[b.index()];
+            }
+        }
+        out.contact[s]
+            .get_or_insert_with(ContactReport::default)
+            .hand_weight = 1.0;
     }
 }

@@ -25,7 +25,7 @@ use crate::error::Error;
 use crate::flat;
 use crate::humanoid::bones::{HumanBone, Side, BONE_COUNT};
 use crate::humanoid::skeleton::{Skeleton, VrmVersion};
-use crate::mediapipe::FrameInput;
+use crate::input::mediapipe::FrameInput;
 use crate::options::{option_descriptions, OptionKind, RigOptions};
 use crate::pipeline::{Rig, SolveOutput};
 
