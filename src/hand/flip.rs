@@ -29,7 +29,7 @@ use glam::Vec3;
 use crate::humanoid::bones::Side;
 use crate::input::mediapipe::{hand_landmark as lm, HAND_LANDMARKS};
 
-use super::palm_frame;
+use super::palm::palm_frame;
 
 /// [`chirality`] below this is a mirrored hand (mean flexion of the four fingers, as a
 /// fraction of the palm length: real hands sit at about 0.15 to 0.7, flat ones near 0, the

@@ -57,7 +57,6 @@
 //! Finger rotations do not depend on the avatar's proportions: the avatar's bones take the
 //! tracked directions in the palm frame; lengths only matter where a missing bone makes one
 //! bone cover several phalanges (the span direction uses the tracked phalanx lengths).
-
 use glam::{Mat3, Quat, Vec3};
 
 use crate::error::Result;
@@ -68,77 +67,22 @@ use crate::input::mediapipe::HAND_LANDMARKS;
 mod chain;
 pub mod flip;
 pub mod limits;
+mod palm;
+mod report;
+mod rest;
 pub mod retarget;
 
 pub use limits::{Dof, JointRange, DOF_COUNT, LIMITS};
+pub use palm::palm_frame;
+pub use report::{HandReport, HandStatus, HandStrategy};
 pub use retarget::{RetargetOptions, RetargetReport};
 
+use palm::*;
+use rest::*;
+
 use crate::math::{clamp_angle, wrap};
-use chain::{bend, hinge_angle, Basis, Kind, Targets};
+use chain::{bend, hinge_angle, Kind, Targets};
 
-/// How hands are solved (JS: `options.handStrategy`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum HandStrategy {
-    /// Closed-form palm frame for the hand; per finger a least-squares fit of an anatomical
-    /// joint model with literature joint limits (see the module docs).
-    Analytic,
-    /// Optimization-based retargeting (seed 003, section 3.1): the analytic solve, then
-    /// finger angles fitted so the avatar's fingertips land on the user's, scaled to the
-    /// avatar's hand, within the same joint limits (see [`retarget`]).
-    Retarget,
-}
-
-/// What the last [`HandSolver::solve`] did for one side.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum HandStatus {
-    /// Nothing solved yet (or the avatar has no usable palm).
-    #[default]
-    NotSolved,
-    /// Solved from this frame's landmarks.
-    Solved,
-    /// This frame's hand was degenerate; the previous rotations were written again.
-    Held,
-    /// This frame's hand was degenerate and there was nothing to hold.
-    Skipped,
-}
-
-/// Anatomical angles and active limits of the last solve of one side.
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct HandReport {
-    /// What happened.
-    pub status: HandStatus,
-    /// Joint angles of the tracked hand after limits, radians, `[finger][dof]` (finger order
-    /// of [`Finger::ALL`], DOF order of [`Dof::ALL`]). Meaningful when `status` is `Solved`.
-    pub angles: [[f32; DOF_COUNT]; 5],
-    /// Whether the tracked angle was outside [`LIMITS`] and clamped, `[finger][dof]`.
-    pub limited: [[bool; DOF_COUNT]; 5],
-}
-
-impl HandReport {
-    /// Whether any limit of `finger` was active.
-    #[must_use]
-    pub fn finger_limited(&self, finger: Finger) -> bool {
-        self.limited[finger.index()].iter().any(|l| *l)
-    }
-
-    /// Whether any limit of the hand was active.
-    #[must_use]
-    pub fn any_limited(&self) -> bool {
-        Finger::ALL.iter().any(|f| self.finger_limited(*f))
-    }
-
-    /// The angle of `dof` on `finger`, radians.
-    #[must_use]
-    pub fn angle(&self, finger: Finger, dof: Dof) -> f32 {
-        self.angles[finger.index()][dof.index()]
-    }
-}
-
-/// Shortest segment (m) treated as a direction: below it a segment carries no information.
-const MIN_LENGTH: f32 = 1e-6;
-/// Smallest sine between the palm's forward and across vectors (about 5.7 degrees): below it
-/// the palm is treated as collinear.
-const MIN_PALM_SINE: f32 = 0.1;
 /// Slack before a clamped angle counts as a limit being active.
 const LIMIT_SLACK: f32 = 1e-4;
 /// Sine below which a phalanx counts as lying in its bone's flexion plane (a pure hinge turn).
@@ -151,120 +95,6 @@ const SIDE_EPSILON: f32 = 1e-6;
 /// (1.63 -> 1.55 degrees per bone-frame; 1.47 before the hinges could deviate); 0.35-0.5
 /// measure alike (`eval_fingers`).
 const HINGE_FIT_WEIGHT: f32 = 0.5;
-/// MediaPipe MCP landmarks of index, middle, ring, little.
-const MCP: [usize; 4] = [5, 9, 13, 17];
-
-/// Palmar normal from forward and radial: a left hand is the mirror image of a right hand.
-#[inline]
-fn palmar(side: Side, f: Vec3, r: Vec3) -> Vec3 {
-    match side {
-        Side::Right => r.cross(f),
-        Side::Left => f.cross(r),
-    }
-}
-
-/// Radial direction from forward and palmar (inverse of [`palmar`]).
-#[inline]
-fn radial(side: Side, f: Vec3, n: Vec3) -> Vec3 {
-    match side {
-        Side::Right => f.cross(n),
-        Side::Left => n.cross(f),
-    }
-}
-
-/// The palm frame of a hand: columns `(f, r, n)` = forward (wrist to `middle`), radial
-/// (`little` to `index`, made perpendicular to forward), palmar normal. All points in one
-/// frame (meters). Orthonormal; determinant -1 on a right hand and +1 on a left hand (mirror
-/// images), so the rotation between two frames of the same side is proper. `None` when degenerate: coincident points or a palm whose forward and
-/// across directions are within about 6 degrees of each other.
-#[must_use]
-pub fn palm_frame(
-    side: Side,
-    wrist: Vec3,
-    index: Vec3,
-    little: Vec3,
-    middle: Vec3,
-) -> Option<Mat3> {
-    frame_from(side, middle - wrist, index - little)
-}
-
-fn frame_from(side: Side, forward: Vec3, across: Vec3) -> Option<Mat3> {
-    let fl = forward.length();
-    let al = across.length();
-    if !(fl > MIN_LENGTH && al > MIN_LENGTH) {
-        return None;
-    }
-    let f = forward / fl;
-    let perp = across - across.dot(f) * f;
-    if perp.length() < MIN_PALM_SINE * al {
-        return None;
-    }
-    let r = perp.normalize();
-    Some(Mat3::from_cols(f, r, palmar(side, f, r)))
-}
-
-/// Which points define the palm frame, chosen from the bones the avatar has; the same choice
-/// is applied to the landmarks so both frames mean the same thing.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct PalmDef {
-    /// Bit i: MCP i (index, middle, ring, little) is averaged into the forward point.
-    forward: u8,
-    /// Radial and ulnar MCP (0..4) of the across vector.
-    across: (usize, usize),
-}
-
-impl PalmDef {
-    fn observed(&self, side: Side, lm: &[Vec3; HAND_LANDMARKS]) -> Option<Mat3> {
-        let mut sum = Vec3::ZERO;
-        let mut n = 0.0;
-        for (i, &m) in MCP.iter().enumerate() {
-            if self.forward & (1 << i) != 0 {
-                sum += lm[m];
-                n += 1.0;
-            }
-        }
-        let fwd = if n > 0.0 { sum / n } else { lm[MCP[1]] };
-        frame_from(
-            side,
-            fwd - lm[0],
-            lm[MCP[self.across.0]] - lm[MCP[self.across.1]],
-        )
-    }
-}
-
-/// Rest data of one present finger bone.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct BoneRest {
-    bone: HumanBone,
-    /// Anatomical slot: 0 base, 1, 2 (index into `Side::finger`).
-    slot: usize,
-    /// Rest direction (unit, internal frame = hand-local at rest).
-    dir: Vec3,
-    /// Rest hinge axis (unit, perpendicular to `dir`).
-    hinge: Vec3,
-    /// Rest flexion direction, `hinge x dir`.
-    flex: Vec3,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct FingerRest {
-    bones: [Option<BoneRest>; 3],
-    count: usize,
-    /// The base joint's model on the avatar's rest palm (the retargeting's joint model).
-    kind: Kind,
-    basis: Basis,
-    /// Fingers: longitude of the avatar's wrist-to-knuckle line in `basis`.
-    lon_prior: f32,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct SideRest {
-    palm: PalmDef,
-    /// Rest palm frame, columns `(f, r, n)`.
-    frame: Mat3,
-    fingers: [FingerRest; 5],
-}
-
 /// Previous output of one side, rewritten when a frame is degenerate.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Held {
@@ -520,218 +350,6 @@ fn write_fingers(
             }
         }
     }
-}
-
-/// The rest palm frame and how to build the matching observed frame.
-fn rest_palm(skeleton: &Skeleton, side: Side) -> Option<(PalmDef, Mat3)> {
-    let hand = skeleton.rest_world(side.hand())?;
-    let prox: [Option<Vec3>; 4] =
-        core::array::from_fn(|i| skeleton.rest_world(side.finger(Finger::ALL[i + 1])[0]));
-    let forward_mask: u8 = if prox[1].is_some() {
-        0b0010
-    } else {
-        (0..4)
-            .filter(|i| prox[*i].is_some())
-            .fold(0, |m, i| m | (1 << i))
-    };
-    let forward = if forward_mask != 0 {
-        let (sum, n) = (0..4)
-            .filter(|i| forward_mask & (1 << i) != 0)
-            .fold((Vec3::ZERO, 0.0), |(s, n), i| {
-                (s + prox[i].unwrap_or(hand), n + 1.0)
-            });
-        sum / n - hand
-    } else {
-        // No finger proximals: the hand continues the forearm.
-        let elbow = skeleton.rest_world(side.arm()[2]);
-        match elbow {
-            Some(e) if (hand - e).length() > MIN_LENGTH => hand - e,
-            _ => match side {
-                Side::Left => Vec3::X,
-                Side::Right => Vec3::NEG_X,
-            },
-        }
-    };
-    let radial_i = (0..4).find(|i| prox[*i].is_some());
-    let ulnar_i = (0..4).rev().find(|i| prox[*i].is_some());
-    let (across, pair) = match (radial_i, ulnar_i) {
-        (Some(a), Some(b)) if a < b => (prox[a]? - prox[b]?, (a, b)),
-        _ => {
-            // Fewer than two proximals: VRM's T-pose has the palm facing down.
-            let f = forward.try_normalize()?;
-            (radial(side, f, Vec3::NEG_Y), (0, 3))
-        }
-    };
-    let frame = frame_from(side, forward, across)?;
-    Some((
-        PalmDef {
-            forward: forward_mask,
-            across: pair,
-        },
-        frame,
-    ))
-}
-
-/// Palmar normal of the triangle (wrist, a, b), oriented like `n`; `None` when thin.
-fn local_pole(wrist: Vec3, a: Vec3, b: Vec3, n: Vec3) -> Option<Vec3> {
-    let (u, v) = (a - wrist, b - wrist);
-    let c = u.cross(v);
-    if c.length() < MIN_PALM_SINE * 0.5 * u.length() * v.length() || c.length() <= 0.0 {
-        return None;
-    }
-    let c = c.normalize();
-    Some(if c.dot(n) < 0.0 { -c } else { c })
-}
-
-/// The finger's base basis and model kind, given palm axes `(f, r, n)`, the pole and (thumb)
-/// the index metacarpal line.
-fn basis_for(finger: Finger, f: Vec3, r: Vec3, n: Vec3, pole: Vec3) -> (Kind, Basis) {
-    let fallback = Basis { x: f, y: r, z: n };
-    match finger {
-        Finger::Thumb => (
-            Kind::Thumb,
-            Basis::from_hints(pole, r, n).unwrap_or(Basis { x: r, y: n, z: f }),
-        ),
-        _ => (
-            Kind::Finger,
-            Basis::from_hints(pole, f, r).unwrap_or(fallback),
-        ),
-    }
-}
-
-fn side_rest(skeleton: &Skeleton, side: Side) -> Option<SideRest> {
-    let (palm, frame) = rest_palm(skeleton, side)?;
-    let hand = skeleton.rest_world(side.hand())?;
-    let (f, r, n) = (frame.x_axis, frame.y_axis, frame.z_axis);
-    let prox = |finger: Finger| skeleton.rest_world(side.finger(finger)[0]);
-    let mut fingers = [FingerRest {
-        bones: [None; 3],
-        count: 0,
-        kind: Kind::Finger,
-        basis: Basis { x: f, y: r, z: n },
-        lon_prior: 0.0,
-    }; 5];
-    for finger in Finger::ALL {
-        let bones = side.finger(finger);
-        let mut present = [(HumanBone::Hips, 0usize, Vec3::ZERO); 3];
-        let mut count = 0;
-        for (slot, bone) in bones.into_iter().enumerate() {
-            if let Some(p) = skeleton.rest_world(bone) {
-                present[count] = (bone, slot, p);
-                count += 1;
-            }
-        }
-        if count == 0 {
-            continue;
-        }
-        // Rest directions: joint to next joint; the last continues the previous one.
-        let mut dirs = [f; 3];
-        for i in 0..count {
-            dirs[i] = if i + 1 < count {
-                (present[i + 1].2 - present[i].2).try_normalize()
-            } else if i > 0 {
-                Some(dirs[i - 1])
-            } else {
-                (present[i].2 - hand).try_normalize()
-            }
-            .unwrap_or(if i > 0 { dirs[i - 1] } else { f });
-        }
-        let pole = match finger {
-            Finger::Thumb => prox(Finger::Index)
-                .and_then(|i| (i - hand).try_normalize())
-                .unwrap_or(f),
-            Finger::Ring => match (prox(Finger::Middle), prox(Finger::Ring)) {
-                (Some(a), Some(b)) => local_pole(hand, a, b, n).unwrap_or(n),
-                _ => n,
-            },
-            Finger::Little => match (prox(Finger::Ring), prox(Finger::Little)) {
-                (Some(a), Some(b)) => local_pole(hand, a, b, n).unwrap_or(n),
-                _ => n,
-            },
-            _ => n,
-        };
-        let (kind, basis) = basis_for(finger, f, r, n, pole);
-        let (lon, colat) = basis.spherical(dirs[0]);
-        let rule = basis
-            .frame(kind, lon, colat)
-            .hinge
-            .try_normalize()
-            .unwrap_or(r);
-        let base_hinge = rest_hinge(&dirs[..count], rule);
-        let mut rest = FingerRest {
-            bones: [None; 3],
-            count,
-            kind,
-            basis,
-            lon_prior: basis
-                .spherical((present[0].2 - hand).try_normalize().unwrap_or(f))
-                .0,
-        };
-        for i in 0..count {
-            let d = dirs[i];
-            let hinge = (base_hinge - base_hinge.dot(d) * d)
-                .try_normalize()
-                .unwrap_or(base_hinge);
-            rest.bones[i] = Some(BoneRest {
-                bone: present[i].0,
-                slot: present[i].1,
-                dir: d,
-                hinge,
-                flex: hinge.cross(d),
-            });
-        }
-        fingers[finger.index()] = rest;
-    }
-    Some(SideRest {
-        palm,
-        frame,
-        fingers,
-    })
-}
-
-/// Rest bends below this (radians) leave the anatomical hinge axis alone; above
-/// [`BENT_REST`] the avatar's own bend plane is used.
-const STRAIGHT_REST: f32 = 1.0 * core::f32::consts::PI / 180.0;
-/// See [`STRAIGHT_REST`].
-const BENT_REST: f32 = 3.0 * core::f32::consts::PI / 180.0;
-
-/// The rest hinge axis of a finger whose rest bone directions are `dirs` (base first):
-/// `rule` (the anatomical axis at the base's rest direction) for a straight rest finger; the
-/// normal of the plane the rest finger is bent in when it is bent, so its joints can still
-/// follow a planar finger exactly (a rigged thumb usually rests bent). Oriented like `rule`
-/// (positive angles flex), perpendicular to the base direction; blended in between.
-fn rest_hinge(dirs: &[Vec3], rule: Vec3) -> Vec3 {
-    let mut bend_normal = Vec3::ZERO;
-    let mut bend = 0.0_f32;
-    for pair in dirs.windows(2) {
-        let c = pair[0].cross(pair[1]);
-        bend = bend.max(c.length().clamp(0.0, 1.0).asin());
-        bend_normal += if c.dot(rule) < 0.0 { -c } else { c };
-    }
-    let t = ((bend - STRAIGHT_REST) / (BENT_REST - STRAIGHT_REST)).clamp(0.0, 1.0);
-    let w = t * t * (3.0 - 2.0 * t);
-    let axis = match bend_normal.try_normalize() {
-        Some(p) => rule.lerp(p, w),
-        None => rule,
-    };
-    let d = dirs.first().copied().unwrap_or(Vec3::X);
-    (axis - axis.dot(d) * d).try_normalize().unwrap_or(rule)
-}
-
-/// The orthonormal frame `(x, y', x cross y')` of `x` and `y` made perpendicular to it;
-/// `None` when degenerate.
-fn orthonormal_frame(x: Vec3, y: Vec3) -> Option<Mat3> {
-    let x = x.try_normalize()?;
-    let y = (y - y.dot(x) * x).try_normalize()?;
-    Some(Mat3::from_cols(x, y, x.cross(y)))
-}
-
-/// Rotation taking `(a, b)` to `(c, d)`: `a`, `c` exactly, `b`, `d` after making them
-/// perpendicular. Both pairs must be non-degenerate.
-fn frame_rotation(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Option<Quat> {
-    let m = orthonormal_frame(c, d)? * orthonormal_frame(a, b)?.transpose();
-    let q = Quat::from_mat3(&m).normalize();
-    q.is_finite().then_some(q)
 }
 
 /// The rotation about the unit `axis` by `atan2(y, x)`, without trigonometry: the half-angle

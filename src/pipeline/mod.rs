@@ -3,8 +3,8 @@
 //!
 //! A [`Rig`] holds the avatar, the options and one value per stage; each stage is a type in its
 //! own file that keeps its own history, and a frame runs them in this order
-//! ([`Rig::solve`]), handing values on in a [`frame::Frame`] (what every stage reads and none
-//! writes is the [`frame::Context`]):
+//! ([`Rig::solve`]), handing values on in a `Frame` (what every stage reads and none
+//! writes is the `Context`, both in `frame.rs`):
 //!
 //! 1. **select** (`select.rs`): which tracked hand drives each avatar side; low scores
 //!    ignored, labels that contradict the pose wrists reassigned (`options.handedness`),
