@@ -83,18 +83,11 @@ impl Contact {
                     if f.placed[s] {
                         // The fingers as the targets stage placed them (blending in after a
                         // loss: as the easing will show them).
-                        let mut shown_local;
                         let blend = ease
                             .fingers_blend(cx, side)
                             .filter(|_| f.fingers_blending[s]);
-                        let local = match blend {
-                            Some(b) => {
-                                shown_local = out.local;
-                                ease.show_fingers(cx, side, b, &mut shown_local);
-                                &shown_local
-                            }
-                            None => &out.local,
-                        };
+                        let mut copy = None;
+                        let local = ease.fingers_as_shown(cx, side, blend, &out.local, &mut copy);
                         let hand = out.hands[s].map(|h| h.index);
                         let points = self.hand_points(cx, side, f, hand, hand_rot, local);
                         self.last_points[s] = points.map(|p| (p, hand_rot));

@@ -186,15 +186,29 @@ impl Ease {
         (!blend.is_exact()).then_some(blend)
     }
 
-    /// `local` with `side`'s finger rotations as `blend` will show them (the easing's anchors
-    /// and last shown rotations, unchanged).
-    pub(super) fn show_fingers(
+    /// `local` as the easing will show `side`'s fingers: `local` itself, or with `blend` a
+    /// copy in `copy` (on the caller's stack, made only then) with the fingers blended.
+    pub(super) fn fingers_as_shown<'a>(
         &self,
         cx: &Context,
         side: Side,
-        blend: Blend,
-        local: &mut [Quat; BONE_COUNT],
-    ) {
+        blend: Option<Blend>,
+        local: &'a [Quat; BONE_COUNT],
+        copy: &'a mut Option<[Quat; BONE_COUNT]>,
+    ) -> &'a [Quat; BONE_COUNT] {
+        match blend {
+            Some(b) => {
+                let shown = copy.insert(*local);
+                self.show_fingers(cx, side, b, shown);
+                shown
+            }
+            None => local,
+        }
+    }
+
+    /// `local` with `side`'s finger rotations as `blend` will show them (the easing's anchors
+    /// and last shown rotations, unchanged).
+    fn show_fingers(&self, cx: &Context, side: Side, blend: Blend, local: &mut [Quat; BONE_COUNT]) {
         // The side's 15 finger bones are consecutive, thumb metacarpal first.
         let first = side.finger(crate::humanoid::bones::Finger::Thumb)[0].index();
         // An index loop: the iterator form (`enumerate().skip().take()`) costs 0.2 KiB more

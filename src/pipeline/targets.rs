@@ -137,15 +137,8 @@ impl Targets {
         let blend = ease.fingers_blend(cx, side).filter(|_| fresh);
         f.fingers_blending[s] = blend.is_some();
         let target = if fresh {
-            let mut shown_local;
-            let local = match blend {
-                Some(b) => {
-                    shown_local = out.local;
-                    ease.show_fingers(cx, side, b, &mut shown_local);
-                    &shown_local
-                }
-                None => &out.local,
-            };
+            let mut copy = None;
+            let local = ease.fingers_as_shown(cx, side, blend, &out.local, &mut copy);
             let a = align::wrist_target(
                 cx.skeleton,
                 side,
