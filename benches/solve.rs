@@ -71,9 +71,11 @@ fn bench(c: &mut Criterion) {
                 side,
                 &options,
                 part,
-                recordings::RIGHT_WRIST,
-                &landmarks[100],
-                1.0,
+                &handrig::align::UserHand {
+                    wrist: recordings::RIGHT_WRIST,
+                    landmarks: &landmarks[100],
+                    scale: 1.0,
+                },
                 hand_rotation,
                 &local,
             )

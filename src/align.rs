@@ -395,24 +395,33 @@ pub fn fingertip(
     Some(world.position[distal] + world.rotation[distal] * tip_offset(skeleton, side, finger)?)
 }
 
-/// Places the wrist IK target for one hand.
-///
-/// `landmarks` are the hand's 21 world landmarks already in the avatar frame; `scale` is the
-/// body scale applied to the user's wrist-to-DIP offset (1 for `wrists` input); `part` what
-/// carries the aligned point on this avatar ([`AlignedPart::choose`]).
-#[allow(clippy::too_many_arguments)]
+/// The user's hand as alignment places it on the avatar.
+#[derive(Clone, Copy, Debug)]
+pub struct UserHand<'a> {
+    /// Where the user's wrist lands on the avatar (the wrist source: the pose wrist mapped
+    /// onto the avatar, or a tracker's wrist).
+    pub wrist: Vec3,
+    /// The hand's 21 world landmarks, in the avatar frame.
+    pub landmarks: &'a [Vec3; HAND_LANDMARKS],
+    /// The scale applied to the user's wrist-to-fingertip offset (the body scale; 1 for
+    /// `wrists` input).
+    pub scale: f32,
+}
+
+/// Places the wrist IK target for one hand: the user's hand `user`, the avatar's turned to
+/// `hand_rotation` with its fingers as in `local`, the aligned point carried by `part`
+/// ([`AlignedPart::choose`]).
 #[must_use]
 pub fn wrist_target(
     skeleton: &Skeleton,
     side: Side,
     options: &AlignmentOptions,
     part: AlignedPart,
-    pose_wrist: Vec3,
-    landmarks: &[Vec3; HAND_LANDMARKS],
-    scale: f32,
+    user: &UserHand,
     hand_rotation: Quat,
     local: &[Quat; BONE_COUNT],
 ) -> AlignmentReport {
+    let (pose_wrist, landmarks, scale) = (user.wrist, user.landmarks, user.scale);
     let user_point = part.user_point(options.point, landmarks);
     let user_offset = scale * (user_point - landmarks[0]);
     let target = pose_wrist + user_offset;

@@ -99,6 +99,15 @@ pub struct Ccd {
     options: CcdOptions,
 }
 
+/// What guides a [`Ccd::solve`] besides its effectors: both optional.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Guides {
+    /// A world point the chain's bend turns toward, and the first joint it turns.
+    pub pole: Option<(Vec3, usize)>,
+    /// The last bone's direction (world, unit), pinned.
+    pub end_direction: Option<Vec3>,
+}
+
 impl Ccd {
     /// A solver with `options`.
     ///
@@ -118,24 +127,26 @@ impl Ccd {
     /// Moves `joints` (the current pose: the warm start) so the `effectors` (highest
     /// priority first; at least one) reach their targets with the root at `root`.
     ///
-    /// `pole` (a world point and the first joint it turns, as [`super::ChainGoal::pole_first`])
+    /// `guides.pole` (a world point and the first joint it turns, as [`super::ChainGoal::pole_first`])
     /// turns the chain's bend toward it before each sweep, about the line from the pivot to
-    /// the first effector's target. `end_direction` (world, unit) pins the last bone's
+    /// the first effector's target. `guides.end_direction` (world, unit) pins the last bone's
     /// direction (the first effector should then sit on the last bone's root). `frames` (one
     /// per bone) receives each bone's world rotation from its rest direction, in which the
     /// limits hold (see [`Chain::place`]). Allocates nothing; never writes NaN for finite
     /// inputs (a non-finite target leaves the pose unchanged and reports an infinite error).
-    #[allow(clippy::too_many_arguments)]
     pub fn solve(
         &self,
         chain: &Chain,
         root: &RootFrame,
         effectors: &[Effector],
-        pole: Option<(Vec3, usize)>,
-        end_direction: Option<Vec3>,
+        guides: Guides,
         joints: &mut [Vec3],
         frames: &mut [Quat],
     ) -> ChainReport {
+        let Guides {
+            pole,
+            end_direction,
+        } = guides;
         let n = chain.joint_count();
         debug_assert_eq!(joints.len(), n);
         anchor(joints, root, chain);

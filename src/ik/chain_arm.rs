@@ -378,8 +378,7 @@ impl ArmIk for CcdArm {
                     c,
                     root,
                     effectors,
-                    None,
-                    None,
+                    super::ccd::Guides::default(),
                     joints,
                     &mut frames[..c.bone_count()],
                 )

@@ -354,8 +354,10 @@ impl ChainSolver {
                     &self.chain,
                     &root,
                     &[effector],
-                    goal.pole.map(|p| (p, goal.pole_first)),
-                    end_direction,
+                    super::ccd::Guides {
+                        pole: goal.pole.map(|p| (p, goal.pole_first)),
+                        end_direction,
+                    },
                     &mut self.joints,
                     &mut self.rotations,
                 );

@@ -144,9 +144,11 @@ impl Targets {
                 side,
                 &cx.options.alignment,
                 cx.aligned_parts[s],
-                source.position,
-                &f.landmarks[s],
-                source.scale,
+                &align::UserHand {
+                    wrist: source.position,
+                    landmarks: &f.landmarks[s],
+                    scale: source.scale,
+                },
                 hand_rot,
                 local,
             );

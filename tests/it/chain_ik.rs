@@ -726,7 +726,14 @@ fn ccd_priority_effectors_keep_the_first_and_use_what_is_left() {
     let mut frames = [Quat::IDENTITY; 3];
     let solve = |effectors: &[Effector], frames: &mut [Quat]| {
         let mut joints = chain.rest_joints().to_vec();
-        let report = ccd.solve(&chain, &root, effectors, None, None, &mut joints, frames);
+        let report = ccd.solve(
+            &chain,
+            &root,
+            effectors,
+            handrig::ik::ccd::Guides::default(),
+            &mut joints,
+            frames,
+        );
         (joints, report)
     };
     // The end alone, then the end first and joint 1 second: the end is reached either way,
