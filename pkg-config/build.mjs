@@ -345,7 +345,7 @@ function compatGlue(work, out) {
 }
 
 /** The entry points, bundled by esbuild with the layout and the version inlined. */
-async function bundle(out, version, layout, compatFile) {
+async function bundle(out, version, layout, descriptions, compatFile) {
   let esbuild;
   try {
     esbuild = await import("esbuild");
@@ -373,7 +373,11 @@ async function bundle(out, version, layout, compatFile) {
       target: "es2022",
       external: ["node:module"],
       plugins: [glue],
-      define: { __HANDRIG_LAYOUT__: JSON.stringify(layout), __HANDRIG_VERSION__: JSON.stringify(version) },
+      define: {
+        __HANDRIG_LAYOUT__: JSON.stringify(layout),
+        __HANDRIG_OPTION_DESCRIPTIONS__: JSON.stringify(descriptions),
+        __HANDRIG_VERSION__: JSON.stringify(version),
+      },
       banner: { js: banner(version) },
       legalComments: "none",
       logLevel: "warning",
@@ -510,10 +514,13 @@ async function main() {
   // The layout's values, generated from its declaration in Rust (src/flat/layout.rs; a Rust test
   // fails when this file is stale), so the JS constants cannot drift from the wasm.
   const layout = JSON.parse(fs.readFileSync(path.join(here, "src", "layout.json"), "utf8"));
+  // The options' descriptions, generated from the Rust option table (src/options/table.rs; a Rust
+  // test fails when this file is stale): the .wasm leaves their text out.
+  const descriptions = JSON.parse(fs.readFileSync(path.join(here, "src", "option-descriptions.json"), "utf8"));
 
   const v = cargo.version;
   typeCheck(work, layout);
-  await bundle(out, v, layout, compatGlue(work, out));
+  await bundle(out, v, layout, descriptions, compatGlue(work, out));
   declarations(work, out, v);
 
   const manifest = JSON.parse(fs.readFileSync(path.join(here, "package.template.json"), "utf8"));

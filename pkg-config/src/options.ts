@@ -63,16 +63,22 @@ function f32Decimal<T>(v: T): T {
   return f as T;
 }
 
+// Defined by build.mjs (esbuild `define`): option-descriptions.json, generated from the Rust
+// option table, whose text the .wasm leaves out.
+declare const __HANDRIG_OPTION_DESCRIPTIONS__: { readonly [path: string]: string };
+
 /**
- * The raw descriptions with their numbers as f32Decimal spells them (a fresh array each call: a
+ * The raw descriptions with their text (from the generated file) and their numbers as
+ * f32Decimal spells them (a fresh array each call: a
  * caller may change what it gets).
  */
 export function cleanDescriptions(): OptionDescription[] {
-  return (wasm().HandRig.optionDescriptions() as RawOptionDescription[]).map((d) =>
-    d.type === "number"
+  return (wasm().HandRig.optionDescriptions() as RawOptionDescription[]).map((raw) => {
+    const d = { ...raw, description: __HANDRIG_OPTION_DESCRIPTIONS__[raw.path] ?? raw.description };
+    return d.type === "number"
       ? { ...d, min: f32Decimal(d.min), max: f32Decimal(d.max), step: f32Decimal(d.step), default: f32Decimal(d.default) }
-      : d,
-  ) as OptionDescription[];
+      : d;
+  }) as OptionDescription[];
 }
 
 let descriptionsCache: Map<string, OptionDescription> | undefined;

@@ -1,7 +1,9 @@
 //! Files generated from the option table: the TypeScript `HandRigOptions` type
-//! (`pkg-config/src/options-types.ts`) and the options reference page (`docs/options.md`).
-//! A test compares both with the committed files; `HANDRIG_GENERATE=write cargo test
-//! --lib options` rewrites them.
+//! (`pkg-config/src/options-types.ts`), the options reference page (`docs/options.md`) and
+//! the options' descriptions for the package's `optionDescriptions()`
+//! (`pkg-config/src/option-descriptions.json`; the `.wasm` leaves them out). A test compares
+//! each with the committed file; `HANDRIG_GENERATE=write cargo test --lib options` rewrites
+//! them.
 
 use super::table::{Kind, OptionSpec, Value, OPTIONS};
 
@@ -9,6 +11,27 @@ use super::table::{Kind, OptionSpec, Value, OPTIONS};
 pub const TYPESCRIPT_PATH: &str = "pkg-config/src/options-types.ts";
 /// Where the reference page is committed, relative to the crate root.
 pub const MARKDOWN_PATH: &str = "docs/options.md";
+
+/// Where the descriptions are committed (read by the package build), relative to the crate
+/// root.
+pub const DESCRIPTIONS_PATH: &str = "pkg-config/src/option-descriptions.json";
+
+/// Every option's description by path, as JSON (`{ "path": "description", ... }`, table
+/// order).
+#[must_use]
+pub fn descriptions_json() -> String {
+    let mut s = String::from("{\n");
+    for (i, o) in OPTIONS.iter().enumerate() {
+        let sep = if i + 1 < OPTIONS.len() { "," } else { "" };
+        s.push_str(&format!(
+            "  {}: {}{sep}\n",
+            serde_json::to_string(o.path).unwrap_or_default(),
+            serde_json::to_string(o.doc).unwrap_or_default()
+        ));
+    }
+    s.push_str("}\n");
+    s
+}
 
 /// The one-line summary of a row's type, range and default, as the docs show it.
 fn summary(spec: &OptionSpec) -> String {
@@ -231,6 +254,19 @@ mod tests {
     #[test]
     fn generated_reference_page_is_committed() {
         compare(MARKDOWN_PATH, &markdown());
+    }
+
+    #[test]
+    fn generated_descriptions_are_committed() {
+        let json = descriptions_json();
+        let parsed: serde_json::Map<String, serde_json::Value> =
+            serde_json::from_str(&json).expect("valid JSON");
+        assert_eq!(parsed.len(), OPTIONS.len());
+        for o in OPTIONS {
+            assert!(!o.doc.is_empty(), "{}: a description", o.path);
+            assert_eq!(parsed[o.path], o.doc, "{}", o.path);
+        }
+        compare(DESCRIPTIONS_PATH, &json);
     }
 
     #[test]

@@ -84,6 +84,17 @@ pub struct OptionSpec {
     pub set: fn(&mut RigOptions, Value),
 }
 
+/// A row's description: kept in native builds (the generated reference page and types, and
+/// `pkg-config/src/option-descriptions.json`, from which the package's `optionDescriptions()`
+/// takes it), left out of the `.wasm`, where it would be 4.6 KB of gzipped text no solve reads.
+const fn doc(text: &'static str) -> &'static str {
+    if cfg!(target_arch = "wasm32") {
+        ""
+    } else {
+        text
+    }
+}
+
 impl core::fmt::Debug for OptionSpec {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("OptionSpec")
@@ -101,7 +112,7 @@ macro_rules! flag {
             path: $path,
             kind: Kind::Bool,
             default: Value::Bool($default),
-            doc: $doc,
+            doc: doc($doc),
             get: |o| Value::Bool(o.$($f).+),
             set: |o, v| {
                 if let Value::Bool(b) = v {
@@ -119,7 +130,7 @@ macro_rules! choice {
             path: $path,
             kind: Kind::Enum(<$ty as OptionEnum>::NAMES),
             default: Value::Enum($default),
-            doc: $doc,
+            doc: doc($doc),
             get: |o| Value::Enum(OptionEnum::name(o.$($f).+)),
             set: |o, v| {
                 if let Some(x) = match v {
@@ -141,7 +152,7 @@ macro_rules! number {
             path: $path,
             kind: Kind::Number { min: $min, max: $max, step: $step, integer: false, optional: false },
             default: Value::Number(Some($default)),
-            doc: $doc,
+            doc: doc($doc),
             get: |o| Value::Number(Some(o.$($f).+)),
             set: |o, v| {
                 if let Value::Number(Some(x)) = v {
@@ -155,7 +166,7 @@ macro_rules! number {
             path: $path,
             kind: Kind::Number { min: $min, max: $max, step: $step, integer: false, optional: true },
             default: Value::Number(None),
-            doc: $doc,
+            doc: doc($doc),
             get: |o| Value::Number(o.$($f).+),
             set: |o, v| {
                 if let Value::Number(x) = v {
@@ -169,7 +180,7 @@ macro_rules! number {
             path: $path,
             kind: Kind::Number { min: $min, max: $max, step: 1.0, integer: true, optional: false },
             default: Value::Number(Some($default)),
-            doc: $doc,
+            doc: doc($doc),
             // Counts are small whole numbers: exact in f32.
             get: |o| Value::Number(Some(o.$($f).+ as f32)),
             set: |o, v| {
@@ -251,7 +262,7 @@ pub static OPTIONS: &[OptionSpec] = &[
         path: "contact.faceAnchors",
         kind: Kind::Points { names: &FaceAnchor::NAMES, limit: MAX_ANCHOR_OFFSET },
         default: Value::Points([None; ANCHORS]),
-        doc: "The avatar's face points, each [x, y, z] meters from the head bone at rest in the model's axes (e.g. raycast on its mesh); missing ones are derived from the rig (eye bones, look-at offset, an average face).",
+        doc: doc("The avatar's face points, each [x, y, z] meters from the head bone at rest in the model's axes (e.g. raycast on its mesh); missing ones are derived from the rig (eye bones, look-at offset, an average face)."),
         get: |o| Value::Points(o.contact.face_anchors.to_array()),
         set: |o, v| {
             if let Value::Points(p) = v {
@@ -273,7 +284,7 @@ pub static OPTIONS: &[OptionSpec] = &[
         path: "retarget.tipWeights",
         kind: Kind::Numbers { len: 5, min: 0.0, max: 1000.0 },
         default: Value::Numbers([2.0, 2.0, 1.0, 1.0, 1.0]),
-        doc: "handStrategy retarget: fingertip weights, thumb to little (thumb and index emphasized for pinching, as the seed does).",
+        doc: doc("handStrategy retarget: fingertip weights, thumb to little (thumb and index emphasized for pinching, as the seed does)."),
         get: |o| Value::Numbers(o.retarget.tip_weights),
         set: |o, v| {
             if let Value::Numbers(w) = v {

@@ -109,6 +109,7 @@ impl Contact {
     /// placed on the user's wrist (the tracker wrist, or the pose wrist landmark in user
     /// space, whichever the observe stage used), the avatar's from forward kinematics of
     /// this frame's hand rotation and finger rotations.
+    #[inline(never)]
     fn hand_points(
         &self,
         cx: &Context,
