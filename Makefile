@@ -37,7 +37,7 @@ help:
 	@echo "make test-wasm  wasm-pack test --node (wasm-bindgen-test)"
 	@echo "make test-node  npm pack pkg/, install it in a temp project, node --test from ESM and CJS"
 	@echo "make test-www   the demo's browser tests (Playwright + Debian chromium), when www/ has them"
-	@echo "make test-docs  make docs, and the links of README.md and docs/*.md (files and #anchors) resolve"
+	@echo "make test-docs  make docs, and the links of README.md, CHANGELOG.md, eval/ and tools/ READMEs and docs/**/*.md (files and #anchors) resolve"
 	@echo "make docs       the JS API reference from the TypeScript sources (TypeDoc) into target/docs/api/"
 	@echo "make eval       every evaluation, then one table of all methods (eval/table.mjs)"
 	@echo "make bench      criterion benchmarks: Rig::solve, chain IK, retargeting (native)"
@@ -111,7 +111,7 @@ test-wasm: setup
 test-node: pkg
 	node tests/node/run.mjs
 
-# Issue 49 (docs/robustness.md): the fuzzers at full length, not part of `make test` (whose runs
+# Issue 49 (docs/how-it-works/robustness.md): the fuzzers at full length, not part of `make test` (whose runs
 # are short: a few hundred glTF cases, 3,000 per JS surface). The glTF readers run in a release
 # build; HANDRIG_FUZZ_SEED changes the seed.
 FUZZ_CASES ?= 100000
@@ -130,7 +130,7 @@ docs: setup-node
 	pkg-config/node_modules/.bin/typedoc --options pkg-config/typedoc.json --logLevel Warn
 	@echo "docs: target/docs/api/index.html"
 
-# Every relative link and #anchor of the README, CHANGELOG and docs/ resolves (remark-validate-links).
+# Every relative link and #anchor of the README, CHANGELOG, eval/ and tools/ READMEs and docs/ (subfolders included) resolves (remark-validate-links).
 test-docs: docs
 	node tests/node/check-links.mjs
 
@@ -142,7 +142,7 @@ test-www: pkg
 	  echo "test-www: www/ has no test script; skipped"; \
 	fi
 
-# The measured figures of docs/measurements.md and the method pages (docs/hand-solver.md, docs/alignment-ik.md, ...):
+# The measured figures of docs/measurements/README.md and the method pages (docs/how-it-works/hand-solver.md, docs/how-it-works/alignment-ik.md, ...):
 # hand accuracy vs Kalidokit, the alignment acceptance table, and wasm solve time vs Kalidokit.
 eval: pkg eval/node_modules/.package-lock.json tests/node/node_modules/.package-lock.json
 	cargo run --quiet --release --example eval_hands
@@ -161,7 +161,7 @@ bench: setup
 
 # The ground-truth bench (issue 47, eval/bench/, described in eval/README.md): known motion rendered on
 # the generated avatars, tracked by MediaPipe, solved, compared with the truth
-# (docs/ground-truth-bench.md). The clips and the Hands/Holistic recordings are committed:
+# (docs/how-it-works/ground-truth-bench.md). The clips and the Hands/Holistic recordings are committed:
 # bench-score alone re-scores them; the Tasks API recordings (6.5 MB) are not: make bench-tasks.
 bench-truth: bench-render bench-track bench-tasks bench-score
 

@@ -32,7 +32,7 @@
 //! Acceptance: median <= 0.5 mm, max <= 2 mm (reachable targets), torso within 3 degrees.
 //!
 //! ## 2. The shared Kinect session (`../shared/data/pose/kinect-upper-body.json`)
-//! Body joints (mapping in docs/torso.md; the recording is mirrored: x negated), default
+//! Body joints (mapping in docs/how-it-works/torso.md; the recording is mirrored: x negated), default
 //! options (`torso: "pose"`, filtering and dropout on): per frame the chest (upper torso
 //! relative to the hips: lean, side bend, twist), the head (relative to the upper torso:
 //! pitch, tilt, turn), the hips' yaw and the shrug, degrees; their ranges, the largest frame-

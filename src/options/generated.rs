@@ -1,5 +1,5 @@
 //! Files generated from the option table: the TypeScript `HandRigOptions` type
-//! (`pkg-config/src/options-types.ts`) and the options reference page (`docs/options.md`).
+//! (`pkg-config/src/options-types.ts`) and the options reference page (`docs/reference/options.md`).
 //! A test compares both with the committed files; `HANDRIG_GENERATE=write cargo test
 //! --lib options` rewrites them.
 
@@ -8,7 +8,7 @@ use super::table::{Kind, OptionSpec, Value, OPTIONS};
 /// Where the TypeScript type is committed, relative to the crate root.
 pub const TYPESCRIPT_PATH: &str = "pkg-config/src/options-types.ts";
 /// Where the reference page is committed, relative to the crate root.
-pub const MARKDOWN_PATH: &str = "docs/options.md";
+pub const MARKDOWN_PATH: &str = "docs/reference/options.md";
 
 /// The one-line summary of a row's type, range and default, as the docs show it.
 fn summary(spec: &OptionSpec) -> String {
@@ -162,7 +162,7 @@ pub fn typescript() -> String {
     s
 }
 
-/// `docs/options.md`.
+/// `docs/reference/options.md`.
 #[must_use]
 pub fn markdown() -> String {
     let mut s = String::from(
