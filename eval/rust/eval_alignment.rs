@@ -37,8 +37,8 @@
 //!   only primes the vector and is not scored for this method (280 frames).
 //!
 //! Self-contact (`contact.enabled`) is off in every rig here, and so are the wrist limits in
-//! the method comparison and in the solvers' agreement: this eval measures alignment alone (`examples/eval_contact.rs`
-//! measures contact, `examples/eval_wrist.rs` the limits and alignment under them).
+//! the method comparison and in the solvers' agreement: this eval measures alignment alone (`eval/rust/eval_contact.rs`
+//! measures contact, `eval/rust/eval_wrist.rs` the limits and alignment under them).
 //!
 //! Error: distance between the avatar's index distal joint by forward kinematics of the
 //! returned rotations and the target DIP `pose wrist + (hand DIP - hand wrist)` (MediaPipe
@@ -239,7 +239,7 @@ fn drive(
     options.mirror = side == Side::Left;
     options.alignment.enabled = method == Method::Aligned;
     // Alignment alone: self-contact's body colliders would move targets that come near the
-    // avatar's body (`examples/eval_contact.rs` measures contact).
+    // avatar's body (`eval/rust/eval_contact.rs` measures contact).
     options.contact.enabled = false;
     let cam = options.camera();
     let min_score = options.min_hand_score;
@@ -300,7 +300,7 @@ fn run(skel: &Skeleton, session: &Session, side: Side, method: Method) -> (Vec<f
     // The wrist limits off: they turn the hand of this mismatched pairing (the hand video on
     // the Kinect forearm, 97% of frames beyond the wrist's range) by up to 100 degrees, which
     // moves the fingertip of the unaligned methods far from where they put it
-    // (`examples/eval_wrist.rs` measures the limits, and alignment under them).
+    // (`eval/rust/eval_wrist.rs` measures the limits, and alignment under them).
     let mut options = RigOptions::per_frame();
     options.arm.wrist_limits = false;
     let held = drive(

@@ -11,7 +11,7 @@
 //!   body-scale calibration). Matched inputs: the hand and the arm are the same person's.
 //! * **kinect**: the hand video `../shared/data/hands/right-hand-video-mediapipe.json` paired
 //!   frame by frame with the Azure Kinect wrists `../shared/data/pose/kinect-upper-body.json`
-//!   as `wrists` input, as `examples/eval_alignment.rs` pairs them (right side: the video's
+//!   as `wrists` input, as `eval/rust/eval_alignment.rs` pairs them (right side: the video's
 //!   right hand with the Kinect right wrist; left side: the same video with `mirror: true`,
 //!   with the Kinect left wrist). Mismatched inputs: another person's arm.
 //!

@@ -8,7 +8,7 @@
 //! Data:
 //! * the Azure Kinect session `../shared/data/pose/kinect-upper-body.json` paired frame by
 //!   frame with the hand video `../shared/data/hands/right-hand-video-mediapipe.json`, as
-//!   `examples/eval_alignment.rs` pairs them (right side: the video's right hand on the Kinect
+//!   `eval/rust/eval_alignment.rs` pairs them (right side: the video's right hand on the Kinect
 //!   right wrist; left side: the same video with `mirror: true` on the Kinect LEFT wrist, the
 //!   arm that comes to the face around frames 130-160). Tracker input: `wrists` and the
 //!   Kinect's `NOSE`, `EYE_*`, `EAR_*` joints as `face`, all carried into the avatar's frame
