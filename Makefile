@@ -39,7 +39,7 @@ help:
 	@echo "make test-www   the demo's browser tests (Playwright + Debian chromium), when www/ has them"
 	@echo "make test-docs  make docs, and the links of README.md, CHANGELOG.md, eval/ and tools/ READMEs and docs/**/*.md (files and #anchors) resolve"
 	@echo "make docs       the JS API reference from the TypeScript sources (TypeDoc) into target/docs/api/"
-	@echo "make eval       every evaluation, then one table of all methods (eval/table.mjs)"
+	@echo "make eval       every evaluation but the long ones (eval/README.md): the one table of all methods (eval/table.mjs) and the rest"
 	@echo "make bench      criterion benchmarks: Rig::solve, chain IK, retargeting (native)"
 	@echo "make bench-truth  the ground-truth bench (eval/bench): bench-render, bench-track, bench-tasks, bench-score"
 	@echo "make bench-render render the known motions on the avatars to eval/bench/clips/*.mp4 (headless Chromium)"
@@ -142,15 +142,18 @@ test-www: pkg
 	  echo "test-www: www/ has no test script; skipped"; \
 	fi
 
-# The measured figures of docs/measurements/README.md and the method pages (docs/how-it-works/hand-solver.md, docs/how-it-works/alignment-ik.md, ...):
-# hand accuracy vs Kalidokit, the alignment acceptance table, and wasm solve time vs Kalidokit.
+# Every evaluation that reads the shared recordings and finishes in minutes (eval/README.md is
+# the index: what each measures, its command, its time, where it is written up):
+# eval/table.mjs runs hands.mjs (eval_hands), speed.mjs and the Rust evals it reads, then one
+# table of every method (docs/measurements/2026-12-02-one-table.md); then the finger accuracy,
+# the hand turns (eval_turns), the ground-truth bench's scores on its committed recordings,
+# and self-contact on the skin. Left out: instructions.mjs (valgrind), ab.mjs and
+# setup-time.mjs (two builds), the bench's rendering and tracking (make bench-truth).
 eval: pkg eval/node_modules/.package-lock.json tests/node/node_modules/.package-lock.json
-	cargo run --quiet --release --example eval_hands
-	cargo run --quiet --release --example eval_live
-	cargo run --quiet --release --example eval_wrist
-	cargo run --quiet --release --example eval_torso
-	cargo run --quiet --release --example eval_contact
 	node eval/table.mjs --verbose
+	cargo run --quiet --release --example eval_fingers
+	node eval/hand-turns.mjs
+	node eval/bench/score.mjs
 	node eval/skin-contact.mjs
 
 # Native per-frame cost of Rig::solve (criterion).
