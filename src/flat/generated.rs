@@ -207,7 +207,8 @@ mod tests {
     fn generated_layout_table_is_committed() {
         let full = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(MARKDOWN_PATH);
         let page = std::fs::read_to_string(full).expect("docs/reference/flat-layout.md");
-        let fresh = with_table(&page).expect("docs/reference/flat-layout.md has the layout-table markers");
+        let fresh =
+            with_table(&page).expect("docs/reference/flat-layout.md has the layout-table markers");
         compare_with_committed(MARKDOWN_PATH, &fresh, COMMAND);
     }
 
