@@ -37,9 +37,9 @@ help:
 	@echo "make test-wasm  wasm-pack test --node (wasm-bindgen-test)"
 	@echo "make test-node  npm pack pkg/, install it in a temp project, node --test from ESM and CJS"
 	@echo "make test-www   the demo's browser tests (Playwright + Debian chromium), when www/ has them"
-	@echo "make test-docs  make docs, and the links of README.md and docs/*.md (files and #anchors) resolve"
+	@echo "make test-docs  make docs, and the links of README.md, CHANGELOG.md, eval/ and tools/ READMEs and docs/**/*.md (files and #anchors) resolve"
 	@echo "make docs       the JS API reference from the TypeScript sources (TypeDoc) into target/docs/api/"
-	@echo "make eval       every evaluation, then one table of all methods (eval/table.mjs)"
+	@echo "make eval       every evaluation but the long ones (eval/README.md): the one table of all methods (eval/table.mjs) and the rest"
 	@echo "make bench      criterion benchmarks: Rig::solve, chain IK, retargeting (native)"
 	@echo "make bench-truth  the ground-truth bench (eval/bench): bench-render, bench-track, bench-tasks, bench-score"
 	@echo "make bench-render render the known motions on the avatars to eval/bench/clips/*.mp4 (headless Chromium)"
@@ -111,7 +111,7 @@ test-wasm: setup
 test-node: pkg
 	node tests/node/run.mjs
 
-# Issue 49 (docs/robustness.md): the fuzzers at full length, not part of `make test` (whose runs
+# Issue 49 (docs/how-it-works/robustness.md): the fuzzers at full length, not part of `make test` (whose runs
 # are short: a few hundred glTF cases, 3,000 per JS surface). The glTF readers run in a release
 # build; HANDRIG_FUZZ_SEED changes the seed.
 FUZZ_CASES ?= 100000
@@ -130,7 +130,7 @@ docs: setup-node
 	pkg-config/node_modules/.bin/typedoc --options pkg-config/typedoc.json --logLevel Warn
 	@echo "docs: target/docs/api/index.html"
 
-# Every relative link and #anchor of the README, CHANGELOG and docs/ resolves (remark-validate-links).
+# Every relative link and #anchor of the README, CHANGELOG, eval/ and tools/ READMEs and docs/ (subfolders included) resolves (remark-validate-links).
 test-docs: docs
 	node tests/node/check-links.mjs
 
@@ -142,15 +142,18 @@ test-www: pkg
 	  echo "test-www: www/ has no test script; skipped"; \
 	fi
 
-# The measured figures of docs/measurements.md and the method pages (docs/hand-solver.md, docs/alignment-ik.md, ...):
-# hand accuracy vs Kalidokit, the alignment acceptance table, and wasm solve time vs Kalidokit.
+# Every evaluation that reads the shared recordings and finishes in minutes (eval/README.md is
+# the index: what each measures, its command, its time, where it is written up):
+# eval/table.mjs runs hands.mjs (eval_hands), speed.mjs and the Rust evals it reads, then one
+# table of every method (docs/measurements/2026-12-02-one-table.md); then the finger accuracy,
+# the hand turns (eval_turns), the ground-truth bench's scores on its committed recordings,
+# and self-contact on the skin. Left out: instructions.mjs (valgrind), ab.mjs and
+# setup-time.mjs (two builds), the bench's rendering and tracking (make bench-truth).
 eval: pkg eval/node_modules/.package-lock.json tests/node/node_modules/.package-lock.json
-	cargo run --quiet --release --example eval_hands
-	cargo run --quiet --release --example eval_live
-	cargo run --quiet --release --example eval_wrist
-	cargo run --quiet --release --example eval_torso
-	cargo run --quiet --release --example eval_contact
 	node eval/table.mjs --verbose
+	cargo run --quiet --release --example eval_fingers
+	node eval/hand-turns.mjs
+	node eval/bench/score.mjs
 	node eval/skin-contact.mjs
 
 # Native per-frame cost of Rig::solve (criterion).
@@ -161,7 +164,7 @@ bench: setup
 
 # The ground-truth bench (issue 47, eval/bench/, described in eval/README.md): known motion rendered on
 # the generated avatars, tracked by MediaPipe, solved, compared with the truth
-# (docs/ground-truth-bench.md). The clips and the Hands/Holistic recordings are committed:
+# (docs/how-it-works/ground-truth-bench.md). The clips and the Hands/Holistic recordings are committed:
 # bench-score alone re-scores them; the Tasks API recordings (6.5 MB) are not: make bench-tasks.
 bench-truth: bench-render bench-track bench-tasks bench-score
 

@@ -5,7 +5,7 @@
 //   make pkg && npm ci --prefix eval     # once
 //   node eval/table.mjs [--verbose]
 //
-// Sources (each also runs alone; see docs/measurements.md and the method pages they feed):
+// Sources (each also runs alone; see docs/measurements/README.md and the method pages they feed):
 // - node eval/hands.mjs --json: bone-direction error of handrig's analytic solver and of
 //   Kalidokit 1.1.5 (the hand video, 621 frames, robot avatar, frames with no joint limit active)
 // - cargo run --release --example eval_retarget -- --json: fingertip and pinch error, joint-limit

@@ -38,7 +38,7 @@
 //
 // Two builds of the crate: the baseline, and one with WebAssembly SIMD
 // (`-C target-feature=+simd128`, its own target dir), which runs a full frame about 7% faster
-// in V8 (glam's vector math in 128-bit lanes; docs/measurements.md, "Speed"). The glues are the same for both
+// in V8 (glam's vector math in 128-bit lanes; docs/measurements/2026-12-04-speed.md). The glues are the same for both
 // (the build checks), and both glues pick the file when they load: the SIMD build where the
 // engine validates a SIMD instruction (Chrome 91+, Firefox 89+, Safari 16.4+, Node 16.4+), the
 // baseline elsewhere. In Node HANDRIG_WASM=baseline or simd128 forces one.

@@ -33,7 +33,7 @@ const USAGE = `usage: handrig export RECORDING.json|DIR... --avatar AVATAR.vrm|A
   --no-mirror        the avatar does not mirror the user (options.mirror: false)
   --input-mirrored   the recording's images were flipped horizontally, selfie view (options.inputMirrored: true;
                      default false, as MediaPipe's recordings of a plain camera image)
-  --options JSON     handrig rig options, e.g. '{"torso":"pose"}' (see docs/options.md); mirror and
+  --options JSON     handrig rig options, e.g. '{"torso":"pose"}' (see docs/reference/options.md); mirror and
                      inputMirrored given here are used as given (not with the flags above)
   --tolerance DEG    .vrma key reduction: drop keys interpolation reproduces within DEG degrees (default 0: every frame)
   --fps N            .bvh frame rate (default: the recording's)
@@ -43,7 +43,7 @@ const USAGE = `usage: handrig export RECORDING.json|DIR... --avatar AVATAR.vrm|A
   --version, --help
 
 A directory stands for the .json files in it. Recordings are the shared format: an array of
-frames or { width, height, frames: [{ timeMs, hands, pose }] } (docs/export.md).`;
+frames or { width, height, frames: [{ timeMs, hands, pose }] } (docs/guide/export.md).`;
 
 class UsageError extends Error {}
 

@@ -231,7 +231,7 @@ impl AlignedPart {
 /// human-proportioned test fixture's (tests/fixtures/PROVENANCE.md), scaled to these
 /// phalanges. Avatars differ from it (the generated MakeHuman hands have proximal phalanges
 /// a quarter of the wrist-to-knuckle length, against two fifths here), so a point extrapolated
-/// from the proximal bone alone is approximate; docs/alignment-ik.md has the figures.
+/// from the proximal bone alone is approximate; docs/how-it-works/alignment-ik.md has the figures.
 pub const SEGMENT_MM: [[f32; 3]; 5] = [
     [0.0, 46.2, 30.9],
     [95.6, 39.8, 22.4],

@@ -82,7 +82,7 @@ export function describe(v: unknown): string {
 }
 
 // A frame's points (meters; image landmarks in image units) lie within this of the origin, as
-// Rust checks (rig.rs COORDINATE_LIMIT): larger finite numbers overflow the solvers.
+// Rust checks (`COORDINATE_LIMIT` in src/input/validate.rs): larger finite numbers overflow the solvers.
 export const COORDINATE_LIMIT = 1000;
 const RANGE_MESSAGE = `must be within -${COORDINATE_LIMIT}..${COORDINATE_LIMIT} (meters; image landmarks in image units)`;
 

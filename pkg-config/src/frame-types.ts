@@ -21,7 +21,7 @@ export interface RestPose {
   vrmVersion?: "0" | "1" | 0 | 1;
   /**
    * The avatar's skin at rest, from which self-contact learns the body's surface (face, chest,
-   * hands: docs/contact.md); `restPoseFromVRM` fills it from three-vrm's meshes. Without it the
+   * hands: docs/how-it-works/contact.md); `restPoseFromVRM` fills it from three-vrm's meshes. Without it the
    * rig models the body from its bones.
    */
   skin?: SkinRest;

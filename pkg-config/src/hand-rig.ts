@@ -205,7 +205,7 @@ export class HandRig {
     this.#present = present;
     this.#aligned = r.alignedBones();
     // Once per rig: an avatar without `alignment.finger`'s distal bone aligns and touches with
-    // what it has (docs/alignment-ik.md), never silently off.
+    // what it has (docs/how-it-works/alignment-ik.md), never silently off.
     const warning = r.alignmentWarning;
     if (typeof warning === "string" && warning.length > 0) (globalThis as { console?: { warn(m: string): void } }).console?.warn(warning);
     this.#input = new Float32Array(0);
@@ -267,7 +267,7 @@ export class HandRig {
     return cleanDescriptions();
   }
 
-  /** The flat frame layout (same as the `LAYOUT` export): offsets of the input and output arrays; see docs/flat-layout.md. */
+  /** The flat frame layout (same as the `LAYOUT` export): offsets of the input and output arrays; see docs/reference/flat-layout.md. */
   static get layout(): FlatLayout {
     return LAYOUT;
   }
@@ -338,7 +338,7 @@ export class HandRig {
   }
 
   /**
-   * Solves one frame (see docs/frames.md and docs/results.md for the frame and result shapes). Returns the rig's own
+   * Solves one frame (see docs/guide/frames.md and docs/reference/results.md for the frame and result shapes). Returns the rig's own
    * result object, updated in place by the next call (a warmed-up frame allocates nothing); pass
    * `target` (e.g. `{}`) to fill an object of your own instead, for results you keep.
    * @throws Error naming the field (e.g. "frame.hands[0].worldLandmarks: must have 21 points, got 20"); the rig is unchanged and keeps working.

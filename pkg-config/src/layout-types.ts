@@ -4,7 +4,7 @@
 /** The layout version these types describe (`LAYOUT.version`). */
 export const LAYOUT_VERSION = 8;
 
-/** Offsets of the input `Float32Array` (`LAYOUT.input`). See docs/flat-layout.md. */
+/** Offsets of the input `Float32Array` (`LAYOUT.input`). See docs/reference/flat-layout.md. */
 export interface InputLayout {
   /** Hand slots used, 0 to 4 (MediaPipe's order; duplicates allowed). */
   readonly handCount: number;
@@ -86,7 +86,7 @@ export interface InputLayout {
   readonly length: number;
 }
 
-/** Offsets of the output `Float32Array` (`LAYOUT.output`). See docs/flat-layout.md. */
+/** Offsets of the output `Float32Array` (`LAYOUT.output`). See docs/reference/flat-layout.md. */
 export interface OutputLayout {
   /** Local rotation of every humanoid bone `x y z w` in `LAYOUT.bones` order, the model's own frame; identity for bones not driven. */
   readonly boneRotations: number;

@@ -39,7 +39,7 @@ export type BodyJointName =
 /** Face points a body tracker may give (`frame.face`, `LAYOUT.facePoints`). */
 export type FacePointName = "nose" | "leftEye" | "rightEye" | "leftEar" | "rightEar" | "mouth";
 
-/** Offsets of the flat frame layout (`LAYOUT`): indices into the input and output Float32Arrays. See docs/flat-layout.md. */
+/** Offsets of the flat frame layout (`LAYOUT`): indices into the input and output Float32Arrays. See docs/reference/flat-layout.md. */
 export interface FlatLayout {
   /** Bumped whenever an offset or meaning changes. */
   readonly version: number;

@@ -34,7 +34,7 @@ const POSITION_LIMIT = 1e9;
 /**
  * Records solved frames and exports them: `const rec = new MotionRecorder(rig)`, then
  * `rec.add(timeMs, rig.solve(frame))` every frame, then `rec.toVRMA()` (the bytes of a `.vrma`)
- * or `rec.toBVH()` (BVH text). See docs/export.md.
+ * or `rec.toBVH()` (BVH text). See docs/guide/export.md.
  */
 export class MotionRecorder {
   readonly #bones: HumanBoneName[];

@@ -32,7 +32,7 @@ export interface HandRigOptions {
     | {
         /** Fingertip alignment: place the wrist so the avatar's finger lands where the user's is. (boolean, default `true`.) */
         enabled?: boolean | undefined;
-        /** Which finger is aligned. On an avatar without its distal bone, its deepest bone, another finger or the palm stands in (reported in alignment.<side>.finger and .bone; docs/alignment-ik.md). (one of `"thumb"`, `"index"`, `"middle"`, `"ring"`, `"little"`, default `"index"`.) */
+        /** Which finger is aligned. On an avatar without its distal bone, its deepest bone, another finger or the palm stands in (reported in alignment.<side>.finger and .bone; docs/how-it-works/alignment-ik.md). (one of `"thumb"`, `"index"`, `"middle"`, `"ring"`, `"little"`, default `"index"`.) */
         finger?: "thumb" | "index" | "middle" | "ring" | "little" | undefined;
         /** Aligned point: dip = the distal bone's joint (exact); tip = distal bone extended by anatomical ratio. (one of `"dip"`, `"tip"`, default `"dip"`.) */
         point?: "dip" | "tip" | undefined;

@@ -38,7 +38,7 @@ export interface AlignmentReport {
   aligned: boolean;
   /**
    * What carries the aligned point: `alignment.finger`, or on an avatar without its distal bone
-   * the finger standing in, or `"palm"` (no finger bones). See docs/alignment-ik.md.
+   * the finger standing in, or `"palm"` (no finger bones). See docs/how-it-works/alignment-ik.md.
    */
   finger: FingerName | "palm";
   /** The bone carrying it (`"rightIndexDistal"` as configured; e.g. `"rightIndexIntermediate"`, `"rightMiddleDistal"`, or `"rightHand"` for the palm). */
@@ -85,7 +85,7 @@ export interface ContactModel {
   };
   /**
    * What self-contact learned from the avatar's skin (`restPose.skin`, or the file's skinned
-   * meshes), or `null` when the rig models the body from its bones (docs/contact.md).
+   * meshes), or `null` when the rig models the body from its bones (docs/how-it-works/contact.md).
    */
   skin: {
     /** Triangle samples and vertices of the head and torso used for the body's surface. */
@@ -113,9 +113,9 @@ export interface TrackedHand {
   confidence: number;
   /** What the mirrored-hand checks made of it: "good"; "mirrored": its world landmarks were
    * mirrored (palm depth flipped) or crossed the image's knuckle line, and the side's last
-   * solved hand was held. See docs/hands-on-video.md. */
+   * solved hand was held. See docs/how-it-works/hands-on-video.md. */
   check: "good" | "mirrored";
-  /** What the hand selection resolved on this side this frame (docs/results.md): null,
+  /** What the hand selection resolved on this side this frame (docs/reference/results.md): null,
    * nothing; "swapped": its label contradicted the pose wrists and it was reassigned here;
    * "jumped": no pose, its label flipped between frames and it was kept on the side it was on;
    * "duplicate": two hands claimed the side and this one kept it (with `reassigned`: the

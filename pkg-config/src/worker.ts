@@ -12,7 +12,7 @@
 // The worker side, `serveRig(handrig)`, is the module the Worker runs: `await init()`,
 // `HandRig.fromVrm`, then one solve per message. It takes the package's module namespace
 // (`import * as handrig from "handrig"` or `"handrig/compat"`), so this entry carries no
-// WebAssembly itself and the page side stays small. docs/workers.md has the recipe.
+// WebAssembly itself and the page side stays small. docs/guide/workers.md has the recipe.
 
 /**
  * The `handrig/worker` entry point (TypeDoc: `make docs`).

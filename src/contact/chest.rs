@@ -19,7 +19,7 @@
 //!   0.4): two hands together over the torso are touching each other (hand-to-hand contact).
 //!
 //! Measured on the labeled clips (eval/labels): these cues select all 50 hand-frames labeled
-//! chest and 1 of the 290 labeled none whose hand is in the image (docs/contact.md). A fist or
+//! chest and 1 of the 290 labeled none whose hand is in the image (docs/how-it-works/contact.md). A fist or
 //! a curved hand on the chest is not recognized (a documented limit).
 //!
 //! Where: the palm's `(u, v)` carried onto the avatar's torso (its upper-arm joints for the

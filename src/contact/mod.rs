@@ -214,7 +214,7 @@ pub struct UserFaces {
     pub torso_image: Option<chest::TorsoImage>,
     /// With both hands' image landmarks: the smallest image distance between the two hands'
     /// landmarks over the larger hand's image palm length (wrist to middle knuckle); under
-    /// about 0.3 the hands touch (docs/contact.md).
+    /// about 0.3 the hands touch (docs/how-it-works/contact.md).
     pub hands_apart: Option<f32>,
 }
 

@@ -108,7 +108,7 @@ fn part_of(skeleton: &Skeleton, bone: HumanBone) -> Part {
 /// forward), the lean fading to nothing 3 x as far from the axis. Straight out from the axis
 /// points every way near it: a hand deep in the belly (a tracked wrist inside a bigger
 /// avatar) was pushed out sideways or backwards, and round the body as it moved a centimetre
-/// (the Kinect session on the generated woman and child, `examples/eval_turns.rs`: the arm
+/// (the Kinect session on the generated woman and child, `eval/rust/eval_turns.rs`: the arm
 /// turned up to 63 and 152 degrees in a frame; 16-22 with the lean). Outward is then away
 /// from a point 3-4 cm behind the axis near it, and radial from 12 cm out (at an adult torso's
 /// skin, or anywhere on a map as odd as the odd-armature avatar's one wide cylinder).

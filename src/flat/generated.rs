@@ -1,7 +1,7 @@
 //! Files generated from the layout declaration ([`super::layout`]): `LAYOUT`'s values
 //! (`pkg-config/src/layout.json`, which the package build inlines into the JS layer), the
 //! TypeScript offsets type (`pkg-config/src/layout-types.ts`) and the layout table of
-//! `docs/flat-layout.md` (between its `layout-table` markers). A test compares both with the committed files;
+//! `docs/reference/flat-layout.md` (between its `layout-table` markers). A test compares both with the committed files;
 //! `HANDRIG_GENERATE=write cargo test --lib flat` rewrites them.
 
 use super::declare::RowKind;
@@ -17,7 +17,7 @@ pub const TYPESCRIPT_PATH: &str = "pkg-config/src/layout-types.ts";
 /// into the JS layer), relative to the crate root.
 pub const JSON_PATH: &str = "pkg-config/src/layout.json";
 /// The page whose layout table is generated, relative to the crate root.
-pub const MARKDOWN_PATH: &str = "docs/flat-layout.md";
+pub const MARKDOWN_PATH: &str = "docs/reference/flat-layout.md";
 /// The markers around the generated table in [`MARKDOWN_PATH`].
 pub const TABLE_BEGIN: &str = "<!-- layout-table: generated from src/flat/layout.rs -->";
 /// See [`TABLE_BEGIN`].
@@ -125,18 +125,18 @@ pub fn typescript() -> String {
          export const LAYOUT_VERSION = {VERSION};\n\n{}\n{}",
         interface(
             "InputLayout",
-            "Offsets of the input `Float32Array` (`LAYOUT.input`). See docs/flat-layout.md.",
+            "Offsets of the input `Float32Array` (`LAYOUT.input`). See docs/reference/flat-layout.md.",
             input::ROWS
         ),
         interface(
             "OutputLayout",
-            "Offsets of the output `Float32Array` (`LAYOUT.output`). See docs/flat-layout.md.",
+            "Offsets of the output `Float32Array` (`LAYOUT.output`). See docs/reference/flat-layout.md.",
             output::ROWS
         ),
     )
 }
 
-/// The layout table of `docs/flat-layout.md`, markers included.
+/// The layout table of `docs/reference/flat-layout.md`, markers included.
 #[must_use]
 pub fn table() -> String {
     let mut s =
@@ -206,8 +206,9 @@ mod tests {
     #[test]
     fn generated_layout_table_is_committed() {
         let full = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(MARKDOWN_PATH);
-        let page = std::fs::read_to_string(full).expect("docs/flat-layout.md");
-        let fresh = with_table(&page).expect("docs/flat-layout.md has the layout-table markers");
+        let page = std::fs::read_to_string(full).expect("docs/reference/flat-layout.md");
+        let fresh =
+            with_table(&page).expect("docs/reference/flat-layout.md has the layout-table markers");
         compare_with_committed(MARKDOWN_PATH, &fresh, COMMAND);
     }
 

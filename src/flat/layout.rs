@@ -1,7 +1,7 @@
 //! The flat layout, declared once: every field of the input and output arrays, in memory
 //! order, with its size and description. Each line makes the Rust offset constant, its entry in
 //! JavaScript's `LAYOUT`, its member of the TypeScript `FlatLayout` type and its row of the
-//! reference table in `docs/flat-layout.md` ([`super::generated`]; tests fail when a committed
+//! reference table in `docs/reference/flat-layout.md` ([`super::generated`]; tests fail when a committed
 //! file is stale).
 //!
 //! A new field is one line in its side below (before `LEN` moves, bump [`VERSION`] and say

@@ -190,7 +190,7 @@ fn cost(basis: &Basis, kind: Kind, t: &Targets, x: [f32; 2]) -> (f32, [f32; 3], 
 /// Largest Gauss-Newton iterations of [`fit`].
 const FIT_ITERATIONS: u32 = 20;
 /// [`fit`] stops when a step moves neither angle by more than this (radians): 0.06 degree,
-/// well below what a landmark's noise moves a finger (`examples/eval_hands.rs` is unchanged to
+/// well below what a landmark's noise moves a finger (`eval/rust/eval_hands.rs` is unchanged to
 /// 0.01 degree against 1e-4, which takes a third more evaluations).
 const FIT_TOLERANCE: f32 = 1e-3;
 /// Step halvings [`fit`]'s line search tries before it stops.

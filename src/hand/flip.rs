@@ -16,7 +16,7 @@
 //!   than 90 degrees between frames 3 times against the world landmarks' 11). The rig no
 //!   longer solves a rejected hand from them (it holds the last good hand): where the world
 //!   landmarks fail on the clips, the image landmarks are wrong as often
-//!   (`docs/hands-on-video.md`); kept for apps and evaluations.
+//!   (`docs/how-it-works/hands-on-video.md`); kept for apps and evaluations.
 //!
 //! Failure cases: a flat hand has no flexion, so [`chirality`] is near 0 and says nothing
 //! (the threshold [`MIRRORED`] leaves it alone); a hand seen edge-on has a short knuckle line

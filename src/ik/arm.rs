@@ -370,7 +370,7 @@ pub struct ArmOptions {
     /// slowed by the same fraction ([`crate::Rig::solve`]'s turn-limit stage). Default 23
     /// (about 1320 degrees per second, 44 degrees between two 30 fps frames): on the
     /// sign-language clips MediaPipe's flips and self-contact's target jumps turn an arm
-    /// faster, and one real motion is slowed by a few degrees (`docs/hands-on-video.md`).
+    /// faster, and one real motion is slowed by a few degrees (`docs/how-it-works/hands-on-video.md`).
     /// 0 = no limit. The arm solvers themselves ignore it.
     pub max_turn_speed: f32,
     /// Where an arm with nothing to follow rests ([`ArmIdle`]). Default [`ArmIdle::Down`]:

@@ -54,7 +54,7 @@ use super::goal::{ChainReport, Effector};
 pub struct CcdOptions {
     /// Most sweeps (end to root) per solve. Default 200, a cap: CCD converges more slowly
     /// than FABRIK, slowest near full stretch; warm-started arm solves on the recordings take
-    /// 9 to 22 on average and at most 53 for 95% of frames (see `examples/eval_alignment.rs`).
+    /// 9 to 22 on average and at most 53 for 95% of frames (see `eval/rust/eval_alignment.rs`).
     pub iterations: u32,
     /// Distance (m) between the first effector and its target that counts as reached.
     /// Default 1e-5 (0.01 mm).

@@ -42,7 +42,7 @@ pub struct FabrikOptions {
     /// Most backward-and-forward iterations per solve. Default 100, a cap rarely reached:
     /// warm-started from the previous frame, arm solves on the recordings take 1.4 to 3.8 on
     /// average and at most 9 for 95% of frames, but a strongly folded arm (a hand at the face)
-    /// converges slowly and needed more than 20 (see `examples/eval_alignment.rs`).
+    /// converges slowly and needed more than 20 (see `eval/rust/eval_alignment.rs`).
     pub iterations: u32,
     /// Distance (m) between end and target that counts as reached. Default 1e-5 (0.01 mm).
     pub tolerance: f32,

@@ -63,7 +63,7 @@
 //! signed distance from the range's boundary ([`WristFrame::margin`]), to [`SETTLE_TOLERANCE`],
 //! keeping the end within the range. The re-solves keep the first solve's elbow swivel (pole), so
 //! the path is continuous. On the shared recordings it takes 3-7 arm re-solves per limited hand on
-//! average (at most 10), and every shown hand ends within the range (`examples/eval_wrist.rs`). Where no `t` up
+//! average (at most 10), and every shown hand ends within the range (`eval/rust/eval_wrist.rs`). Where no `t` up
 //! to a half turn (or 4) works, the hand with the least excess found is kept and the excess
 //! reported ([`WristLimited::residual`]).
 

@@ -32,7 +32,7 @@ pub const BODY_JOINT_COUNT: usize = BodyJoint::COUNT;
 
 named_enum! {
     /// The joints of `frame.body`: named by the avatar bone whose joint they are (plus the face
-    /// points), so one table maps any body tracker onto them (docs/torso.md).
+    /// points), so one table maps any body tracker onto them (docs/how-it-works/torso.md).
     #[derive(Clone, Copy, Debug, PartialEq, Eq)]
     pub enum BodyJoint {
         /// `hips`: the hip center (pelvis).

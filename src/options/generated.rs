@@ -1,5 +1,5 @@
 //! Files generated from the option table: the TypeScript `HandRigOptions` type
-//! (`pkg-config/src/options-types.ts`), the options reference page (`docs/options.md`) and
+//! (`pkg-config/src/options-types.ts`), the options reference page (`docs/reference/options.md`) and
 //! the options' descriptions for the package's `optionDescriptions()`
 //! (`pkg-config/src/option-descriptions.json`; the `.wasm` leaves them out). A test compares
 //! each with the committed file; `HANDRIG_GENERATE=write cargo test --lib options` rewrites
@@ -10,7 +10,7 @@ use super::table::{Kind, OptionSpec, Value, OPTIONS};
 /// Where the TypeScript type is committed, relative to the crate root.
 pub const TYPESCRIPT_PATH: &str = "pkg-config/src/options-types.ts";
 /// Where the reference page is committed, relative to the crate root.
-pub const MARKDOWN_PATH: &str = "docs/options.md";
+pub const MARKDOWN_PATH: &str = "docs/reference/options.md";
 
 /// Where the descriptions are committed (read by the package build), relative to the crate
 /// root.
@@ -185,7 +185,7 @@ pub fn typescript() -> String {
     s
 }
 
-/// `docs/options.md`.
+/// `docs/reference/options.md`.
 #[must_use]
 pub fn markdown() -> String {
     let mut s = String::from(

@@ -216,7 +216,7 @@ pub static OPTIONS: &[OptionSpec] = &[
         "Where an arm with no wrist to follow rests: down = by the side, elbow slightly bent; tpose = the avatar's rest pose."),
     flag!("alignment.enabled", alignment.enabled, true,
         "Fingertip alignment: place the wrist so the avatar's finger lands where the user's is."),
-    choice!("alignment.finger", alignment.finger: Finger, "index", "Which finger is aligned. On an avatar without its distal bone, its deepest bone, another finger or the palm stands in (reported in alignment.<side>.finger and .bone; docs/alignment-ik.md)."),
+    choice!("alignment.finger", alignment.finger: Finger, "index", "Which finger is aligned. On an avatar without its distal bone, its deepest bone, another finger or the palm stands in (reported in alignment.<side>.finger and .bone; docs/how-it-works/alignment-ik.md)."),
     choice!("alignment.point", alignment.point: AlignPoint, "dip",
         "Aligned point: dip = the distal bone's joint (exact); tip = distal bone extended by anatomical ratio."),
     number!("alignment.weight", alignment.weight, 0.0, 1.0, 0.05, 1.0,

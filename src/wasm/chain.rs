@@ -1,6 +1,6 @@
 //! The raw `ChainSolver` class: FABRIK or CCD on any chain (tails, spines, custom rigs), with
 //! flat buffers in wasm memory like `HandRig`. The package's JS layer (`ChainSolver` in
-//! `pkg-config/src/handrig-core.js`) writes the goal and reads the pose through typed-array
+//! `pkg-config/src/chain-solver.ts`) writes the goal and reads the pose through typed-array
 //! views, so a solve moves no JS value and allocates nothing.
 
 use glam::Vec3;

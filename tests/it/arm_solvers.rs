@@ -36,7 +36,7 @@ fn arm_options(shoulder: bool) -> ArmOptions {
 
 /// `solver` with `arm` options and an iteration budget large enough for FABRIK and CCD to
 /// converge from rest in one solve (their defaults rely on the previous frame's warm start;
-/// their convergence on the recordings is measured by `examples/eval_alignment.rs`).
+/// their convergence on the recordings is measured by `eval/rust/eval_alignment.rs`).
 fn converged(skel: &Skeleton, solver: ArmSolver, arm: &ArmOptions) -> ArmSolverState {
     match solver {
         ArmSolver::Fabrik => ArmSolverState::with_fabrik(

@@ -302,7 +302,7 @@ fn alignment_puts_the_stand_in_on_the_users_point() {
 
 /// Face-touch frames of `eat` (the signer's fingertips at the mouth): the side-frames where
 /// the full avatar's contact blends the signing hand toward the face (contact weight > 0,
-/// as `examples/eval_contact.rs` counts them). On the cut avatars contact touches in them too.
+/// as `eval/rust/eval_contact.rs` counts them). On the cut avatars contact touches in them too.
 #[test]
 fn contact_touches_in_the_face_touch_frames() {
     let frames = recordings::asl(recordings::ASL[0]);

@@ -141,7 +141,7 @@ fn on_the_asl_clips_no_arm_turns_more_than_45_degrees_between_frames() {
     // Issue 27's figure, with every default: the world rotations of the upper arm, forearm and
     // hand (what the avatar shows, the torso included) turn at most 45 degrees between two
     // 30 fps frames wherever the arm was solved in both. Without the limit the robot turns up
-    // to 177 degrees and 3.8% of its side-frames more than 45 (docs/hands-on-video.md).
+    // to 177 degrees and 3.8% of its side-frames more than 45 (docs/how-it-works/hands-on-video.md).
     for avatar in [recordings::ROBOT, "tests/fixtures/avatars/woman-vrm1.vrm"] {
         let skeleton = recordings::vrm(avatar);
         let (turn, at) = largest_world_turn(&skeleton, RigOptions::default());

@@ -1,6 +1,7 @@
 #!/usr/bin/env node
-// The documentation's links resolve: every relative link of README.md, CHANGELOG.md and
-// docs/*.md names a file that exists and, with a #fragment, a heading in it (GitHub's slugs).
+// The documentation's links resolve: every relative link of README.md, CHANGELOG.md, every
+// .md file under docs/ (its subfolders included) and the READMEs of eval/ and tools/ names a
+// file that exists and, with a #fragment, a heading in it (GitHub's slugs).
 // remark-validate-links (a devDependency of tests/node) does the checking; no network.
 //
 //   node tests/node/check-links.mjs [FILE.md ...]
@@ -20,7 +21,8 @@ if (!fs.existsSync(remark) || !fs.existsSync(plugin)) {
 }
 const files = process.argv.slice(2);
 if (files.length === 0) {
-  files.push("README.md", "CHANGELOG.md", ...fs.readdirSync(path.join(repo, "docs")).filter((f) => f.endsWith(".md")).map((f) => `docs/${f}`));
+  const docs = fs.readdirSync(path.join(repo, "docs"), { recursive: true }).map((f) => f.split(path.sep).join("/"));
+  files.push("README.md", "CHANGELOG.md", "eval/README.md", "tools/README.md", ...docs.filter((f) => f.endsWith(".md")).sort().map((f) => `docs/${f}`));
 }
 // --frail: warnings (a missing file or heading) fail; repository:false: no git remote to read.
 const res = spawnSync(remark, ["--no-config", "--no-stdout", "--frail", "--quiet", "--use", `${plugin}=repository:false`, ...files], {

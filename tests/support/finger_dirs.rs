@@ -1,5 +1,5 @@
-//! Finger bone directions for the finger evals (`examples/eval_hands.rs`,
-//! `examples/eval_fingers.rs`): the avatar's bone by forward kinematics and the MediaPipe
+//! Finger bone directions for the finger evals (`eval/rust/eval_hands.rs`,
+//! `eval/rust/eval_fingers.rs`): the avatar's bone by forward kinematics and the MediaPipe
 //! segment it is compared with.
 
 use glam::Vec3;

@@ -1,5 +1,5 @@
 //! The Azure Kinect session as handrig `wrists` input, paired with the hand video, the way
-//! `examples/eval_alignment.rs` pairs them (and the body-tracker recipe of docs/frames.md builds them):
+//! `eval/rust/eval_alignment.rs` pairs them (and the body-tracker recipe of docs/guide/frames.md builds them):
 //!
 //! * The recording's frame is left-handed: +X right, +Y up, the subject facing +Z (the nose
 //!   is at larger z than the head's centre) with the LEFT shoulder at -X. Negating x gives

@@ -1,4 +1,4 @@
-//! Shared support of handrig's integration tests (`tests/it/`), benches and evals (`examples/`):
+//! Shared support of handrig's integration tests (`tests/it/`), benches and evals (`eval/rust/`):
 //! real recordings, rig fixtures, synthetic hands and arms, geometry and statistics helpers. A
 //! dev-only crate (`handrig-support`, a dev-dependency of handrig), so every user imports it the
 //! same way: `use handrig_support::recordings;`.

@@ -1,5 +1,5 @@
 //! Motion metrics over per-frame rotation series, shared by the live-tracking tests and
-//! `examples/eval_live.rs`: jitter (angular acceleration), lag between two series, and the
+//! `eval/rust/eval_live.rs`: jitter (angular acceleration), lag between two series, and the
 //! largest frame-to-frame step.
 
 use glam::Quat;

@@ -4,7 +4,7 @@
 //
 //   node tools/avatars/proportions.mjs [DIR]      (DIR: default tests/fixtures/avatars)
 //
-// Prints the markdown table of docs/avatars.md (tests/node/consumer/avatars.test.mjs checks
+// Prints the markdown table of docs/guide/avatars.md (tests/node/consumer/avatars.test.mjs checks
 // that the page holds this output).
 
 import fs from "node:fs";

@@ -1,4 +1,4 @@
-// The demo's motion export and playback (docs/export.md): a live session's solved frames go
+// The demo's motion export and playback (docs/guide/export.md): a live session's solved frames go
 // into handrig's MotionRecorder, saved as .vrma (VRM Animation) or .bvh; a dropped .vrma plays
 // on the loaded avatar through @pixiv/three-vrm-animation, so the round trip can be seen.
 

@@ -32,7 +32,7 @@
 // No wrist rotation is given: the hand's rotation comes from the hand landmarks.
 //
 // Body joints (handrig's `body` input, used with `torso: "pose"`): the Kinect joints of the
-// docs/torso.md's mapping (PELVIS -> hips, HIP_* -> *UpperLeg, SHOULDER_* -> *UpperArm, NOSE, EYE_*,
+// docs/how-it-works/torso.md's mapping (PELVIS -> hips, HIP_* -> *UpperLeg, SHOULDER_* -> *UpperArm, NOSE, EYE_*,
 // EAR_*), in the same reflected frame (a = (-x, y, z)), with their confidences; with `mirror`
 // the sides swap and x is reflected again, for VRM 0.x models x and z are negated (model
 // frame). handrig then turns, bends and nods the avatar's torso; the wrists are then placed

@@ -1,7 +1,7 @@
 // handrig in a Web Worker: tracking and solving off the main thread. The worker owns the rig;
 // the page sends MediaPipe frames (structured clone) and gets the flat output back as a
 // transferred Float32Array, which `applyToVRM(vrm, output)` applies directly (no object built,
-// nothing copied twice). See www/worker.html and docs/workers.md.
+// nothing copied twice). See www/worker.html and docs/guide/workers.md.
 //
 // Messages in:  { type: "init", wasm: ArrayBuffer, vrm: ArrayBuffer, options? }
 //               { type: "solve", frame, output: ArrayBuffer }   (an output buffer to fill, handed

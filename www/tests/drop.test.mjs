@@ -85,7 +85,7 @@ test("dropping a VRM 0.x file without fingers and off the T-pose (odd-armature-v
   assertParserAgrees(s.avatar);
   assert.doesNotMatch(s.status, /could not|failed/);
   for (const v of ["without", "with"]) assertFiniteResult(s.results[v], v);
-  // No fingers: the palm stands in for the aligned finger (docs/alignment-ik.md, "Avatars
+  // No fingers: the palm stands in for the aligned finger (docs/how-it-works/alignment-ik.md, "Avatars
   // without the aligned finger"), so the alignment reports it and the error readout shows a
   // number whenever the hand is tracked.
   const al = s.results.with.alignment.right;

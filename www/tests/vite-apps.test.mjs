@@ -38,7 +38,7 @@ function makeProject() {
     cpSync(join(REPO, "tests", "fixtures", "avatars", "woman-vrm1.vrm"), join(dir, app, "public", "avatar.vrm"));
     cpSync(join(SHARED, "data", "asl", "eat.json"), join(dir, app, "public", "eat.json"));
   }
-  // docs/workers.md's handrig/worker blocks, type-checked (strict) with the worker app.
+  // docs/guide/workers.md's handrig/worker blocks, type-checked (strict) with the worker app.
   const [workerBlock, pageBlock] = docBlocks("## `handrig/worker`: a rig in a module Worker");
   writeFileSync(join(dir, "worker", "docs-rig.worker.ts"), workerBlock);
   writeFileSync(
@@ -58,11 +58,11 @@ function makeProject() {
   return dir;
 }
 
-/** The ```ts blocks of docs/workers.md's section under `heading`. */
+/** The ```ts blocks of docs/guide/workers.md's section under `heading`. */
 function docBlocks(heading) {
-  const text = readFileSync(join(REPO, "docs", "workers.md"), "utf8");
+  const text = readFileSync(join(REPO, "docs", "guide", "workers.md"), "utf8");
   const start = text.indexOf(`${heading}\n`);
-  assert.ok(start >= 0, `docs/workers.md has no "${heading}"`);
+  assert.ok(start >= 0, `docs/guide/workers.md has no "${heading}"`);
   const end = text.indexOf("\n## ", start + heading.length);
   const section = text.slice(start, end < 0 ? undefined : end);
   const blocks = [...section.matchAll(/```ts\n([\s\S]*?)```/g)].map((m) => m[1]);
@@ -107,7 +107,7 @@ before(async () => {
   for (const app of ["compat", "worker"]) reports[app] = await runApp(app);
 });
 
-test("docs/workers.md's handrig/worker blocks type-check (strict) against the package", () => {
+test("docs/guide/workers.md's handrig/worker blocks type-check (strict) against the package", () => {
   typeCheck(join(project, "worker", "tsconfig.docs.json"));
 });
 

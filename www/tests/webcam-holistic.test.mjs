@@ -212,7 +212,7 @@ test("holistic mode: the live session downloads as a recording in the shared for
     const r = rig.solve({ ...f, imageAspect: rec.width / rec.height });
     if (r.ikTargets.left || r.ikTargets.right) armed++;
     // Every recorded hand is accounted for on a side; "held" is a hand the mirrored-hand check
-    // (docs/hands-on-video.md) held at its last good pose, which still drives the avatar's
+    // (docs/how-it-works/hands-on-video.md) held at its last good pose, which still drives the avatar's
     // hand, "skipped" one it could not use (nothing to hold yet).
     const drives = (h) => h?.status === "solved" || h?.status === "held";
     handsSolved += drives(r.hands.left) + drives(r.hands.right);

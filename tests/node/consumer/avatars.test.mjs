@@ -2,7 +2,7 @@
 // tools/avatars/generate.mjs from MakeHuman's CC0 body): a fresh generation equals the committed
 // files; three-vrm loads every .vrm without a warning, with 54 humanoid bones, facing and T-pose
 // as VRM asks; the skinned mesh at rest is the bind pose; the Mixamo and Unreal glTF files carry
-// their naming, pose and bone rest rotations; docs/avatars.md holds the proportions table.
+// their naming, pose and bone rest rotations; docs/guide/avatars.md holds the proportions table.
 // (Rest positions against handrig's reader: rest-positions.test.mjs.)
 
 import assert from "node:assert/strict";
@@ -80,9 +80,9 @@ describe("generated human avatars (tests/fixtures/avatars)", () => {
     }
   });
 
-  it("docs/avatars.md holds the proportions table that tools/avatars/proportions.mjs prints", () => {
-    const doc = fs.readFileSync(path.join(repo, "docs", "avatars.md"), "utf8");
-    assert.ok(doc.includes(table()), "docs/avatars.md: table out of date: paste `node tools/avatars/proportions.mjs`");
+  it("docs/guide/avatars.md holds the proportions table that tools/avatars/proportions.mjs prints", () => {
+    const doc = fs.readFileSync(path.join(repo, "docs", "guide", "avatars.md"), "utf8");
+    assert.ok(doc.includes(table()), "docs/guide/avatars.md: table out of date: paste `node tools/avatars/proportions.mjs`");
   });
 
   for (const file of vrms) {

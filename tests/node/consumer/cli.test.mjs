@@ -1,4 +1,4 @@
-// The `handrig` command (the package's bin, docs/export.md): `handrig export` on every shared
+// The `handrig` command (the package's bin, docs/guide/export.md): `handrig export` on every shared
 // recording in the recording format at once (worker threads), the files it writes read back;
 // a bad file, a missing avatar and an unknown option each give one line and a non-zero exit, a
 // bad file without stopping the others.

@@ -68,8 +68,8 @@ describe("handrig/compat", () => {
     });
   }
 
-  it("docs/workers.md's block runs as written (fetch undefined), and drives the hand", () => {
-    const [block] = codeBlocks(docPage("workers.md"), "## `handrig/compat`: the WebAssembly inlined");
+  it("docs/guide/workers.md's block runs as written (fetch undefined), and drives the hand", () => {
+    const [block] = codeBlocks(docPage("guide/workers.md"), "## `handrig/compat`: the WebAssembly inlined");
     assert.match(block, /from "handrig\/compat"/);
     const file = path.join(path.dirname(child), "compat-block.generated.mjs");
     const frame = JSON.parse(fs.readFileSync(clip, "utf8")).frames[40];

@@ -1,4 +1,4 @@
-// MotionRecorder (docs/export.md): the shared ASL clips solved on the generated avatars (VRM 1.0
+// MotionRecorder (docs/guide/export.md): the shared ASL clips solved on the generated avatars (VRM 1.0
 // and 0.x) and the robot, written with toVRMA() and read back the way a three-vrm app reads a
 // .vrma (GLTFLoader + VRMAnimationLoaderPlugin, createVRMAnimationClip, an AnimationMixer
 // sampled at every recorded time): every driven normalized bone must be within 0.5 degrees of
@@ -402,9 +402,9 @@ describe("MotionRecorder: input and state", () => {
   });
 });
 
-describe("docs/export.md: a recording in Node", () => {
+describe("docs/guide/export.md: a recording in Node", () => {
   it("runs as written: thanks.vrma plays through three-vrm-animation, thanks.bvh has every frame", async () => {
-    const [block] = codeBlocks(docPage("export.md"), "### A recording in Node");
+    const [block] = codeBlocks(docPage("guide/export.md"), "### A recording in Node");
     assert.ok(block, "the block");
     // Inside the consumer project, so that "handrig" resolves to the installed package.
     const dir = fs.mkdtempSync(path.join(process.cwd(), "export-doc-"));

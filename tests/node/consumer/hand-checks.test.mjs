@@ -1,4 +1,4 @@
-// The mirrored-hand checks through the packed package (issue 27, docs/hands-on-video.md): on
+// The mirrored-hand checks through the packed package (issue 27, docs/how-it-works/hands-on-video.md): on
 // the real `please` clip the flipped frame 16 is solved from the image landmarks, a hand
 // mirrored on purpose without image landmarks is held, and `hands.<side>.confidence` says so
 // (the handedness score times 1, 0.6, 0.3); the flat layout names the checks.

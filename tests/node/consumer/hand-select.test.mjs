@@ -1,4 +1,4 @@
-// Duplicate hands and swapped labels through the packed package (issue 27, docs/results.md):
+// Duplicate hands and swapped labels through the packed package (issue 27, docs/reference/results.md):
 // `hands.<side>.resolved` says what the hand selection resolved on each side: "swapped" on
 // the real `thanks` clip (a "Right" hand at the signer's right pose wrist), "duplicate" on the
 // hand video (one hand found twice, the copy dropped), "jumped" on a label flipped on purpose

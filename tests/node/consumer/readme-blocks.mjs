@@ -13,9 +13,9 @@ const require = createRequire(import.meta.url);
 /** README.md next to the installed package's package.json (README is not an export). */
 export const readme = fs.readFileSync(path.join(path.dirname(require.resolve("handrig/package.json")), "README.md"), "utf8");
 
-/** The text of a docs page of the repository, e.g. docPage("frames.md") for docs/frames.md. */
+/** The text of a docs page of the repository, e.g. docPage("guide/frames.md") for docs/guide/frames.md. */
 export function docPage(name) {
-  return fs.readFileSync(path.join(repo, "docs", name), "utf8");
+  return fs.readFileSync(path.join(repo, "docs", ...name.split("/")), "utf8");
 }
 
 /** The fenced blocks of language `lang` in the section of `text` (the README or a docs page) headed exactly `heading`, in order. */

@@ -1,4 +1,4 @@
-// The options reference (docs/options.md, generated from the Rust option table and linked from
+// The options reference (docs/reference/options.md, generated from the Rust option table and linked from
 // the README shipped in the package) documents every option exactly as the running module
 // describes it (HandRig.optionDescriptions()): path, type, default, enum values and range.
 
@@ -17,11 +17,11 @@ const require = createRequire(import.meta.url);
 const readme = fs.readFileSync(path.join(path.dirname(require.resolve("handrig/package.json")), "README.md"), "utf8");
 
 /**
- * Rows of the options reference (docs/options.md in the repository, generated from the Rust
+ * Rows of the options reference (docs/reference/options.md in the repository, generated from the Rust
  * option table; the README links to it): { path: [spec, description] }.
  */
 function optionRows() {
-  const page = fs.readFileSync(path.join(repoRoot, "docs", "options.md"), "utf8");
+  const page = fs.readFileSync(path.join(repoRoot, "docs", "reference", "options.md"), "utf8");
   const rows = {};
   for (const line of page.split("\n")) {
     const m = line.match(/^\| `([A-Za-z.]+)` \| (.*) \| (.*) \|$/);
@@ -58,7 +58,7 @@ function spec(d) {
   }
 }
 
-describe("options reference (docs/options.md) against the running module", () => {
+describe("options reference (docs/reference/options.md) against the running module", () => {
   const rows = optionRows();
   const described = HandRig.optionDescriptions();
 
@@ -67,25 +67,25 @@ describe("options reference (docs/options.md) against the running module", () =>
   });
 
   it("the README links to it", () => {
-    assert.match(readme, /\(docs\/options\.md\)/);
+    assert.match(readme, /\(docs\/reference\/options\.md\)/);
   });
 
   for (const d of described) {
     it(`${d.path}: type, default, values and range`, () => {
       const row = rows[d.path];
-      assert.ok(row, `docs/options.md has no row for \`${d.path}\` (HANDRIG_GENERATE=write cargo test --lib options)`);
+      assert.ok(row, `docs/reference/options.md has no row for \`${d.path}\` (HANDRIG_GENERATE=write cargo test --lib options)`);
       assert.equal(row[0], spec(d));
       assert.equal(row[1], d.description);
     });
   }
 });
 
-describe("flat layout table (docs/flat-layout.md, linked from the README)", () => {
-  const page = fs.readFileSync(path.join(repoRoot, "docs", "flat-layout.md"), "utf8");
+describe("flat layout table (docs/reference/flat-layout.md, linked from the README)", () => {
+  const page = fs.readFileSync(path.join(repoRoot, "docs", "reference", "flat-layout.md"), "utf8");
   const section = page.split(/^# Flat frame layout/m)[1]?.split(/^##+ /m)[0];
 
   it("the README links to it", () => {
-    assert.match(readme, /\(docs\/flat-layout\.md\)/);
+    assert.match(readme, /\(docs\/reference\/flat-layout\.md\)/);
   });
 
   const rows = {};
@@ -109,7 +109,7 @@ describe("flat layout table (docs/flat-layout.md, linked from the README)", () =
     const strides = leaves.filter(([p]) => /Stride$/.test(p));
     for (const [p, v] of leaves) {
       if (/Stride$/.test(p)) continue;
-      assert.equal(rows[p], v, `docs/flat-layout.md row \`${p}\``);
+      assert.equal(rows[p], v, `docs/reference/flat-layout.md row \`${p}\``);
     }
     for (const [p, v] of strides) assert.match(section, new RegExp(`\`${p.replace(".", "\\.")}\` = ${v}\\b`), p);
     assert.equal(Object.keys(rows).length, leaves.length - strides.length, "no rows for fields LAYOUT lacks");

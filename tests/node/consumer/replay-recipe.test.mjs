@@ -1,4 +1,4 @@
-// docs/mediapipe-offline.md, "Replaying a recording as a tracker": its block runs as written (saved
+// docs/guide/mediapipe-offline.md, "Replaying a recording as a tracker": its block runs as written (saved
 // as a module in the consumer project), and what it plays solves as the recorded frames do.
 
 import assert from "node:assert/strict";
@@ -15,7 +15,7 @@ const dir = fs.mkdtempSync(path.join(process.cwd(), "replay-"));
 after(() => fs.rmSync(dir, { recursive: true, force: true }));
 
 async function replayModule() {
-  const blocks = codeBlocks(docPage("mediapipe-offline.md"), "## Replaying a recording as a tracker");
+  const blocks = codeBlocks(docPage("guide/mediapipe-offline.md"), "## Replaying a recording as a tracker");
   assert.equal(blocks.length, 1);
   assert.match(blocks[0], /^\/\/ replay\.mjs/);
   const file = path.join(dir, "replay.mjs");
@@ -23,7 +23,7 @@ async function replayModule() {
   return import(pathToFileURL(file).href);
 }
 
-describe("docs/mediapipe-offline.md: a recording replayed as a tracker", () => {
+describe("docs/guide/mediapipe-offline.md: a recording replayed as a tracker", () => {
   it("the hand recording as HandLandmarker results solves as its frames do", async () => {
     const { replay } = await replayModule();
     const frames = readRecording();

@@ -3,7 +3,7 @@
 // solved, the body parts, the winding number inside/outside (and its fast form against the exact
 // one), gaps of hands placed at a known distance from the face, chest and other hand, the depth
 // of a point pushed 3 cm into the forehead, the scoring against labels, and the labels' files.
-// Not the rig's scores: those are in docs/contact.md ("Measured on the skin").
+// Not the rig's scores: those are in docs/measurements/2026-12-06-contact.md ("Measured on the skin").
 
 import assert from "node:assert/strict";
 import fs from "node:fs";

@@ -5,7 +5,7 @@
 // other hand surfaces (three-mesh-bvh point queries), and how deep hand vertices are
 // inside the head and torso (generalized winding number; depth = distance to that surface).
 //
-// Shared by eval/skin-contact.mjs (the tables of docs/contact.md) and
+// Shared by eval/skin-contact.mjs (the tables of docs/measurements/2026-12-06-contact.md) and
 // tests/node/consumer/skin-contact.test.mjs (checks of the measurement itself). It imports three,
 // three-vrm and three-mesh-bvh (tests/node's dev dependencies) but not handrig: callers pass the
 // rig's results in. Not part of the package.

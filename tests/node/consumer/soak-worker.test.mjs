@@ -8,7 +8,7 @@
 //
 // Short by default (make test); HANDRIG_SOAK=long (make soak) runs the full lengths: 108,000
 // frames (one hour at 30 fps) through the worker, 100 rigs for 10 minutes of frames (18,000
-// each). The figures go to stdout (`# soak ...` lines) and to docs/robustness.md.
+// each). The figures go to stdout (`# soak ...` lines) and to docs/measurements/2026-12-06-robustness.md.
 
 import assert from "node:assert/strict";
 import path from "node:path";

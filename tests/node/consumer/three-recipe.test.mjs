@@ -1,4 +1,4 @@
-// The plain three.js recipe of docs/three.md, run as written on the generated Mixamo-named glTF
+// The plain three.js recipe of docs/guide/three.md, run as written on the generated Mixamo-named glTF
 // avatars (tests/fixtures/avatars/*-mixamo.glb: no VRM extension, bones with rest rotations that
 // are not the identity, an `Armature` node turned +90 degrees about X and scaled 0.01): its code
 // block is saved as recipe.mjs inside the consumer project (so "three" and "handrig" resolve to
@@ -35,14 +35,14 @@ function mixamoNames() {
 
 const files = avatarFiles(".glb").filter((f) => f.includes("-mixamo"));
 
-describe("docs/three.md: the plain three.js recipe on Mixamo-named glTF avatars", () => {
+describe("docs/guide/three.md: the plain three.js recipe on Mixamo-named glTF avatars", () => {
   it("has the recipe block", () => {
-    assert.equal(codeBlocks(docPage("three.md"), "## Plain three.js (a glTF without VRM)").length, 1);
+    assert.equal(codeBlocks(docPage("guide/three.md"), "## Plain three.js (a glTF without VRM)").length, 1);
   });
 
   for (const file of files) {
     it(`${path.basename(file)}: every bone where handrig's forward kinematics puts it`, async () => {
-      const [block] = codeBlocks(docPage("three.md"), "## Plain three.js (a glTF without VRM)");
+      const [block] = codeBlocks(docPage("guide/three.md"), "## Plain three.js (a glTF without VRM)");
       const dir = fs.mkdtempSync(path.join(process.cwd(), "three-recipe-"));
       try {
         fs.writeFileSync(path.join(dir, "recipe.mjs"), block);

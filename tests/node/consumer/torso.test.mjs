@@ -141,7 +141,7 @@ describe('torso: "pose"', () => {
       const body = {};
       for (const [joint, name] of Object.entries(MAP)) {
         const [x, y, z, c] = f.joints[idx[name]];
-        // The recording is mirrored: negate x (docs/torso.md).
+        // The recording is mirrored: negate x (docs/how-it-works/torso.md).
         body[joint] = joint === "nose" ? { x: -x, y, z, confidence: c } : [-x, y, z, c];
       }
       const r = rig.solve({ timeMs: f.timeMs, body });

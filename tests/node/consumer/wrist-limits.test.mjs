@@ -1,6 +1,6 @@
 // Issue 15, wrist limits, as a user meets them: a hand recording paired with another person's
 // arm (the shared hand video with the Kinect session's right wrist, as the
-// body-tracker recipe of docs/frames.md maps it) used to bend the avatar's wrist back 120-150 degrees against
+// body-tracker recipe of docs/guide/frames.md maps it) used to bend the avatar's wrist back 120-150 degrees against
 // the forearm. With the default `arm.wristLimits: true` the wrist stays within its anatomical
 // range and the index distal still lands on the target DIP; `false` gives the old behaviour.
 // The bend is measured on the result's world positions: the forearm (lowerArm -> hand) against

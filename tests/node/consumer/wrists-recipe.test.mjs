@@ -1,4 +1,4 @@
-// The "Wrists from a body tracker" recipe of docs/frames.md (linked from the README), run as written on the shared Azure Kinect
+// The "Wrists from a body tracker" recipe of docs/guide/frames.md (linked from the README), run as written on the shared Azure Kinect
 // session: its two code blocks are saved as wrists.mjs and main.mjs next to avatar.vrm and
 // kinect-upper-body.json (copies), inside the consumer project so that "handrig" resolves to the
 // installed package, and imported. The only addition is an export line at the end of main.mjs,
@@ -35,7 +35,7 @@ function closestOnSegment(p, a, b) {
 
 /** Runs the recipe for `vrmFile` (with `mirror` edited into the call when asked). */
 async function runRecipe(vrmFile, { mirror = false } = {}) {
-  const [wristsJs, mainJs] = codeBlocks(docPage("frames.md"), "## Wrists from a body tracker");
+  const [wristsJs, mainJs] = codeBlocks(docPage("guide/frames.md"), "## Wrists from a body tracker");
   assert.ok(wristsJs && mainJs, "two code blocks");
   assert.match(wristsJs, /^\/\/ wrists\.mjs/, "the first block is wrists.mjs");
   let main = mainJs;
@@ -62,9 +62,9 @@ async function runRecipe(vrmFile, { mirror = false } = {}) {
 
 const avatarsToRun = [avatars.robot, ...fixtureVrms()];
 
-describe("docs/frames.md: wrists from a body tracker, on the Kinect session", () => {
-  it("docs/frames.md has the recipe's two blocks", () => {
-    assert.equal(codeBlocks(docPage("frames.md"), "## Wrists from a body tracker").length, 2);
+describe("docs/guide/frames.md: wrists from a body tracker, on the Kinect session", () => {
+  it("docs/guide/frames.md has the recipe's two blocks", () => {
+    assert.equal(codeBlocks(docPage("guide/frames.md"), "## Wrists from a body tracker").length, 2);
   });
 
   for (const file of avatarsToRun) {
