@@ -13,12 +13,12 @@
 //! fraction that brings the largest composed turn to `maxTurnSpeed x dt`: the arm keeps its
 //! shape (a wrist within its range stays within it) and the next frames catch up. The limit
 //! slows a jump, it never holds one (a hold released later turns by more, measured in
-//! `docs/hands-on-video.md`). The fingers ride on the hand. Only an arm solved in this frame
+//! `docs/how-it-works/hands-on-video.md`). The fingers ride on the hand. Only an arm solved in this frame
 //! and the one before is limited (the dropout easing handles tracking coming and going);
 //! applied after the easing, to what is shown; the IK targets in the output stay as solved.
 //!
 //! The helpers below are kept out of line: called from the loop, inlined copies made the wasm
-//! larger (its size budget, `docs/measurements.md`).
+//! larger (its size budget, `docs/measurements/2026-12-05-size.md`).
 
 use glam::{Quat, Vec3};
 

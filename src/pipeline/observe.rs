@@ -26,7 +26,7 @@ use super::output::HandCheck;
 pub(super) const MAX_HELD_FRAMES: u8 = 3;
 
 /// Raw thumb-index tip distance (m) at and below which [`keep_pinch`] restores the raw
-/// relation of the two tips fully: the pinch frames of the evals (`examples/eval_fingers.rs`).
+/// relation of the two tips fully: the pinch frames of the evals (`eval/rust/eval_fingers.rs`).
 const PINCH_FULL: f32 = 0.02;
 /// Raw thumb-index tip distance (m) from which the filtered tips are left alone: where the
 /// retargeting's pinch feature fades in (4 cm of scaled distance, `src/hand/retarget.rs`).

@@ -84,7 +84,7 @@ impl Targets {
 
     /// The side's plan (`f.plans`): its wrist IK target by fingertip alignment from this
     /// frame's hand (no IK yet).
-    // Out of line: LLVM inlined it once per side, 0.8 KiB of .wasm (docs/measurements.md).
+    // Out of line: LLVM inlined it once per side, 0.8 KiB of .wasm (docs/measurements/2026-12-05-size.md).
     #[inline(never)]
     pub(super) fn plan(
         &mut self,
