@@ -576,6 +576,7 @@ fn kinect_run(skel: &Skeleton, print_frames: bool) -> (Vec<TorsoRow>, Vec<f32>, 
     let mut rows = Vec::new();
     let mut errors = Vec::new();
     let mut total = 0;
+    let mut slowed_frames = 0;
     for side in Side::BOTH {
         let options = RigOptions {
             torso: TorsoSource::Pose,
@@ -612,7 +613,9 @@ fn kinect_run(skel: &Skeleton, print_frames: bool) -> (Vec<TorsoRow>, Vec<f32>, 
                 position: version.position_to_internal(wrist),
                 rotation: None,
             });
+            let limited = rig.turns_limited(side);
             rig.solve(&frame, &mut out).expect("solve");
+            let slowed = rig.turns_limited(side) > limited;
             // Compared with the skeleton (internal frame) below.
             out.turn_to_internal_frame(rig.skeleton().version());
             if side == Side::Right {
@@ -635,6 +638,12 @@ fn kinect_run(skel: &Skeleton, print_frames: bool) -> (Vec<TorsoRow>, Vec<f32>, 
             let Some(a) = out.alignment[side.index()] else {
                 continue;
             };
+            if slowed {
+                // The turn limit slowed the arm: shown short of the target by design (the
+                // report says how far); not part of the exactness.
+                slowed_frames += 1;
+                continue;
+            }
             total += 1;
             if a.reachable {
                 // The rig's target DIP: built from the filtered wrist and hand (filtering is
@@ -643,6 +652,9 @@ fn kinect_run(skel: &Skeleton, print_frames: bool) -> (Vec<TorsoRow>, Vec<f32>, 
                 errors.push(1000.0 * (tip - a.target_dip).length());
             }
         }
+    }
+    if slowed_frames > 0 {
+        eprintln!("(not counted in the next row: {slowed_frames} hand-frames the turn limit slowed the arm on)");
     }
     (rows, errors, total)
 }
@@ -774,6 +786,9 @@ fn main() {
     // 3. ASL clips, pose input.
     let mut asl_errors = Vec::new();
     let mut asl_total = 0;
+    // Frames the turn limit slowed the arm on (shown short of the target by design; the
+    // report says how far): counted apart, not in the exactness.
+    let mut asl_slowed: Vec<f32> = Vec::new();
     for (name, path) in AVATARS {
         let skel = recordings::vrm(path);
         let mut rows = Vec::new();
@@ -792,12 +807,18 @@ fn main() {
             let mut out = SolveOutput::default();
             starts.push(rows.len());
             for f in &frames {
+                let limited = rig.turns_limited(Side::Right);
                 rig.solve(f, &mut out).expect("solve");
+                let slowed = rig.turns_limited(Side::Right) > limited;
                 // Compared with the skeleton (internal frame) below.
                 out.turn_to_internal_frame(rig.skeleton().version());
                 rows.push(torso_row(&rig, &out));
                 if name == "debug-robot" {
                     if let Some(a) = out.alignment[Side::Right.index()] {
+                        if a.reachable && a.error.is_finite() && slowed {
+                            asl_slowed.push(1000.0 * a.error);
+                            continue;
+                        }
                         asl_total += 1;
                         if a.reachable && a.error.is_finite() {
                             asl_errors.push(1000.0 * a.error);
@@ -820,6 +841,11 @@ fn main() {
     let (c, ok) = cells(&e);
     println!("\nAlignment on the ASL clips, torso: \"pose\" from the pose, the signer's right hand (the rig's report), debug-robot:\n");
     println!("| reachable | median mm | p95 mm | max mm |\n| ---: | ---: | ---: | ---: |\n| {c} |");
+    println!(
+        "\n(Not counted: {} frames the turn limit slowed the arm on, largest miss {:.1} mm.)",
+        asl_slowed.len(),
+        asl_slowed.iter().copied().fold(0.0_f32, f32::max)
+    );
     pass &= ok;
 
     if pass {
