@@ -375,7 +375,7 @@ async function bundle(out, version, layout, descriptions, compatFile) {
       plugins: [glue],
       define: {
         __HANDRIG_LAYOUT__: JSON.stringify(layout),
-        __HANDRIG_OPTION_DESCRIPTIONS__: JSON.stringify(descriptions),
+        __HANDRIG_OPTIONS__: JSON.stringify(descriptions),
         __HANDRIG_VERSION__: JSON.stringify(version),
       },
       banner: { js: banner(version) },
@@ -514,9 +514,10 @@ async function main() {
   // The layout's values, generated from its declaration in Rust (src/flat/layout.rs; a Rust test
   // fails when this file is stale), so the JS constants cannot drift from the wasm.
   const layout = JSON.parse(fs.readFileSync(path.join(here, "src", "layout.json"), "utf8"));
-  // The options' descriptions, generated from the Rust option table (src/options/table.rs; a Rust
-  // test fails when this file is stale): the .wasm leaves their text out.
-  const descriptions = JSON.parse(fs.readFileSync(path.join(here, "src", "option-descriptions.json"), "utf8"));
+  // Every option's path, type, range, default and description, generated from the Rust option
+  // table (src/options/table.rs; a Rust test fails when this file is stale): the .wasm carries
+  // neither the list nor the text.
+  const descriptions = JSON.parse(fs.readFileSync(path.join(here, "src", "options.json"), "utf8"));
 
   const v = cargo.version;
   typeCheck(work, layout);

@@ -3,11 +3,11 @@
 // names of the output's codes. Its values (layout.json) and types (layout-types.ts) are generated
 // from the Rust declaration; build.mjs inlines the values as `__HANDRIG_LAYOUT__`, so they are
 // there before `init()` (and in the three-vrm adapter) and cannot drift from Rust. The
-// finger and face-anchor names come from `optionDescriptions()` (their option rows list them in
-// Rust's order), read once the module is initialized. No name list is retyped here.
+// finger and face-anchor names come from the option descriptions (options.json, generated from
+// the same Rust: their option rows list them in Rust's order). No name list is retyped here.
 
 import { LAYOUT_VERSION, type InputLayout, type OutputLayout } from "./layout-types.js";
-import { wasm } from "./wasm.js";
+import { cleanDescriptions } from "./options.js";
 
 /** The 55 VRM 1.0 humanoid bone names, parent-first (three-vrm's order). */
 export type HumanBoneName =
@@ -103,10 +103,10 @@ export interface OptionNames {
 
 let optionNamesCache: OptionNames | undefined;
 
-/** The finger and face-anchor names, from `optionDescriptions()` (needs the module initialized). */
+/** The finger and face-anchor names, from the option descriptions (their rows list them in Rust's order). */
 export function optionNames(): OptionNames {
   if (optionNamesCache === undefined) {
-    const rows = wasm().HandRig.optionDescriptions() as { path: string; values?: string[]; names?: string[] }[];
+    const rows = cleanDescriptions() as { path: string; values?: string[]; names?: string[] }[];
     const row = (path: string) => {
       const d = rows.find((r) => r.path === path);
       if (d === undefined) throw new Error(`handrig: optionDescriptions() has no ${path}`);

@@ -1,5 +1,6 @@
 // Options: nested objects or dotted paths (as optionDescriptions() spells them), checked against
-// the descriptions the wasm gives (src/options/table.rs: every path, type, range and default),
+// the descriptions generated from the Rust option table (options.json from src/options/table.rs:
+// every path, type, range and default),
 // normalized into a fresh plain nested object that the raw constructors pass to Rust, which
 // reads it with serde-wasm-bindgen. No option path is written here: they all come from
 // `optionDescriptions()`. Their TypeScript type, `HandRigOptions`, is generated from the same
@@ -8,7 +9,6 @@
 import { describe, fail, givenFields, isObject, readUser, reading, type Bag } from "./errors.js";
 import type { HandRigOptions } from "./options-types.js";
 import { point3 } from "./points.js";
-import { wasm, type RawOptionDescription } from "./wasm.js";
 
 export type { HandRigOptions };
 
@@ -47,38 +47,14 @@ export type OptionDescription =
       description: string;
     };
 
-/**
- * The shortest decimal that is the same f32 as `v`. Option ranges and defaults are f32 in Rust,
- * so 0.05 reaches JavaScript as 0.05000000074505806: compared as it arrives, the documented bound
- * 0.05 itself would be out of range. Any decimal between the two rounds to the same f32, so the
- * range accepted here is the one Rust checks.
- */
-function f32Decimal<T>(v: T): T {
-  if (typeof v !== "number" || !Number.isFinite(v)) return v;
-  const f = Math.fround(v);
-  for (let digits = 1; digits < 9; digits++) {
-    const d = Number(f.toPrecision(digits));
-    if (Math.fround(d) === f) return d as T;
-  }
-  return f as T;
-}
+// Defined by build.mjs (esbuild `define`): options.json, generated from the Rust option table
+// (the .wasm carries neither the list nor the descriptions' text). Numbers are the shortest
+// decimals of the f32 values Rust holds (`0.05`, not `0.05000000074505806`).
+declare const __HANDRIG_OPTIONS__: readonly OptionDescription[];
 
-// Defined by build.mjs (esbuild `define`): option-descriptions.json, generated from the Rust
-// option table, whose text the .wasm leaves out.
-declare const __HANDRIG_OPTION_DESCRIPTIONS__: { readonly [path: string]: string };
-
-/**
- * The raw descriptions with their text (from the generated file) and their numbers as
- * f32Decimal spells them (a fresh array each call: a
- * caller may change what it gets).
- */
+/** Every option's description (a fresh array of fresh objects each call: a caller may change what it gets). */
 export function cleanDescriptions(): OptionDescription[] {
-  return (wasm().HandRig.optionDescriptions() as RawOptionDescription[]).map((raw) => {
-    const d = { ...raw, description: __HANDRIG_OPTION_DESCRIPTIONS__[raw.path] ?? raw.description };
-    return d.type === "number"
-      ? { ...d, min: f32Decimal(d.min), max: f32Decimal(d.max), step: f32Decimal(d.step), default: f32Decimal(d.default) }
-      : d;
-  }) as OptionDescription[];
+  return JSON.parse(JSON.stringify(__HANDRIG_OPTIONS__)) as OptionDescription[];
 }
 
 let descriptionsCache: Map<string, OptionDescription> | undefined;

@@ -23,21 +23,6 @@ export interface RawHandRig {
   free(): void;
 }
 
-/** One option as the raw `optionDescriptions()` gives it (numbers as f32 values widened). */
-export interface RawOptionDescription {
-  path: string;
-  type: string;
-  description: string;
-  default?: unknown;
-  values?: string[];
-  names?: string[];
-  min?: number;
-  max?: number;
-  step?: number;
-  length?: number;
-  integer?: boolean;
-}
-
 export interface RawHandRigClass {
   new (
     rest: Float64Array,
@@ -50,7 +35,6 @@ export interface RawHandRigClass {
   fromVrm(bytes: Uint8Array, options: unknown): RawHandRig;
   fromGltf(bytes: Uint8Array, boneMap: string[], options: unknown): RawHandRig;
   memory(): unknown;
-  optionDescriptions(): unknown[];
 }
 
 /** wasm-bindgen's `RawChainSolver` (src/wasm/chain.rs). */

@@ -1,7 +1,7 @@
 //! Files generated from the option table: the TypeScript `HandRigOptions` type
 //! (`pkg-config/src/options-types.ts`), the options reference page (`docs/reference/options.md`) and
 //! the options' descriptions for the package's `optionDescriptions()`
-//! (`pkg-config/src/option-descriptions.json`; the `.wasm` leaves them out). A test compares
+//! (`pkg-config/src/options.json`; the `.wasm` carries neither their text nor their list). A test compares
 //! each with the committed file; `HANDRIG_GENERATE=write cargo test --lib options` rewrites
 //! them.
 
@@ -12,25 +12,96 @@ pub const TYPESCRIPT_PATH: &str = "pkg-config/src/options-types.ts";
 /// Where the reference page is committed, relative to the crate root.
 pub const MARKDOWN_PATH: &str = "docs/reference/options.md";
 
-/// Where the descriptions are committed (read by the package build), relative to the crate
-/// root.
-pub const DESCRIPTIONS_PATH: &str = "pkg-config/src/option-descriptions.json";
+/// Where the option descriptions are committed (read by the package build), relative to the
+/// crate root.
+pub const DESCRIPTIONS_PATH: &str = "pkg-config/src/options.json";
 
-/// Every option's description by path, as JSON (`{ "path": "description", ... }`, table
-/// order).
+/// A JSON number for an `f32`: its shortest decimal (`0.05`, not `0.05000000074505806`).
+fn json_f32(x: f32) -> String {
+    serde_json::to_string(&x).unwrap_or_else(|_| "null".into())
+}
+
+/// A JSON string.
+fn json_str(s: &str) -> String {
+    serde_json::to_string(s).unwrap_or_default()
+}
+
+/// Every option as the package's `optionDescriptions()` gives it, as JSON: an array in table
+/// order of `{ path, type, description, default, values?, names?, min?, max?, step?, integer?,
+/// length? }` (the `.wasm` carries no description text and no such list).
 #[must_use]
 pub fn descriptions_json() -> String {
-    let mut s = String::from("{\n");
-    for (i, o) in OPTIONS.iter().enumerate() {
-        let sep = if i + 1 < OPTIONS.len() { "," } else { "" };
-        s.push_str(&format!(
-            "  {}: {}{sep}\n",
-            serde_json::to_string(o.path).unwrap_or_default(),
-            serde_json::to_string(o.doc).unwrap_or_default()
-        ));
+    let mut rows = Vec::new();
+    for o in OPTIONS {
+        let mut f = vec![
+            format!("\"path\": {}", json_str(o.path)),
+            String::new(),
+            format!("\"description\": {}", json_str(o.doc)),
+        ];
+        let (kind, rest): (&str, Vec<String>) = match (o.kind, o.default) {
+            (Kind::Bool, Value::Bool(d)) => ("boolean", vec![format!("\"default\": {d}")]),
+            (Kind::Enum(values), Value::Enum(d)) => {
+                let v: Vec<String> = values.iter().map(|v| json_str(v)).collect();
+                (
+                    "enum",
+                    vec![
+                        format!("\"values\": [{}]", v.join(", ")),
+                        format!("\"default\": {}", json_str(d)),
+                    ],
+                )
+            }
+            (
+                Kind::Number {
+                    min,
+                    max,
+                    step,
+                    integer,
+                    ..
+                },
+                Value::Number(d),
+            ) => {
+                let mut r = Vec::new();
+                if integer {
+                    r.push("\"integer\": true".to_string());
+                }
+                r.push(format!("\"min\": {}", json_f32(min)));
+                r.push(format!("\"max\": {}", json_f32(max)));
+                r.push(format!("\"step\": {}", json_f32(step)));
+                r.push(format!(
+                    "\"default\": {}",
+                    d.map_or_else(|| "null".to_string(), json_f32)
+                ));
+                ("number", r)
+            }
+            (Kind::Points { names, .. }, _) => {
+                let v: Vec<String> = names.iter().map(|v| json_str(v)).collect();
+                (
+                    "points",
+                    vec![
+                        format!("\"names\": [{}]", v.join(", ")),
+                        "\"default\": null".to_string(),
+                    ],
+                )
+            }
+            (Kind::Numbers { len, min, max }, Value::Numbers(d)) => {
+                let v: Vec<String> = d.iter().map(|x| json_f32(*x)).collect();
+                (
+                    "numbers",
+                    vec![
+                        format!("\"length\": {len}"),
+                        format!("\"min\": {}", json_f32(min)),
+                        format!("\"max\": {}", json_f32(max)),
+                        format!("\"default\": [{}]", v.join(", ")),
+                    ],
+                )
+            }
+            _ => ("unknown", Vec::new()),
+        };
+        f[1] = format!("\"type\": {}", json_str(kind));
+        f.extend(rest);
+        rows.push(format!("  {{ {} }}", f.join(", ")));
     }
-    s.push_str("}\n");
-    s
+    format!("[\n{}\n]\n", rows.join(",\n"))
 }
 
 /// The one-line summary of a row's type, range and default, as the docs show it.
@@ -259,12 +330,23 @@ mod tests {
     #[test]
     fn generated_descriptions_are_committed() {
         let json = descriptions_json();
-        let parsed: serde_json::Map<String, serde_json::Value> =
-            serde_json::from_str(&json).expect("valid JSON");
+        let parsed: Vec<serde_json::Value> = serde_json::from_str(&json).expect("valid JSON");
         assert_eq!(parsed.len(), OPTIONS.len());
-        for o in OPTIONS {
+        for (row, o) in parsed.iter().zip(OPTIONS) {
             assert!(!o.doc.is_empty(), "{}: a description", o.path);
-            assert_eq!(parsed[o.path], o.doc, "{}", o.path);
+            assert_eq!(row["path"], o.path);
+            assert_eq!(row["description"], o.doc, "{}", o.path);
+            assert_ne!(row["type"], "unknown", "{}", o.path);
+            // The default as the option decoder reads it back.
+            let d = &row["default"];
+            if !d.is_null() {
+                let nested = o
+                    .path
+                    .rsplit('.')
+                    .fold(d.clone(), |v, k| serde_json::json!({ k: v }));
+                crate::options::RigOptions::from_json(&nested.to_string())
+                    .unwrap_or_else(|e| panic!("{}: default {d}: {e}", o.path));
+            }
         }
         compare(DESCRIPTIONS_PATH, &json);
     }

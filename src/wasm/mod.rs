@@ -26,7 +26,7 @@ use crate::flat;
 use crate::humanoid::bones::{HumanBone, Side, BONE_COUNT};
 use crate::humanoid::skeleton::{Skeleton, VrmVersion};
 use crate::input::mediapipe::FrameInput;
-use crate::options::{option_descriptions, OptionKind, RigOptions};
+use crate::options::RigOptions;
 use crate::pipeline::{Rig, SolveOutput};
 
 type JsResult<T> = Result<T, JsError>;
@@ -238,72 +238,6 @@ impl HandRig {
     #[wasm_bindgen(js_name = takeError)]
     pub fn take_error(&mut self) -> Option<String> {
         self.error.take()
-    }
-
-    /// Every option with its path, type, range, default and description.
-    #[wasm_bindgen(js_name = optionDescriptions)]
-    pub fn option_descriptions() -> Array {
-        let s = |v: &str| JsValue::from_str(v);
-        option_descriptions()
-            .into_iter()
-            .map(|d| {
-                let o = Object::new();
-                set(&o, "path", &s(d.path));
-                set(&o, "description", &s(d.description));
-                match d.kind {
-                    OptionKind::Boolean { default } => {
-                        set(&o, "type", &s("boolean"));
-                        set(&o, "default", &JsValue::from_bool(default));
-                    }
-                    OptionKind::Enum { values, default } => {
-                        set(&o, "type", &s("enum"));
-                        let v: Array = values.iter().map(|v| s(v)).collect();
-                        set(&o, "values", &v);
-                        set(&o, "default", &s(default));
-                    }
-                    OptionKind::Number {
-                        min,
-                        max,
-                        default,
-                        step,
-                        integer,
-                    } => {
-                        set(&o, "type", &s("number"));
-                        if integer {
-                            set(&o, "integer", &JsValue::TRUE);
-                        }
-                        set(&o, "min", &JsValue::from_f64(min as f64));
-                        set(&o, "max", &JsValue::from_f64(max as f64));
-                        set(&o, "step", &JsValue::from_f64(step as f64));
-                        let dv = default.map_or(JsValue::NULL, |v| JsValue::from_f64(v as f64));
-                        set(&o, "default", &dv);
-                    }
-                    OptionKind::Points { names } => {
-                        set(&o, "type", &s("points"));
-                        let v: Array = names.iter().map(|v| s(v)).collect();
-                        set(&o, "names", &v);
-                        set(&o, "default", &JsValue::NULL);
-                    }
-                    OptionKind::Numbers {
-                        len,
-                        min,
-                        max,
-                        default,
-                    } => {
-                        set(&o, "type", &s("numbers"));
-                        set(&o, "length", &JsValue::from_f64(len as f64));
-                        set(&o, "min", &JsValue::from_f64(min as f64));
-                        set(&o, "max", &JsValue::from_f64(max as f64));
-                        let d: Array = default
-                            .iter()
-                            .map(|v| JsValue::from_f64(*v as f64))
-                            .collect();
-                        set(&o, "default", &d);
-                    }
-                }
-                JsValue::from(o)
-            })
-            .collect()
     }
 
     /// `"0"` or `"1"`.
