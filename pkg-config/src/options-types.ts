@@ -26,6 +26,20 @@ export interface HandRigOptions {
     /** Where an arm with no wrist to follow rests: down = by the side, elbow slightly bent; tpose = the avatar's rest pose. (one of `"down"`, `"tpose"`, default `"down"`.) */
     idle?: "down" | "tpose" | undefined;
   } | undefined;
+  /** Arms from hands alone (no pose): the camera and framing assumed. `false` / `true` sets `enabled`. */
+  handsOnly?:
+    | boolean
+    | {
+        /** With hands and no pose, place each arm from its hand's image position and size (docs/alignment-ik.md#arms-from-hands-alone). (boolean, default `true`.) */
+        enabled?: boolean | undefined;
+        /** The camera's vertical field of view (radians; 1.05 = 60°, a webcam's), for arms from hands alone. (number in 0.1..3, default `1.05`.) */
+        fov?: number | undefined;
+        /** The user's shoulders from the camera (m), for arms from hands alone. (number in 0.2..5, default `0.7`.) */
+        distance?: number | undefined;
+        /** Where the user's shoulder line is in the image (0 top, 1 bottom), for arms from hands alone. (number in -1..2, default `0.8`.) */
+        shoulderY?: number | undefined;
+      }
+    | undefined;
   /** Fingertip alignment (seeds 000/001). `false` / `true` sets `enabled`. */
   alignment?:
     | boolean

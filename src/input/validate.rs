@@ -105,6 +105,12 @@ pub(crate) fn validate_frame_with(
             "must be a finite number",
         ));
     }
+    if !(0.01..=100.0).contains(&frame.image_aspect) {
+        return Err(crate::Error::invalid(
+            "frame.imageAspect",
+            "must be a number in 0.01..100 (width / height)",
+        ));
+    }
     for (i, h) in frame.hands().iter().enumerate() {
         if let Some((k, e)) = points_problem(&h.world) {
             return Err(crate::Error::invalid(

@@ -8,6 +8,7 @@ use glam::{Quat, Vec3};
 use crate::hand::flip::{chirality, image_agreement, MIRRORED};
 use crate::hand::{HandStatus, HandStrategy};
 use crate::humanoid::bones::Side;
+use crate::input::hand_wrist::wrist_offset;
 use crate::mediapipe::{FrameInput, HandObservation, HAND_LANDMARKS};
 
 use super::select::Pick;
@@ -214,11 +215,12 @@ impl Rig {
 
     /// Stage 5: where the side's wrist is this frame: a tracker wrist (filtered) or the pose
     /// wrist mapped onto the avatar relative to the torso (the stage 3 anchor), with the pose
-    /// elbow as pole.
+    /// elbow as pole; with no pose, the hand's wrist from its image (`options.handsOnly`).
     pub(super) fn wrist_source(
         &mut self,
         side: Side,
         frame: &FrameInput,
+        pick: Option<Pick>,
         dt: Option<f32>,
     ) -> Option<WristSource> {
         let version = self.skeleton.version();
@@ -238,8 +240,30 @@ impl Rig {
                 pole: None,
             });
         }
-        let pose = self.scratch.pose.as_ref()?;
         let anchor = self.scratch.anchors[side.index()]?;
+        let Some(pose) = self.scratch.pose.as_ref() else {
+            // No pose: from the hand's image position and size (`crate::input::hand_wrist`).
+            let (o, h) = (&self.options, frame.hands().get(pick?.index)?);
+            let mut p = [wrist_offset(
+                h,
+                side,
+                o.camera(),
+                &o.hands_only,
+                frame.image_aspect,
+            )?];
+            if o.filter.enabled {
+                let f = &mut self.wrist_filters[side.index()].position;
+                f.apply(&mut p, frame.time_ms, dt, &o.filter.one_euro());
+            }
+            let scale = self.body.scale();
+            let position = anchor.shoulder + scale * (anchor.rotation * p[0]);
+            return Some(WristSource {
+                position,
+                rotation: None,
+                scale,
+                pole: None,
+            });
+        };
         let mapped = self
             .body
             .map_arm_from(side, pose, self.options.camera(), anchor)?;

@@ -452,7 +452,7 @@ impl Rig {
         let mut plans = [Plan::Rest; 2];
         for side in Side::BOTH {
             let hand_rotation = self.solve_hand(side, frame, picks[side.index()], dt, out);
-            let source = self.wrist_source(side, frame, dt);
+            let source = self.wrist_source(side, frame, picks[side.index()], dt);
             plans[side.index()] = self.plan_target(side, frame, hand_rotation, source, out);
         }
         self.contact_targets(frame, dt, &mut plans, out);
