@@ -30,13 +30,13 @@ export interface HandRigOptions {
   handsOnly?:
     | boolean
     | {
-        /** With hands and no pose, place each arm from its hand's image position and size (docs/alignment-ik.md#arms-from-hands-alone). (boolean, default `true`.) */
+        /** No pose: each arm placed from its hand's image position and size. (boolean, default `true`.) */
         enabled?: boolean | undefined;
-        /** The camera's vertical field of view (radians; 1.05 = 60°, a webcam's), for arms from hands alone. (number in 0.1..3, default `1.05`.) */
+        /** Camera's vertical field of view (radians; 1.05 = 60°). (number in 0.1..3, default `1.05`.) */
         fov?: number | undefined;
-        /** The user's shoulders from the camera (m), for arms from hands alone. (number in 0.2..5, default `0.7`.) */
+        /** The user's shoulders' distance from the camera (m). (number in 0.2..5, default `0.7`.) */
         distance?: number | undefined;
-        /** Where the user's shoulder line is in the image (0 top, 1 bottom), for arms from hands alone. (number in -1..2, default `0.8`.) */
+        /** The shoulder line's height in the image (0 top, 1 bottom). (number in -1..2, default `0.8`.) */
         shoulderY?: number | undefined;
       }
     | undefined;

@@ -48,6 +48,13 @@ pub struct HandsOnlyOptions {
     pub shoulder_y: f32,
 }
 
+/// `tan(fov / 2)`, from `sin_cos` (which the crate uses anyway: `tan` alone would add libm's
+/// `tanf` to the .wasm).
+fn half_tan(fov: f32) -> f32 {
+    let (s, c) = (0.5 * fov).sin_cos();
+    s / c
+}
+
 /// The user's wrist from the camera (m, MediaPipe's camera axes: x right, y down, z away),
 /// from a hand's image landmarks (`x, y` in 0..1 of the image, `aspect` = width / height) and
 /// world landmarks. `None` without image landmarks, for a collapsed hand, or a non-finite
@@ -60,7 +67,7 @@ pub fn wrist_from_camera(hand: &HandObservation, fov: f32, aspect: f32) -> Optio
     let n = HAND_LANDMARKS as f32;
     let image_center = image.iter().map(|p| at(*p)).sum::<Vec3>() / n;
     let world_center = hand.world.iter().sum::<Vec3>() / n;
-    let f = 0.5 / (0.5 * fov).tan();
+    let f = 0.5 / half_tan(fov);
     // Off the optical axis a point nearer by `dz` also shifts by `ray * dz` in the image
     // (para-perspective): the world offsets are projected so before they are measured.
     let ray = image_center / f;
@@ -85,7 +92,7 @@ pub fn wrist_from_camera(hand: &HandObservation, fov: f32, aspect: f32) -> Optio
 /// as [`HandsOnlyOptions`] assume it.
 #[must_use]
 pub fn assumed_shoulder(side: Side, camera: CameraMapping, o: &HandsOnlyOptions) -> Vec3 {
-    let tan = (0.5 * o.fov).tan();
+    let tan = half_tan(o.fov);
     // The avatar's left (+X) is camera +x unless the mapping flips x.
     let x = if (side == Side::Left) ^ camera.flips_x() {
         HALF_SHOULDERS
