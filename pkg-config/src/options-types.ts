@@ -34,9 +34,9 @@ export interface HandRigOptions {
         enabled?: boolean | undefined;
         /** Camera's vertical field of view (radians; 1.05 = 60°). (number in 0.1..3, default `1.05`.) */
         fov?: number | undefined;
-        /** The user's shoulders' distance from the camera (m). (number in 0.2..5, default `0.7`.) */
+        /** The user's shoulders' distance from the camera (m). (number in 0.2..5, default `0.9`.) */
         distance?: number | undefined;
-        /** The shoulder line's height in the image (0 top, 1 bottom). (number in -1..2, default `0.8`.) */
+        /** The shoulder line's height in the image (0 top, 1 bottom). (number in -1..2, default `0.7`.) */
         shoulderY?: number | undefined;
       }
     | undefined;

@@ -102,6 +102,44 @@ pub fn assumed_shoulder(side: Side, camera: CameraMapping, o: &HandsOnlyOptions)
     Vec3::new(x, (o.shoulder_y - 0.5) * 2.0 * tan * o.distance, o.distance)
 }
 
+/// The furthest a wrist is placed from its shoulder (m): a long adult arm as MediaPipe's pose
+/// measures it (0.52 m typical, [`crate::body`]).
+pub const REACH: f32 = 0.6;
+/// The furthest a wrist is placed behind its shoulder (m, along the camera's axis).
+pub const BEHIND: f32 = 0.05;
+
+/// The wrist moved along its camera ray (its image position is sure, its depth is not) to the
+/// nearest depth within [`REACH`] of the shoulder and at most [`BEHIND`] behind it; where the
+/// ray passes further than that from the shoulder, its nearest point to it.
+#[must_use]
+pub fn within_reach(wrist: Vec3, shoulder: Vec3) -> Vec3 {
+    let depth = wrist.length();
+    let ray = wrist / depth;
+    // |t ray - shoulder| <= REACH: t within b -+ r.
+    let b = ray.dot(shoulder);
+    let disc = b * b - shoulder.length_squared() + REACH * REACH;
+    let mut t = if disc > 0.0 {
+        let r = disc.sqrt();
+        // (min/max: `clamp` asserts its bounds, which NaN would fail.)
+        depth.max(b - r).min(b + r)
+    } else {
+        b
+    };
+    if ray.z > 0.0 {
+        t = t.min((shoulder.z + BEHIND) / ray.z);
+    }
+    ray * t.max(0.0)
+}
+
+/// Where a relaxed elbow hangs, relative to the shoulder of `side` (m, the avatar's axes: down,
+/// a little out and back): the IK pole of an arm placed from its hand alone. Without it the arm
+/// solver's default bend puts the elbow out sideways when the hand comes near the shoulder.
+#[must_use]
+pub fn elbow_hint(side: Side) -> Vec3 {
+    let out = if side == Side::Left { 0.1 } else { -0.1 };
+    Vec3::new(out, -0.3, -0.05)
+}
+
 /// The user's wrist relative to their shoulder, in the avatar's axes (m): what
 /// [`crate::body`] scales onto the avatar's shoulder. `None` when the rig is told not to
 /// (`enabled: false`) or the hand cannot be measured ([`wrist_from_camera`]).
@@ -117,7 +155,8 @@ pub fn wrist_offset(
         return None;
     }
     let wrist = wrist_from_camera(hand, o.fov, aspect)?;
-    Some(camera.to_avatar(wrist - assumed_shoulder(side, camera, o)))
+    let shoulder = assumed_shoulder(side, camera, o);
+    Some(camera.to_avatar(within_reach(wrist, shoulder) - shoulder))
 }
 
 #[cfg(test)]
@@ -190,6 +229,31 @@ mod tests {
         let mut hand = good;
         hand.world = [Vec3::ZERO; HAND_LANDMARKS];
         assert_eq!(wrist_from_camera(&hand, 1.05, 1.0), None);
+    }
+
+    #[test]
+    fn a_wrist_out_of_reach_or_behind_moves_along_its_ray() {
+        let shoulder = Vec3::new(-0.18, 0.25, 0.7);
+        // Within reach and in front: unchanged.
+        let w = Vec3::new(-0.1, 0.1, 0.45);
+        assert!((within_reach(w, shoulder) - w).length() < 1e-6);
+        for w in [
+            Vec3::new(-0.5, 0.4, 1.6),
+            Vec3::new(-0.1, 0.1, 0.05),
+            Vec3::new(-0.3, 0.35, 0.95),
+        ] {
+            let got = within_reach(w, shoulder);
+            // Still on the wrist's ray (the image position kept)...
+            assert!(got.normalize().dot(w.normalize()) > 0.9999, "{w}: {got}");
+            // ...within reach, and not behind the shoulder.
+            assert!((got - shoulder).length() <= REACH + 1e-4, "{w}: {got}");
+            assert!(got.z <= shoulder.z + BEHIND + 1e-4, "{w}: {got}");
+        }
+        // A ray that passes further than the reach: its nearest point to the shoulder.
+        let far = Vec3::new(1.5, -0.5, 1.0);
+        let got = within_reach(far, shoulder);
+        let ray = far.normalize();
+        assert!((got - ray * ray.dot(shoulder)).length() < 1e-5, "{got}");
     }
 
     #[test]

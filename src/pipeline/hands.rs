@@ -8,7 +8,7 @@ use glam::{Quat, Vec3};
 use crate::hand::flip::{chirality, image_agreement, MIRRORED};
 use crate::hand::{HandStatus, HandStrategy};
 use crate::humanoid::bones::Side;
-use crate::input::hand_wrist::wrist_offset;
+use crate::input::hand_wrist::{elbow_hint, wrist_offset};
 use crate::mediapipe::{FrameInput, HandObservation, HAND_LANDMARKS};
 
 use super::select::Pick;
@@ -256,12 +256,12 @@ impl Rig {
                 f.apply(&mut p, frame.time_ms, dt, &o.filter.one_euro());
             }
             let scale = self.body.scale();
-            let position = anchor.shoulder + scale * (anchor.rotation * p[0]);
+            let at = |p: Vec3| anchor.shoulder + scale * (anchor.rotation * p);
             return Some(WristSource {
-                position,
+                position: at(p[0]),
                 rotation: None,
                 scale,
-                pole: None,
+                pole: Some(at(elbow_hint(side))),
             });
         };
         let mapped = self

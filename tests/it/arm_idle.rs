@@ -164,13 +164,17 @@ fn an_arm_whose_wrist_is_lost_holds_then_eases_down_with_the_dropout_timings() {
     }
 }
 
-/// The upper arm's angle from the side's T-pose direction (degrees): horizontal, outward.
+/// How far an arm is from the T-pose (degrees): the larger of its upper arm's and forearm's
+/// angles from the T-pose direction (horizontal, outward). A raised hand may take the upper arm
+/// out sideways; the T-pose has the forearm straight out too.
 fn from_t_pose(out: &SolveOutput, side: Side) -> f32 {
-    let [_, upper, lower, _] = side.arm();
+    let [_, upper, lower, hand] = side.arm();
     let p = |b: handrig::HumanBone| out.world.position[b.index()];
     // Outward: from the body's middle toward the shoulder (either model frame).
     let out_x = Vec3::X * (p(upper).x - p(handrig::HumanBone::Hips).x).signum();
-    (p(lower) - p(upper)).angle_between(out_x).to_degrees()
+    let a = (p(lower) - p(upper)).angle_between(out_x);
+    let b = (p(hand) - p(lower)).angle_between(out_x);
+    a.max(b).to_degrees()
 }
 
 #[test]
@@ -200,6 +204,30 @@ fn with_hands_alone_the_tracked_arm_follows_its_hand_and_the_other_rests_down() 
             tpose_least > DOWN_DEG,
             "{name}: a tracked arm {tpose_least:.1} degrees from the T-pose"
         );
+
+        // The sign-language clips' hands without their pose (640 x 480): never a T-pose.
+        for clip in recordings::ASL.iter().chain(recordings::ASL_MORE.iter()) {
+            let mut rig = Rig::new(skeleton.clone(), RigOptions::default()).unwrap();
+            let mut least: f32 = 180.0;
+            for f in recordings::asl(clip) {
+                let f = FrameInput {
+                    pose: None,
+                    pose_image: None,
+                    image_aspect: 4.0 / 3.0,
+                    ..f
+                };
+                rig.solve(&f, &mut out).unwrap();
+                for side in Side::BOTH {
+                    if out.ik_targets[side.index()].is_some() {
+                        least = least.min(from_t_pose(&out, side));
+                    }
+                }
+            }
+            assert!(
+                least > DOWN_DEG,
+                "{name} {clip}: an arm {least:.1} degrees from the T-pose"
+            );
+        }
 
         // The hand moved in the image: the avatar's hand moves the same way. Up (image y
         // smaller) is up; smaller in the image (further from the camera) is back.
