@@ -132,13 +132,15 @@ pub fn within_reach(wrist: Vec3, shoulder: Vec3) -> Vec3 {
     ray * t.max(0.0)
 }
 
-/// Where a relaxed elbow hangs, relative to the shoulder of `side` (m, the avatar's axes: down,
-/// a little out and back): the IK pole of an arm placed from its hand alone. Without it the arm
-/// solver's default bend puts the elbow out sideways when the hand comes near the shoulder.
+/// Where the elbow goes, relative to the shoulder of `side` (m, the avatar's axes: down, a
+/// little out and forward, as elbows are under hands raised in front of the body): the IK pole
+/// of an arm placed from its hand alone. Without it the arm solver's default bend puts the
+/// elbow out sideways when the hand comes near the shoulder, and an arm turning from rest to a
+/// raised hand (eased in, or slowed by `arm.maxTurnSpeed`) passes through the T-pose.
 #[must_use]
 pub fn elbow_hint(side: Side) -> Vec3 {
     let out = if side == Side::Left { 0.1 } else { -0.1 };
-    Vec3::new(out, -0.3, -0.05)
+    Vec3::new(out, -0.3, 0.1)
 }
 
 /// The user's wrist relative to their shoulder, in the avatar's axes (m): what
