@@ -77,6 +77,8 @@ describe("the real recording on debug-robot.vrm (fromVrm)", () => {
     const rightFingers = handBones("right").filter((b) => b !== "rightHand" && rig.boneNames().includes(b));
     assert.equal(rightFingers.length, 15);
     const handAngles = [];
+    const rightArm = ["rightShoulder", "rightUpperArm", "rightLowerArm"];
+    let armMoved = 0;
     // The rest a rig shows with nothing tracked: arms down by the sides (arm.idle "down").
     const idle = HandRig.fromVrm(readBytes(avatars.robot)).solve({ timeMs: 0 }, {}).bones;
     assert.ok(!isIdentity(idle.leftUpperArm) && !isIdentity(idle.rightLowerArm), "the idle arms hang down, not the T-pose");
@@ -86,16 +88,18 @@ describe("the real recording on debug-robot.vrm (fromVrm)", () => {
       assert.equal(r.hands.right?.status, "solved", `frame ${i}: the right hand not solved`);
       assert.equal(r.hands.left, undefined, `frame ${i}: a left hand reported`);
       for (const b of rightFingers) assert.ok(r.bones[b], `frame ${i}: ${b} missing from bones`);
-      // Every driven bone is reported; hand-only input moves nothing but the right hand (the
-      // arms stay at their idle rest).
+      // Every driven bone is reported; hand-only input moves the right hand and its arm (placed
+      // from the hand's image: handsOnly), nothing else (the left arm stays at its idle rest).
       for (const [b, q] of Object.entries(r.bones)) {
-        if (!right.has(b)) assert.ok(same(q, idle[b]), `frame ${i}: hand-only input moved ${b}`);
+        if (!right.has(b) && !rightArm.includes(b)) assert.ok(same(q, idle[b]), `frame ${i}: hand-only input moved ${b}`);
       }
+      if (r.ikTargets.right && !same(r.bones.rightUpperArm, idle.rightUpperArm)) armMoved++;
       handAngles.push(quatAngle(r.bones.rightHand));
     });
     // The hand turns during the video: its rotation is not one constant.
     const spread = Math.max(...handAngles) - Math.min(...handAngles);
     assert.ok(spread > 0.3, `rightHand rotation angle spread ${spread} rad over the recording`);
+    assert.ok(armMoved > frames.length / 2, `the right arm placed from the hand in ${armMoved} frames`);
     rig.free();
   });
 
