@@ -20,7 +20,8 @@ export function packedReadme(text, base, shipped) {
         return line;
       }
       if (fenced) return line;
-      return line.replace(/(!?\[[^\]]*\]\()([^)\s]+)((?:\s+"[^"]*")?\))/g, (all, open, target, close) => {
+      // From the `](` on: a link's text may start on the line before.
+      return line.replace(/(\]\()([^)\s]+)((?:\s+"[^"]*")?\))/g, (all, open, target, close) => {
         if (/^([a-z][a-z0-9+.-]*:|#|\/)/i.test(target)) return all;
         const [file, anchor] = target.split(/(?=#)/);
         const clean = file.replace(/^\.\//, "");

@@ -104,7 +104,8 @@ describe("the packed tarball", () => {
       "```md",
       "[code](docs/a.md)",
       "```",
-      "`[span](docs/b.md)` [root](/abs.md) [mail](mailto:a@b.c) [deep](docs/guide/c.md)",
+      "`[span](docs/b.md)` [root](/abs.md) [mail](mailto:a@b.c) [deep](docs/guide/c.md) [a link",
+      "over two lines](docs/d.md#y).",
     ].join("\n");
     assert.equal(
       packedReadme(text, "https://h/blob/main/", ["LICENSE", "wasm/"]),
@@ -113,7 +114,8 @@ describe("the packed tarball", () => {
         "```md",
         "[code](docs/a.md)",
         "```",
-        "`[span](https://h/blob/main/docs/b.md)` [root](/abs.md) [mail](mailto:a@b.c) [deep](https://h/blob/main/docs/guide/c.md)",
+        "`[span](https://h/blob/main/docs/b.md)` [root](/abs.md) [mail](mailto:a@b.c) [deep](https://h/blob/main/docs/guide/c.md) [a link",
+        "over two lines](https://h/blob/main/docs/d.md#y).",
       ].join("\n"),
     );
   });
