@@ -50,6 +50,8 @@ import path from "node:path";
 import { fileURLToPath } from "node:url";
 import zlib from "node:zlib";
 
+import { packedReadme } from "./readme-links.mjs";
+
 // The shipped WebAssembly file's one name (in wasm/, exported as "handrig/handrig_bg.wasm").
 const WASM_NAME = "handrig_bg.wasm";
 // The SIMD build's file, beside it.
@@ -542,6 +544,11 @@ async function main() {
     if (!fs.existsSync(path.join(root, f))) fail(`${f} missing at the repository root`);
     fs.copyFileSync(path.join(root, f), path.join(out, f));
   }
+  // The README's links to files the tarball does not carry (docs/, CHANGELOG.md, tests/) point
+  // at the repository's main branch (pkg-config/readme-links.mjs).
+  const readmeBase = `${cargo.repository}/blob/main/`;
+  const readme = fs.readFileSync(path.join(root, "README.md"), "utf8");
+  fs.writeFileSync(path.join(out, "README.md"), packedReadme(readme, readmeBase, manifest.files));
   // The command line (`bin`: handrig export ...), plain JavaScript loading ./index.cjs.
   fs.copyFileSync(path.join(here, "cli.mjs"), path.join(out, "cli.mjs"));
   fs.chmodSync(path.join(out, "cli.mjs"), 0o755);

@@ -53,8 +53,9 @@
 //! Samples live in a fixed array: observing a frame allocates nothing.
 //!
 //! ## Missing or poor input (decided behaviour)
-//! * No pose this frame: nothing is observed or mapped; the [`crate::Rig`] then leaves that
-//!   arm at rest (the hand still gets its solved world rotation when a hand is tracked).
+//! * No pose this frame: nothing is observed or mapped; the [`crate::Rig`] then places the arm
+//!   of a tracked hand from the hand's image ([`crate::input::hand_wrist`], with this mapper's
+//!   body scale) or leaves the arm at rest (the hand still gets its solved world rotation).
 //! * Shoulder or wrist of the driving side below `min_visibility`: [`BodyMapper::map_arm`]
 //!   returns `None` (MediaPipe guesses landmarks it cannot see; an arm chasing a guess looks
 //!   worse than an arm at rest), so the arm rests as above.

@@ -26,6 +26,20 @@ export interface HandRigOptions {
     /** Where an arm with no wrist to follow rests: down = by the side, elbow slightly bent; tpose = the avatar's rest pose. (one of `"down"`, `"tpose"`, default `"down"`.) */
     idle?: "down" | "tpose" | undefined;
   } | undefined;
+  /** Arms from hands alone (no pose): the camera and framing assumed. `false` / `true` sets `enabled`. */
+  handsOnly?:
+    | boolean
+    | {
+        /** No pose: each arm placed from its hand's image position and size. (boolean, default `true`.) */
+        enabled?: boolean | undefined;
+        /** Camera's vertical field of view (radians; 1.05 = 60°). (number in 0.1..3, default `1.05`.) */
+        fov?: number | undefined;
+        /** The user's shoulders' distance from the camera (m). (number in 0.2..5, default `0.9`.) */
+        distance?: number | undefined;
+        /** The shoulder line's height in the image (0 top, 1 bottom). (number in -1..2, default `0.7`.) */
+        shoulderY?: number | undefined;
+      }
+    | undefined;
   /** Fingertip alignment (seeds 000/001). `false` / `true` sets `enabled`. */
   alignment?:
     | boolean

@@ -112,6 +112,7 @@ impl<const N: usize> Default for PointFilters<N> {
 impl<const N: usize> PointFilters<N> {
     /// Filters `points` in place, seen at `time_ms`, `dt` seconds after the previous frame
     /// (`None`: restart). A set unseen for more than [`MAX_STEP_MS`] restarts too.
+    #[inline(never)] // (one copy per set size in the .wasm, not one per caller)
     pub fn apply(
         &mut self,
         points: &mut [Vec3; N],

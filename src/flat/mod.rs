@@ -169,6 +169,7 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
             ))
         }
     };
+    frame.image_aspect = aspect;
     // Which hands' world landmarks are given as meters (the others are made from image
     // landmarks below).
     let mut metric_world = [false; MAX_HANDS];

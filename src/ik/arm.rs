@@ -362,7 +362,8 @@ pub struct ArmOptions {
     /// the wrist's anatomical range ([`super::wrist`]; sources there), turning the hand about
     /// the aligned finger point so that fingertip alignment stays exact. Default `true`;
     /// `false` applies the tracked hand rotation as given. Applies where the arm is solved
-    /// (hands-only input leaves the arm at rest and the hand unlimited).
+    /// (hands-only input with `handsOnly.enabled: false` leaves the arm at rest and the hand
+    /// unlimited).
     pub wrist_limits: bool,
     /// How fast (radians per second) the shoulder, upper arm, forearm and hand may turn
     /// between two frames, each measured from the chest (its rotation composed down the arm):

@@ -305,6 +305,9 @@ pub struct FrameInput {
     /// Face points from the same body tracker (the model's own frame), for self-contact
     /// retargeting of tracker wrists ([`crate::contact`]).
     pub face: Option<TrackerFace>,
+    /// The image's width / height (`frame.imageAspect`; 16/9 when not given): how image
+    /// landmarks' x and y compare ([`crate::input::hand_wrist`]).
+    pub image_aspect: f32,
 }
 
 impl Default for FrameInput {
@@ -325,6 +328,7 @@ impl Default for FrameInput {
             torso: [None; TORSO_BONE_COUNT],
             body: None,
             face: None,
+            image_aspect: 16.0 / 9.0,
         }
     }
 }
@@ -346,6 +350,7 @@ impl FrameInput {
         self.torso = [None; TORSO_BONE_COUNT];
         self.body = None;
         self.face = None;
+        self.image_aspect = 16.0 / 9.0;
     }
 }
 

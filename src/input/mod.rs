@@ -5,9 +5,12 @@
 //!   conversion ([`CameraMapping`]).
 //! * [`torso`]: the app's torso rotations and body-tracker joints (re-exported by
 //!   [`crate::torso`]).
+//! * [`hand_wrist`]: the wrist from a hand's image position and size, for arms from hands
+//!   alone.
 //! * [`validate`]: the one check of a frame every path runs (native [`crate::Rig::solve`] and
 //!   the flat decoder, [`crate::flat::read_input`]).
 
+pub mod hand_wrist;
 pub mod mediapipe;
 pub mod torso;
 pub mod validate;

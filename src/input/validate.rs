@@ -89,6 +89,13 @@ fn looks_image_normalized(world: &[Vec3]) -> bool {
 /// meters), scores, visibilities or
 /// confidences outside `0..=1`, non-unit wrist or torso rotations.
 pub(crate) fn validate_frame(frame: &FrameInput) -> Result<()> {
+    // (The flat decoder checks the aspect as it reads it.)
+    if !(0.01..=100.0).contains(&frame.image_aspect) {
+        return Err(crate::Error::invalid(
+            "frame.imageAspect",
+            "must be a number in 0.01..100 (width / height)",
+        ));
+    }
     validate_frame_with(frame, [true; MAX_HANDS])
 }
 

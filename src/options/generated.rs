@@ -183,6 +183,7 @@ fn group_doc(group: &str) -> &'static str {
         "dropout" => "Holding and easing over tracking loss.",
         "contact" => "Self-contact retargeting: face, hand-to-hand, body colliders.",
         "retarget" => "The objective of handStrategy \"retarget\" (seed 003).",
+        "handsOnly" => "Arms from hands alone (no pose): the camera and framing assumed.",
         _ => "Options.",
     }
 }

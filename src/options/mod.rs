@@ -28,6 +28,7 @@ use crate::filter::{DropoutOptions, FilterOptions};
 use crate::hand::{HandStrategy, RetargetOptions};
 use crate::humanoid::bones::Finger;
 use crate::ik::{ArmIdle, ArmOptions, ArmSolver};
+pub use crate::input::hand_wrist::HandsOnlyOptions;
 use crate::input::mediapipe::CameraMapping;
 use crate::solve::least_squares::Settings;
 use crate::torso::TorsoSource;
@@ -68,6 +69,9 @@ pub struct RigOptions {
     pub contact: ContactOptions,
     /// The objective of `handStrategy: "retarget"` (seed 003).
     pub retarget: RetargetOptions,
+    /// Arms from hands alone: the camera and framing assumed (see
+    /// [`crate::input::hand_wrist`]).
+    pub hands_only: HandsOnlyOptions,
 }
 
 /// How a hand whose MediaPipe label contradicts the pose is treated (JS:
@@ -201,6 +205,12 @@ impl RigOptions {
                 step_tolerance: 0.0,
             },
         },
+        hands_only: HandsOnlyOptions {
+            enabled: false,
+            fov: 0.0,
+            distance: 0.0,
+            shoulder_y: 0.0,
+        },
     };
 
     /// Reads options from JSON text: an object of the camelCase paths of [`table::OPTIONS`]
@@ -296,6 +306,7 @@ group_default! {
     DropoutOptions => dropout,
     ContactOptions => contact,
     RetargetOptions => retarget,
+    HandsOnlyOptions => hands_only,
     HandStrategy => hand_strategy,
     ArmSolver => arm_solver,
     AlignPoint => alignment.point,

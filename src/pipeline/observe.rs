@@ -14,6 +14,7 @@ use crate::hand::flip::{chirality, image_agreement, MIRRORED};
 use crate::hand::HandStrategy;
 use crate::humanoid::bones::Side;
 use crate::humanoid::skeleton::Skeleton;
+use crate::input::hand_wrist::{elbow_hint, wrist_offset};
 use crate::input::mediapipe::{pose_landmark, HAND_LANDMARKS, POSE_LANDMARKS};
 use crate::torso::{TorsoSource, BODY_JOINT_COUNT};
 
@@ -193,7 +194,8 @@ impl Observe {
 
     /// After the torso, per side: where the wrist is this frame (`f.sources`): a tracker wrist
     /// (filtered) or the pose wrist mapped onto the avatar relative to the torso (the torso
-    /// stage's anchor), with the pose elbow as pole.
+    /// stage's anchor), with the pose elbow as pole; with no pose, the picked hand's wrist from
+    /// its image position and size (`options.handsOnly`, [`crate::input::hand_wrist`]).
     pub(super) fn wrist(&mut self, cx: &Context, side: Side, f: &mut Frame) {
         f.sources[side.index()] = self.wrist_source(cx, side, f);
     }
@@ -216,8 +218,31 @@ impl Observe {
                 pole: None,
             });
         }
-        let pose = f.pose.as_ref()?;
         let anchor = f.anchors[side.index()]?;
+        let Some(pose) = f.pose.as_ref() else {
+            // No pose: from the hand's image position and size.
+            let (o, input) = (cx.options, cx.input);
+            let h = input.hands().get(f.picks[side.index()]?.index)?;
+            let mut p = [wrist_offset(
+                h,
+                side,
+                cx.camera,
+                &o.hands_only,
+                input.image_aspect,
+            )?];
+            if o.filter.enabled {
+                let filter = &mut self.wrist_filters[side.index()].position;
+                filter.apply(&mut p, cx.now_ms, cx.dt, &o.filter.one_euro());
+            }
+            let scale = self.body.scale();
+            let at = |p: Vec3| anchor.shoulder + scale * (anchor.rotation * p);
+            return Some(WristSource {
+                position: at(p[0]),
+                rotation: None,
+                scale,
+                pole: Some(at(elbow_hint(side))),
+            });
+        };
         let mapped = self.body.map_arm_from(side, pose, cx.camera, anchor)?;
         Some(WristSource {
             position: mapped.wrist,

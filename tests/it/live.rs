@@ -250,20 +250,25 @@ fn filtering_reduces_jitter_with_little_lag() {
 
 #[test]
 fn a_dropout_holds_eases_out_and_blends_back_in() {
-    // The hand is removed for one second (30 frames) in the middle of the video.
+    // The hand is removed for one second (30 frames) in the middle of the video. The arm stays
+    // at rest (no arm from the hand alone): the hand's own rotations ease.
     let lost = (300, 330);
-    let snapping = hand_video_rotations(RigOptions::per_frame(), Some(lost));
+    let hand_only = |mut o: RigOptions| {
+        o.hands_only.enabled = false;
+        o
+    };
+    let snapping = hand_video_rotations(hand_only(RigOptions::per_frame()), Some(lost));
     let easing = hand_video_rotations(
-        RigOptions {
+        hand_only(RigOptions {
             filter: FilterOptions {
                 enabled: false,
                 ..FilterOptions::default()
             },
             ..RigOptions::default()
-        },
+        }),
         Some(lost),
     );
-    let continuous = hand_video_rotations(RigOptions::per_frame(), None);
+    let continuous = hand_video_rotations(hand_only(RigOptions::per_frame()), None);
     // Around the dropout: from the last tracked frame to 10 frames after the return.
     let window = |rot: &[Vec<Quat>]| largest_step(&rot[lost.0 - 1..lost.1 + 10]);
     let (snap, ease, base) = (window(&snapping), window(&easing), window(&continuous));

@@ -209,8 +209,9 @@ fn alignment_weight_keeps_its_meaning_under_the_limits() {
 
 #[test]
 fn hands_only_input_is_not_limited() {
-    // Without wrists or pose the arm stays at rest and the hand takes the tracked rotation:
-    // limiting it against a resting forearm would only lose the hand's orientation.
+    // Without wrists, pose or arms from the hands alone (`handsOnly: false`) the arm stays at
+    // rest and the hand takes the tracked rotation: limiting it against a resting forearm would
+    // only lose the hand's orientation.
     let skel = recordings::vrm(recordings::FIXTURE_VRM1);
     let frames: Vec<FrameInput> = recordings::hand_video()
         .iter()
@@ -222,8 +223,20 @@ fn hands_only_input_is_not_limited() {
             f
         })
         .collect();
-    let mut on = Rig::new(skel.clone(), options(ArmSolver::TwoBone, true, false)).unwrap();
-    let mut off = Rig::new(skel.clone(), options(ArmSolver::TwoBone, false, false)).unwrap();
+    let hand_only = |mut o: RigOptions| {
+        o.hands_only.enabled = false;
+        o
+    };
+    let mut on = Rig::new(
+        skel.clone(),
+        hand_only(options(ArmSolver::TwoBone, true, false)),
+    )
+    .unwrap();
+    let mut off = Rig::new(
+        skel.clone(),
+        hand_only(options(ArmSolver::TwoBone, false, false)),
+    )
+    .unwrap();
     let (mut a, mut b) = (SolveOutput::default(), SolveOutput::default());
     let hand = Side::Right.hand().index();
     for f in &frames {

@@ -341,6 +341,7 @@ const median = (xs) => {
 let solveCount = 0;
 
 function solveAndShow(frame) {
+  demo.lastFrame = frame; // what the views solved (tests compare the arms with its wrists)
   // Alternate which rig solves first: the first wasm call after a render can be slowed by
   // whatever the renderer left running (software GL on a busy machine), and both timings
   // should see the same conditions.

@@ -29,8 +29,12 @@ function codeBlocks(heading, lang) {
 const HEADING = "## Quick start: three-vrm in the browser";
 
 const TASKS_VISION_STAND_IN = `
-// Stand-in for @mediapipe/tasks-vision: the shared hand recording, frame after frame.
-const recording = await (await fetch("/assets/right-hand-video-mediapipe.json")).json();
+// Stand-in for @mediapipe/tasks-vision: the shared hand recording, frame after frame (or, with
+// ?clip=NAME in the page's URL, the hands of that sign-language clip, without its pose).
+const clip = new URLSearchParams(location.search).get("clip");
+const recording = clip
+  ? (await (await fetch("clip.json?name=" + clip)).json()).frames
+  : await (await fetch("/assets/right-hand-video-mediapipe.json")).json();
 const qs = (globalThis.__quickstart ??= { detections: 0, applied: 0 });
 const points = (list) => list.map(([x, y, z]) => ({ x, y, z }));
 export const FilesetResolver = {
@@ -50,6 +54,7 @@ export class HandLandmarker {
     if (!(timestamp > (this.last ?? -Infinity))) throw new Error("detectForVideo: timestamps must increase");
     this.last = timestamp;
     const frame = recording[qs.detections++ % recording.length];
+    qs.wristImage = frame.hands.map((h) => h.landmarks[0]); // for the probe: where each hand is
     const handedness = frame.hands.map((h) => [
       { index: h.handedness === "Left" ? 0 : 1, score: h.score, categoryName: h.handedness, displayName: h.handedness },
     ]);
@@ -74,17 +79,34 @@ export function applyToVRM(vrm, result) {
   qs.applied++;
   qs.written = written;
   qs.vrm = vrm;
-  // The upper arms' largest angle from hanging straight down over every frame (degrees): a hand
-  // tracker gives no wrist, so the arms rest (arm.idle), never in the T-pose.
+  // Per frame and side, from the posed avatar (three-vrm's normalized bones, world space): an
+  // arm without a tracked hand rests (arm.idle): its upper arm's largest angle from hanging
+  // straight down; an arm with one follows it: the hand bone's world position against the
+  // hand's image wrist, and how far the arm is from the T-pose (upper arm and forearm straight
+  // out sideways). Neither may T-pose on any frame.
+  qs.idleFromDown ??= 0;
+  qs.armFromTPose ??= 180;
+  qs.seen ??= {};
+  qs.track ??= { left: [], right: [] };
+  vrm.scene.updateMatrixWorld(true);
+  const at = (name) => vrm.humanoid.getNormalizedBoneNode(name).matrixWorld.elements.slice(12, 15);
+  const deg = (u, v) => (Math.acos(Math.max(-1, Math.min(1, (u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (Math.hypot(...u) * Math.hypot(...v))))) * 180) / Math.PI;
   for (const side of ["left", "right"]) {
-    const upper = vrm.humanoid.getNormalizedBoneNode(side + "UpperArm");
-    const lower = vrm.humanoid.getNormalizedBoneNode(side + "LowerArm");
-    lower.updateWorldMatrix(true, false);
-    const a = upper.matrixWorld.elements;
-    const b = lower.matrixWorld.elements;
-    const d = [b[12] - a[12], b[13] - a[13], b[14] - a[14]];
-    const deg = (Math.acos(-d[1] / Math.hypot(d[0], d[1], d[2])) * 180) / Math.PI;
-    qs.armFromDown = Math.max(qs.armFromDown ?? 0, deg);
+    const [upper, lower, hand] = [at(side + "UpperArm"), at(side + "LowerArm"), at(side + "Hand")];
+    const d = [lower[0] - upper[0], lower[1] - upper[1], lower[2] - upper[2]];
+    const tracked = result.hands[side];
+    // The T-pose has the upper arm and the forearm straight out (a raised hand may take the
+    // upper arm out alone). Every arm, every frame: tracked, easing or at rest.
+    const outward = [Math.sign(upper[0] - at("hips")[0]), 0, 0];
+    const fore = [hand[0] - lower[0], hand[1] - lower[1], hand[2] - lower[2]];
+    qs.armFromTPose = Math.min(qs.armFromTPose, Math.max(deg(d, outward), deg(fore, outward)));
+    if (tracked) {
+      if (result.ikTargets[side]) qs.track[side].push({ hand, image: qs.wristImage[tracked.index] });
+      qs.seen[side] = performance.now();
+    } else if (performance.now() - (qs.seen[side] ?? -Infinity) > 1000) {
+      // At rest: no hand for longer than the dropout's hold and easing (250 + 500 ms).
+      qs.idleFromDown = Math.max(qs.idleFromDown, deg(d, [0, -1, 0]));
+    }
   }
   return written;
 }
@@ -130,6 +152,10 @@ before(async () => {
     if (rel === "" || rel === "index.html") done = body("text/html", html);
     else if (rel === "main.js") done = body("text/javascript", js);
     else if (rel === "avatar.vrm") done = file(join(SHARED, "avatars", "debug-robot.vrm"));
+    else if (rel === "clip.json") {
+      const name = new URL(route.request().url()).searchParams.get("name");
+      done = /^[a-z]+$/.test(name) ? file(fileIn(join(SHARED, "data", "asl"), `${name}.json`)) : null;
+    }
     else if (rel === "node_modules/@mediapipe/tasks-vision/vision_bundle.mjs") done = body("text/javascript", TASKS_VISION_STAND_IN);
     else if (rel === "node_modules/handrig/three-vrm.js") done = body("text/javascript", ADAPTER_PROBE);
     else if (rel === "node_modules/handrig/three-vrm.real.js") done = file(join(pkg, "three-vrm.js"));
@@ -163,7 +189,9 @@ test("the browser quick start runs as written: the hands of the recording drive 
     return {
       detections: qs.detections,
       applied: qs.applied,
-      armFromDown: qs.armFromDown,
+      idleFromDown: qs.idleFromDown,
+      armFromTPose: qs.armFromTPose,
+      tracked: { left: qs.track.left.length, right: qs.track.right.length },
       written: qs.written,
       options: qs.options,
       wasmBase: qs.wasmBase,
@@ -184,8 +212,11 @@ test("the browser quick start runs as written: the hands of the recording drive 
   const turned = (q) => Math.abs(q[3]) < 0.9999;
   assert.ok(turned(state.normalized.leftHand) && turned(state.normalized.leftIndexProximal), JSON.stringify(state.normalized));
   assert.deepEqual(state.normalized.rightIndexProximal, [0, 0, 0, 1]);
-  // No wrist to follow: both arms rest down by the sides on every frame, never the T-pose.
-  assert.ok(state.armFromDown < 30, `an upper arm ${state.armFromDown.toFixed(1)} degrees from hanging down`);
+  // The tracked hand places its arm (arms from hands alone) on most frames, never in the T-pose;
+  // the arm without a hand rests down by the side on every frame.
+  assert.ok(state.tracked.left > state.applied / 2 && state.tracked.right === 0, JSON.stringify(state.tracked));
+  assert.ok(state.armFromTPose > 30, `an arm ${state.armFromTPose.toFixed(1)} degrees from the T-pose`);
+  assert.ok(state.idleFromDown < 30, `the idle upper arm ${state.idleFromDown.toFixed(1)} degrees from hanging down`);
   // vrm.update copied the normalized rotations onto the model's own bones.
   const dot = Math.abs(state.raw.reduce((s, v, k) => s + v * state.rawRest[k], 0));
   assert.ok(dot < 0.9999, `raw leftIndexProximal still at rest: ${state.raw} vs ${state.rawRest}`);
@@ -221,4 +252,57 @@ test("HandRig.fromVrm from the fetched bytes, as the README writes it, builds th
   assert.equal(r.version, "1");
   assert.ok(r.worst < 1e-5, `rest positions differ by ${r.worst} m`);
   assert.deepEqual(errors, []);
+});
+
+test("the browser quick start on a sign-language clip's hands (no pose): both arms move with the hands, never in the T-pose", async () => {
+  const clipPage = await env.context.newPage();
+  const clipErrors = [];
+  clipPage.on("console", (m) => m.type() === "error" && clipErrors.push(`console.error: ${m.text()}`));
+  clipPage.on("pageerror", (e) => clipErrors.push(`pageerror: ${e.message}`));
+  await clipPage.goto(`${env.url}quickstart/index.html?clip=again`);
+  // again.json: 77 frames, both hands moving (one claps onto the other); played more than once.
+  await clipPage
+    .waitForFunction(() => (globalThis.__quickstart?.applied ?? 0) >= 130, null, { timeout: 120_000 })
+    .catch((e) => assert.fail(`${e.message}\nerrors: ${[...errors, ...clipErrors].join("\n")}`));
+  const png = await clipPage.screenshot({ path: shot("quickstart-hands-arms.png") });
+  const state = await clipPage.evaluate(() => {
+    const qs = globalThis.__quickstart;
+    return { applied: qs.applied, idleFromDown: qs.idleFromDown, armFromTPose: qs.armFromTPose, track: qs.track };
+  });
+  const viewport = clipPage.viewportSize();
+  await clipPage.close();
+  assert.deepEqual(clipErrors, []);
+  assert.ok(state.armFromTPose > 30, `an arm ${state.armFromTPose.toFixed(1)} degrees from the T-pose`);
+  assert.ok(state.idleFromDown < 30, `an idle upper arm ${state.idleFromDown.toFixed(1)} degrees from hanging down`);
+  // Pearson correlation of the avatar's hand bone (world, meters) with the hand's image wrist
+  // over the frames its arm was placed: up in the image (y smaller) is up. (Across is reported:
+  // with mirror: true, right in the un-mirrored image is the avatar's -X, as a mirror image
+  // moves.)
+  const r = (a, b) => {
+    const mean = (v) => v.reduce((s, x) => s + x, 0) / v.length;
+    const [ma, mb] = [mean(a), mean(b)];
+    let [ab, aa, bb] = [0, 0, 0];
+    for (let i = 0; i < a.length; i++) {
+      ab += (a[i] - ma) * (b[i] - mb);
+      aa += (a[i] - ma) ** 2;
+      bb += (b[i] - mb) ** 2;
+    }
+    return ab / Math.sqrt(aa * bb);
+  };
+  const report = {};
+  for (const side of ["left", "right"]) {
+    const t = state.track[side];
+    assert.ok(t.length > 40, `${side}: the arm placed from its hand on ${t.length} frames`);
+    const up = r(t.map((s) => s.hand[1]), t.map((s) => -s.image[1]));
+    const across = r(t.map((s) => s.hand[0]), t.map((s) => -s.image[0]));
+    const rise = Math.max(...t.map((s) => s.hand[1])) - Math.min(...t.map((s) => s.hand[1]));
+    report[side] = { frames: t.length, up: up.toFixed(2), across: across.toFixed(2), rise: rise.toFixed(2) };
+    // (Not 1: the depth from the hand's size, the reach limit and self-contact near the face
+    // move the hand bone too.)
+    assert.ok(up > 0.5, `${side}: the hand bone rises and falls with the image wrist: ${JSON.stringify(report[side])}`);
+    assert.ok(rise > 0.15, `${side}: the hand rose and fell ${rise.toFixed(2)} m`);
+  }
+  console.log(`# quick start on again.json's hands: ${JSON.stringify(report)}`);
+  const stats = await pixelStats(page, png, { x: 0, y: 0, w: viewport.width, h: viewport.height });
+  assert.ok(stats.nonBg > 100, `the avatar is drawn: ${JSON.stringify(stats)}`);
 });

@@ -77,6 +77,8 @@ describe("the real recording on debug-robot.vrm (fromVrm)", () => {
     const rightFingers = handBones("right").filter((b) => b !== "rightHand" && rig.boneNames().includes(b));
     assert.equal(rightFingers.length, 15);
     const handAngles = [];
+    const rightArm = ["rightShoulder", "rightUpperArm", "rightLowerArm"];
+    let armMoved = 0;
     // The rest a rig shows with nothing tracked: arms down by the sides (arm.idle "down").
     const idle = HandRig.fromVrm(readBytes(avatars.robot)).solve({ timeMs: 0 }, {}).bones;
     assert.ok(!isIdentity(idle.leftUpperArm) && !isIdentity(idle.rightLowerArm), "the idle arms hang down, not the T-pose");
@@ -86,16 +88,18 @@ describe("the real recording on debug-robot.vrm (fromVrm)", () => {
       assert.equal(r.hands.right?.status, "solved", `frame ${i}: the right hand not solved`);
       assert.equal(r.hands.left, undefined, `frame ${i}: a left hand reported`);
       for (const b of rightFingers) assert.ok(r.bones[b], `frame ${i}: ${b} missing from bones`);
-      // Every driven bone is reported; hand-only input moves nothing but the right hand (the
-      // arms stay at their idle rest).
+      // Every driven bone is reported; hand-only input moves the right hand and its arm (placed
+      // from the hand's image: handsOnly), nothing else (the left arm stays at its idle rest).
       for (const [b, q] of Object.entries(r.bones)) {
-        if (!right.has(b)) assert.ok(same(q, idle[b]), `frame ${i}: hand-only input moved ${b}`);
+        if (!right.has(b) && !rightArm.includes(b)) assert.ok(same(q, idle[b]), `frame ${i}: hand-only input moved ${b}`);
       }
+      if (r.ikTargets.right && !same(r.bones.rightUpperArm, idle.rightUpperArm)) armMoved++;
       handAngles.push(quatAngle(r.bones.rightHand));
     });
     // The hand turns during the video: its rotation is not one constant.
     const spread = Math.max(...handAngles) - Math.min(...handAngles);
     assert.ok(spread > 0.3, `rightHand rotation angle spread ${spread} rad over the recording`);
+    assert.ok(armMoved > frames.length / 2, `the right arm placed from the hand in ${armMoved} frames`);
     rig.free();
   });
 
@@ -131,12 +135,15 @@ describe("MediaPipe result shapes", () => {
   const frame = readRecording()[300];
   const hand = frame.hands[0];
   const obj = (p) => ({ x: p[0], y: p[1], z: p[2] });
-  const reference = (() => {
-    const rig = HandRig.fromVrm(readBytes(avatars.robot));
+  const solveOnce = (options) => {
+    const rig = HandRig.fromVrm(readBytes(avatars.robot), options);
     const r = rig.solve({ timeMs: frame.timeMs, hands: [hand] });
     rig.free();
     return r;
-  })();
+  };
+  const reference = solveOnce({});
+  // World landmarks alone place no arm (arms from hands alone read the image landmarks).
+  const worldOnly = solveOnce({ handsOnly: false });
 
   const shapes = {
     "handrig hands with {x,y,z} points": {
@@ -171,8 +178,9 @@ describe("MediaPipe result shapes", () => {
       const rig = HandRig.fromVrm(readBytes(avatars.robot));
       const r = rig.solve(input);
       assertResultWellFormed(r, name);
-      assert.deepEqual(Object.keys(r.bones).sort(), Object.keys(reference.bones).sort());
-      for (const [b, q] of Object.entries(reference.bones)) {
+      const want = input.hands?.[0]?.landmarks || input.landmarks || input.hands?.landmarks || input.multiHandLandmarks ? reference : worldOnly;
+      assert.deepEqual(Object.keys(r.bones).sort(), Object.keys(want.bones).sort());
+      for (const [b, q] of Object.entries(want.bones)) {
         const p = r.bones[b];
         const dot = Math.abs(q[0] * p[0] + q[1] * p[1] + q[2] * p[2] + q[3] * p[3]);
         // Float32Array input rounds the landmarks to f32, as the wasm side does anyway.

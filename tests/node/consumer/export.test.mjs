@@ -436,3 +436,42 @@ describe("docs/guide/export.md: a recording in Node", () => {
     }
   });
 });
+
+describe("docs/export.md: the playback block", () => {
+  it("plays a handrig .vrma with no three-vrm-animation warning (the look-at proxy); without the proxy the warning is the app's, not the file's", async () => {
+    const [block] = codeBlocks(docPage("export.md"), "### What the `.vrma` holds");
+    assert.ok(block?.includes("createVRMAnimationClip"), "the playback block");
+    const avatar = people.find((f) => f.endsWith("woman-vrm1.vrm"));
+    const rig = HandRig.fromVrm(readBytes(avatar));
+    const { recorder } = record(rig, clips.find((c) => c.name === "thanks.json").frames);
+    rig.free();
+    const bytes = recorder.toVRMA();
+    // The block as written, its imports given and the file parsed instead of fetched.
+    const body = block
+      .replace(/^import .*$/gm, "")
+      .replace('loader.loadAsync("thanks.vrma")', 'loader.parseAsync(bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength), "")')
+      .concat("\nreturn { clip, mixer };");
+    const AsyncFunction = (async () => {}).constructor;
+    const runBlock = new AsyncFunction("THREE", "GLTFLoader", "VRMAnimationLoaderPlugin", "VRMLookAtQuaternionProxy", "createVRMAnimationClip", "vrm", "bytes", body);
+    const [vrm, bare] = [await loadVRM(avatar), await loadVRM(avatar)];
+    const warnings = [];
+    const warn = console.warn;
+    console.warn = (...a) => warnings.push(a.join(" "));
+    try {
+      assert.ok(vrm.lookAt, "the avatar has a look-at (what the warning is about)");
+      const { clip, mixer } = await runBlock(THREE, GLTFLoader, VRMAnimationLoaderPlugin, VRMLookAtQuaternionProxy, createVRMAnimationClip, vrm, bytes);
+      mixer.update(0.5);
+      assert.ok(clip.tracks.length >= 30, `${clip.tracks.length} tracks`);
+      assert.deepEqual(warnings, []);
+      // The file has no look-at or expressions; the warning comes from a scene without the proxy.
+      const animation = await loadVRMA(bytes);
+      assert.equal(animation.lookAtTrack, null);
+      assert.equal(animation.expressionTracks.preset.size + animation.expressionTracks.custom.size, 0);
+      createVRMAnimationClip(animation, bare);
+      assert.equal(warnings.length, 1, warnings.join("\n"));
+      assert.match(warnings[0], /VRMLookAtQuaternionProxy is not found/);
+    } finally {
+      console.warn = warn;
+    }
+  });
+});

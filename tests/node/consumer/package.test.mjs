@@ -76,12 +76,48 @@ describe("the packed tarball", () => {
     });
   });
 
-  it("README and LICENSE are the repository's", () => {
+  it("README and LICENSE are the repository's, the README's links to files the tarball lacks pointing at the repository", () => {
     const repo = process.env.HANDRIG_REPO;
-    for (const f of ["README.md", "LICENSE"]) {
-      assert.equal(fs.readFileSync(path.join(installed, f), "utf8"), fs.readFileSync(path.join(repo, f), "utf8"));
-    }
+    assert.equal(fs.readFileSync(path.join(installed, "LICENSE"), "utf8"), fs.readFileSync(path.join(repo, "LICENSE"), "utf8"));
     assert.match(fs.readFileSync(path.join(installed, "LICENSE"), "utf8"), /^MIT License/);
+    const packed = fs.readFileSync(path.join(installed, "README.md"), "utf8");
+    const base = `${manifest.repository.url.replace(/^git\+/, "").replace(/\.git$/, "")}/blob/main/`;
+    // Only link targets changed: taking the base out again gives the repository's README.
+    assert.equal(packed.split(`](${base}`).join("]("), fs.readFileSync(path.join(repo, "README.md"), "utf8"));
+    let rewritten = 0;
+    for (const [, target] of packed.replace(/^```[\s\S]*?^```$/gm, "").matchAll(/\]\(([^)\s]+)/g)) {
+      const file = target.split("#")[0];
+      if (target.startsWith(base)) {
+        rewritten++;
+        assert.ok(fs.existsSync(path.join(repo, file.slice(base.length))), `${target}: no such file in the repository`);
+      } else if (!/^([a-z]+:|#)/i.test(target)) {
+        assert.ok(fs.existsSync(path.join(installed, file)), `${target}: a relative link to a file the package does not hold`);
+      }
+    }
+    assert.ok(rewritten >= 10, `${rewritten} links into the repository (docs/, CHANGELOG.md)`);
+  });
+
+  it("the README link rewriter (pkg-config/readme-links.mjs): relative links outside the package, anchors kept, code and absolute links untouched", async () => {
+    const { packedReadme } = await import(new URL(`file://${path.join(process.env.HANDRIG_REPO, "pkg-config", "readme-links.mjs")}`).href);
+    const text = [
+      "[a](docs/a.md#x) and ![img](./docs/i.png \"t\") and [lic](LICENSE) and [web](https://x.org/a.md) and [top](#install)",
+      "```md",
+      "[code](docs/a.md)",
+      "```",
+      "`[span](docs/b.md)` [root](/abs.md) [mail](mailto:a@b.c) [deep](docs/guide/c.md) [a link",
+      "over two lines](docs/d.md#y).",
+    ].join("\n");
+    assert.equal(
+      packedReadme(text, "https://h/blob/main/", ["LICENSE", "wasm/"]),
+      [
+        "[a](https://h/blob/main/docs/a.md#x) and ![img](https://h/blob/main/docs/i.png \"t\") and [lic](LICENSE) and [web](https://x.org/a.md) and [top](#install)",
+        "```md",
+        "[code](docs/a.md)",
+        "```",
+        "`[span](https://h/blob/main/docs/b.md)` [root](/abs.md) [mail](mailto:a@b.c) [deep](https://h/blob/main/docs/guide/c.md) [a link",
+        "over two lines](https://h/blob/main/docs/d.md#y).",
+      ].join("\n"),
+    );
   });
 });
 
