@@ -91,7 +91,7 @@ fn looks_image_normalized(world: &[Vec3]) -> bool {
 pub(crate) fn validate_frame(frame: &FrameInput) -> Result<()> {
     // (The flat decoder checks the aspect as it reads it.)
     if !(0.01..=100.0).contains(&frame.image_aspect) {
-        return Err(crate::Error::invalid(
+        return Err(crate::error::Error::invalid(
             "frame.imageAspect",
             "must be a number in 0.01..100 (width / height)",
         ));
