@@ -437,9 +437,9 @@ describe("docs/guide/export.md: a recording in Node", () => {
   });
 });
 
-describe("docs/export.md: the playback block", () => {
+describe("docs/guide/export.md: the playback block", () => {
   it("plays a handrig .vrma with no three-vrm-animation warning (the look-at proxy); without the proxy the warning is the app's, not the file's", async () => {
-    const [block] = codeBlocks(docPage("export.md"), "### What the `.vrma` holds");
+    const [block] = codeBlocks(docPage("guide/export.md"), "### What the `.vrma` holds");
     assert.ok(block?.includes("createVRMAnimationClip"), "the playback block");
     const avatar = people.find((f) => f.endsWith("woman-vrm1.vrm"));
     const rig = HandRig.fromVrm(readBytes(avatar));
