@@ -320,10 +320,8 @@ impl ContactSolver {
     /// when inside); hands the image shows touching are closed onto each other
     /// ([`hands::image_touch`]); the corrections are rate-limited (`rate`, against the targets
     /// at `start`); then every hand is pushed out of the body. Allocates nothing.
-    #[allow(clippy::too_many_arguments)]
     fn on_skin(
         &self,
-        surface: &skin::BodySurface,
         faces: &UserFaces,
         world: &WorldPose,
         targets: &mut [Option<SideTarget>; 2],
@@ -331,6 +329,7 @@ impl ContactSolver {
         start: &[Option<Vec3>; 2],
         rate: &mut ContactRate,
     ) {
+        let Some(surface) = &self.surface else { return };
         let o = &self.options;
         let mut spheres = [[(Vec3::ZERO, 0.0); skin::HAND_SPHERES]; 2];
         let mut count = [0; 2];
@@ -352,7 +351,7 @@ impl ContactSolver {
                 let w = o.weight * w * (1.0 - face);
                 if w > 0.0 {
                     if let Some(shift) =
-                        self.chest_shift(surface, faces.camera, world, t.wrist, hand, points, u, v)
+                        self.chest_shift(faces.camera, world, t.wrist, hand, points, [u, v])
                     {
                         t.wrist += w * shift;
                     }
@@ -407,22 +406,20 @@ impl ContactSolver {
         }
     }
 
-    /// The translation that puts a hand resting on the user's torso at `(u, v)` on the
+    /// The translation that puts a hand resting on the user's torso at `[u, v]` on the
     /// avatar's: its palm center carried to the same place across the avatar's torso (upper-arm
     /// joints for the shoulders, upper-leg joints for the hips), then settled onto the torso's
-    /// skin. `None` without those joints.
-    #[allow(clippy::too_many_arguments)]
+    /// skin. `None` without those joints or without a skin.
     fn chest_shift(
         &self,
-        surface: &skin::BodySurface,
         camera: CameraMapping,
         world: &WorldPose,
         wrist: Vec3,
         hand: &HandPoints,
         points: &[(Vec3, f32)],
-        u: f32,
-        v: f32,
+        [u, v]: [f32; 2],
     ) -> Option<Vec3> {
+        let surface = self.surface.as_ref()?;
         use crate::humanoid::bones::Side as S;
         let avatar_of = |pose: S| {
             if camera.pose_side_for(S::Left) == pose {
@@ -482,7 +479,6 @@ impl ContactSolver {
     /// knuckles. Returns the nearest part's anchor, `w`, the translation and the touching
     /// point (the parts' mean with the same weights, relative to the wrist); `None` when no
     /// part has an avatar match.
-    #[allow(clippy::too_many_arguments)]
     fn face_by_parts(
         &self,
         hand: &HandPoints,
@@ -490,8 +486,7 @@ impl ContactSolver {
         wrist: Vec3,
         user: &UserFace,
         faces: &UserFaces,
-        avatar_frame: &FaceFrame,
-        avatar_local: &[Vec3; ANCHORS],
+        (avatar_frame, avatar_local): (&FaceFrame, &[Vec3; ANCHORS]),
     ) -> Option<(FaceAnchor, f32, Vec3, Option<Vec3>)> {
         let o = &self.options;
         let mut nearest: Option<(FaceAnchor, f32)> = None;
@@ -599,8 +594,7 @@ impl ContactSolver {
                         t.wrist,
                         user,
                         faces,
-                        &avatar_frame,
-                        &avatar_local,
+                        (&avatar_frame, &avatar_local),
                     ) {
                         r.anchor = Some(anchor);
                         r.weight = w;
@@ -668,8 +662,8 @@ impl ContactSolver {
             }
         }
 
-        if let Some(surface) = &self.surface {
-            self.on_skin(surface, faces, world, targets, reports, &start, rate);
+        if self.surface.is_some() {
+            self.on_skin(faces, world, targets, reports, &start, rate);
         } else {
             rate.limit(&start, targets);
         }
