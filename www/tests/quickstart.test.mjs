@@ -16,6 +16,7 @@ import { readFileSync, statSync } from "node:fs";
 import { extname, join, normalize, resolve, sep } from "node:path";
 import { findPackageDir } from "../serve.mjs";
 import { launch, pixelStats, REPO, SHARED, shot, WWW } from "./helpers.mjs";
+import { ARM_PROBE } from "./arm-probe.mjs";
 
 const readme = readFileSync(join(REPO, "README.md"), "utf8");
 
@@ -84,31 +85,7 @@ export function applyToVRM(vrm, result) {
   // straight down; an arm with one follows it: the hand bone's world position against the
   // hand's image wrist, and how far the arm is from the T-pose (upper arm and forearm straight
   // out sideways). Neither may T-pose on any frame.
-  qs.idleFromDown ??= 0;
-  qs.armFromTPose ??= 180;
-  qs.seen ??= {};
-  qs.track ??= { left: [], right: [] };
-  vrm.scene.updateMatrixWorld(true);
-  const at = (name) => vrm.humanoid.getNormalizedBoneNode(name).matrixWorld.elements.slice(12, 15);
-  const deg = (u, v) => (Math.acos(Math.max(-1, Math.min(1, (u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (Math.hypot(...u) * Math.hypot(...v))))) * 180) / Math.PI;
-  for (const side of ["left", "right"]) {
-    const [upper, lower, hand] = [at(side + "UpperArm"), at(side + "LowerArm"), at(side + "Hand")];
-    const d = [lower[0] - upper[0], lower[1] - upper[1], lower[2] - upper[2]];
-    const tracked = result.hands[side];
-    // The T-pose has the upper arm and the forearm straight out (a raised hand may take the
-    // upper arm out alone). Every arm, every frame: tracked, easing or at rest.
-    const outward = [Math.sign(upper[0] - at("hips")[0]), 0, 0];
-    const fore = [hand[0] - lower[0], hand[1] - lower[1], hand[2] - lower[2]];
-    qs.armFromTPose = Math.min(qs.armFromTPose, Math.max(deg(d, outward), deg(fore, outward)));
-    if (tracked) {
-      if (result.ikTargets[side]) qs.track[side].push({ hand, image: qs.wristImage[tracked.index] });
-      qs.seen[side] = performance.now();
-    } else if (performance.now() - (qs.seen[side] ?? -Infinity) > 1000) {
-      // At rest: no hand for longer than the dropout's hold and easing (250 + 500 ms).
-      qs.idleFromDown = Math.max(qs.idleFromDown, deg(d, [0, -1, 0]));
-    }
-  }
-  return written;
+${ARM_PROBE}  return written;
 }
 `;
 
