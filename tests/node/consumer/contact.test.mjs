@@ -7,7 +7,7 @@ import assert from "node:assert/strict";
 import { describe, it } from "node:test";
 
 import { HandRig, LAYOUT } from "handrig";
-import { assertFiniteVec, avatars, readBytes, readRecording } from "./support.mjs";
+import { assertFiniteVec, avatars, readBytes, readRecording, throwsWith } from "./support.mjs";
 
 const robotBytes = readBytes(avatars.robot);
 const frames = readRecording();
@@ -19,15 +19,6 @@ const ANCHORS = ["nose", "chin", "mouth", "leftCheek", "rightCheek", "leftEar", 
 const add = (a, b) => a.map((x, i) => x + b[i]);
 const sub = (a, b) => a.map((x, i) => x - b[i]);
 const dist = (a, b) => Math.hypot(...sub(a, b));
-
-function throwsWith(fn, message) {
-  assert.throws(fn, (e) => {
-    assert.ok(e instanceof Error, `threw a non-Error: ${String(e)}`);
-    if (message instanceof RegExp) assert.match(e.message, message);
-    else assert.equal(e.message, message);
-    return true;
-  });
-}
 
 /**
  * A user (average adult face, 6 cm in front of the avatar's) touching their nose with the

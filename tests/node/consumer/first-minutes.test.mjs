@@ -10,20 +10,11 @@ import path from "node:path";
 import { describe, it } from "node:test";
 
 import { HandRig } from "handrig";
-import { avatars, isIdentity, readBytes, readRecording, shared } from "./support.mjs";
+import { avatars, holisticResult, isIdentity, landmark as pt, readBytes, readRecording, shared, throwsWith } from "./support.mjs";
 
 const robotBytes = readBytes(avatars.robot);
 const frames = readRecording();
 const hand = frames[10].hands[0];
-
-function throwsWith(fn, message) {
-  assert.throws(fn, (e) => {
-    assert.ok(e instanceof Error, `threw a non-Error: ${String(e)}`);
-    if (message instanceof RegExp) assert.match(e.message, message);
-    else assert.equal(e.message, message);
-    return true;
-  });
-}
 
 /** Runs `fn` with console.warn captured; returns the warnings. */
 function warnings(fn) {
@@ -43,23 +34,6 @@ function asl(clip) {
   return JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", `${clip}.json`), "utf8")).frames;
 }
 
-const pt = ([x, y, z, visibility]) => (visibility === undefined ? { x, y, z } : { x, y, z, visibility });
-
-/** A tasks-vision HolisticLandmarkerResult of an ASL frame (hands named by the subject's side). */
-function holisticResult(f) {
-  const side = (label) => f.hands.filter((h) => h.handedness === label).slice(0, 1);
-  return {
-    faceLandmarks: [],
-    faceBlendshapes: [],
-    poseLandmarks: [f.pose.landmarks.map(pt)],
-    poseWorldLandmarks: [f.pose.worldLandmarks.map(pt)],
-    poseSegmentationMasks: [],
-    leftHandLandmarks: side("Right").map((h) => h.landmarks.map(pt)),
-    leftHandWorldLandmarks: side("Right").map((h) => h.worldLandmarks.map(pt)),
-    rightHandLandmarks: side("Left").map((h) => h.landmarks.map(pt)),
-    rightHandWorldLandmarks: side("Left").map((h) => h.worldLandmarks.map(pt)),
-  };
-}
 
 describe("time", () => {
   it("a frame without timeMs warns once per rig and is taken as one 30 fps frame after the last", () => {

@@ -6,7 +6,7 @@ import { describe, it } from "node:test";
 
 import { HandRig, LAYOUT } from "handrig";
 import { applyToVRM } from "handrig/three-vrm";
-import { avatars, editedRobot, isIdentity, loadVRM, readBytes, readRecording } from "./support.mjs";
+import { avatars, editedRobot, holisticResult, isIdentity, landmark, loadVRM, readBytes, readRecording, throwsWith } from "./support.mjs";
 
 const robotBytes = readBytes(avatars.robot);
 const frames = readRecording();
@@ -16,15 +16,6 @@ const hand = frames[10].hands[0];
 function angle(a, b) {
   const d = Math.abs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]);
   return 2 * Math.acos(Math.min(1, d));
-}
-
-function throwsWith(fn, message) {
-  assert.throws(fn, (e) => {
-    assert.ok(e instanceof Error, `threw a non-Error: ${String(e)}`);
-    if (message instanceof RegExp) assert.match(e.message, message);
-    else assert.equal(e.message, message);
-    return true;
-  });
 }
 
 describe("options: dotted paths, and every error names the field", () => {
@@ -257,7 +248,6 @@ describe("tasks-vision HolisticLandmarker results", () => {
     const fs = await import("node:fs");
     const path = await import("node:path");
     const { shared } = await import("./support.mjs");
-    const pt = ([x, y, z, visibility]) => (visibility === undefined ? { x, y, z } : { x, y, z, visibility });
     const plain = HandRig.fromVrm(robotBytes);
     const holistic = HandRig.fromVrm(robotBytes);
     let hands = 0;
@@ -267,17 +257,7 @@ describe("tasks-vision HolisticLandmarker results", () => {
         const side = (label) => f.hands.filter((h) => h.handedness === label);
         // Frames where Hands gave one label twice have no Holistic counterpart.
         if (side("Left").length > 1 || side("Right").length > 1) continue;
-        const result = {
-          faceLandmarks: [],
-          faceBlendshapes: [],
-          poseLandmarks: [f.pose.landmarks.map(pt)],
-          poseWorldLandmarks: [f.pose.worldLandmarks.map(pt)],
-          poseSegmentationMasks: [],
-          leftHandLandmarks: side("Right").map((h) => h.landmarks.map(pt)),
-          leftHandWorldLandmarks: side("Right").map((h) => h.worldLandmarks.map(pt)),
-          rightHandLandmarks: side("Left").map((h) => h.landmarks.map(pt)),
-          rightHandWorldLandmarks: side("Left").map((h) => h.worldLandmarks.map(pt)),
-        };
+        const result = holisticResult(f);
         const want = plain.solve({ timeMs: f.timeMs, hands: f.hands.map((h) => ({ ...h, score: 1 })), pose: f.pose }, {});
         const got = holistic.solve({ timeMs: f.timeMs, ...result }, {});
         assert.deepEqual(got.bones, want.bones, `${clip} frame ${f.frame}`);
@@ -347,7 +327,7 @@ describe("issue 30: mistakes a new user makes, named", () => {
     const { shared } = await import("./support.mjs");
     return JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", `${clip}.json`), "utf8")).frames;
   };
-  const pt = ([x, y, z, visibility]) => (visibility === undefined ? { x, y, z } : { x, y, z, visibility });
+  const pt = landmark;
 
   it("a result nested under a field of the app's own (holistic, results): an Error naming the field", async () => {
     const f = (await asl("thanks"))[20];

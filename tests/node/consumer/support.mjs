@@ -180,3 +180,35 @@ export function editedRobot(edit) {
   head.write("JSON", 16);
   return Buffer.concat([head, text, bin]);
 }
+
+/** Asserts that `fn` throws an `Error` whose message is `message` (a string: exactly; a RegExp: matching). */
+export function throwsWith(fn, message) {
+  assert.throws(fn, (e) => {
+    assert.ok(e instanceof Error, `threw a non-Error: ${String(e)}`);
+    if (message instanceof RegExp) assert.match(e.message, message);
+    else assert.equal(e.message, message);
+    return true;
+  });
+}
+
+/** A recorded `[x, y, z, visibility?]` as a MediaPipe landmark object. */
+export const landmark = ([x, y, z, visibility]) => (visibility === undefined ? { x, y, z } : { x, y, z, visibility });
+
+/**
+ * A tasks-vision HolisticLandmarkerResult of a shared ASL frame: Holistic names hands by the
+ * subject's side, so its left hand is the one Hands labelled "Right" (the first of each label).
+ */
+export function holisticResult(f) {
+  const side = (label) => f.hands.filter((h) => h.handedness === label).slice(0, 1);
+  return {
+    faceLandmarks: [],
+    faceBlendshapes: [],
+    poseLandmarks: [f.pose.landmarks.map(landmark)],
+    poseWorldLandmarks: [f.pose.worldLandmarks.map(landmark)],
+    poseSegmentationMasks: [],
+    leftHandLandmarks: side("Right").map((h) => h.landmarks.map(landmark)),
+    leftHandWorldLandmarks: side("Right").map((h) => h.worldLandmarks.map(landmark)),
+    rightHandLandmarks: side("Left").map((h) => h.landmarks.map(landmark)),
+    rightHandWorldLandmarks: side("Left").map((h) => h.worldLandmarks.map(landmark)),
+  };
+}
