@@ -8,6 +8,8 @@
 //! HANDRIG_OPTIONS='{"contact":{"enabled":false}}' cargo run ...    (options as the JS API takes them)
 //! HANDRIG_AVATAR=tests/fixtures/avatars/woman-vrm1.vrm cargo run ...  (another avatar: a
 //!                                     generated one times self-contact on its skin)
+//! HANDRIG_FRAMES=eval/frames/hands-near-face.json cargo run ...  (other full frames, in the
+//!                                     ASL clips' format: e.g. where self-contact engages)
 //! ```
 //!
 //! Under `perf record` for a profile; `--passes` under `valgrind --tool=callgrind` for an
@@ -25,10 +27,14 @@ fn main() {
     let skeleton = recordings::vrm(
         &std::env::var("HANDRIG_AVATAR").unwrap_or_else(|_| recordings::ROBOT.to_string()),
     );
-    let frames: Vec<FrameInput> = recordings::ASL
-        .iter()
-        .flat_map(|c| recordings::asl(c))
-        .collect();
+    let frames: Vec<FrameInput> = match std::env::var("HANDRIG_FRAMES") {
+        Ok(file) => recordings::read_asl(std::path::Path::new(&file))
+            .unwrap_or_else(|e| panic!("HANDRIG_FRAMES: {e}")),
+        Err(_) => recordings::ASL
+            .iter()
+            .flat_map(|c| recordings::asl(c))
+            .collect(),
+    };
     let options: RigOptions = match std::env::var("HANDRIG_OPTIONS") {
         Ok(json) => RigOptions::from_json(&json).expect("HANDRIG_OPTIONS: rig options as JSON"),
         Err(_) => RigOptions::default(),

@@ -138,6 +138,10 @@ pub struct RadialMap {
     pub rows: usize,
     /// Largest skin radius per bin, `rows x SECTORS`.
     pub radius: Vec<f32>,
+    /// The largest of `radius` (plus a rounding allowance): no point farther from the axis
+    /// or center than this plus its margin can be inside, whatever its direction, so
+    /// [`RadialMap::depth_above`] answers such points without the direction's trigonometry.
+    widest: f32,
     /// The bone's rest position (world).
     rest: Vec3,
 }
@@ -157,6 +161,7 @@ impl RadialMap {
             bottom,
             rows,
             radius: vec![-1.0; rows * SECTORS],
+            widest: 0.0,
             rest: Vec3::ZERO,
         }
     }
@@ -241,6 +246,14 @@ impl RadialMap {
         }
     }
 
+    /// Sets [`RadialMap::widest`] from the filled bins.
+    fn measure_widest(&mut self) {
+        let widest = self.radius.iter().fold(0.0f32, |a, &r| a.max(r));
+        // A bilinear lookup of bins no larger than this cannot exceed it by more than
+        // rounding; the allowance keeps the bound an upper bound.
+        self.widest = widest + 1e-4;
+    }
+
     /// The skin's radius at continuous bin coordinates (bilinear, sectors wrap).
     #[inline]
     fn lookup(&self, row: f32, sec: f32) -> f32 {
@@ -271,15 +284,40 @@ impl RadialMap {
         position: Vec3,
         rotation: Quat,
     ) -> Option<(f32, Vec3)> {
+        self.depth_above(p, margin, position, rotation, f32::NEG_INFINITY)
+    }
+
+    /// [`RadialMap::depth`], or `None` also when the ball cannot be deeper than `floor`
+    /// (it is farther from the axis or center than the widest skin): the same answer
+    /// wherever it matters to a caller looking for depths above `floor`, without the
+    /// trigonometry of the ball's direction.
+    #[inline]
+    #[must_use]
+    pub fn depth_above(
+        &self,
+        p: Vec3,
+        margin: f32,
+        position: Vec3,
+        rotation: Quat,
+        floor: f32,
+    ) -> Option<(f32, Vec3)> {
         let q = self.rest + rotation.inverse() * (p - position);
-        let (row, sec, r) = self.coordinates(q);
-        if self.kind == MapKind::Cylinder
-            && (row < -margin / ROW || row > self.rows as f32 + margin / ROW)
-        {
+        let d = q - self.center;
+        let reach = match self.kind {
+            MapKind::Cylinder => {
+                let row = (q.y - self.bottom) / ROW;
+                if row < -margin / ROW || row > self.rows as f32 + margin / ROW {
+                    return None;
+                }
+                (d.x * d.x + d.z * d.z).sqrt()
+            }
+            MapKind::Sphere => d.length(),
+        };
+        if self.widest + margin - reach <= floor {
             return None;
         }
+        let (row, sec, r) = self.coordinates(q);
         let skin = self.lookup(row, sec);
-        let d = q - self.center;
         let radial = match self.kind {
             MapKind::Cylinder => {
                 // Forward by FORWARD_BIAS on the axis, fading to nothing 3 x FORWARD_BIAS out.
@@ -387,6 +425,7 @@ impl BodySurface {
                 map.add(*p);
             }
             map.fill();
+            map.measure_widest();
             maps[k] = Some(map);
         }
         if maps.iter().all(Option::is_none) {
@@ -425,6 +464,22 @@ impl BodySurface {
         world: &WorldPose,
         only: [bool; MAP_BONES.len()],
     ) -> Option<(f32, Vec3, usize)> {
+        self.depth_above(p, margin, world, only, f32::NEG_INFINITY)
+    }
+
+    /// [`BodySurface::depth`] for a caller that only wants depths above `floor`: maps the
+    /// ball cannot be deeper than `floor` in (nor than a map already seen) are skipped, so
+    /// the answer is `None` or any depth at most `floor` where `depth` might have given
+    /// another such one, and otherwise the same.
+    #[must_use]
+    pub fn depth_above(
+        &self,
+        p: Vec3,
+        margin: f32,
+        world: &WorldPose,
+        only: [bool; MAP_BONES.len()],
+        floor: f32,
+    ) -> Option<(f32, Vec3, usize)> {
         let mut best: Option<(f32, Vec3, usize)> = None;
         for (k, map) in self.maps.iter().enumerate() {
             let Some(map) = map else { continue };
@@ -432,7 +487,10 @@ impl BodySurface {
                 continue;
             }
             let b = map.bone.index();
-            if let Some((d, n)) = map.depth(p, margin, world.position[b], world.rotation[b]) {
+            let floor = best.map_or(floor, |(bd, _, _)| bd.max(floor));
+            if let Some((d, n)) =
+                map.depth_above(p, margin, world.position[b], world.rotation[b], floor)
+            {
                 if best.is_none_or(|(bd, _, _)| d > bd) {
                     best = Some((d, n, k));
                 }
@@ -571,8 +629,10 @@ impl BodySurface {
     /// of the map it is deepest in (Gauss-Seidel, three passes).
     #[must_use]
     pub fn push(&self, wrist: Vec3, points: &[(Vec3, f32)], world: &WorldPose) -> Vec3 {
+        // push_out moves only balls deeper than 0: the maps a ball cannot be that deep in
+        // are not sampled.
         super::colliders::push_out(1, points, |_, p, margin| {
-            self.depth(wrist + p, margin, world, [true; MAP_BONES.len()])
+            self.depth_above(wrist + p, margin, world, [true; MAP_BONES.len()], 0.0)
                 .map(|(d, n, _)| (d, n))
         })
     }
@@ -592,7 +652,10 @@ impl BodySurface {
         let deepest = |shift: Vec3| -> Option<(f32, Vec3)> {
             let mut best: Option<(f32, Vec3)> = None;
             for (p, margin) in points {
-                if let Some((d, n, _)) = self.depth(wrist + *p + shift, *margin, world, only) {
+                let floor = best.map_or(f32::NEG_INFINITY, |(bd, _)| bd);
+                if let Some((d, n, _)) =
+                    self.depth_above(wrist + *p + shift, *margin, world, only, floor)
+                {
                     if best.is_none_or(|(bd, _)| d > bd) {
                         best = Some((d, n));
                     }
@@ -603,22 +666,33 @@ impl BodySurface {
         let Some((d0, n)) = deepest(Vec3::ZERO) else {
             return Vec3::ZERO;
         };
-        // f(s) = the deepest sphere's depth with the hand moved by -s n (in for s > 0).
-        let f = |s: f32| deepest(-n * s).map_or(f32::NEG_INFINITY, |(d, _)| d);
+        // With the hand moved by -s n (in for s > 0): is the deepest sphere deeper than 0
+        // (`reaches(s, false)`), or at least 0 (`reaches(s, true)`)? Only the sign of the
+        // deepest depth is asked, so the first sphere that answers ends the search, and maps
+        // a sphere cannot be that deep in are not sampled.
+        let reaches = |s: f32, or_zero: bool| -> bool {
+            // The largest float below 0: a bound at most it is below 0.
+            let floor = if or_zero { -f32::from_bits(1) } else { 0.0 };
+            let shift = -n * s;
+            points.iter().any(|(p, margin)| {
+                self.depth_above(wrist + *p + shift, *margin, world, only, floor)
+                    .is_some_and(|(d, _, _)| if or_zero { d >= 0.0 } else { d > 0.0 })
+            })
+        };
         let (mut lo, mut hi) = if d0 < 0.0 {
             (0.0, -2.0 * d0 + 0.01)
         } else {
             (-2.0 * d0 - 0.01, 0.0)
         };
-        if d0 < 0.0 && f(hi) < 0.0 {
+        if d0 < 0.0 && !reaches(hi, true) {
             return -n * hi;
         }
-        if d0 >= 0.0 && f(lo) > 0.0 {
+        if d0 >= 0.0 && reaches(lo, false) {
             return -n * lo;
         }
         for _ in 0..16 {
             let mid = 0.5 * (lo + hi);
-            if f(mid) > 0.0 {
+            if reaches(mid, false) {
                 hi = mid;
             } else {
                 lo = mid;
