@@ -10,6 +10,9 @@
 //!                                     generated one times self-contact on its skin)
 //! HANDRIG_FRAMES=eval/frames/hands-near-face.json cargo run ...  (other full frames, in the
 //!                                     ASL clips' format: e.g. where self-contact engages)
+//! HANDRIG_DIGEST=1 cargo run ... -- --passes 1   (also prints a digest of every output of
+//!                                     every frame: two builds with the same digest gave
+//!                                     bit-identical outputs on these frames)
 //! ```
 //!
 //! Under `perf record` for a profile; `--passes` under `valgrind --tool=callgrind` for an
@@ -44,12 +47,21 @@ fn main() {
     let start = std::time::Instant::now();
     let mut n = 0usize;
     let mut pass = 0;
+    let digest = std::env::var("HANDRIG_DIGEST").is_ok();
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
     while pass < passes && start.elapsed().as_secs_f64() < secs {
         for f in &frames {
             rig.solve(f, &mut out).expect("solve");
+            if digest {
+                // Debug prints each float's shortest round-trip form: equal text, equal bits.
+                std::hash::Hash::hash(&format!("{out:?}"), &mut hasher);
+            }
             n += 1;
         }
         pass += 1;
+    }
+    if digest {
+        println!("digest {:016x}", std::hash::Hasher::finish(&hasher));
     }
     println!(
         "{:.2} us per frame over {n} frames",
