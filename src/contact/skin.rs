@@ -623,18 +623,98 @@ pub fn hand_spheres(
     n
 }
 
+/// Which maps a query looks at.
+type Mask = [bool; MAP_BONES.len()];
+
+/// A ball around a hand's balls: center relative to the wrist, and the largest distance
+/// from it to a ball's far side.
+#[derive(Clone, Copy, Debug)]
+struct Hull {
+    center: Vec3,
+    reach: f32,
+}
+
+impl Hull {
+    fn of(points: &[(Vec3, f32)]) -> Hull {
+        let n = points.len().max(1) as f32;
+        let center = points.iter().fold(Vec3::ZERO, |a, (p, _)| a + *p) / n;
+        let reach = points
+            .iter()
+            .fold(0.0f32, |a, (p, m)| a.max((*p - center).length() + m));
+        Hull { center, reach }
+    }
+}
+
+/// Rounding allowance of the hand-level bounds (m): they only skip what cannot matter.
+const BOUND_SLACK: f32 = 1e-4;
+
 impl BodySurface {
+    /// The maps of `only` in which some ball of a hand (its [`Hull`] centered at `center`,
+    /// world) might be deeper than `floor` (or inside a cylinder's band): the rest would
+    /// answer `None` to [`BodySurface::depth_above`] for every one of its balls, so a query
+    /// can skip them, rotating one point per map instead of one per ball.
+    fn near(&self, center: Vec3, reach: f32, world: &WorldPose, only: Mask, floor: f32) -> Mask {
+        let mut mask = only;
+        for (k, map) in self.maps.iter().enumerate() {
+            let Some(map) = map else { continue };
+            if !only[k] {
+                continue;
+            }
+            let b = map.bone.index();
+            let q = map.rest + world.rotation[b].inverse() * (center - world.position[b]);
+            let d = q - map.center;
+            let r = match map.kind {
+                MapKind::Cylinder => {
+                    let y = q.y - map.bottom;
+                    if y + reach < -BOUND_SLACK || y - reach > map.rows as f32 * ROW + BOUND_SLACK {
+                        mask[k] = false;
+                        continue;
+                    }
+                    (d.x * d.x + d.z * d.z).sqrt()
+                }
+                MapKind::Sphere => d.length(),
+            };
+            if map.widest + reach - r + BOUND_SLACK <= floor {
+                mask[k] = false;
+            }
+        }
+        mask
+    }
+
     /// The translation that moves the hand spheres (centers relative to `wrist`, world axes)
     /// out of the body: each sphere in turn pushed straight out
     /// of the map it is deepest in (Gauss-Seidel, three passes).
     #[must_use]
     pub fn push(&self, wrist: Vec3, points: &[(Vec3, f32)], world: &WorldPose) -> Vec3 {
-        // push_out moves only balls deeper than 0: the maps a ball cannot be that deep in
-        // are not sampled.
-        super::colliders::push_out(1, points, |_, p, margin| {
-            self.depth_above(wrist + p, margin, world, [true; MAP_BONES.len()], 0.0)
-                .map(|(d, n, _)| (d, n))
-        })
+        // As colliders::push_out with one body: only balls deeper than 0 move, so the maps
+        // the hand cannot be that deep in are not sampled (the mask is renewed whenever the
+        // hand has moved).
+        let hull = Hull::of(points);
+        let all = [true; MAP_BONES.len()];
+        let mut total = Vec3::ZERO;
+        for _ in 0..3 {
+            let mut moved = false;
+            let mut mask = self.near(wrist + hull.center + total, hull.reach, world, all, 0.0);
+            for (p, margin) in points {
+                if let Some((d, n, _)) =
+                    self.depth_above(wrist + (*p + total), *margin, world, mask, 0.0)
+                {
+                    if d > 0.0 {
+                        total += n * d;
+                        moved = true;
+                        mask = self.near(wrist + hull.center + total, hull.reach, world, all, 0.0);
+                    }
+                }
+            }
+            if !moved {
+                break;
+            }
+        }
+        if total.is_finite() {
+            total
+        } else {
+            Vec3::ZERO
+        }
     }
 
     /// The translation that lands the hand on the skin of the `only` maps: along the skin's
@@ -649,12 +729,20 @@ impl BodySurface {
         world: &WorldPose,
         only: [bool; MAP_BONES.len()],
     ) -> Vec3 {
+        let hull = Hull::of(points);
         let deepest = |shift: Vec3| -> Option<(f32, Vec3)> {
+            let mask = self.near(
+                wrist + hull.center + shift,
+                hull.reach,
+                world,
+                only,
+                f32::NEG_INFINITY,
+            );
             let mut best: Option<(f32, Vec3)> = None;
             for (p, margin) in points {
                 let floor = best.map_or(f32::NEG_INFINITY, |(bd, _)| bd);
                 if let Some((d, n, _)) =
-                    self.depth_above(wrist + *p + shift, *margin, world, only, floor)
+                    self.depth_above(wrist + *p + shift, *margin, world, mask, floor)
                 {
                     if best.is_none_or(|(bd, _)| d > bd) {
                         best = Some((d, n));
@@ -674,8 +762,12 @@ impl BodySurface {
             // The largest float below 0: a bound at most it is below 0.
             let floor = if or_zero { -f32::from_bits(1) } else { 0.0 };
             let shift = -n * s;
+            let mask = self.near(wrist + hull.center + shift, hull.reach, world, only, floor);
+            if !mask.contains(&true) {
+                return false;
+            }
             points.iter().any(|(p, margin)| {
-                self.depth_above(wrist + *p + shift, *margin, world, only, floor)
+                self.depth_above(wrist + *p + shift, *margin, world, mask, floor)
                     .is_some_and(|(d, _, _)| if or_zero { d >= 0.0 } else { d > 0.0 })
             })
         };
@@ -743,9 +835,39 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
     } else {
         (2.0 * g0 - 0.01, 0.0)
     };
+    // Moving the hands together by s changes a pair's gap by at most |s|, so only the pairs
+    // whose gap now is within the bracket's largest |s| can close during the bisection; the
+    // rest stay open, and asking whether any pair is closed needs only these.
+    // (Hands of more balls than a hand has are asked about every pair.)
+    let reach = if l.len() <= HAND_SPHERES && r.len() <= HAND_SPHERES {
+        lo.abs().max(hi.abs()) + 1e-5
+    } else {
+        f32::INFINITY
+    };
+    let mut pairs = [(0u8, 0u8); HAND_SPHERES * HAND_SPHERES];
+    let mut n = 0;
+    for (i, (a, ra)) in l.iter().enumerate().take(HAND_SPHERES) {
+        for (j, (b, rb)) in r.iter().enumerate().take(HAND_SPHERES) {
+            let g = ((right + *b) - (left + *a)).length() - CLOSE_RADII * (ra + rb);
+            if reach < f32::INFINITY && !(g > reach) {
+                pairs[n] = (i as u8, j as u8);
+                n += 1;
+            }
+        }
+    }
+    let closed = |s: f32| -> bool {
+        if reach == f32::INFINITY {
+            return !(gap(u, s).0 > 0.0);
+        }
+        pairs[..n].iter().any(|&(i, j)| {
+            let ((a, ra), (b, rb)) = (l[i as usize], r[j as usize]);
+            let d = (right + b - 0.5 * s * u) - (left + a + 0.5 * s * u);
+            d.length() - CLOSE_RADII * (ra + rb) <= 0.0
+        })
+    };
     for _ in 0..16 {
         let mid = 0.5 * (lo + hi);
-        if gap(u, mid).0 > 0.0 {
+        if !closed(mid) {
             lo = mid;
         } else {
             hi = mid;
