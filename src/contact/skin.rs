@@ -849,7 +849,7 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
     for (i, (a, ra)) in l.iter().enumerate().take(HAND_SPHERES) {
         for (j, (b, rb)) in r.iter().enumerate().take(HAND_SPHERES) {
             let g = ((right + *b) - (left + *a)).length() - CLOSE_RADII * (ra + rb);
-            if reach < f32::INFINITY && !(g > reach) {
+            if reach < f32::INFINITY && (g.is_nan() || g <= reach) {
                 pairs[n] = (i as u8, j as u8);
                 n += 1;
             }
@@ -857,7 +857,7 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
     }
     let closed = |s: f32| -> bool {
         if reach == f32::INFINITY {
-            return !(gap(u, s).0 > 0.0);
+            return gap(u, s).0 <= 0.0; // never NaN: the smallest of the gaps below infinity
         }
         pairs[..n].iter().any(|&(i, j)| {
             let ((a, ra), (b, rb)) = (l[i as usize], r[j as usize]);
