@@ -302,6 +302,25 @@ impl RadialMap {
         floor: f32,
     ) -> Option<(f32, Vec3)> {
         let q = self.rest + rotation.inverse() * (p - position);
+        let depth = self.depth_rest(q, margin, floor)?;
+        let d = q - self.center;
+        let radial = match self.kind {
+            MapKind::Cylinder => {
+                // Forward by FORWARD_BIAS on the axis, fading to nothing 3 x FORWARD_BIAS out.
+                let r = Vec3::new(d.x, 0.0, d.z);
+                let fade = (1.0 - r.length() / (3.0 * FORWARD_BIAS)).max(0.0);
+                r + Vec3::Z * (FORWARD_BIAS * fade)
+            }
+            MapKind::Sphere => d,
+        };
+        let n = radial.try_normalize().unwrap_or(Vec3::Z);
+        Some((depth, rotation * n))
+    }
+
+    /// [`RadialMap::depth_above`]'s depth of a ball at `q`, a point in the map's rest frame
+    /// (`rest + rotation⁻¹ (p - position)`).
+    #[inline]
+    fn depth_rest(&self, q: Vec3, margin: f32, floor: f32) -> Option<f32> {
         let d = q - self.center;
         let reach = match self.kind {
             MapKind::Cylinder => {
@@ -317,18 +336,25 @@ impl RadialMap {
             return None;
         }
         let (row, sec, r) = self.coordinates(q);
-        let skin = self.lookup(row, sec);
-        let radial = match self.kind {
+        Some(self.lookup(row, sec) + margin - r)
+    }
+
+    /// Whether a hand within `reach` of `q` (rest frame) may have a ball deeper than `floor`
+    /// in this map or within a cylinder's band (see [`BodySurface::near`]).
+    #[inline]
+    fn may_hold(&self, q: Vec3, reach: f32, floor: f32) -> bool {
+        let d = q - self.center;
+        let r = match self.kind {
             MapKind::Cylinder => {
-                // Forward by FORWARD_BIAS on the axis, fading to nothing 3 x FORWARD_BIAS out.
-                let r = Vec3::new(d.x, 0.0, d.z);
-                let fade = (1.0 - r.length() / (3.0 * FORWARD_BIAS)).max(0.0);
-                r + Vec3::Z * (FORWARD_BIAS * fade)
+                let y = q.y - self.bottom;
+                if y + reach < -BOUND_SLACK || y - reach > self.rows as f32 * ROW + BOUND_SLACK {
+                    return false;
+                }
+                (d.x * d.x + d.z * d.z).sqrt()
             }
-            MapKind::Sphere => d,
+            MapKind::Sphere => d.length(),
         };
-        let n = radial.try_normalize().unwrap_or(Vec3::Z);
-        Some((skin + margin - r, rotation * n))
+        self.widest + reach - r + BOUND_SLACK > floor
     }
 }
 
@@ -662,21 +688,7 @@ impl BodySurface {
             }
             let b = map.bone.index();
             let q = map.rest + world.rotation[b].inverse() * (center - world.position[b]);
-            let d = q - map.center;
-            let r = match map.kind {
-                MapKind::Cylinder => {
-                    let y = q.y - map.bottom;
-                    if y + reach < -BOUND_SLACK || y - reach > map.rows as f32 * ROW + BOUND_SLACK {
-                        mask[k] = false;
-                        continue;
-                    }
-                    (d.x * d.x + d.z * d.z).sqrt()
-                }
-                MapKind::Sphere => d.length(),
-            };
-            if map.widest + reach - r + BOUND_SLACK <= floor {
-                mask[k] = false;
-            }
+            mask[k] = map.may_hold(q, reach, floor);
         }
         mask
     }
@@ -754,21 +766,42 @@ impl BodySurface {
         let Some((d0, n)) = deepest(Vec3::ZERO) else {
             return Vec3::ZERO;
         };
-        // With the hand moved by -s n (in for s > 0): is the deepest sphere deeper than 0
+        // The balls (at most HAND_SPHERES) and the hull's center in each map's rest frame,
+        // and the direction of the move there: the hand moved by -s n puts a ball at
+        // `base + s dir`, so the search below rotates nothing.
+        let balls = &points[..points.len().min(HAND_SPHERES)];
+        let mut base = [[Vec3::ZERO; HAND_SPHERES]; MAP_BONES.len()];
+        let mut hub = [Vec3::ZERO; MAP_BONES.len()];
+        let mut dir = [Vec3::ZERO; MAP_BONES.len()];
+        for (k, map) in self.maps.iter().enumerate() {
+            let Some(map) = map.as_ref().filter(|_| only[k]) else {
+                continue;
+            };
+            let b = map.bone.index();
+            let inv = world.rotation[b].inverse();
+            let at = |p: Vec3| map.rest + inv * (p - world.position[b]);
+            dir[k] = inv * -n;
+            hub[k] = at(wrist + hull.center);
+            for (q, (p, _)) in base[k].iter_mut().zip(balls) {
+                *q = at(wrist + *p);
+            }
+        }
+        // With the hand moved by -s n (in for s > 0): is the deepest ball deeper than 0
         // (`reaches(s, false)`), or at least 0 (`reaches(s, true)`)? Only the sign of the
-        // deepest depth is asked, so the first sphere that answers ends the search, and maps
-        // a sphere cannot be that deep in are not sampled.
+        // deepest depth is asked, so the first ball that answers ends the search, and maps
+        // the hand cannot be that deep in are not sampled.
         let reaches = |s: f32, or_zero: bool| -> bool {
             // The largest float below 0: a bound at most it is below 0.
             let floor = if or_zero { -f32::from_bits(1) } else { 0.0 };
-            let shift = -n * s;
-            let mask = self.near(wrist + hull.center + shift, hull.reach, world, only, floor);
-            if !mask.contains(&true) {
-                return false;
-            }
-            points.iter().any(|(p, margin)| {
-                self.depth_above(wrist + *p + shift, *margin, world, mask, floor)
-                    .is_some_and(|(d, _, _)| if or_zero { d >= 0.0 } else { d > 0.0 })
+            self.maps.iter().enumerate().any(|(k, map)| {
+                let Some(map) = map.as_ref().filter(|_| only[k]) else {
+                    return false;
+                };
+                map.may_hold(hub[k] + dir[k] * s, hull.reach, floor)
+                    && base[k].iter().zip(balls).any(|(q, (_, margin))| {
+                        map.depth_rest(*q + dir[k] * s, *margin, floor)
+                            .is_some_and(|d| if or_zero { d >= 0.0 } else { d > 0.0 })
+                    })
             })
         };
         let (mut lo, mut hi) = if d0 < 0.0 {
@@ -782,7 +815,9 @@ impl BodySurface {
         if d0 >= 0.0 && reaches(lo, false) {
             return -n * lo;
         }
-        for _ in 0..16 {
+        // 12 halvings: the bracket (at most twice the depth plus 1 cm) to a few hundredths of
+        // a millimeter.
+        for _ in 0..12 {
             let mid = 0.5 * (lo + hi);
             if reaches(mid, false) {
                 hi = mid;
@@ -811,21 +846,24 @@ pub const CLOSE_RADII: f32 = 0.7;
 /// has no spheres.
 #[must_use]
 pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> Vec3 {
-    // The smallest surface gap with the hands moved together by s along u.
-    let gap = |u: Vec3, s: f32| -> (f32, Vec3) {
-        let mut best = (f32::INFINITY, Vec3::Z);
-        for (a, ra) in l {
-            for (b, rb) in r {
-                let d = (right + *b - 0.5 * s * u) - (left + *a + 0.5 * s * u);
-                let g = d.length() - CLOSE_RADII * (ra + rb);
-                if g < best.0 {
-                    best = (g, d);
-                }
+    // At most HAND_SPHERES balls a hand (more are not looked at).
+    let (l, r) = (
+        &l[..l.len().min(HAND_SPHERES)],
+        &r[..r.len().min(HAND_SPHERES)],
+    );
+    // Every pair's surface gap now, and the smallest.
+    let mut gaps = [0.0f32; HAND_SPHERES * HAND_SPHERES];
+    let (mut g0, mut d0) = (f32::INFINITY, Vec3::Z);
+    for (i, (a, ra)) in l.iter().enumerate() {
+        for (j, (b, rb)) in r.iter().enumerate() {
+            let d = (right + *b) - (left + *a);
+            let g = d.length() - CLOSE_RADII * (ra + rb);
+            gaps[i * HAND_SPHERES + j] = g;
+            if g < g0 {
+                (g0, d0) = (g, d);
             }
         }
-        best
-    };
-    let (g0, d0) = gap(Vec3::ZERO, 0.0);
+    }
     if !g0.is_finite() {
         return Vec3::ZERO;
     }
@@ -838,39 +876,33 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
     // Moving the hands together by s changes a pair's gap by at most |s|, so only the pairs
     // whose gap now is within the bracket's largest |s| can close during the bisection; the
     // rest stay open, and asking whether any pair is closed needs only these.
-    // (Hands of more balls than a hand has are asked about every pair.)
-    let reach = if l.len() <= HAND_SPHERES && r.len() <= HAND_SPHERES {
-        lo.abs().max(hi.abs()) + 1e-5
-    } else {
-        f32::INFINITY
-    };
+    let reach = lo.abs().max(hi.abs()) + 1e-5;
     let mut pairs = [(0u8, 0u8); HAND_SPHERES * HAND_SPHERES];
     let mut n = 0;
-    for (i, (a, ra)) in l.iter().enumerate().take(HAND_SPHERES) {
-        for (j, (b, rb)) in r.iter().enumerate().take(HAND_SPHERES) {
-            let g = ((right + *b) - (left + *a)).length() - CLOSE_RADII * (ra + rb);
-            if reach < f32::INFINITY && (g.is_nan() || g <= reach) {
+    for i in 0..l.len() {
+        for j in 0..r.len() {
+            let g = gaps[i * HAND_SPHERES + j];
+            if g.is_nan() || g <= reach {
                 pairs[n] = (i as u8, j as u8);
                 n += 1;
             }
         }
     }
     let closed = |s: f32| -> bool {
-        if reach == f32::INFINITY {
-            return gap(u, s).0 <= 0.0; // never NaN: the smallest of the gaps below infinity
-        }
         pairs[..n].iter().any(|&(i, j)| {
             let ((a, ra), (b, rb)) = (l[i as usize], r[j as usize]);
             let d = (right + b - 0.5 * s * u) - (left + a + 0.5 * s * u);
             d.length() - CLOSE_RADII * (ra + rb) <= 0.0
         })
     };
-    for _ in 0..16 {
+    // 12 halvings: the bracket (at most twice the gap plus 1 cm) to a few hundredths of a
+    // millimeter.
+    for _ in 0..12 {
         let mid = 0.5 * (lo + hi);
-        if !closed(mid) {
-            lo = mid;
-        } else {
+        if closed(mid) {
             hi = mid;
+        } else {
+            lo = mid;
         }
     }
     let total = u * lo;
