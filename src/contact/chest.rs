@@ -10,17 +10,25 @@
 //!   torso's middle (`|u| <= 0.5`, fading out by 0.6) and between the shoulders' and 45% of the
 //!   way to the hips (`v` in -0.05..0.45, fading over 0.05), `u`, `v` measured along the
 //!   image's shoulder line and shoulder-to-hip line ([`TorsoImage::coordinates`]);
-//! * **the palm turned to the body** (its back to the camera): the hand's image chirality
-//!   against its label ([`HandCue::facing`]);
-//! * **a flat hand**: the fingertips' mean distance from the wrist at least 1.55 palm
-//!   lengths (fading from 1.35), from the world landmarks; a bent hand in front of the chest
-//!   (the other hand's palm in `again`) is not resting on it;
+//! * **the hand on the body**, either of:
+//!   * **a flat palm turned to the body** (its back to the camera: the hand's image chirality
+//!     against its label, [`HandCue::facing`]), its fingertips' mean distance from the wrist
+//!     at least 1.55 palm lengths (fading from 1.35), from the world landmarks; a bent hand
+//!     in front of the chest (the other hand's palm in `again`) is not resting on it;
+//!   * **a hand of any shape that looks as near as the body** ([`HandCue::scale`] against
+//!     [`TorsoImage::scale`]: each one's image size over its metric size from MediaPipe's
+//!     world landmarks, the hand's from its palm, the body's from the shoulders): at least
+//!     1.3 times the body's (fading from 1.1). Chosen on the tune half of the labeled clips
+//!     (`again`, `eat`, `please`, `sister`: 49 of 50 chest hand-frames at 1.2, 6 of 142 other
+//!     hand-frames over the torso), reported on the other half (`brother`, `hungry`,
+//!     `thanks`: 24 of 32 chest hand-frames of `hungry`'s curved hand, 15 of 54 others over
+//!     the torso, 11 of them hands touching each other, which the next cue leaves out);
 //! * **the other hand away**: its palm center more than 0.5 shoulder widths off (fading from
 //!   0.4): two hands together over the torso are touching each other (hand-to-hand contact).
 //!
 //! Measured on the labeled clips (eval/labels): these cues select all 50 hand-frames labeled
-//! chest and 1 of the 290 labeled none whose hand is in the image (docs/how-it-works/contact.md). A fist or
-//! a curved hand on the chest is not recognized (a documented limit).
+//! chest and 1 of the 290 labeled none whose hand is in the image (docs/how-it-works/contact.md). With the
+//! size cue, also most of a curved hand's (`hungry`: docs/measurements/2026-12-06-contact-speed.md).
 //!
 //! Where: the palm's `(u, v)` carried onto the avatar's torso (its upper-arm joints for the
 //! shoulders, upper-leg joints for the hips), then the hand settled onto the chest skin along
@@ -38,6 +46,10 @@ pub struct TorsoImage {
     pub shoulders: [Vec3; 2],
     /// Pose landmarks 23 and 24.
     pub hips: [Vec3; 2],
+    /// The shoulders' image distance (x scaled by the image aspect) over their metric
+    /// distance across the camera (the pose's world landmarks' x and y): how large the body
+    /// looks for its size. 0 when unknown.
+    pub scale: f32,
 }
 
 impl TorsoImage {
@@ -70,6 +82,42 @@ pub struct HandCue {
     /// The four fingertips' mean distance from the wrist over the palm's length (world
     /// landmarks): about 1.9 for a flat hand, under 1 for a fist.
     pub extension: f32,
+    /// The palm's image size (wrist to index, middle and little knuckles, index to little
+    /// knuckle; x scaled by the image aspect) over its metric size (the same lengths of the
+    /// world landmarks): how large the hand looks for its size, as [`TorsoImage::scale`].
+    /// 0 when unknown.
+    pub scale: f32,
+}
+
+/// [`HandCue::scale`] of a hand's image and world landmarks.
+#[must_use]
+pub fn hand_scale(image: &[Vec3; 21], world: &[Vec3; 21], aspect: f32) -> f32 {
+    const SEGMENTS: [(usize, usize); 4] = [(0, 5), (0, 9), (0, 17), (5, 17)];
+    let (mut seen, mut size) = (0.0, 0.0);
+    for (a, b) in SEGMENTS {
+        let d = image[b] - image[a];
+        seen += (d.x * aspect).hypot(d.y);
+        size += (world[b] - world[a]).length();
+    }
+    let s = seen / size;
+    if s.is_finite() {
+        s
+    } else {
+        0.0
+    }
+}
+
+/// [`TorsoImage::scale`] of the shoulders' image and world landmarks.
+#[must_use]
+pub fn torso_scale(image: [Vec3; 2], world: [Vec3; 2], aspect: f32) -> f32 {
+    let d = image[0] - image[1];
+    let w = world[0] - world[1];
+    let s = (d.x * aspect).hypot(d.y) / w.x.hypot(w.y);
+    if s.is_finite() {
+        s
+    } else {
+        0.0
+    }
 }
 
 /// Smoothstep from 0 at `edge0` to 1 at `edge1` (0 for NaN).
@@ -93,12 +141,17 @@ pub fn weight(torso: &TorsoImage, hand: &HandCue, other: Option<&HandCue>) -> (f
         (1.0 - smooth(0.5, 0.6, u.abs())) * smooth(-0.1, -0.05, v) * (1.0 - smooth(0.45, 0.5, v));
     let facing = smooth(0.05, 0.25, hand.facing);
     let flat = smooth(1.35, 1.55, hand.extension);
+    let near = if torso.scale > 0.0 {
+        smooth(1.1, 1.3, hand.scale / torso.scale)
+    } else {
+        0.0
+    };
     let apart = other
         .and_then(|o| torso.coordinates(o.palm))
         .map_or(1.0, |(ou, ov)| {
             let d = ((ou - u).powi(2) + (1.4 * (ov - v)).powi(2)).sqrt();
             smooth(0.4, 0.5, d)
         });
-    let w = over * facing * flat * apart;
+    let w = over * (facing * flat).max(near) * apart;
     (if w.is_finite() { w } else { 0.0 }, u, v)
 }

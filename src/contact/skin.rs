@@ -698,35 +698,12 @@ impl BodySurface {
     /// of the map it is deepest in (Gauss-Seidel, three passes).
     #[must_use]
     pub fn push(&self, wrist: Vec3, points: &[(Vec3, f32)], world: &WorldPose) -> Vec3 {
-        // As colliders::push_out with one body: only balls deeper than 0 move, so the maps
-        // the hand cannot be that deep in are not sampled (the mask is renewed whenever the
-        // hand has moved).
-        let hull = Hull::of(points);
-        let all = [true; MAP_BONES.len()];
-        let mut total = Vec3::ZERO;
-        for _ in 0..3 {
-            let mut moved = false;
-            let mut mask = self.near(wrist + hull.center + total, hull.reach, world, all, 0.0);
-            for (p, margin) in points {
-                if let Some((d, n, _)) =
-                    self.depth_above(wrist + (*p + total), *margin, world, mask, 0.0)
-                {
-                    if d > 0.0 {
-                        total += n * d;
-                        moved = true;
-                        mask = self.near(wrist + hull.center + total, hull.reach, world, all, 0.0);
-                    }
-                }
-            }
-            if !moved {
-                break;
-            }
-        }
-        if total.is_finite() {
-            total
-        } else {
-            Vec3::ZERO
-        }
+        // push_out moves only balls deeper than 0: the maps a ball cannot be that deep in
+        // are not sampled.
+        super::colliders::push_out(1, points, |_, p, margin| {
+            self.depth_above(wrist + p, margin, world, [true; MAP_BONES.len()], 0.0)
+                .map(|(d, n, _)| (d, n))
+        })
     }
 
     /// The translation that lands the hand on the skin of the `only` maps: along the skin's

@@ -258,6 +258,7 @@ impl Contact {
                     palm,
                     facing: sign * sine,
                     extension,
+                    scale: crate::contact::chest::hand_scale(&img, &h.world, frame.image_aspect),
                 })
             });
         Some(HandPoints {
@@ -339,6 +340,11 @@ impl Contact {
                     seen.then(|| crate::contact::chest::TorsoImage {
                         shoulders: [image[11], image[12]],
                         hips: [image[23], image[24]],
+                        scale: crate::contact::chest::torso_scale(
+                            [image[11], image[12]],
+                            [pose.world[11], pose.world[12]],
+                            frame.image_aspect,
+                        ),
                     })
                 }
                 _ => None,
