@@ -444,10 +444,10 @@ impl ContactSolver {
         let forward = (world.rotation[c] * Vec3::Z).normalize_or(Vec3::Z);
         let mut shift = place - palm;
         shift -= forward * shift.dot(forward);
-        let mut only = [true; skin::MAP_BONES.len()];
-        only[skin::HEAD_MAP] = false;
-        only[1] = false; // the neck
-        let settle = surface.settle(wrist + shift, points, world, only);
+        // Onto the torso, but with the head and neck in the way: a hand on the upper chest
+        // stops under the chin rather than being settled into it (a curved hand at the collar
+        // on `hungry` ended 74 mm inside the man's chin with the torso alone).
+        let settle = surface.settle(wrist + shift, points, world, [true; skin::MAP_BONES.len()]);
         let total = shift + settle;
         total.is_finite().then_some(total)
     }

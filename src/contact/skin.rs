@@ -671,6 +671,10 @@ impl Hull {
     }
 }
 
+/// Half the width of the bracket that [`BodySurface::settle`] tries first around the deepest
+/// ball's own landing (m).
+const NEAR_GUESS: f32 = 0.001;
+
 /// Rounding allowance of the hand-level bounds (m): they only skip what cannot matter.
 const BOUND_SLACK: f32 = 1e-4;
 
@@ -792,9 +796,20 @@ impl BodySurface {
         if d0 >= 0.0 && reaches(lo, false) {
             return -n * lo;
         }
-        // 12 halvings: the bracket (at most twice the depth plus 1 cm) to a few hundredths of
-        // a millimeter.
-        for _ in 0..12 {
+        // Where the deepest ball alone would land (moved by its depth along the normal) is
+        // where the hand lands unless another ball comes first: when the landing lies within
+        // a millimeter of it, that bracket needs 5 halvings; otherwise the whole one 12 (at
+        // most twice the depth plus 1 cm), to a few hundredths of a millimeter either way.
+        let mut halvings = 12;
+        let guess = -d0;
+        if (lo..=hi).contains(&guess)
+            && !reaches(guess - NEAR_GUESS, false)
+            && reaches(guess + NEAR_GUESS, false)
+        {
+            (lo, hi) = (guess - NEAR_GUESS, guess + NEAR_GUESS);
+            halvings = 5;
+        }
+        for _ in 0..halvings {
             let mid = 0.5 * (lo + hi);
             if reaches(mid, false) {
                 hi = mid;
