@@ -244,5 +244,51 @@ pub(crate) fn validate_frame_with(
             }
         }
     }
+    if let Some(face) = &frame.face_tracking {
+        validate_face(face)?;
+    }
+    Ok(())
+}
+
+/// The face tracker's face: scores in 0..1, a finite column-major matrix with a rotation in it,
+/// landmarks within the coordinate limit.
+fn validate_face(face: &crate::face::FaceObservation) -> Result<()> {
+    use crate::error::Error;
+    if let Some(k) = face
+        .shapes
+        .as_ref()
+        .and_then(|s| s.iter().position(|v| !(0.0..=1.0).contains(v)))
+    {
+        return Err(Error::invalid(
+            format!("frame.faceBlendshapes.{}", crate::face::ARKIT[k]),
+            "must be a score in 0..1",
+        ));
+    }
+    if let Some(m) = &face.matrix {
+        let field = "frame.facialTransformationMatrixes[0].data";
+        if m.iter().any(|v| !v.is_finite()) {
+            return Err(Error::invalid(field, "must be 16 finite numbers"));
+        }
+        // Column-major: the bottom row (3, 7, 11, 15) is 0 0 0 1; row-major puts the
+        // translation there.
+        if m[3] != 0.0 || m[7] != 0.0 || m[11] != 0.0 {
+            return Err(Error::invalid(
+                field,
+                "must be column-major (MediaPipe's own layout: elements 3, 7 and 11 are 0, the \
+                 translation is 12..14); this one looks row-major or transposed",
+            ));
+        }
+        let c0 = Vec3::new(m[0], m[1], m[2]).length();
+        let c1 = Vec3::new(m[4], m[5], m[6]).length();
+        if !(c0 > 1e-6 && c1 > 1e-6) {
+            return Err(Error::invalid(field, "has no rotation (a zero column)"));
+        }
+    }
+    if let Some((k, e)) = face.mesh.as_ref().and_then(|p| points_problem(p)) {
+        return Err(Error::invalid(
+            format!("frame.faceLandmarks[{}]", crate::face::MESH[k]),
+            e,
+        ));
+    }
     Ok(())
 }
