@@ -478,6 +478,15 @@ export class HandRig {
     return { left: Number.isNaN(left) ? null : left, right: Number.isNaN(right) ? null : right };
   }
 
+  /**
+   * Starts the neutral face's calibration again: the next `face.calibrationTime` seconds of face
+   * frames are averaged into the user's neutral face (call it while the user looks at the camera
+   * with a relaxed face). A rig calibrates over its first face frames by itself.
+   */
+  calibrateFace(): void {
+    this.#live("calibrateFace").calibrateFace();
+  }
+
   /** Releases the wasm memory. Safe to call twice (idempotent); the rig throws on use afterwards. */
   free(): void {
     const r = this.#raw;
