@@ -15,6 +15,7 @@ import {
   packTorso,
   packWrists,
 } from "./frame-body.js";
+import { faceResultAsFace, packFaceTracking } from "./frame-face.js";
 import { looksLikeOneHand, packHandList, packResultShape } from "./frame-hands.js";
 import { LI } from "./layout.js";
 
@@ -92,7 +93,8 @@ function checkUnknownObjects(frame: Bag): void {
         `frame.${key}`,
         `unknown field holding ${describe(v)}: handrig reads ${KNOWN_FRAME_KEYS.slice(0, 7).join(", ")} and ` +
           "MediaPipe results' own fields from the frame itself (a HolisticLandmarker result is spread into it: " +
-          "rig.solve({ timeMs, ...result }); a HandLandmarker result goes in frame.hands, a PoseLandmarker result in frame.pose)",
+          "rig.solve({ timeMs, ...result }); a HandLandmarker result goes in frame.hands, a PoseLandmarker result in frame.pose, " +
+          "a FaceLandmarker result is spread too: rig.solve({ timeMs, hands, ...face }))",
       );
     }
   }
@@ -195,8 +197,11 @@ export function packFrame(frame: unknown, input: Float32Array, lookAround: boole
   const face = frame.face;
   if (face !== undefined && face !== null) {
     given = true;
+    if (isObject(face)) faceResultAsFace(face);
     packFace(face, input);
   }
+  // A face tracker's face (issue 50): FaceLandmarker / Holistic fields spread into the frame.
+  if (packFaceTracking(frame, input)) given = true;
 
   if (!given && t === undefined) {
     const keys = Object.keys(frame);

@@ -183,7 +183,7 @@ export interface OutputLayout {
   readonly expressions: number;
   /** The 52 ARKit weights, 0 to 1, in `LAYOUT.arkit` order (the avatar's sides). */
   readonly arkit: number;
-  /** Look-at yaw and pitch, degrees (three-vrm's `VRMLookAt`: yaw > 0 toward the avatar's left, pitch > 0 up). */
+  /** Look-at yaw and pitch, degrees (three-vrm's `VRMLookAt`: yaw > 0 toward the avatar's left, pitch > 0 down). */
   readonly lookAt: number;
   /** Length of the array. */
   readonly length: number;

@@ -162,7 +162,42 @@ export function fillResult(
   const count = input[LI.handCount]!;
   use.length = count;
   for (let k = 0; k < count; k++) use[k] = HAND_USE[out[LO.handUse + k]!];
+  fillFace(r, out, arrays.bones, driven);
   return result;
+}
+
+// The face (issue 50): the neck and head it turns, the presets, the ARKit weights, the look-at.
+const FACE_BONES = [BONES.indexOf("neck"), BONES.indexOf("head")];
+const EXPRESSIONS = LAYOUT.expressions;
+const ARKIT_COUNT = LAYOUT.arkit.length;
+const FACE_STATE: readonly (string | null)[] = [null, "tracked", "lost"];
+
+function fillFace(r: Mutable, out: Float32Array, bones: Mutable, driven: number[]): void {
+  for (let k = 0; k < 2; k++) {
+    const b = FACE_BONES[k]!;
+    if (driven.includes(b)) continue;
+    const name = BONES[b]!;
+    if (out[LO.boneFlags + b] !== 0) {
+      let q = bones[name] as number[] | undefined;
+      if (!Array.isArray(q) || q.length !== 4) q = bones[name] = [0, 0, 0, 1];
+      quat(out, LO.boneRotations + 4 * b, q);
+    } else if (name in bones) delete bones[name];
+  }
+  const state = FACE_STATE[out[LO.faceState]!] ?? null;
+  let ex = r.expressions as Mutable;
+  let arkit = r.arkit as Float32Array;
+  let look = r.lookAt as { yaw: number; pitch: number };
+  const fresh = !isObject(ex) || !(arkit instanceof Float32Array) || arkit.length !== ARKIT_COUNT || !isObject(look);
+  if (fresh) {
+    ex = r.expressions = {};
+    arkit = r.arkit = new Float32Array(ARKIT_COUNT);
+    look = r.lookAt = { yaw: 0, pitch: 0 };
+  } else if (state === null && r.face === null) return; // no face, and all zero already
+  r.face = state;
+  for (let k = 0; k < EXPRESSIONS.length; k++) ex[EXPRESSIONS[k]!] = out[LO.expressions + k]!;
+  for (let k = 0; k < ARKIT_COUNT; k++) arkit[k] = out[LO.arkit + k]!;
+  look.yaw = out[LO.lookAt]!;
+  look.pitch = out[LO.lookAt + 1]!;
 }
 
 /**

@@ -6,7 +6,7 @@
 //! without blendshapes a few face-mesh landmarks ([`MESH`]) from which the blinks and the mouth
 //! are measured. Out: the 52 ARKit weights (perfect sync), the VRM 1.0 presets ([`PRESETS`]), the
 //! look-at (yaw, pitch in degrees, three-vrm's `VRMLookAt` convention: yaw > 0 toward the avatar's
-//! left, pitch > 0 up) and the head's world rotation.
+//! left, pitch > 0 down) and the head's world rotation.
 //!
 //! Sides follow MediaPipe's labels as for hands: a `Left` name is the side seen on the image's
 //! left on a non-mirrored image, so it is mapped like a hand labelled `Left`
@@ -435,7 +435,8 @@ impl Face {
             clamp01(h),
             clamp01(-h),
         ]);
-        self.look_at = [h * EYE_RANGE_DEG, v * EYE_RANGE_DEG];
+        // three-vrm's pitch is > 0 looking down.
+        self.look_at = [h * EYE_RANGE_DEG, -v * EYE_RANGE_DEG];
         self.head_rotation = obs.matrix.map(|m| {
             let euro = crate::filter::OneEuroOptions {
                 min_cutoff: o.min_cutoff,

@@ -217,7 +217,7 @@ layout_side! {
         /// The 52 ARKit weights, 0 to 1, in `LAYOUT.arkit` order (the avatar's sides).
         ARKIT arkit: SHAPES;
         /// Look-at yaw and pitch, degrees (three-vrm's `VRMLookAt`: yaw > 0 toward the avatar's
-        /// left, pitch > 0 up).
+        /// left, pitch > 0 down).
         LOOK_AT lookAt: 2;
     }
 }

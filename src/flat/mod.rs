@@ -300,7 +300,9 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
 /// The face tracker's face (issue 50).
 fn read_face_tracking(buf: &[f32], frame: &mut FrameInput) -> Result<()> {
     use crate::face::{FaceObservation, MESH_POINTS, SHAPES};
-    if !flag(buf, input::FACE_TRACKED, || "frame.faceLandmarks".into())? {
+    // (the npm package writes only 0 and 1 here)
+    let on = |at: usize| buf[at] == 1.0;
+    if !on(input::FACE_TRACKED) {
         return Ok(());
     }
     let mut face = FaceObservation {
@@ -315,14 +317,12 @@ fn read_face_tracking(buf: &[f32], frame: &mut FrameInput) -> Result<()> {
         s.copy_from_slice(&buf[input::FACE_SHAPES..input::FACE_SHAPES + SHAPES]);
         face.shapes = Some(s);
     }
-    if flag(buf, input::FACE_HAS_MATRIX, || {
-        "frame.facialTransformationMatrixes".into()
-    })? {
+    if on(input::FACE_HAS_MATRIX) {
         let mut m = [0.0; 16];
         m.copy_from_slice(&buf[input::FACE_MATRIX..input::FACE_MATRIX + 16]);
         face.matrix = Some(m);
     }
-    if flag(buf, input::FACE_HAS_MESH, || "frame.faceLandmarks".into())? {
+    if on(input::FACE_HAS_MESH) {
         let mut p = [Vec3::ZERO; MESH_POINTS];
         points(buf, input::FACE_MESH, 3, &mut p);
         face.mesh = Some(p);

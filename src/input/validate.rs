@@ -251,43 +251,41 @@ pub(crate) fn validate_frame_with(
 }
 
 /// The face tracker's face: scores in 0..1, a finite column-major matrix with a rotation in it,
-/// landmarks within the coordinate limit.
+/// landmarks within the coordinate limit. (The npm package names the blendshape or landmark
+/// before this runs.)
 fn validate_face(face: &crate::face::FaceObservation) -> Result<()> {
     use crate::error::Error;
-    if let Some(k) = face
+    if face
         .shapes
-        .as_ref()
-        .and_then(|s| s.iter().position(|v| !(0.0..=1.0).contains(v)))
+        .is_some_and(|s| s.iter().any(|v| !(0.0..=1.0).contains(v)))
     {
         return Err(Error::invalid(
-            format!("frame.faceBlendshapes.{}", crate::face::ARKIT[k]),
-            "must be a score in 0..1",
+            "frame.faceBlendshapes",
+            "scores must be in 0..1",
         ));
     }
     if let Some(m) = &face.matrix {
-        let field = "frame.facialTransformationMatrixes[0].data";
-        if m.iter().any(|v| !v.is_finite()) {
-            return Err(Error::invalid(field, "must be 16 finite numbers"));
-        }
-        // Column-major: the bottom row (3, 7, 11, 15) is 0 0 0 1; row-major puts the
-        // translation there.
-        if m[3] != 0.0 || m[7] != 0.0 || m[11] != 0.0 {
+        // Column-major: elements 3, 7, 11 (the bottom row) are 0; row-major puts the
+        // translation there. A rotation has no zero column.
+        let c0 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
+        if !(m[3] == 0.0 && m[7] == 0.0 && m[11] == 0.0 && c0 > 1e-12)
+            || m.iter().any(|v| !v.is_finite())
+        {
             return Err(Error::invalid(
-                field,
-                "must be column-major (MediaPipe's own layout: elements 3, 7 and 11 are 0, the \
-                 translation is 12..14); this one looks row-major or transposed",
+                "frame.facialTransformationMatrixes[0].data",
+                "must be a finite 4x4 rotation and translation, column-major (elements 3, 7, 11 \
+                 are 0): row-major given?",
             ));
         }
-        let c0 = Vec3::new(m[0], m[1], m[2]).length();
-        let c1 = Vec3::new(m[4], m[5], m[6]).length();
-        if !(c0 > 1e-6 && c1 > 1e-6) {
-            return Err(Error::invalid(field, "has no rotation (a zero column)"));
-        }
     }
-    if let Some((k, e)) = face.mesh.as_ref().and_then(|p| points_problem(p)) {
+    if face
+        .mesh
+        .as_ref()
+        .is_some_and(|p| points_problem(p).is_some())
+    {
         return Err(Error::invalid(
-            format!("frame.faceLandmarks[{}]", crate::face::MESH[k]),
-            e,
+            "frame.faceLandmarks",
+            "must be finite numbers within -1000..1000",
         ));
     }
     Ok(())

@@ -24,6 +24,9 @@ impl FaceStage {
         self.lost_ms = None;
     }
 
+    // Out of line: inlined into solve_valid it cost a second copy of the body's forward
+    // kinematics.
+    #[inline(never)]
     /// Runs after the torso: `out.face`, and the neck and head in `out.local` (the world pose
     /// posed again) when the face turns them.
     pub(super) fn run(&mut self, cx: &Context, _f: &mut Frame, out: &mut SolveOutput) {

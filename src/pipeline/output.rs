@@ -85,7 +85,7 @@ pub struct FaceReport {
     /// The 52 ARKit weights ([`crate::face::ARKIT`] order, the avatar's sides), 0..1.
     pub arkit: [f32; crate::face::SHAPES],
     /// Look-at yaw and pitch in degrees (three-vrm's `VRMLookAt`: yaw > 0 toward the avatar's
-    /// left, pitch > 0 up).
+    /// left, pitch > 0 down).
     pub look_at: [f32; 2],
     /// Whether the face turned the neck and head this frame (they are then reported driven).
     pub head: bool,

@@ -135,7 +135,7 @@ fn a_blink_closes_at_once_opens_limited_and_looking_down_is_not_one() {
     step(down, &mut out);
     assert_eq!(preset(&out, "blink"), 0.0);
     assert!(
-        out.face.look_at[1] < -5.0,
+        out.face.look_at[1] > 5.0,
         "pitch (smoothed) {}",
         out.face.look_at[1]
     );
@@ -246,7 +246,7 @@ fn a_row_major_matrix_and_bad_scores_are_named() {
     let mut w = [0.0; SHAPES];
     w[shape("jawOpen")] = 2.0;
     let e = r.solve(&frame(0.0, w, None), &mut out).unwrap_err();
-    assert!(e.to_string().contains("jawOpen"), "{e}");
+    assert!(e.to_string().contains("faceBlendshapes"), "{e}");
     // The rig stays usable.
     r.solve(&frame(33.0, [0.0; SHAPES], None), &mut out)
         .unwrap();
