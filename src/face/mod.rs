@@ -8,16 +8,16 @@
 //! look-at (yaw, pitch in degrees, three-vrm's `VRMLookAt` convention: yaw > 0 toward the avatar's
 //! left, pitch > 0 down) and the head's world rotation.
 //!
-//! Sides follow MediaPipe's labels as for hands: a `Left` name is the side seen on the image's
-//! left on a non-mirrored image, so it is mapped like a hand labelled `Left`
-//! ([`CameraMapping::avatar_side`]); after [`Face::solve`] every `Left` weight is the avatar's
+//! Sides: MediaPipe's blendshape names are the face's own sides in the image it was given (on
+//! the shared clips `eyeBlinkLeft` follows the eye on the image's right and `eyeLookOutLeft` the
+//! gaze toward it: the subject's left on an un-mirrored image), so they are swapped exactly when
+//! the x axis is ([`CameraMapping::flips_x`]); after [`Face::solve`] every `Left` weight is the avatar's
 //! left. See docs/how-it-works/face.md.
 
 use glam::{Mat3, Quat, Vec3};
 
 use crate::filter::one_euro::alpha;
-use crate::humanoid::bones::Side;
-use crate::input::mediapipe::{CameraMapping, Handedness};
+use crate::input::mediapipe::CameraMapping;
 
 /// How many ARKit blendshapes.
 pub const SHAPES: usize = 52;
@@ -290,8 +290,9 @@ fn from_mesh(p: &[Vec3; MESH_POINTS], aspect: f32, out: &mut [f32; SHAPES]) {
     for e in 0..2 {
         let b = 6 * e;
         let ear = (d(b + 1, b + 5) + d(b + 2, b + 4)) / (2.0 * d(b, b + 3)).max(1e-6);
-        // Open eyes measure about 0.3, closed about 0.08.
-        out[BLINK + e] = clamp01((0.28 - ear) / 0.2);
+        // Open eyes measure about 0.3, closed about 0.08. The image-left eye (e = 0) is the
+        // face's right.
+        out[BLINK + 1 - e] = clamp01((0.28 - ear) / 0.2);
     }
     let height = d(16, 17).max(1e-6);
     let width = d(18, 19).max(1e-6);
@@ -356,7 +357,7 @@ impl Face {
         } else if let Some(m) = &obs.mesh {
             from_mesh(m, aspect, &mut raw);
         }
-        if camera.avatar_side(Handedness::Left) == Side::Right {
+        if camera.flips_x() {
             for (a, b) in PAIRS {
                 raw.swap(a as usize, b as usize);
             }

@@ -47,7 +47,9 @@ fn perfect_sync_passes_weights_through_mirrored_and_presets_move() {
     }
     let mut opts = RigOptions::per_frame();
     opts.face.calibration_time = 0.0;
-    // Un-mirrored input, no mirror: MediaPipe's "Left" (the image's left) is the avatar's right.
+    // Mirrored input, no mirror: MediaPipe's "Left" (the face's left in the flipped image, the
+    // user's right) is the avatar's right.
+    opts.input_mirrored = true;
     let mut r = rig(opts);
     let mut out = SolveOutput::default();
     r.solve(&frame(0.0, [0.0; SHAPES], None), &mut out).unwrap();
@@ -67,8 +69,8 @@ fn perfect_sync_passes_weights_through_mirrored_and_presets_move() {
             w[partner]
         );
     }
-    // Mirrored input: the names are the avatar's sides.
-    opts.input_mirrored = true;
+    // Un-mirrored input: the names are the avatar's sides.
+    opts.input_mirrored = false;
     let mut r = rig(opts);
     r.solve(&frame(0.0, [0.0; SHAPES], None), &mut out).unwrap();
     r.solve(&frame(33.0, w, None), &mut out).unwrap();
@@ -97,7 +99,6 @@ fn perfect_sync_passes_weights_through_mirrored_and_presets_move() {
 fn a_blink_closes_at_once_opens_limited_and_looking_down_is_not_one() {
     let mut o = RigOptions::default();
     o.face.calibration_time = 0.0;
-    o.input_mirrored = true;
     let mut r = rig(o);
     let mut out = SolveOutput::default();
     let mut t = 0.0;

@@ -69,7 +69,7 @@ const vrm1 = () => avatarFiles(".vrm").find((f) => f.endsWith("woman-vrm1.vrm"))
 describe("the face", () => {
   it("a FaceLandmarker result spread into the frame: presets, ARKit weights, look-at, the head", async () => {
     const vrm = await loadVRM(vrm1());
-    const rig = new HandRig(restPoseFromVRM(vrm), { inputMirrored: true, face: { smoothing: false, calibrationTime: 0 } });
+    const rig = new HandRig(restPoseFromVRM(vrm), { face: { smoothing: false, calibrationTime: 0 } });
     const none = rig.solve({ timeMs: 0 });
     assert.equal(none.face, null);
     assert.equal(none.bones.head, undefined, "no face: the head is not driven");
@@ -93,7 +93,7 @@ describe("the face", () => {
   it("perfect sync: 52 ARKit expressions with a prefix each get their weight within 0.05 (smoothing off)", async () => {
     const vrm = await loadVRM(vrm1());
     const manager = await withExpressions(vrm, ARKIT.map((n) => `BlendShape.${n[0].toUpperCase()}${n.slice(1)}`));
-    const rig = new HandRig(restPoseFromVRM(vrm), { inputMirrored: true, face: { smoothing: false } });
+    const rig = new HandRig(restPoseFromVRM(vrm), { face: { smoothing: false } });
     const weights = Object.fromEntries(ARKIT.slice(0, 51).map((n, i) => [n, ((i * 0.37) % 1) * 0.9]));
     rig.solve({ timeMs: 0, ...faceResult(weights) });
     applyToVRM(vrm, rig.solve({ timeMs: 33, ...faceResult(weights) }));
@@ -103,15 +103,15 @@ describe("the face", () => {
     }
   });
 
-  it("presets only: the presets move, three-vrm's look-at takes yaw and pitch, and the mirror swaps sides", async () => {
+  it("presets only: the presets move, three-vrm's look-at takes yaw and pitch, and a mirrored image swaps sides", async () => {
     const vrm = await loadVRM(vrm1());
     const manager = await withExpressions(vrm, ["aa", "ih", "ou", "ee", "oh", "blink", "blinkLeft", "blinkRight", "happy", "angry", "sad", "relaxed", "surprised"]);
-    const rig = new HandRig(restPoseFromVRM(vrm), { face: { calibrationTime: 0 } });
+    const rig = new HandRig(restPoseFromVRM(vrm), { inputMirrored: true, face: { calibrationTime: 0 } });
     for (let t = 0; t < 10; t++) rig.solve({ timeMs: t * 33, ...faceResult() });
     const r = rig.solve({ timeMs: 330, ...faceResult({ jawOpen: 0.7, eyeBlinkLeft: 0.95, eyeLookDownLeft: 0.4, eyeLookDownRight: 0.4 }) });
     applyToVRM(vrm, r);
     assert.ok(manager.getValue("aa") > 0.3, `aa ${manager.getValue("aa")}`);
-    // Un-mirrored input: MediaPipe's Left (the image's left) is the subject's right eye, the avatar's right.
+    // A mirrored (selfie) image: MediaPipe's Left is the left of the face it sees, the user's right eye, the avatar's right.
     assert.ok(manager.getValue("blinkRight") > 0.5 && manager.getValue("blinkLeft") === 0, `blinkRight ${manager.getValue("blinkRight")}`);
     if (vrm.lookAt) {
       assert.equal(vrm.lookAt.pitch, r.lookAt.pitch);
@@ -140,7 +140,7 @@ describe("the face", () => {
     mesh.morphTargetInfluences = [0, 0, 0, 0];
     const root = new THREE.Group();
     root.add(mesh);
-    const rig = HandRig.fromVrm(robot, { inputMirrored: true, face: { calibrationTime: 0, smoothing: false } });
+    const rig = HandRig.fromVrm(robot, { face: { calibrationTime: 0, smoothing: false } });
     rig.solve({ timeMs: 0, ...faceResult() });
     const r = rig.solve({ timeMs: 33, ...faceResult({ jawOpen: 0.7, eyeBlinkLeft: 0.95, mouthSmileLeft: 0.8, mouthSmileRight: 0.8 }) });
     assert.equal(applyFaceToMorphTargets(root, r), 1);
