@@ -8,23 +8,34 @@
 import { at, describe, fail, isFiniteNumber, isObject, isView, notFinite, type Bag } from "./errors.js";
 import { LAYOUT, LI } from "./layout.js";
 
-const SHAPE_INDEX = new Map<string, number>(LAYOUT.arkit.map((name, i) => [name, i]));
+const ARKIT_NAMES = LAYOUT.arkit;
+const SHAPE_INDEX = new Map<string, number>(ARKIT_NAMES.map((name, i) => [name, i]));
 const MESH = LAYOUT.faceMesh;
 
-/** The first face of a list of faces, or the list itself when it is one face's points. */
-function firstFace(v: unknown, field: string): { face: unknown; nested: boolean } {
+/** Whether the last `firstFace` found a list of faces (rather than one face's points). */
+let nested = false;
+
+/** The first face of a list of faces, or the list itself when it is one face's points; undefined for none. */
+function firstFace(v: unknown, field: string): unknown {
   if (!Array.isArray(v)) fail(field, `must be an array of faces (MediaPipe's result), got ${describe(v)}`);
-  if (v.length === 0) return { face: undefined, nested: true };
+  nested = true;
+  if (v.length === 0) return undefined;
   const first: unknown = v[0];
-  if (Array.isArray(first) || isView(first)) return { face: first, nested: true };
-  return { face: v, nested: false };
+  if (Array.isArray(first) || isView(first)) return first;
+  nested = false;
+  return v;
 }
 
-function packMesh(list: unknown, field: string, input: Float32Array): void {
-  if (!Array.isArray(list)) fail(field, `must be an array of 468 or 478 landmarks, got ${describe(list)}`);
+/** The landmark list's name (built only for a message): `fieldName`, with `[face]` when face >= 0. */
+function meshField(fieldName: string, face: number): string {
+  return face < 0 ? fieldName : `${fieldName}[${face}]`;
+}
+
+function packMesh(list: unknown, fieldName: string, face: number, input: Float32Array): void {
+  if (!Array.isArray(list)) fail(meshField(fieldName, face), `must be an array of 468 or 478 landmarks, got ${describe(list)}`);
   const n = list.length;
   if (n !== 468 && n !== 478) {
-    fail(field, `must have 468 or 478 landmarks (MediaPipe's face mesh), got ${n}`);
+    fail(meshField(fieldName, face), `must have 468 or 478 landmarks (MediaPipe's face mesh), got ${n}`);
   }
   for (let k = 0; k < MESH.length; k++) {
     const i = MESH[k]!;
@@ -40,14 +51,14 @@ function packMesh(list: unknown, field: string, input: Float32Array): void {
       x = p.x;
       y = p.y;
       z = p.z;
-    } else fail(`${field}[${i}]`, `must be {x, y, z} or [x, y, z], got ${describe(p)}`);
-    if (!isFiniteNumber(x)) notFinite(x, `${field}[${i}].x`);
-    if (!isFiniteNumber(y)) notFinite(y, `${field}[${i}].y`);
-    if (!isFiniteNumber(z)) notFinite(z, `${field}[${i}].z`);
+    } else fail(`${meshField(fieldName, face)}[${i}]`, `must be {x, y, z} or [x, y, z], got ${describe(p)}`);
+    if (!isFiniteNumber(x)) notFinite(x, `${meshField(fieldName, face)}[${i}].x`);
+    if (!isFiniteNumber(y)) notFinite(y, `${meshField(fieldName, face)}[${i}].y`);
+    if (!isFiniteNumber(z)) notFinite(z, `${meshField(fieldName, face)}[${i}].z`);
     // Normalized image coordinates: a face is within the image, give or take its size.
     if (x < -2 || x > 3 || y < -2 || y > 3) {
       fail(
-        `${field}[${i}]`,
+        `${meshField(fieldName, face)}[${i}]`,
         `x and y must be normalized image coordinates (0..1 across the image), got ${x}, ${y}: pixels given? ` +
           "MediaPipe's faceLandmarks are normalized (divide pixels by the image's width and height)",
       );
@@ -62,32 +73,35 @@ function packMesh(list: unknown, field: string, input: Float32Array): void {
 
 function packShapes(list: unknown, field: string, input: Float32Array): void {
   let categories: unknown = list;
-  let name = field;
+  let sub = "";
   if (isObject(list) && !Array.isArray(list)) {
     categories = list.categories;
-    name = `${field}.categories`;
+    sub = ".categories";
   }
   if (!Array.isArray(categories)) {
-    fail(name, `must be MediaPipe's blendshapes ({ categories: [{ categoryName, score }] }), got ${describe(categories)}`);
+    fail(field + sub, `must be MediaPipe's blendshapes ({ categories: [{ categoryName, score }] }), got ${describe(categories)}`);
   }
   const shapes = LI.faceShapes;
   input.fill(0, shapes, shapes + LAYOUT.arkit.length);
   for (let k = 0; k < categories.length; k++) {
     const c: unknown = categories[k];
-    if (!isObject(c)) fail(`${name}[${k}]`, `must be a category { categoryName, score }, got ${describe(c)}`);
+    if (!isObject(c)) fail(`${field}${sub}[${k}]`, `must be a category { categoryName, score }, got ${describe(c)}`);
     const catName = c.categoryName;
     let i: number | undefined;
-    if (typeof catName === "string") {
+    // MediaPipe's order (`_neutral`, then the ARKit names): the name checked where it should be,
+    // without a lookup.
+    if (k > 0 && catName === ARKIT_NAMES[k - 1]) i = k - 1;
+    else if (typeof catName === "string") {
       if (catName === "_neutral") continue;
       i = SHAPE_INDEX.get(catName);
       if (i === undefined) {
-        fail(`${name}[${k}].categoryName`, `"${catName}" is not an ARKit blendshape name (MediaPipe's FaceLandmarker with outputFaceBlendshapes)`);
+        fail(`${field}${sub}[${k}].categoryName`, `"${catName}" is not an ARKit blendshape name (MediaPipe's FaceLandmarker with outputFaceBlendshapes)`);
       }
     } else if (categories.length === 52 && k > 0) {
       i = k - 1; // MediaPipe's order: _neutral, then the ARKit names alphabetically.
     } else continue;
     const s = c.score;
-    if (!isFiniteNumber(s)) notFinite(s, `${name}[${k}].score`);
+    if (!isFiniteNumber(s)) notFinite(s, `${field}${sub}[${k}].score`);
     input[shapes + i] = s;
   }
   input[LI.faceHasShapes] = 1;
@@ -95,7 +109,7 @@ function packShapes(list: unknown, field: string, input: Float32Array): void {
 
 function packMatrix(m: unknown, field: string, input: Float32Array): void {
   let data: unknown = m;
-  let name = field;
+  let sub = "";
   if (isObject(m) && !Array.isArray(m) && !isView(m)) {
     const rows = m.rows;
     const columns = m.columns;
@@ -103,17 +117,17 @@ function packMatrix(m: unknown, field: string, input: Float32Array): void {
       fail(field, `must be a 4x4 matrix, got ${String(rows)}x${String(columns)}`);
     }
     data = m.data ?? m.elements;
-    name = m.data !== undefined ? `${field}.data` : `${field}.elements`;
+    sub = m.data !== undefined ? ".data" : ".elements";
   }
   if (!(Array.isArray(data) || isView(data))) {
-    fail(name, `must be MediaPipe's matrix { rows: 4, columns: 4, data: [16 numbers, column-major] }, got ${describe(data)}`);
+    fail(field + sub, `must be MediaPipe's matrix { rows: 4, columns: 4, data: [16 numbers, column-major] }, got ${describe(data)}`);
   }
   const a = data as Bag;
   const len = a.length as number;
-  if (len !== 16) fail(name, `must have 16 numbers (a 4x4 matrix, column-major), got ${String(len)}`);
+  if (len !== 16) fail(field + sub, `must have 16 numbers (a 4x4 matrix, column-major), got ${String(len)}`);
   for (let k = 0; k < 16; k++) {
     const v = a[k];
-    if (!isFiniteNumber(v)) notFinite(v, `${name}[${k}]`);
+    if (!isFiniteNumber(v)) notFinite(v, `${field}${sub}[${k}]`);
     input[LI.faceMatrix + k] = v;
   }
   input[LI.faceHasMatrix] = 1;
@@ -141,9 +155,9 @@ export function packFaceTracking(frame: Bag, input: Float32Array): boolean {
   if (hasLandmarks || hasMulti) {
     const field = hasLandmarks ? "frame.faceLandmarks" : "frame.multiFaceLandmarks";
     at(field, -1, "");
-    const { face, nested } = firstFace(hasLandmarks ? landmarks : multi, field);
+    const face = firstFace(hasLandmarks ? landmarks : multi, field);
     if (face !== undefined) {
-      packMesh(face, nested ? `${field}[0]` : field, input);
+      packMesh(face, field, nested ? 0 : -1, input);
       tracked = true;
     }
   }

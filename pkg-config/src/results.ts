@@ -168,7 +168,33 @@ export function fillResult(
 
 // The face (issue 50): the neck and head it turns, the presets, the ARKit weights, the look-at.
 const FACE_BONES = [BONES.indexOf("neck"), BONES.indexOf("head")];
-const EXPRESSIONS = LAYOUT.expressions;
+// The presets by name, each store a fixed property (a keyed store by a varying name is a slow
+// lookup): the order is LAYOUT.expressions', checked once below.
+type Expressions = { [name: string]: number };
+const PRESET_ORDER = "happy angry sad relaxed surprised aa ih ou ee oh blink blinkLeft blinkRight lookUp lookDown lookLeft lookRight";
+if (LAYOUT.expressions.join(" ") !== PRESET_ORDER) throw new Error("handrig: LAYOUT.expressions changed: update results.ts");
+function newExpressions(): Expressions {
+  return { happy: 0, angry: 0, sad: 0, relaxed: 0, surprised: 0, aa: 0, ih: 0, ou: 0, ee: 0, oh: 0, blink: 0, blinkLeft: 0, blinkRight: 0, lookUp: 0, lookDown: 0, lookLeft: 0, lookRight: 0 };
+}
+function writeExpressions(e: Expressions, out: Float32Array, o: number): void {
+  e.happy = out[o]!;
+  e.angry = out[o + 1]!;
+  e.sad = out[o + 2]!;
+  e.relaxed = out[o + 3]!;
+  e.surprised = out[o + 4]!;
+  e.aa = out[o + 5]!;
+  e.ih = out[o + 6]!;
+  e.ou = out[o + 7]!;
+  e.ee = out[o + 8]!;
+  e.oh = out[o + 9]!;
+  e.blink = out[o + 10]!;
+  e.blinkLeft = out[o + 11]!;
+  e.blinkRight = out[o + 12]!;
+  e.lookUp = out[o + 13]!;
+  e.lookDown = out[o + 14]!;
+  e.lookLeft = out[o + 15]!;
+  e.lookRight = out[o + 16]!;
+}
 const ARKIT_COUNT = LAYOUT.arkit.length;
 const FACE_STATE: readonly (string | null)[] = [null, "tracked", "lost"];
 
@@ -189,12 +215,12 @@ function fillFace(r: Mutable, out: Float32Array, bones: Mutable, driven: number[
   let look = r.lookAt as { yaw: number; pitch: number };
   const fresh = !isObject(ex) || !(arkit instanceof Float32Array) || arkit.length !== ARKIT_COUNT || !isObject(look);
   if (fresh) {
-    ex = r.expressions = {};
+    ex = r.expressions = newExpressions();
     arkit = r.arkit = new Float32Array(ARKIT_COUNT);
     look = r.lookAt = { yaw: 0, pitch: 0 };
   } else if (state === null && r.face === null) return; // no face, and all zero already
   r.face = state;
-  for (let k = 0; k < EXPRESSIONS.length; k++) ex[EXPRESSIONS[k]!] = out[LO.expressions + k]!;
+  writeExpressions(ex as Expressions, out, LO.expressions);
   for (let k = 0; k < ARKIT_COUNT; k++) arkit[k] = out[LO.arkit + k]!;
   look.yaw = out[LO.lookAt]!;
   look.pitch = out[LO.lookAt + 1]!;
