@@ -102,6 +102,7 @@ function packShapes(list: unknown, field: string, input: Float32Array): void {
     } else continue;
     const s = c.score;
     if (!isFiniteNumber(s)) notFinite(s, `${field}${sub}[${k}].score`);
+    if (s < 0 || s > 1) fail(`${field}${sub}[${k}].score`, `must be in 0..1, got ${s}`);
     input[shapes + i] = s;
   }
   input[LI.faceHasShapes] = 1;

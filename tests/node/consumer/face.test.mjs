@@ -7,7 +7,7 @@
 import assert from "node:assert/strict";
 import { describe, it } from "node:test";
 
-import { HandRig, LAYOUT } from "handrig";
+import { HandRig, LAYOUT, MotionRecorder } from "handrig";
 import { applyFaceToMorphTargets } from "handrig/three";
 import { applyToVRM, restPoseFromVRM } from "handrig/three-vrm";
 import { avatarFiles, avatars, loadVRM, readBytes, throwsWith } from "./support.mjs";
@@ -59,7 +59,11 @@ function meshPoints(ear, count = 478) {
 async function withExpressions(vrm, names) {
   const { VRMExpression, VRMExpressionManager } = await import("@pixiv/three-vrm");
   const manager = new VRMExpressionManager();
-  for (const name of names) manager.registerExpression(new VRMExpression(name));
+  for (const name of names) {
+    const expression = new VRMExpression(name);
+    manager.registerExpression(expression);
+    vrm.scene.add(expression); // where an AnimationMixer finds it, as VRMLoaderPlugin puts them
+  }
   vrm.expressionManager = manager;
   return manager;
 }
@@ -121,6 +125,53 @@ describe("the face", () => {
     // The flat output path does the same.
     applyToVRM(vrm, rig.output);
     assert.ok(manager.getValue("aa") > 0.3);
+  });
+
+  it("MotionRecorder: a .vrma with expressions and look-at, played by @pixiv/three-vrm-animation, reproduces them within 0.01", async () => {
+    const THREE = await import("three");
+    const { GLTFLoader } = await import("three/examples/jsm/loaders/GLTFLoader.js");
+    const { VRMAnimationLoaderPlugin, VRMLookAtQuaternionProxy, createVRMAnimationClip } = await import("@pixiv/three-vrm-animation");
+    const vrm = await loadVRM(vrm1());
+    const names = ["aa", "ih", "ou", "ee", "oh", "blink", "blinkLeft", "blinkRight", "happy", "angry", "sad", "relaxed", "surprised"];
+    const manager = await withExpressions(vrm, names);
+    const rig = new HandRig(restPoseFromVRM(vrm), { face: { calibrationTime: 0 } });
+    const recorder = new MotionRecorder(rig);
+    const expected = [];
+    for (let k = 0; k < 30; k++) {
+      const t = k * 33;
+      const w = { jawOpen: 0.5 + 0.4 * Math.sin(k / 3), eyeBlinkLeft: k % 10 < 2 ? 0.95 : 0, mouthSmileLeft: 0.5, mouthSmileRight: 0.5, eyeLookOutLeft: 0.15 * (1 + Math.sin(k / 5)), eyeLookInRight: 0.15 * (1 + Math.sin(k / 5)), eyeLookDownLeft: 0.2, eyeLookDownRight: 0.2 };
+      const r = rig.solve({ timeMs: t, ...faceResult(w) });
+      recorder.add(t, r);
+      expected.push({ t, expressions: { ...r.expressions }, yaw: r.lookAt.yaw, pitch: r.lookAt.pitch });
+    }
+    assert.ok(expected.some((e) => e.expressions.aa > 0.3) && expected.some((e) => Math.abs(e.yaw) > 2));
+    const bytes = recorder.toVRMA();
+    const loader = new GLTFLoader();
+    loader.register((parser) => new VRMAnimationLoaderPlugin(parser));
+    const gltf = await loader.parseAsync(bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength), "");
+    const [animation] = gltf.userData.vrmAnimations;
+    assert.equal(animation.expressionTracks.preset.size, names.length);
+    assert.ok(animation.lookAtTrack, "the look-at track");
+    assert.ok(vrm.lookAt, "the avatar has a look-at");
+    const proxy = new VRMLookAtQuaternionProxy(vrm.lookAt);
+    proxy.name = "lookAtQuaternionProxy";
+    vrm.scene.add(proxy);
+    const mixer = new THREE.AnimationMixer(vrm.scene);
+    const action = mixer.clipAction(createVRMAnimationClip(animation, vrm));
+    action.setLoop(THREE.LoopOnce, 1);
+    action.clampWhenFinished = true;
+    action.play();
+    for (const e of expected) {
+      mixer.setTime(e.t / 1000);
+      for (const n of names) assert.ok(Math.abs(manager.getValue(n) - e.expressions[n]) <= 0.01, `${n} at ${e.t} ms: ${manager.getValue(n)} vs ${e.expressions[n]}`);
+      assert.ok(Math.abs(vrm.lookAt.yaw - e.yaw) <= 0.01, `yaw at ${e.t} ms: ${vrm.lookAt.yaw} vs ${e.yaw}`);
+      assert.ok(Math.abs(vrm.lookAt.pitch - e.pitch) <= 0.01, `pitch at ${e.t} ms: ${vrm.lookAt.pitch} vs ${e.pitch}`);
+    }
+    // A recording without a face writes none (the file as before).
+    const plain = new MotionRecorder(rig);
+    plain.add(0, rig.solve({ timeMs: 5000 }));
+    const json = new TextDecoder().decode(plain.toVRMA()).match(/\{"asset".*\}/)?.[0] ?? "";
+    assert.ok(!json.includes("expressions") && !json.includes("lookAt"));
   });
 
   it("legacy 468 landmarks without blendshapes: a closed eye blinks", () => {
