@@ -154,7 +154,7 @@ export interface HandRigOptions {
         smoothing?: boolean | undefined;
         /** Face smoothing: One Euro cutoff at rest (Hz); lower is smoother and slower. (number in 0.01..30, default `2`.) */
         minCutoff?: number | undefined;
-        /** Face smoothing: how fast the cutoff rises with a weight's speed (per unit/s) or the head's (per rad/s). (number in 0..100, default `1`.) */
+        /** Face smoothing: how fast the cutoff rises with a weight's speed (per unit/s); the head's is 10 times it (per rad/s). (number in 0..100, default `1`.) */
         beta?: number | undefined;
         /** Shortest time (s) a closed eye takes to open (a blink closes at once). (number in 0..1, default `0.1`.) */
         blinkOpenTime?: number | undefined;

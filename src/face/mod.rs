@@ -195,6 +195,10 @@ pub const EYE_RANGE_DEG: f32 = 30.0;
 /// How much of `eyeLookDown` is taken off the same eye's blink (MediaPipe's lid closes as the
 /// eye looks down).
 pub const LOOK_DOWN_BLINK: f32 = 0.5;
+/// The head's One Euro speed coefficient over the weights' (`face.beta`): its speed is in rad/s,
+/// a few a second at most, where a weight moves several units a second. 10 follows the shared
+/// clips' nods within 2.2 degrees of the matrix on their tuning half (1: 5.4; `eval/face.mjs`).
+pub const HEAD_BETA: f32 = 10.0;
 /// A calibrated blink below this is open, above [`BLINK_CLOSED`] closed (between: linear).
 pub const BLINK_OPEN: f32 = 0.2;
 /// See [`BLINK_OPEN`].
@@ -441,7 +445,7 @@ impl Face {
         self.head_rotation = obs.matrix.map(|m| {
             let euro = crate::filter::OneEuroOptions {
                 min_cutoff: o.min_cutoff,
-                beta: o.beta,
+                beta: o.beta * HEAD_BETA,
                 d_cutoff: 1.0,
             };
             self.head.filter(

@@ -324,7 +324,7 @@ pub static OPTIONS: &[OptionSpec] = &[
     number!("face.minCutoff", face.min_cutoff, 0.01, 30.0, 0.01, 2.0,
         "Face smoothing: One Euro cutoff at rest (Hz); lower is smoother and slower."),
     number!("face.beta", face.beta, 0.0, 100.0, 0.1, 1.0,
-        "Face smoothing: how fast the cutoff rises with a weight's speed (per unit/s) or the head's (per rad/s)."),
+        "Face smoothing: how fast the cutoff rises with a weight's speed (per unit/s); the head's is 10 times it (per rad/s)."),
     number!("face.blinkOpenTime", face.blink_open_time, 0.0, 1.0, 0.01, 0.1,
         "Shortest time (s) a closed eye takes to open (a blink closes at once)."),
     number!("face.calibrationTime", face.calibration_time, 0.0, 60.0, 0.5, 2.0,
