@@ -140,18 +140,18 @@ function packMatrix(m: unknown, field: string, input: Float32Array): void {
  */
 export function packFaceTracking(frame: Bag, input: Float32Array): boolean {
   input[LI.faceTracked] = 0;
+  const landmarks = frame.faceLandmarks;
+  const shapes = frame.faceBlendshapes;
+  const matrices = frame.facialTransformationMatrixes;
+  const multi = frame.multiFaceLandmarks;
+  if (landmarks == null && shapes == null && matrices == null && multi == null) return false;
   input[LI.faceHasShapes] = 0;
   input[LI.faceHasMatrix] = 0;
   input[LI.faceHasMesh] = 0;
-  const landmarks = frame.faceLandmarks;
-  const multi = frame.multiFaceLandmarks;
-  const shapes = frame.faceBlendshapes;
-  const matrices = frame.facialTransformationMatrixes;
   const hasLandmarks = landmarks !== undefined && landmarks !== null;
   const hasMulti = multi !== undefined && multi !== null;
   const hasShapes = shapes !== undefined && shapes !== null;
   const hasMatrices = matrices !== undefined && matrices !== null;
-  if (!hasLandmarks && !hasMulti && !hasShapes && !hasMatrices) return false;
   let tracked = false;
   if (hasLandmarks || hasMulti) {
     const field = hasLandmarks ? "frame.faceLandmarks" : "frame.multiFaceLandmarks";

@@ -108,11 +108,19 @@ function checkUnknownObjects(frame: Bag): void {
 export const TIME = new Float64Array(2);
 
 /**
+ * Whether the last frame packed carried a face tracker's fields (issue 50). A rig whose frames
+ * carry none looks for them only every 30th frame (`lookForFace`): V8 leaves about 30 bytes of
+ * garbage per field a frame lacks (measured by tests/node's soak test on the hand video's frames),
+ * and an app's frames all have one shape.
+ */
+export const FACE_FIELDS = { given: false };
+
+/**
  * Packs one frame into `input` and its timestamp (ms) into TIME[0]. Throws a FieldError naming
  * the field on bad input (the input is then partly written; the rig is not called).
  * `lookAround`: also look for misnamed fields (a rig's first frames).
  */
-export function packFrame(frame: unknown, input: Float32Array, lookAround: boolean): void {
+export function packFrame(frame: unknown, input: Float32Array, lookAround: boolean, lookForFace: boolean = true): void {
   at("frame", -1, "");
   checkFrameObject(frame);
   input[LI.handCount] = 0;
@@ -201,7 +209,12 @@ export function packFrame(frame: unknown, input: Float32Array, lookAround: boole
     packFace(face, input);
   }
   // A face tracker's face (issue 50): FaceLandmarker / Holistic fields spread into the frame.
-  if (packFaceTracking(frame, input)) given = true;
+  input[LI.faceTracked] = 0;
+  FACE_FIELDS.given = false;
+  if (lookForFace && packFaceTracking(frame, input)) {
+    given = true;
+    FACE_FIELDS.given = true;
+  }
 
   if (!given && t === undefined) {
     const keys = Object.keys(frame);
