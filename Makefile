@@ -26,7 +26,8 @@ NODE_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NODE_DIRS))
 
 .PHONY: help setup setup-system setup-rust setup-node pkg pkg-dev \
         test test-rust test-wasm test-node test-www test-docs docs demo eval bench record-check avatars clean \
-        bench-truth bench-render bench-track bench-tasks bench-score fuzz soak
+        bench-truth bench-render bench-track bench-tasks bench-score fuzz soak \
+        eval-face
 
 help:
 	@echo "make demo       build the package (pkg/) and serve the demo on 127.0.0.1"
@@ -181,6 +182,13 @@ bench-score: pkg eval/node_modules/.package-lock.json tests/node/node_modules/.p
 	node eval/bench/score.mjs
 	@if compgen -G "eval/bench/clips/*-tasks.json" >/dev/null; then node eval/bench/score.mjs --tracker tasks; \
 	else echo "bench-score: no Tasks API recordings (not committed): make bench-tasks for the second table"; fi
+
+# The face on real faces (issue 50): FaceLandmarker recorded on the shared ASL clips (not
+# committed, ~1 MB a clip; recorded once), handrig and Kalidokit scored against the labels of
+# eval/labels/face.json (docs/measurements/2026-12-06-face.md).
+eval-face: pkg eval/node_modules/.package-lock.json
+	@for c in again brother eat hungry please sister thanks; do test -f eval/face/$$c.json || { node eval/face-record.mjs; break; }; done
+	node eval/face.mjs
 
 # MediaPipe from npm on the shared videos (tools/record-video.mjs), compared landmark by landmark
 # with the shared recordings made by other MediaPipe builds; artifacts/recordings/summary.md.

@@ -57,6 +57,7 @@ pub mod align;
 pub mod body;
 pub mod contact;
 pub mod error;
+pub mod face;
 pub mod filter;
 pub mod flat;
 pub mod hand;

@@ -15,6 +15,7 @@ import {
   packTorso,
   packWrists,
 } from "./frame-body.js";
+import { faceResultAsFace, packFaceTracking } from "./frame-face.js";
 import { looksLikeOneHand, packHandList, packResultShape } from "./frame-hands.js";
 import { LI } from "./layout.js";
 
@@ -92,7 +93,8 @@ function checkUnknownObjects(frame: Bag): void {
         `frame.${key}`,
         `unknown field holding ${describe(v)}: handrig reads ${KNOWN_FRAME_KEYS.slice(0, 7).join(", ")} and ` +
           "MediaPipe results' own fields from the frame itself (a HolisticLandmarker result is spread into it: " +
-          "rig.solve({ timeMs, ...result }); a HandLandmarker result goes in frame.hands, a PoseLandmarker result in frame.pose)",
+          "rig.solve({ timeMs, ...result }); a HandLandmarker result goes in frame.hands, a PoseLandmarker result in frame.pose, " +
+          "a FaceLandmarker result is spread too: rig.solve({ timeMs, hands, ...face }))",
       );
     }
   }
@@ -106,11 +108,19 @@ function checkUnknownObjects(frame: Bag): void {
 export const TIME = new Float64Array(2);
 
 /**
+ * Whether the last frame packed carried a face tracker's fields (issue 50). A rig whose frames
+ * carry none looks for them only every 30th frame (`lookForFace`): V8 leaves about 30 bytes of
+ * garbage per field a frame lacks (measured by tests/node's soak test on the hand video's frames),
+ * and an app's frames all have one shape.
+ */
+export const FACE_FIELDS = { given: false };
+
+/**
  * Packs one frame into `input` and its timestamp (ms) into TIME[0]. Throws a FieldError naming
  * the field on bad input (the input is then partly written; the rig is not called).
  * `lookAround`: also look for misnamed fields (a rig's first frames).
  */
-export function packFrame(frame: unknown, input: Float32Array, lookAround: boolean): void {
+export function packFrame(frame: unknown, input: Float32Array, lookAround: boolean, lookForFace: boolean = true): void {
   at("frame", -1, "");
   checkFrameObject(frame);
   input[LI.handCount] = 0;
@@ -195,7 +205,15 @@ export function packFrame(frame: unknown, input: Float32Array, lookAround: boole
   const face = frame.face;
   if (face !== undefined && face !== null) {
     given = true;
+    if (isObject(face)) faceResultAsFace(face);
     packFace(face, input);
+  }
+  // A face tracker's face (issue 50): FaceLandmarker / Holistic fields spread into the frame.
+  input[LI.faceTracked] = 0;
+  FACE_FIELDS.given = false;
+  if (lookForFace && packFaceTracking(frame, input)) {
+    given = true;
+    FACE_FIELDS.given = true;
   }
 
   if (!given && t === undefined) {

@@ -7,7 +7,7 @@
 
 import { asError, describe, fail, givenFields, isObject, readError, readUser, reading } from "./errors.js";
 import type { BoneMap, FrameInput, RestPose, Vec3 } from "./frame-types.js";
-import { TIME, packFrame } from "./frame.js";
+import { FACE_FIELDS, TIME, packFrame } from "./frame.js";
 import { BONES, BONE_COUNT, BONE_INDEX, LAYOUT, LI, LO, optionNames, type FlatLayout, type HumanBoneName } from "./layout.js";
 import { cleanDescriptions, optionsValue, type HandRigOptions, type OptionDescription } from "./options.js";
 import type { AlignedBone, ContactModel, FingerName, SolveResult } from "./result-types.js";
@@ -168,6 +168,8 @@ export class HandRig {
   #framesRead = 0;
   // The last frame's time, and the time checks' state (clockCheck).
   #clock = new Float64Array([Number.NaN, 0, 0, 0, 0, 0]);
+  #faceSeen = false;
+  #faceSkip = 0;
 
   /**
    * `new HandRig(restPose, options?)`: a solver for one avatar. `restPose.bones` maps VRM 1.0
@@ -358,7 +360,12 @@ export class HandRig {
     }
     try {
       const first = this.#framesRead < 3;
-      packFrame(frame, this.#input, first);
+      // A face's fields are looked for in every frame once a frame had them, else in every
+      // 30th (FACE_FIELDS).
+      const lookForFace = this.#faceSeen || first || ++this.#faceSkip >= 30;
+      if (lookForFace) this.#faceSkip = 0;
+      packFrame(frame, this.#input, first, lookForFace);
+      if (FACE_FIELDS.given) this.#faceSeen = true;
       if (first) this.#framesRead++;
     } catch (e) {
       throw readError(e);
@@ -476,6 +483,15 @@ export class HandRig {
   calibrateHandScale(): { left: number | null; right: number | null } {
     const [left, right] = this.#live("calibrateHandScale").calibrateHandScale() as unknown as [number, number];
     return { left: Number.isNaN(left) ? null : left, right: Number.isNaN(right) ? null : right };
+  }
+
+  /**
+   * Starts the neutral face's calibration again: the next `face.calibrationTime` seconds of face
+   * frames are averaged into the user's neutral face (call it while the user looks at the camera
+   * with a relaxed face). A rig calibrates over its first face frames by itself.
+   */
+  calibrateFace(): void {
+    this.#live("calibrateFace").calibrateFace();
   }
 
   /** Releases the wasm memory. Safe to call twice (idempotent); the rig throws on use afterwards. */

@@ -2,7 +2,7 @@
 // test --lib flat`; a test fails when this file is stale. Do not edit.
 
 /** The layout version these types describe (`LAYOUT.version`). */
-export const LAYOUT_VERSION = 8;
+export const LAYOUT_VERSION = 9;
 
 /** Offsets of the input `Float32Array` (`LAYOUT.input`). See docs/reference/flat-layout.md. */
 export interface InputLayout {
@@ -82,6 +82,20 @@ export interface InputLayout {
     /** Position `x y z`. */
     readonly position: number;
   };
+  /** 1 when this frame carries a face tracker's face (FaceLandmarker, Holistic). */
+  readonly faceTracked: number;
+  /** 1 when `faceShapes` holds its blendshapes. */
+  readonly faceHasShapes: number;
+  /** 1 when `faceMatrix` holds its facial transformation matrix. */
+  readonly faceHasMatrix: number;
+  /** 1 when `faceMesh` holds its landmarks. */
+  readonly faceHasMesh: number;
+  /** Blendshape scores 0 to 1 in `LAYOUT.arkit` order (MediaPipe's names and sides; `tongueOut` 0). */
+  readonly faceShapes: number;
+  /** The facial transformation matrix, 16 numbers column-major (MediaPipe's `data`). */
+  readonly faceMatrix: number;
+  /** The face-mesh landmarks `LAYOUT.faceMesh` lists (indices into MediaPipe's 468 or 478), normalized image `x y z`. */
+  readonly faceMesh: number;
   /** Length of the array. */
   readonly length: number;
 }
@@ -163,6 +177,14 @@ export interface OutputLayout {
   };
   /** What became of each input hand slot: 0 unused, 1 drove the left side, 2 the right side (see `side.handReassigned`), 3 ignored: score below `minHandScore`, 4 ignored: another hand drove its side, 5 ignored: its label contradicts the pose (`handedness: "drop"`); names by code: `LAYOUT.handUse`. */
   readonly handUse: number;
+  /** The face: 0 none, 1 tracked this frame, 2 lost and easing out. */
+  readonly faceState: number;
+  /** The VRM 1.0 presets, 0 to 1, in `LAYOUT.expressions` order (the avatar's sides). */
+  readonly expressions: number;
+  /** The 52 ARKit weights, 0 to 1, in `LAYOUT.arkit` order (the avatar's sides). */
+  readonly arkit: number;
+  /** Look-at yaw and pitch, degrees (three-vrm's `VRMLookAt`: yaw > 0 toward the avatar's left, pitch > 0 down). */
+  readonly lookAt: number;
   /** Length of the array. */
   readonly length: number;
 }

@@ -65,6 +65,12 @@ export interface FlatLayout {
   readonly handResolved: readonly string[];
   /** The names of `output.handUse`'s codes, by code (0: `"none"`, no such hand). */
   readonly handUse: readonly string[];
+  /** The 52 ARKit blendshape names, in `input.faceShapes` and `output.arkit` order (issue 50). */
+  readonly arkit: readonly string[];
+  /** The VRM 1.0 presets of `output.expressions`, in order. */
+  readonly expressions: readonly string[];
+  /** The face-mesh landmark indices `input.faceMesh` holds, in order. */
+  readonly faceMesh: readonly number[];
 }
 
 // Defined by build.mjs (esbuild `define`): layout.json, generated from the Rust declaration.

@@ -24,7 +24,15 @@ export interface RecordableRig {
 export interface RecordableResult {
   bones: { [boneName: string]: ArrayLike<number> | undefined };
   worldPositions?: { [boneName: string]: ArrayLike<number> | undefined };
+  /** The face (issue 50): recorded when a frame had one. */
+  face?: string | null;
+  expressions?: { [name: string]: number };
+  lookAt?: { yaw: number; pitch: number };
 }
+
+/** The presets a recording carries (`FACE_PRESETS` then yaw and pitch per frame): the look* presets are the look-at's. */
+export const FACE_PRESETS = ["happy", "angry", "sad", "relaxed", "surprised", "aa", "ih", "ou", "ee", "oh", "blink", "blinkLeft", "blinkRight"] as const;
+const FACE_STRIDE = FACE_PRESETS.length + 2;
 
 /** `add`'s bound on times (ms): a JavaScript Date's range. */
 const TIME_LIMIT = 8.64e15;
@@ -45,6 +53,8 @@ export class MotionRecorder {
   #times = new Float64Array(64);
   #rotations: Float32Array;
   #hips = new Float32Array(64 * 3);
+  #face = new Float32Array(64 * FACE_STRIDE);
+  #hasFace = false;
   #count = 0;
 
   /**
@@ -181,6 +191,22 @@ export class MotionRecorder {
       h[3 * k + 1] = this.#restHips[1]!;
       h[3 * k + 2] = this.#restHips[2]!;
     }
+    // The face: its presets and look-at (0 in frames without one), kept when any frame had it.
+    const fo = k * FACE_STRIDE;
+    const ex = result.expressions;
+    const look = result.lookAt;
+    const live = result.face !== undefined && result.face !== null && isObject(ex) && isObject(look);
+    for (let e = 0; e < FACE_PRESETS.length; e++) {
+      const w = live ? ex![FACE_PRESETS[e]!] : 0;
+      if (typeof w !== "number" || !(w >= 0 && w <= 1)) throw new TypeError(`result.expressions.${FACE_PRESETS[e]}: must be a weight in 0..1, got ${describe(w)}`);
+      this.#face[fo + e] = w;
+    }
+    const yaw = live ? look!.yaw : 0;
+    const pitch = live ? look!.pitch : 0;
+    if (!Number.isFinite(yaw) || !Number.isFinite(pitch)) throw new TypeError(`result.lookAt: yaw and pitch must be finite numbers (degrees)`);
+    this.#face[fo + FACE_PRESETS.length] = yaw;
+    this.#face[fo + FACE_PRESETS.length + 1] = pitch;
+    if (live) this.#hasFace = true;
     this.#count = k + 1;
   }
 
@@ -196,11 +222,15 @@ export class MotionRecorder {
     const hips = new Float32Array(cap * 3);
     hips.set(this.#hips);
     this.#hips = hips;
+    const face = new Float32Array(cap * FACE_STRIDE);
+    face.set(this.#face);
+    this.#face = face;
   }
 
   /** Forgets every frame (keeps the avatar). */
   clear(): void {
     this.#count = 0;
+    this.#hasFace = false;
   }
 
   #data(method: string): MotionData {
@@ -214,6 +244,7 @@ export class MotionRecorder {
       rotations: this.#rotations,
       hips: this.#hips,
       restHips: this.#restHips,
+      face: this.#hasFace ? { presets: FACE_PRESETS, values: this.#face } : undefined,
     };
   }
 
@@ -222,7 +253,10 @@ export class MotionRecorder {
    * one node per bone of the avatar at its rest (T-)pose, a LINEAR rotation track per driven
    * bone (and a hips translation track when the hips moved), times in seconds from the first
    * frame; VRM 1.0's convention. `options.tolerance` (radians, default 0: every frame a key)
-   * drops keys that interpolation between the kept ones reproduces within that angle.
+   * drops keys that interpolation between the kept ones reproduces within that angle. A
+   * recording with a face (issue 50) also carries the VRM presets (`expressions.preset`, one
+   * node each, its translation's x the weight) and the look-at (`lookAt`, a node whose rotation
+   * is three-vrm's yaw and pitch, Euler YXZ), every frame a key.
    * @throws Error with no frames recorded, or for a bad option.
    */
   toVRMA(options?: VRMAOptions): Uint8Array {
@@ -234,7 +268,8 @@ export class MotionRecorder {
    * centimeters by default), the hips with `Xposition Yposition Zposition Zrotation Xrotation
    * Yrotation`, every other joint `Zrotation Xrotation Yrotation` (degrees; the joint's local
    * rotation is Rz * Rx * Ry), at a constant frame time (`options.fps`, default the recording's
-   * median frame interval; frames resampled by interpolation); VRM 1.0's convention.
+   * median frame interval; frames resampled by interpolation); VRM 1.0's convention. BVH is a
+   * skeleton format: a face's expressions and look-at are left out (`toVRMA` keeps them).
    * @throws Error with no frames recorded, or for a bad option.
    */
   toBVH(options?: BVHOptions): string {

@@ -40,6 +40,8 @@ export interface MotionData {
   /** Per frame: the hips position, meters. */
   hips: Float32Array;
   restHips: Float64Array;
+  /** The face (issue 50), when a frame had one: per frame the presets' weights, then yaw and pitch (degrees). */
+  face?: { presets: readonly string[]; values: Float32Array } | undefined;
 }
 
 // VRM 1.0 humanoid: each bone's parent (VRMC_vrm-1.0/humanoid.md). A bone the avatar lacks is
@@ -259,10 +261,44 @@ export function writeVRMA(d: MotionData, options: VRMAOptions | undefined, gener
     channels.push({ sampler: samplers.length - 1, target: { node: nodeOf.get("hips")!, path: "translation" } });
   }
 
+  // The face: a node per preset (its translation's x the weight) and a look-at node (its rotation
+  // three-vrm's yaw and pitch as Euler YXZ), roots of their own, every kept frame a key.
+  const extension: { specVersion: string; humanoid: object; expressions?: object; lookAt?: { node: number } } = { specVersion: "1.0", humanoid: { humanBones } };
+  if (d.face) {
+    const { presets, values } = d.face;
+    const stride = presets.length + 2;
+    const preset: { [name: string]: { node: number } } = {};
+    presets.forEach((name, e) => {
+      const node = nodes.push({ name: `expression.${name}`, translation: [0, 0, 0] }) - 1;
+      roots.push(node);
+      preset[name] = { node };
+      const out = new Float32Array(3 * frames.length);
+      frames.forEach((i, k) => (out[3 * k] = values[i * stride + e]!));
+      samplers.push({ input: allTimes, output: bin.add(out, "VEC3", false), interpolation: "LINEAR" });
+      channels.push({ sampler: samplers.length - 1, target: { node, path: "translation" } });
+    });
+    const look = nodes.push({ name: "lookAt", translation: [0, 0, 0] }) - 1;
+    roots.push(look);
+    const q = new Float32Array(4 * frames.length);
+    frames.forEach((i, k) => {
+      const y = (values[i * stride + presets.length]! * Math.PI) / 360; // half angles
+      const x = (values[i * stride + presets.length + 1]! * Math.PI) / 360;
+      // Ry(yaw) * Rx(pitch)
+      q[4 * k] = Math.cos(y) * Math.sin(x);
+      q[4 * k + 1] = Math.sin(y) * Math.cos(x);
+      q[4 * k + 2] = -Math.sin(y) * Math.sin(x);
+      q[4 * k + 3] = Math.cos(y) * Math.cos(x);
+    });
+    samplers.push({ input: allTimes, output: bin.add(q, "VEC4", false), interpolation: "LINEAR" });
+    channels.push({ sampler: samplers.length - 1, target: { node: look, path: "rotation" } });
+    extension.expressions = { preset };
+    extension.lookAt = { node: look };
+  }
+
   const gltf = {
     asset: { version: "2.0", generator: `handrig ${generator} MotionRecorder` },
     extensionsUsed: ["VRMC_vrm_animation"],
-    extensions: { VRMC_vrm_animation: { specVersion: "1.0", humanoid: { humanBones } } },
+    extensions: { VRMC_vrm_animation: extension },
     scene: 0,
     scenes: [{ nodes: roots }],
     nodes,

@@ -144,6 +144,28 @@ export interface HandRigOptions {
     /** handStrategy retarget: converged when a Gauss-Newton step's largest angle is at most this (radians). (number in 0..1, default `0.0001`.) */
     stepTolerance?: number | undefined;
   } | undefined;
+  /** Options. `false` / `true` sets `enabled`. */
+  face?:
+    | boolean
+    | {
+        /** A tracked face (FaceLandmarker, Holistic) drives the expressions, the look-at and the head. (boolean, default `true`.) */
+        enabled?: boolean | undefined;
+        /** One Euro smoothing of the face's weights and head, and the blink's limited opening; false = each frame's weights as tracked. (boolean, default `true`.) */
+        smoothing?: boolean | undefined;
+        /** Face smoothing: One Euro cutoff at rest (Hz); lower is smoother and slower. (number in 0.01..30, default `2`.) */
+        minCutoff?: number | undefined;
+        /** Face smoothing: how fast the cutoff rises with a weight's speed (per unit/s); the head's is 10 times it (per rad/s). (number in 0..100, default `1`.) */
+        beta?: number | undefined;
+        /** Shortest time (s) a closed eye takes to open (a blink closes at once). (number in 0..1, default `0.1`.) */
+        blinkOpenTime?: number | undefined;
+        /** Seconds of the first face frames averaged into the neutral face (again after rig.calibrateFace()). (number in 0..60, default `2`.) */
+        calibrationTime?: number | undefined;
+        /** The neck's share of the head's turn from the face (the head bone takes the rest). (number in 0..1, default `0.3`.) */
+        neckShare?: number | undefined;
+        /** The face's transformation matrix turns the head and neck (over the torso's chest). (boolean, default `true`.) */
+        head?: boolean | undefined;
+      }
+    | undefined;
   /** Dotted paths as `optionDescriptions()` spells them are accepted too: `{ "alignment.weight": 0.5 }`. */
   [dottedPath: `${string}.${string}`]: unknown;
 }

@@ -150,7 +150,24 @@ export interface SolveResult {
   fingertips: { left?: Fingers<Vec3>; right?: Fingers<Vec3> };
   /** What `handStrategy: "retarget"` did per side this frame (sides freshly solved by it). */
   retarget: { left?: RetargetReport; right?: RetargetReport };
+  /**
+   * The face (issue 50): "tracked" this frame, "lost" (holding, then easing out), null without
+   * one. While it is not null the face turns `bones.neck` and `bones.head` (they are in `bones`
+   * then, even when `drivenBones()` leaves them out).
+   */
+  face: "tracked" | "lost" | null;
+  /** The VRM 1.0 preset expressions, weights 0..1 (the avatar's sides: `blinkLeft` is its left eye). */
+  expressions: { [name in ExpressionPresetName]: number };
+  /** The 52 ARKit weights 0..1 in `LAYOUT.arkit` order, the avatar's sides (perfect sync). */
+  arkit: Float32Array;
+  /** Where the eyes look relative to the head, degrees, as three-vrm's `vrm.lookAt.yaw` / `.pitch` (yaw > 0 toward the avatar's left, pitch > 0 down). */
+  lookAt: { yaw: number; pitch: number };
 }
+
+/** The VRM 1.0 preset expressions the face gives (`LAYOUT.expressions`). */
+export type ExpressionPresetName =
+  | "happy" | "angry" | "sad" | "relaxed" | "surprised" | "aa" | "ih" | "ou" | "ee" | "oh"
+  | "blink" | "blinkLeft" | "blinkRight" | "lookUp" | "lookDown" | "lookLeft" | "lookRight";
 
 /** One value per finger (undefined where the avatar lacks the finger). */
 export type Fingers<T> = { [finger in FingerName]?: T };

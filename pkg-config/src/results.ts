@@ -162,7 +162,68 @@ export function fillResult(
   const count = input[LI.handCount]!;
   use.length = count;
   for (let k = 0; k < count; k++) use[k] = HAND_USE[out[LO.handUse + k]!];
+  fillFace(r, out, arrays.bones, driven);
   return result;
+}
+
+// The face (issue 50): the neck and head it turns, the presets, the ARKit weights, the look-at.
+const FACE_BONES = [BONES.indexOf("neck"), BONES.indexOf("head")];
+// The presets by name, each store a fixed property (a keyed store by a varying name is a slow
+// lookup): the order is LAYOUT.expressions', checked once below.
+type Expressions = { [name: string]: number };
+const PRESET_ORDER = "happy angry sad relaxed surprised aa ih ou ee oh blink blinkLeft blinkRight lookUp lookDown lookLeft lookRight";
+if (LAYOUT.expressions.join(" ") !== PRESET_ORDER) throw new Error("handrig: LAYOUT.expressions changed: update results.ts");
+function newExpressions(): Expressions {
+  return { happy: 0, angry: 0, sad: 0, relaxed: 0, surprised: 0, aa: 0, ih: 0, ou: 0, ee: 0, oh: 0, blink: 0, blinkLeft: 0, blinkRight: 0, lookUp: 0, lookDown: 0, lookLeft: 0, lookRight: 0 };
+}
+function writeExpressions(e: Expressions, out: Float32Array, o: number): void {
+  e.happy = out[o]!;
+  e.angry = out[o + 1]!;
+  e.sad = out[o + 2]!;
+  e.relaxed = out[o + 3]!;
+  e.surprised = out[o + 4]!;
+  e.aa = out[o + 5]!;
+  e.ih = out[o + 6]!;
+  e.ou = out[o + 7]!;
+  e.ee = out[o + 8]!;
+  e.oh = out[o + 9]!;
+  e.blink = out[o + 10]!;
+  e.blinkLeft = out[o + 11]!;
+  e.blinkRight = out[o + 12]!;
+  e.lookUp = out[o + 13]!;
+  e.lookDown = out[o + 14]!;
+  e.lookLeft = out[o + 15]!;
+  e.lookRight = out[o + 16]!;
+}
+const ARKIT_COUNT = LAYOUT.arkit.length;
+const FACE_STATE: readonly (string | null)[] = [null, "tracked", "lost"];
+
+function fillFace(r: Mutable, out: Float32Array, bones: Mutable, driven: number[]): void {
+  for (let k = 0; k < 2; k++) {
+    const b = FACE_BONES[k]!;
+    if (driven.includes(b)) continue;
+    const name = BONES[b]!;
+    if (out[LO.boneFlags + b] !== 0) {
+      let q = bones[name] as number[] | undefined;
+      if (!Array.isArray(q) || q.length !== 4) q = bones[name] = [0, 0, 0, 1];
+      quat(out, LO.boneRotations + 4 * b, q);
+    } else if (name in bones) delete bones[name];
+  }
+  const state = FACE_STATE[out[LO.faceState]!] ?? null;
+  let ex = r.expressions as Mutable;
+  let arkit = r.arkit as Float32Array;
+  let look = r.lookAt as { yaw: number; pitch: number };
+  const fresh = !isObject(ex) || !(arkit instanceof Float32Array) || arkit.length !== ARKIT_COUNT || !isObject(look);
+  if (fresh) {
+    ex = r.expressions = newExpressions();
+    arkit = r.arkit = new Float32Array(ARKIT_COUNT);
+    look = r.lookAt = { yaw: 0, pitch: 0 };
+  } else if (state === null && r.face === null) return; // no face, and all zero already
+  r.face = state;
+  writeExpressions(ex as Expressions, out, LO.expressions);
+  for (let k = 0; k < ARKIT_COUNT; k++) arkit[k] = out[LO.arkit + k]!;
+  look.yaw = out[LO.lookAt]!;
+  look.pitch = out[LO.lookAt + 1]!;
 }
 
 /**

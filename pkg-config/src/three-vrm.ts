@@ -16,6 +16,7 @@
  * @module handrig/three-vrm
  */
 
+import { FACE, bindFace, readFace, type FaceBinding } from "./expression-names.js";
 import { LAYOUT } from "./layout.js";
 import { skinOfScene } from "./skin.js";
 
@@ -37,6 +38,13 @@ export interface VRMLike {
     normalizedRestPose: { [boneName: string]: { position?: ArrayLike<number> } | undefined };
     getNormalizedBoneNode(name: string): BoneNodeLike | null | undefined;
   };
+  /** three-vrm's `VRMExpressionManager` (the face's expressions, issue 50). */
+  expressionManager?: {
+    expressions: ReadonlyArray<{ expressionName: string }>;
+    setValue(name: string, weight: number): void;
+  } | null;
+  /** three-vrm's `VRMLookAt` (the face's look-at: `yaw`, `pitch` in degrees). */
+  lookAt?: { yaw: number; pitch: number } | null;
 }
 
 /** Same shape as handrig's `RestPose` (import that type from "handrig"). */
@@ -153,7 +161,9 @@ function nodesOf(humanoid: Humanoid): Map<string, BoneNodeLike | null> {
  * the avatar lacks are skipped. No VRM 0.x sign flip is applied or needed: handrig already
  * returns rotations in the model's own frame. Call `vrm.update(delta)` afterwards as usual
  * (three-vrm copies normalized rotations to the model's bones there). Returns how many bones were
- * written. Allocates nothing per frame: the bone nodes are looked up once per VRM and cached.
+ * written. A result with a face (issue 50) also sets `vrm.expressionManager` (the 52 ARKit
+ * expressions on a perfect-sync avatar, else the VRM presets, 1.0 or 0.x names) and
+ * `vrm.lookAt.yaw` / `.pitch`; while no face is tracked they are left to the app. Allocates nothing per frame: the bone nodes are looked up once per VRM and cached.
  * @throws TypeError when `vrm` or `result` has the wrong shape.
  */
 export function applyToVRM(
@@ -163,6 +173,7 @@ export function applyToVRM(
   const fn = "applyToVRM";
   const humanoid = humanoidOf(vrm, fn);
   const nodes = nodesOf(humanoid);
+  applyFace(vrm, result);
   let written = 0;
   if (result instanceof Float32Array) {
     const O = LAYOUT.output;
@@ -195,3 +206,52 @@ export function applyToVRM(
   }
   return written;
 }
+
+// The face (issue 50): per expression manager, which of its expressions each weight sets; per
+// VRM, whether the last frame had a face (the frame after one is lost sets them to 0 once).
+const faceBindings = new WeakMap<object, FaceBinding>();
+const hadFace = new WeakMap<object, boolean>();
+
+/**
+ * The face of a result onto the VRM: with the 52 ARKit expressions (perfect sync, names in any
+ * case or with a prefix such as `BlendShape.`) those, otherwise the presets (VRM 1.0 names, or
+ * VRM 0.x names kept as custom expressions); the look-at's yaw and pitch on `vrm.lookAt` (its
+ * applier turns the eyes or sets lookUp/Down/Left/Right within the avatar's range), or the look*
+ * presets on an avatar without one. Nothing while no face was tracked.
+ */
+function applyFace(vrm: VRMLike, result: unknown): void {
+  if (!readFace(result)) return;
+  const live = FACE.state !== 0;
+  if (!live && hadFace.get(vrm) !== true) return;
+  hadFace.set(vrm, live);
+  const manager = vrm.expressionManager;
+  const look = vrm.lookAt;
+  if (manager) {
+    let binding = faceBindings.get(manager);
+    if (binding === undefined) {
+      binding = bindFace(manager.expressions.map((e) => e.expressionName));
+      faceBindings.set(manager, binding);
+    }
+    if (binding.perfectSync) {
+      const names = binding.arkit;
+      for (let k = 0; k < names.length; k++) {
+        const name = names[k];
+        if (name) manager.setValue(name, FACE.arkit[k]!);
+      }
+    } else {
+      const names = binding.presets;
+      // lookUp / Down / Left / Right: vrm.lookAt sets them when the avatar has one.
+      const n = look ? LOOK_PRESETS_FROM : names.length;
+      for (let k = 0; k < n; k++) {
+        const name = names[k];
+        if (name) manager.setValue(name, FACE.presets[k]!);
+      }
+    }
+  }
+  if (look) {
+    look.yaw = FACE.yaw;
+    look.pitch = FACE.pitch;
+  }
+}
+
+const LOOK_PRESETS_FROM = LAYOUT.expressions.indexOf("lookUp");

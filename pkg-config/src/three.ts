@@ -9,6 +9,7 @@
 // time: the scene objects are used through the few members of `Object3DLike`, so the package has
 // no dependency on three, and a three `Object3D` fits the types.
 
+import { FACE, bindFace, readFace, type FaceBinding } from "./expression-names.js";
 import { LAYOUT } from "./layout.js";
 import { mul, type SceneLike, type SkinArrays, skinOfScene } from "./skin.js";
 
@@ -346,3 +347,79 @@ function carry(r: BoneRest, q: ArrayLike<number>): void {
   T[2] = cw * bz + cx * by - cy * bx + cz * bw;
   T[3] = cw * bw - cx * bx - cy * by - cz * bz;
 }
+
+/** A mesh with morph targets: the parts of three's `Mesh` the face uses. */
+interface MorphMeshLike {
+  morphTargetDictionary?: { [name: string]: number };
+  morphTargetInfluences?: number[];
+}
+
+/** Per mesh: which influence each weight sets (-1: none), the perfect-sync choice made per mesh. */
+interface MeshFace {
+  influences: number[];
+  /** Per ARKit weight, then per preset: the influence's index or -1. */
+  arkit: Int32Array;
+  presets: Int32Array;
+  perfectSync: boolean;
+}
+
+const sceneFaces = new WeakMap<object, MeshFace[]>();
+
+function meshFaces(root: Object3DLike): MeshFace[] {
+  let faces = sceneFaces.get(root);
+  if (faces !== undefined) return faces;
+  faces = [];
+  const visit = (o: Object3DLike): void => {
+    const m = o as unknown as MorphMeshLike;
+    if (m.morphTargetDictionary && Array.isArray(m.morphTargetInfluences)) {
+      const dict = m.morphTargetDictionary;
+      const b: FaceBinding = bindFace(Object.keys(dict));
+      faces!.push({
+        influences: m.morphTargetInfluences,
+        arkit: Int32Array.from(b.arkit, (n) => (n === null ? -1 : dict[n]!)),
+        presets: Int32Array.from(b.presets, (n) => (n === null ? -1 : dict[n]!)),
+        perfectSync: b.perfectSync,
+      });
+    }
+    for (const c of o.children) visit(c);
+  };
+  visit(root);
+  sceneFaces.set(root, faces);
+  return faces;
+}
+
+/**
+ * The face of a `solve` result (or a flat output) onto the morph targets of every mesh under
+ * `root`, by name (issue 50): a mesh with the 52 ARKit shapes (any case, prefixes such as
+ * `BlendShape.`, `_L`/`_R` suffixes) gets those (perfect sync), another the VRM presets under
+ * their VRM 1.0, VRM 0.x or VRChat viseme names (`aa`, `A`, `vrc.v_aa`; `blink_l`; `joy`). The
+ * meshes are bound on the first call (morph targets added later are not seen). Returns how many
+ * meshes were written; 0 while no face is tracked (the frame after a face is lost sets them to 0).
+ */
+export function applyFaceToMorphTargets(root: Object3DLike, result: unknown): number {
+  if (!readFace(result)) {
+    throw new TypeError("applyFaceToMorphTargets: result must be a HandRig.solve() result or a flat output Float32Array");
+  }
+  const faces = meshFaces(root);
+  const live = FACE.state !== 0;
+  const seen = hadFace.get(root) === true;
+  hadFace.set(root, live);
+  if (!live && !seen) return 0;
+  let written = 0;
+  for (const f of faces) {
+    const map = f.perfectSync ? f.arkit : f.presets;
+    const weights = f.perfectSync ? FACE.arkit : FACE.presets;
+    let any = false;
+    for (let k = 0; k < map.length; k++) {
+      const i = map[k]!;
+      if (i >= 0) {
+        f.influences[i] = weights[k]!;
+        any = true;
+      }
+    }
+    if (any) written++;
+  }
+  return written;
+}
+
+const hadFace = new WeakMap<object, boolean>();

@@ -19,6 +19,7 @@ export interface RawHandRig {
   resetCalibration(): void;
   reset(): void;
   calibrateHandScale(): Float32Array;
+  calibrateFace(): void;
   boneMap(): object | undefined;
   free(): void;
 }

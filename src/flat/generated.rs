@@ -67,6 +67,10 @@ pub fn layout_json() -> String {
         "handResolved".into(),
         json!(super::HAND_RESOLVED_NAMES.to_vec()),
     );
+    // The face (issue 50): the ARKit names, the presets, the face-mesh landmarks read.
+    root.insert("arkit".into(), json!(crate::face::ARKIT.to_vec()));
+    root.insert("expressions".into(), json!(crate::face::PRESETS.to_vec()));
+    root.insert("faceMesh".into(), json!(crate::face::MESH.to_vec()));
     let mut s = serde_json::to_string_pretty(&Value::Object(root)).expect("JSON");
     s.push('\n');
     s

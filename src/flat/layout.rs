@@ -9,17 +9,18 @@
 //! within its stride.
 
 use super::declare::{layout_side, Row};
+use crate::face::{MESH_POINTS, PRESET_COUNT, SHAPES};
 use crate::humanoid::bones::BONE_COUNT;
 use crate::input::mediapipe::{TrackerFace, HAND_LANDMARKS, MAX_HANDS, POSE_LANDMARKS};
 use crate::input::torso::{BODY_JOINT_COUNT, TORSO_BONE_COUNT};
 
 /// Layout version: bumped whenever an offset or meaning changes, and with it
 /// [`LAYOUT_SIGNATURE`] (a test checks that they move together).
-pub const VERSION: u32 = 8;
+pub const VERSION: u32 = 9;
 
 /// A digest of every row's path, offset and size at [`VERSION`]: a test recomputes it, so a
 /// layout change without a version bump fails.
-pub const LAYOUT_SIGNATURE: u64 = 0x0f1b_8dfa_5690_a0ea;
+pub const LAYOUT_SIGNATURE: u64 = 0x02dd_b711_8f3c_3e32;
 
 layout_side! {
     /// Input offsets (indices into the input `f32` array).
@@ -86,6 +87,23 @@ layout_side! {
             /// Position `x y z`.
             POSITION position: 3;
         };
+        // The face tracker's face (issue 50).
+        /// 1 when this frame carries a face tracker's face (FaceLandmarker, Holistic).
+        FACE_TRACKED faceTracked: 1;
+        /// 1 when `faceShapes` holds its blendshapes.
+        FACE_HAS_SHAPES faceHasShapes: 1;
+        /// 1 when `faceMatrix` holds its facial transformation matrix.
+        FACE_HAS_MATRIX faceHasMatrix: 1;
+        /// 1 when `faceMesh` holds its landmarks.
+        FACE_HAS_MESH faceHasMesh: 1;
+        /// Blendshape scores 0 to 1 in `LAYOUT.arkit` order (MediaPipe's names and sides;
+        /// `tongueOut` 0).
+        FACE_SHAPES faceShapes: SHAPES;
+        /// The facial transformation matrix, 16 numbers column-major (MediaPipe's `data`).
+        FACE_MATRIX faceMatrix: 16;
+        /// The face-mesh landmarks `LAYOUT.faceMesh` lists (indices into MediaPipe's 468 or
+        /// 478), normalized image `x y z`.
+        FACE_MESH faceMesh: [MESH_POINTS] x 3;
     }
 }
 
@@ -191,6 +209,16 @@ layout_side! {
         /// another hand drove its side, 5 ignored: its label contradicts the pose
         /// (`handedness: "drop"`); names by code: `LAYOUT.handUse`.
         HAND_USE handUse: MAX_HANDS;
+        // The face (issue 50).
+        /// The face: 0 none, 1 tracked this frame, 2 lost and easing out.
+        FACE_STATE faceState: 1;
+        /// The VRM 1.0 presets, 0 to 1, in `LAYOUT.expressions` order (the avatar's sides).
+        EXPRESSIONS expressions: PRESET_COUNT;
+        /// The 52 ARKit weights, 0 to 1, in `LAYOUT.arkit` order (the avatar's sides).
+        ARKIT arkit: SHAPES;
+        /// Look-at yaw and pitch, degrees (three-vrm's `VRMLookAt`: yaw > 0 toward the avatar's
+        /// left, pitch > 0 down).
+        LOOK_AT lookAt: 2;
     }
 }
 

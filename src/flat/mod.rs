@@ -284,6 +284,7 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
     if !face.is_empty() {
         frame.face = Some(face);
     }
+    read_face_tracking(buf, frame)?;
     // Every number: the same check as a native frame.
     validate_frame_with(frame, metric_world)?;
     // The rotations were checked to be unit within 1e-2: make them exactly unit.
@@ -293,6 +294,40 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
     for q in frame.torso.iter_mut().flatten() {
         *q = q.normalize();
     }
+    Ok(())
+}
+
+/// The face tracker's face (issue 50).
+fn read_face_tracking(buf: &[f32], frame: &mut FrameInput) -> Result<()> {
+    use crate::face::{FaceObservation, MESH_POINTS, SHAPES};
+    // (the npm package writes only 0 and 1 here)
+    let on = |at: usize| buf[at] == 1.0;
+    if !on(input::FACE_TRACKED) {
+        return Ok(());
+    }
+    let mut face = FaceObservation {
+        shapes: None,
+        matrix: None,
+        mesh: None,
+    };
+    if flag(buf, input::FACE_HAS_SHAPES, || {
+        "frame.faceBlendshapes".into()
+    })? {
+        let mut s = [0.0; SHAPES];
+        s.copy_from_slice(&buf[input::FACE_SHAPES..input::FACE_SHAPES + SHAPES]);
+        face.shapes = Some(s);
+    }
+    if on(input::FACE_HAS_MATRIX) {
+        let mut m = [0.0; 16];
+        m.copy_from_slice(&buf[input::FACE_MATRIX..input::FACE_MATRIX + 16]);
+        face.matrix = Some(m);
+    }
+    if on(input::FACE_HAS_MESH) {
+        let mut p = [Vec3::ZERO; MESH_POINTS];
+        points(buf, input::FACE_MESH, 3, &mut p);
+        face.mesh = Some(p);
+    }
+    frame.face_tracking = Some(face);
     Ok(())
 }
 
@@ -317,7 +352,9 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
     let skeleton = rig.skeleton();
     for bone in HumanBone::ALL {
         let i = bone.index();
-        let driven = skeleton.has(bone) && rig.drives(bone);
+        // (the face turns the neck and head in frames with a face: issue 50)
+        let face_turned = out.face.head && matches!(bone, HumanBone::Neck | HumanBone::Head);
+        let driven = skeleton.has(bone) && (rig.drives(bone) || face_turned);
         let q = if driven { out.local[i] } else { Quat::IDENTITY };
         put_quat(buf, output::BONE_ROTATIONS + 4 * i, q);
         buf[output::BONE_FLAGS + i] = match (driven, out.solved[i]) {
@@ -436,6 +473,13 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
             HandUse::Contradicted => const { code(&HAND_USE_NAMES, "contradicted") },
         };
     }
+    // The face (issue 50).
+    let face = &out.face;
+    buf[output::FACE_STATE] = f32::from(face.state);
+    buf[output::EXPRESSIONS..output::EXPRESSIONS + face.presets.len()]
+        .copy_from_slice(&face.presets);
+    buf[output::ARKIT..output::ARKIT + face.arkit.len()].copy_from_slice(&face.arkit);
+    buf[output::LOOK_AT..output::LOOK_AT + 2].copy_from_slice(&face.look_at);
 }
 
 /// Packs `frame` into a flat input array (the inverse of [`read_input`], for native callers
@@ -511,6 +555,23 @@ pub fn write_input(frame: &FrameInput, buf: &mut [f32]) {
                 let at = input::FACE + k * input::FACE_STRIDE;
                 buf[at + input::face_point::PRESENT] = 1.0;
                 put_vec3(buf, at + input::face_point::POSITION, p);
+            }
+        }
+    }
+    if let Some(face) = &frame.face_tracking {
+        buf[input::FACE_TRACKED] = 1.0;
+        if let Some(s) = &face.shapes {
+            buf[input::FACE_HAS_SHAPES] = 1.0;
+            buf[input::FACE_SHAPES..input::FACE_SHAPES + s.len()].copy_from_slice(s);
+        }
+        if let Some(m) = &face.matrix {
+            buf[input::FACE_HAS_MATRIX] = 1.0;
+            buf[input::FACE_MATRIX..input::FACE_MATRIX + 16].copy_from_slice(m);
+        }
+        if let Some(mesh) = &face.mesh {
+            buf[input::FACE_HAS_MESH] = 1.0;
+            for (k, p) in mesh.iter().enumerate() {
+                put_vec3(buf, input::FACE_MESH + 3 * k, *p);
             }
         }
     }

@@ -305,6 +305,9 @@ pub struct FrameInput {
     /// Face points from the same body tracker (the model's own frame), for self-contact
     /// retargeting of tracker wrists ([`crate::contact`]).
     pub face: Option<TrackerFace>,
+    /// A face tracker's face (FaceLandmarker or Holistic: blendshapes, transformation matrix,
+    /// face-mesh landmarks), for expressions, look-at and the head ([`crate::face`]).
+    pub face_tracking: Option<crate::face::FaceObservation>,
     /// The image's width / height (`frame.imageAspect`; 16/9 when not given): how image
     /// landmarks' x and y compare ([`crate::input::hand_wrist`]).
     pub image_aspect: f32,
@@ -328,6 +331,7 @@ impl Default for FrameInput {
             torso: [None; TORSO_BONE_COUNT],
             body: None,
             face: None,
+            face_tracking: None,
             image_aspect: 16.0 / 9.0,
         }
     }
@@ -350,6 +354,7 @@ impl FrameInput {
         self.torso = [None; TORSO_BONE_COUNT];
         self.body = None;
         self.face = None;
+        self.face_tracking = None;
         self.image_aspect = 16.0 / 9.0;
     }
 }

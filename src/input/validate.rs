@@ -244,5 +244,49 @@ pub(crate) fn validate_frame_with(
             }
         }
     }
+    if let Some(face) = &frame.face_tracking {
+        validate_face(face)?;
+    }
+    Ok(())
+}
+
+/// The face tracker's face: scores in 0..1, a finite column-major matrix with a rotation in it,
+/// landmarks within the coordinate limit. (The npm package names the blendshape or landmark
+/// before this runs.)
+fn validate_face(face: &crate::face::FaceObservation) -> Result<()> {
+    use crate::error::Error;
+    if face
+        .shapes
+        .is_some_and(|s| s.iter().any(|v| !(0.0..=1.0).contains(v)))
+    {
+        return Err(Error::invalid(
+            "frame.faceBlendshapes",
+            "scores must be in 0..1",
+        ));
+    }
+    if let Some(m) = &face.matrix {
+        // Column-major: elements 3, 7, 11 (the bottom row) are 0; row-major puts the
+        // translation there. A rotation has no zero column.
+        let c0 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
+        if !(m[3] == 0.0 && m[7] == 0.0 && m[11] == 0.0 && c0 > 1e-12)
+            || m.iter().any(|v| !v.is_finite())
+        {
+            return Err(Error::invalid(
+                "frame.facialTransformationMatrixes[0].data",
+                "must be a finite 4x4 rotation and translation, column-major (elements 3, 7, 11 \
+                 are 0): row-major given?",
+            ));
+        }
+    }
+    if face
+        .mesh
+        .as_ref()
+        .is_some_and(|p| points_problem(p).is_some())
+    {
+        return Err(Error::invalid(
+            "frame.faceLandmarks",
+            "must be finite numbers within -1000..1000",
+        ));
+    }
     Ok(())
 }

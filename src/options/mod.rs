@@ -24,6 +24,7 @@ use crate::align::{AlignPoint, AlignmentOptions};
 use crate::body::CalibrationOptions;
 use crate::contact::{ContactOptions, FaceAnchorsOption};
 use crate::error::{Error, Result};
+pub use crate::face::FaceOptions;
 use crate::filter::{DropoutOptions, FilterOptions};
 use crate::hand::{HandStrategy, RetargetOptions};
 use crate::humanoid::bones::Finger;
@@ -72,6 +73,8 @@ pub struct RigOptions {
     /// Arms from hands alone: the camera and framing assumed (see
     /// [`crate::input::hand_wrist`]).
     pub hands_only: HandsOnlyOptions,
+    /// The face: expressions, look-at and head from a face tracker (issue 50).
+    pub face: FaceOptions,
 }
 
 /// How a hand whose MediaPipe label contradicts the pose is treated (JS:
@@ -211,6 +214,16 @@ impl RigOptions {
             distance: 0.0,
             shoulder_y: 0.0,
         },
+        face: FaceOptions {
+            enabled: false,
+            smoothing: false,
+            min_cutoff: 0.0,
+            beta: 0.0,
+            blink_open_time: 0.0,
+            calibration_time: 0.0,
+            neck_share: 0.0,
+            head: false,
+        },
     };
 
     /// Reads options from JSON text: an object of the camelCase paths of [`table::OPTIONS`]
@@ -262,6 +275,7 @@ impl RigOptions {
         o.dropout.enabled = false;
         o.contact.max_speed = 0.0;
         o.arm.max_turn_speed = 0.0;
+        o.face.smoothing = false;
         o
     }
 
@@ -307,6 +321,7 @@ group_default! {
     ContactOptions => contact,
     RetargetOptions => retarget,
     HandsOnlyOptions => hands_only,
+    FaceOptions => face,
     HandStrategy => hand_strategy,
     ArmSolver => arm_solver,
     AlignPoint => alignment.point,

@@ -316,6 +316,23 @@ pub static OPTIONS: &[OptionSpec] = &[
         "handStrategy retarget: most Gauss-Newton iterations per finger and frame."),
     number!("retarget.stepTolerance", retarget.settings.step_tolerance, 0.0, 1.0, 1e-5, 1e-4,
         "handStrategy retarget: converged when a Gauss-Newton step's largest angle is at most this (radians)."),
+    // The face (issue 50).
+    flag!("face.enabled", face.enabled, true,
+        "A tracked face (FaceLandmarker, Holistic) drives the expressions, the look-at and the head."),
+    flag!("face.smoothing", face.smoothing, true,
+        "One Euro smoothing of the face's weights and head, and the blink's limited opening; false = each frame's weights as tracked."),
+    number!("face.minCutoff", face.min_cutoff, 0.01, 30.0, 0.01, 2.0,
+        "Face smoothing: One Euro cutoff at rest (Hz); lower is smoother and slower."),
+    number!("face.beta", face.beta, 0.0, 100.0, 0.1, 1.0,
+        "Face smoothing: how fast the cutoff rises with a weight's speed (per unit/s); the head's is 10 times it (per rad/s)."),
+    number!("face.blinkOpenTime", face.blink_open_time, 0.0, 1.0, 0.01, 0.1,
+        "Shortest time (s) a closed eye takes to open (a blink closes at once)."),
+    number!("face.calibrationTime", face.calibration_time, 0.0, 60.0, 0.5, 2.0,
+        "Seconds of the first face frames averaged into the neutral face (again after rig.calibrateFace())."),
+    number!("face.neckShare", face.neck_share, 0.0, 1.0, 0.05, 0.3,
+        "The neck's share of the head's turn from the face (the head bone takes the rest)."),
+    flag!("face.head", face.head, true,
+        "The face's transformation matrix turns the head and neck (over the torso's chest)."),
 ];
 
 impl Value {

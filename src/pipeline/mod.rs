@@ -36,6 +36,7 @@
 
 mod contact;
 mod ease;
+mod face;
 mod frame;
 mod hands;
 mod limit;
@@ -92,6 +93,8 @@ pub struct Rig {
     reach: reach::Reach,
     ease: ease::Ease,
     limit: limit::Limit,
+    // The face (issue 50), after the torso.
+    face: face::FaceStage,
 }
 
 impl Rig {
@@ -141,6 +144,7 @@ impl Rig {
             reach,
             ease: ease::Ease::default(),
             limit: limit::Limit::default(),
+            face: face::FaceStage::default(),
         })
     }
 
@@ -177,6 +181,7 @@ impl Rig {
         self.reach.arms.reset();
         self.ease.restart();
         self.limit.restart();
+        self.face.restart();
         let f = &mut self.frame;
         f.pose = None;
         f.anchors = [None, None];
@@ -278,6 +283,12 @@ impl Rig {
         self.torso.solver.reset_calibration();
     }
 
+    /// Starts the neutral face's calibration again (`face.calibrationTime` seconds of face
+    /// frames from the next one): call it while the user holds a neutral face.
+    pub fn calibrate_face(&mut self) {
+        self.face.face.calibrate();
+    }
+
     /// The torso stage (the avatar's torso bone the arms hang from, the shrug's neutral).
     #[must_use]
     pub fn torso(&self) -> &TorsoSolver {
@@ -352,6 +363,8 @@ impl Rig {
         // The torso and its forward kinematics: the world pose the arms hang from, once per
         // frame (arms and hands do not move it).
         self.torso.run(&cx, f, out);
+        // The face: expressions, look-at, the head over the posed torso (issue 50).
+        self.face.run(&cx, f, out);
         for side in Side::BOTH {
             self.observe.hand(&cx, side, f);
             self.hands.run(&cx, side, f, out);

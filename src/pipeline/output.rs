@@ -71,6 +71,36 @@ pub struct SolveOutput {
     /// What self-contact did per side (`[left, right]`): `Some` for every side with a wrist
     /// IK target while `contact.enabled`.
     pub contact: [Option<ContactReport>; 2],
+    /// The face's expressions, look-at and head (issue 50).
+    pub face: FaceReport,
+}
+
+/// What the face stage gave this frame ([`crate::face`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FaceReport {
+    /// 0 no face, 1 tracked this frame, 2 lost and easing out.
+    pub state: u8,
+    /// The VRM 1.0 presets ([`crate::face::PRESETS`] order), 0..1.
+    pub presets: [f32; crate::face::PRESET_COUNT],
+    /// The 52 ARKit weights ([`crate::face::ARKIT`] order, the avatar's sides), 0..1.
+    pub arkit: [f32; crate::face::SHAPES],
+    /// Look-at yaw and pitch in degrees (three-vrm's `VRMLookAt`: yaw > 0 toward the avatar's
+    /// left, pitch > 0 down).
+    pub look_at: [f32; 2],
+    /// Whether the face turned the neck and head this frame (they are then reported driven).
+    pub head: bool,
+}
+
+impl Default for FaceReport {
+    fn default() -> Self {
+        FaceReport {
+            state: 0,
+            presets: [0.0; crate::face::PRESET_COUNT],
+            arkit: [0.0; crate::face::SHAPES],
+            look_at: [0.0; 2],
+            head: false,
+        }
+    }
 }
 
 /// What the rig did with one tracked hand of the frame.
@@ -147,6 +177,7 @@ impl Default for SolveOutput {
             fingertips: [[None; 5]; 2],
             retarget: [None, None],
             contact: [None, None],
+            face: FaceReport::default(),
         }
     }
 }

@@ -264,6 +264,12 @@ impl HandRig {
         self.rig.reset();
     }
 
+    /// Starts the neutral face's calibration again (issue 50).
+    #[wasm_bindgen(js_name = calibrateFace)]
+    pub fn calibrate_face(&mut self) {
+        self.rig.calibrate_face();
+    }
+
     /// Calibrates the retargeting's hand scale from the last hand solved on each side (an
     /// open, flat hand): `[left, right]`, the new scale or NaN where nothing changed.
     #[wasm_bindgen(js_name = calibrateHandScale)]

@@ -17,6 +17,7 @@ mod bad_frames;
 mod chain_ik;
 mod contact;
 mod dups;
+mod face;
 mod flips;
 mod fuzz;
 mod fuzz_gltf;

@@ -1,0 +1,101 @@
+#!/usr/bin/env node
+// What the face costs per frame (issue 50), in Node on the built package: the four ASL clips of
+// eval/speed.mjs (pose and hands, ../shared/data/asl) solved with and without the face that
+// FaceLandmarker found in the same frame (eval/face/CLIP.json, `make eval-face` records them:
+// 52 blendshapes, the matrix, 478 landmarks), interleaved pass by pass as eval/speed.mjs does;
+// the object API (`rig.solve(frame)`: the face packed in JS, result.expressions / .arkit /
+// .lookAt filled) and the flat path (the packed input copied in, `rig.solveFlat(t)`). Also
+// Kalidokit 1.1.5's Face.solve on the same landmarks (which it scales in place: they are reset
+// before each call, inside the timing, a copy of 478 points). Median and p95 microseconds.
+//
+//   node eval/face-speed.mjs [--passes N] [--warmup W] [--pkg DIR]
+
+import { readFileSync } from "node:fs";
+import { createRequire } from "node:module";
+import { join } from "node:path";
+import { pathToFileURL } from "node:url";
+import { parseArgs } from "node:util";
+import { REPO } from "./bench/common.mjs";
+
+const { values: o } = parseArgs({ options: { pkg: { type: "string" }, passes: { type: "string" }, warmup: { type: "string" } } });
+const { HandRig } = await import(pathToFileURL(join(o.pkg ?? join(REPO, "pkg"), "index.mjs")).href);
+const { Face } = createRequire(join(REPO, "eval", "package.json"))("kalidokit/dist/kalidokit.umd.js");
+const shared = process.env.HANDRIG_SHARED ?? join(REPO, "..", "shared");
+const passes = Number(o.passes ?? 10);
+const warmup = Number(o.warmup ?? 20);
+const robot = readFileSync(join(shared, "avatars", "debug-robot.vrm"));
+
+const plain = [];
+const withFace = [];
+const landmarks = [];
+const lmIn = [];
+for (const clip of ["eat", "thanks", "brother", "sister"]) {
+  const asl = JSON.parse(readFileSync(join(shared, "data", "asl", `${clip}.json`), "utf8")).frames;
+  const face = JSON.parse(readFileSync(join(REPO, "eval", "face", `${clip}.json`), "utf8")).frames;
+  asl.forEach((f, k) => {
+    const g = face[k];
+    plain.push(f);
+    if (!g?.landmarks) {
+      withFace.push(f);
+      landmarks.push(null);
+      lmIn.push(null);
+      return;
+    }
+    const lm = g.landmarks.map(([x, y, z]) => ({ x, y, z }));
+    // Kalidokit's Face.solve scales the points it is given in place: its own copy.
+    landmarks.push(g.landmarks.map(([x, y, z]) => ({ x, y, z })));
+    lmIn.push(g.landmarks);
+    withFace.push({
+      ...f,
+      faceLandmarks: [lm],
+      faceBlendshapes: [{ categories: g.blendshapes.map(([categoryName, score], index) => ({ index, score, categoryName, displayName: "" })), headIndex: -1, headName: "" }],
+      facialTransformationMatrixes: [{ rows: 4, columns: 4, data: g.matrix }],
+    });
+  });
+}
+const n = plain.length;
+let sink = 0;
+const pack = (frames) => {
+  const r = HandRig.fromVrm(robot);
+  return frames.map((f) => (r.solve(f), Float32Array.from(r.input)));
+};
+const packedPlain = pack(plain);
+const packedFace = pack(withFace);
+const rigs = [0, 1, 2, 3].map(() => HandRig.fromVrm(robot));
+const flat = (r, packed) => {
+  const { input, output } = r;
+  return (i) => {
+    input.set(packed[i]);
+    r.solveFlat(plain[i].timeMs);
+    sink += output[0];
+  };
+};
+const methods = [
+  ["object API, no face", (i) => (sink += rigs[0].solve(plain[i]).timeMs)],
+  ["object API, with the face", (i) => (sink += rigs[1].solve(withFace[i]).timeMs)],
+  ["flat path, no face", flat(rigs[2], packedPlain)],
+  ["flat path, with the face", flat(rigs[3], packedFace)],
+  ["Kalidokit Face.solve", (i) => {
+    const lm = landmarks[i];
+    if (lm) for (let k = 0; k < lm.length; k++) (lm[k].x = lmIn[i][k][0]), (lm[k].y = lmIn[i][k][1]), (lm[k].z = lmIn[i][k][2]);
+    const r = lm && Face.solve(lm, { runtime: "mediapipe", imageSize: { width: 640, height: 480 } });
+    sink += r ? r.head.x : 0;
+  }],
+];
+for (let w = 0; w < warmup; w++) for (const [, fn] of methods) for (let i = 0; i < n; i++) fn(i);
+const samples = methods.map(() => []);
+for (let p = 0; p < passes; p++) {
+  for (let m = 0; m < methods.length; m++) {
+    for (let i = 0; i < n; i++) {
+      const t0 = process.hrtime.bigint();
+      methods[m][1](i);
+      samples[m].push(Number(process.hrtime.bigint() - t0) / 1000);
+    }
+  }
+}
+const q = (s, p) => [...s].sort((a, b) => a - b)[Math.min(s.length - 1, Math.floor(p * s.length))];
+console.log(`${n} frames (${withFace.filter((f, i) => f !== plain[i]).length} with a face) x ${passes} passes after ${warmup} warm-up passes`);
+console.log("| | median µs | p95 µs |\n| --- | ---: | ---: |");
+methods.forEach(([label], m) => console.log(`| ${label} | ${q(samples[m], 0.5).toFixed(1)} | ${q(samples[m], 0.95).toFixed(1)} |`));
+console.log(`face added, median: object API ${(q(samples[1], 0.5) - q(samples[0], 0.5)).toFixed(1)} µs, flat path ${(q(samples[3], 0.5) - q(samples[2], 0.5)).toFixed(1)} µs`);
+if (sink === 42) console.log("");

@@ -1,0 +1,468 @@
+//! The face (issue 50): MediaPipe's face tracking into the avatar's expressions.
+//!
+//! In: FaceLandmarker's 52 blendshape categories (its `_neutral` left out, ARKit's
+//! `tongueOut` added at 0: [`ARKIT`] order), its facial transformation matrix (4x4, column-major,
+//! the canonical face in the camera's axes: x to the image right, y up, z toward the camera), or
+//! without blendshapes a few face-mesh landmarks ([`MESH`]) from which the blinks and the mouth
+//! are measured. Out: the 52 ARKit weights (perfect sync), the VRM 1.0 presets ([`PRESETS`]), the
+//! look-at (yaw, pitch in degrees, three-vrm's `VRMLookAt` convention: yaw > 0 toward the avatar's
+//! left, pitch > 0 down) and the head's world rotation.
+//!
+//! Sides: MediaPipe's blendshape names are the face's own sides in the image it was given (on
+//! the shared clips `eyeBlinkLeft` follows the eye on the image's right and `eyeLookOutLeft` the
+//! gaze toward it: the subject's left on an un-mirrored image), so they are swapped exactly when
+//! the x axis is ([`CameraMapping::flips_x`]); after [`Face::solve`] every `Left` weight is the avatar's
+//! left. See docs/how-it-works/face.md.
+
+use glam::{Mat3, Quat, Vec3};
+
+use crate::filter::one_euro::alpha;
+use crate::input::mediapipe::CameraMapping;
+
+/// How many ARKit blendshapes.
+pub const SHAPES: usize = 52;
+
+/// The 52 ARKit blendshape names in the order of the flat layout's `faceShapes` and `arkit`
+/// (MediaPipe's order without `_neutral`, then `tongueOut`, which MediaPipe does not give).
+pub const ARKIT: [&str; SHAPES] = [
+    "browDownLeft",
+    "browDownRight",
+    "browInnerUp",
+    "browOuterUpLeft",
+    "browOuterUpRight",
+    "cheekPuff",
+    "cheekSquintLeft",
+    "cheekSquintRight",
+    "eyeBlinkLeft",
+    "eyeBlinkRight",
+    "eyeLookDownLeft",
+    "eyeLookDownRight",
+    "eyeLookInLeft",
+    "eyeLookInRight",
+    "eyeLookOutLeft",
+    "eyeLookOutRight",
+    "eyeLookUpLeft",
+    "eyeLookUpRight",
+    "eyeSquintLeft",
+    "eyeSquintRight",
+    "eyeWideLeft",
+    "eyeWideRight",
+    "jawForward",
+    "jawLeft",
+    "jawOpen",
+    "jawRight",
+    "mouthClose",
+    "mouthDimpleLeft",
+    "mouthDimpleRight",
+    "mouthFrownLeft",
+    "mouthFrownRight",
+    "mouthFunnel",
+    "mouthLeft",
+    "mouthLowerDownLeft",
+    "mouthLowerDownRight",
+    "mouthPressLeft",
+    "mouthPressRight",
+    "mouthPucker",
+    "mouthRight",
+    "mouthRollLower",
+    "mouthRollUpper",
+    "mouthShrugLower",
+    "mouthShrugUpper",
+    "mouthSmileLeft",
+    "mouthSmileRight",
+    "mouthStretchLeft",
+    "mouthStretchRight",
+    "mouthUpperUpLeft",
+    "mouthUpperUpRight",
+    "noseSneerLeft",
+    "noseSneerRight",
+    "tongueOut",
+];
+
+/// The `Left`/`Right` pairs of [`ARKIT`] (indices): swapped when the avatar's left is the
+/// label's right.
+const PAIRS: [(u8, u8); 20] = [
+    (0, 1),
+    (3, 4),
+    (6, 7),
+    (8, 9),
+    (10, 11),
+    (12, 13),
+    (14, 15),
+    (16, 17),
+    (18, 19),
+    (20, 21),
+    (23, 25),
+    (27, 28),
+    (29, 30),
+    (32, 38),
+    (33, 34),
+    (35, 36),
+    (43, 44),
+    (45, 46),
+    (47, 48),
+    (49, 50),
+];
+
+// Indices into ARKIT.
+const BROW_DOWN: usize = 0;
+const BROW_INNER_UP: usize = 2;
+const BROW_OUTER_UP: usize = 3;
+const BLINK: usize = 8;
+const LOOK_DOWN: usize = 10;
+const LOOK_IN: usize = 12;
+const LOOK_OUT: usize = 14;
+const LOOK_UP: usize = 16;
+const JAW_OPEN: usize = 24;
+const MOUTH_CLOSE: usize = 26;
+const FROWN: usize = 29;
+const FUNNEL: usize = 31;
+const PUCKER: usize = 37;
+const SMILE: usize = 43;
+const STRETCH: usize = 45;
+const UPPER_UP: usize = 47;
+
+/// How many VRM 1.0 presets the face gives.
+pub const PRESET_COUNT: usize = 17;
+
+/// The VRM 1.0 preset expressions, in the order of the flat layout's `expressions`.
+pub const PRESETS: [&str; PRESET_COUNT] = [
+    "happy",
+    "angry",
+    "sad",
+    "relaxed",
+    "surprised",
+    "aa",
+    "ih",
+    "ou",
+    "ee",
+    "oh",
+    "blink",
+    "blinkLeft",
+    "blinkRight",
+    "lookUp",
+    "lookDown",
+    "lookLeft",
+    "lookRight",
+];
+
+/// The face-mesh landmarks read without blendshapes (MediaPipe face mesh indices, 468 or 478
+/// points), in the flat layout's `faceMesh` order: the image-left eye's outer corner, two upper
+/// lid points, inner corner, two lower lid points (33 160 158 133 153 144), the image-right
+/// eye's (263 387 385 362 380 373), the inner lips (13 upper, 14 lower), the mouth's corners
+/// (61, 291), the forehead (10), the chin (152) and the cheeks' edges (234, 454).
+pub const MESH: [u16; MESH_POINTS] = [
+    33, 160, 158, 133, 153, 144, 263, 387, 385, 362, 380, 373, 13, 14, 61, 291, 10, 152, 234, 454,
+];
+
+/// How many face-mesh landmarks are read ([`MESH`]).
+pub const MESH_POINTS: usize = 20;
+
+/// One frame's face, as tracked (the flat layout's face-tracking section).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FaceObservation {
+    /// Blendshape scores 0..1 in [`ARKIT`] order (MediaPipe's names and sides).
+    pub shapes: Option<[f32; SHAPES]>,
+    /// The facial transformation matrix, 16 numbers column-major.
+    pub matrix: Option<[f32; 16]>,
+    /// The [`MESH`] landmarks, normalized image coordinates.
+    pub mesh: Option<[Vec3; MESH_POINTS]>,
+}
+
+/// The face's options (JS `options.face`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FaceOptions {
+    /// Whether a tracked face drives expressions, look-at and the head.
+    pub enabled: bool,
+    /// One Euro smoothing of the weights and the head, and the blink's limited opening.
+    pub smoothing: bool,
+    /// One Euro cutoff at rest (Hz).
+    pub min_cutoff: f32,
+    /// One Euro speed coefficient.
+    pub beta: f32,
+    /// Shortest time (s) a closed eye takes to open.
+    pub blink_open_time: f32,
+    /// Seconds of face frames averaged into the neutral face.
+    pub calibration_time: f32,
+    /// The neck's share of the head's turn (the head takes the rest).
+    pub neck_share: f32,
+    /// Whether the head and neck are turned by the face's matrix.
+    pub head: bool,
+}
+
+/// Most eye rotation (degrees) a full `eyeLook*` weight stands for.
+pub const EYE_RANGE_DEG: f32 = 30.0;
+/// How much of `eyeLookDown` is taken off the same eye's blink (MediaPipe's lid closes as the
+/// eye looks down).
+pub const LOOK_DOWN_BLINK: f32 = 0.5;
+/// The head's One Euro speed coefficient over the weights' (`face.beta`): its speed is in rad/s,
+/// a few a second at most, where a weight moves several units a second. 10 follows the shared
+/// clips' nods within 2.2 degrees of the matrix on their tuning half (1: 5.4; `eval/face.mjs`).
+pub const HEAD_BETA: f32 = 10.0;
+/// A calibrated blink below this is open, above [`BLINK_CLOSED`] closed (between: linear).
+pub const BLINK_OPEN: f32 = 0.2;
+/// See [`BLINK_OPEN`].
+pub const BLINK_CLOSED: f32 = 0.6;
+/// The mouth's gain: `aa` is the calibrated `jawOpen` times this.
+pub const MOUTH_GAIN: f32 = 1.6;
+
+/// A scalar One Euro filter.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Euro {
+    x: f32,
+    dx: f32,
+}
+
+impl Euro {
+    fn filter(&mut self, v: f32, dt: Option<f32>, o: &FaceOptions) -> f32 {
+        match dt {
+            Some(dt) if dt > 0.0 => {
+                self.dx += alpha(dt, 1.0) * ((v - self.x) / dt - self.dx);
+                self.x += alpha(dt, o.min_cutoff + o.beta * self.dx.abs()) * (v - self.x);
+            }
+            _ => *self = Euro { x: v, dx: 0.0 },
+        }
+        self.x
+    }
+}
+
+/// The face solver's history: filters, the neutral face, the blinks, the loss easing.
+#[derive(Clone, Debug)]
+pub struct Face {
+    euro: [Euro; SHAPES],
+    head: crate::filter::OneEuroQuat,
+    neutral_sum: [f32; SHAPES],
+    neutral_frames: u32,
+    calibration_start: Option<f64>,
+    /// Last frame time with a face (ms).
+    seen_ms: Option<f64>,
+    /// The ARKit weights shown (avatar's sides).
+    pub arkit: [f32; SHAPES],
+    /// The presets shown.
+    pub presets: [f32; PRESET_COUNT],
+    /// Look-at yaw and pitch (degrees).
+    pub look_at: [f32; 2],
+    /// The head's world rotation (avatar frame) last tracked.
+    pub head_rotation: Option<Quat>,
+}
+
+impl Default for Face {
+    fn default() -> Self {
+        Face {
+            euro: [Euro::default(); SHAPES],
+            head: crate::filter::OneEuroQuat::default(),
+            neutral_sum: [0.0; SHAPES],
+            neutral_frames: 0,
+            calibration_start: None,
+            seen_ms: None,
+            arkit: [0.0; SHAPES],
+            presets: [0.0; PRESET_COUNT],
+            look_at: [0.0; 2],
+            head_rotation: None,
+        }
+    }
+}
+
+fn clamp01(x: f32) -> f32 {
+    x.clamp(0.0, 1.0)
+}
+
+/// The head's world rotation from a facial transformation matrix (column-major), in the
+/// avatar frame: the matrix's rotation orthonormalized, mirrored when `flip`.
+#[must_use]
+pub fn head_rotation(m: &[f32; 16], flip: bool) -> Quat {
+    let c0 = Vec3::new(m[0], m[1], m[2]);
+    let c1 = Vec3::new(m[4], m[5], m[6]);
+    let x = c0.normalize_or(Vec3::X);
+    let y = (c1 - x * x.dot(c1)).normalize_or(Vec3::Y);
+    let q = Quat::from_mat3(&Mat3::from_cols(x, y, x.cross(y))).normalize();
+    if flip {
+        Quat::from_xyzw(q.x, -q.y, -q.z, q.w)
+    } else {
+        q
+    }
+}
+
+/// ARKit-like weights measured on face-mesh landmarks (no blendshapes): the blinks from each
+/// eye's opening over its width, `jawOpen` from the inner lips' gap over the face's height,
+/// `mouthPucker` and `mouthStretch` from the mouth's width over the face's width. The rest stay
+/// 0. Constants are typical faces'; the neutral calibration takes each user's offsets off.
+fn from_mesh(p: &[Vec3; MESH_POINTS], aspect: f32, out: &mut [f32; SHAPES]) {
+    let q = |k: usize| Vec3::new(p[k].x * aspect, p[k].y, p[k].z * aspect);
+    let d = |a: usize, b: usize| (q(a) - q(b)).truncate().length();
+    *out = [0.0; SHAPES];
+    for e in 0..2 {
+        let b = 6 * e;
+        let ear = (d(b + 1, b + 5) + d(b + 2, b + 4)) / (2.0 * d(b, b + 3)).max(1e-6);
+        // Open eyes measure about 0.3, closed about 0.08. The image-left eye (e = 0) is the
+        // face's right.
+        out[BLINK + 1 - e] = clamp01((0.28 - ear) / 0.2);
+    }
+    let height = d(16, 17).max(1e-6);
+    let width = d(18, 19).max(1e-6);
+    out[JAW_OPEN] = clamp01(d(12, 13) / height / 0.2);
+    let mouth = d(14, 15) / width;
+    out[PUCKER] = clamp01((0.38 - mouth) / 0.1);
+    let wide = clamp01((mouth - 0.42) / 0.1);
+    out[STRETCH] = wide;
+    out[STRETCH + 1] = wide;
+}
+
+impl Face {
+    /// Starts the neutral face's calibration again from the next face frame.
+    pub fn calibrate(&mut self) {
+        self.neutral_sum = [0.0; SHAPES];
+        self.neutral_frames = 0;
+        self.calibration_start = None;
+    }
+
+    /// A frame without a face: the next face restarts the filters.
+    pub fn lose(&mut self) {
+        self.seen_ms = None;
+    }
+
+    /// Whether a face was seen since the last loss.
+    #[must_use]
+    pub fn seen(&self) -> bool {
+        self.seen_ms.is_some()
+    }
+
+    /// Forgets the history but the neutral face.
+    pub fn restart(&mut self) {
+        let (sum, n, start) = (
+            self.neutral_sum,
+            self.neutral_frames,
+            self.calibration_start,
+        );
+        *self = Face::default();
+        self.neutral_sum = sum;
+        self.neutral_frames = n;
+        self.calibration_start = start;
+    }
+
+    /// One frame with a face: fills [`Face::arkit`], [`Face::presets`], [`Face::look_at`] and
+    /// [`Face::head_rotation`]. `dt`: seconds since the last face frame's, `None` restarts the
+    /// filters.
+    pub fn solve(
+        &mut self,
+        obs: &FaceObservation,
+        camera: CameraMapping,
+        aspect: f32,
+        now_ms: f64,
+        dt: Option<f32>,
+        o: &FaceOptions,
+    ) {
+        // A face after a loss restarts the filters.
+        let dt = dt.filter(|_| self.seen_ms.is_some());
+        self.seen_ms = Some(now_ms);
+        let mut raw = [0.0; SHAPES];
+        if let Some(s) = &obs.shapes {
+            raw = s.map(clamp01);
+        } else if let Some(m) = &obs.mesh {
+            from_mesh(m, aspect, &mut raw);
+        }
+        if camera.flips_x() {
+            for (a, b) in PAIRS {
+                raw.swap(a as usize, b as usize);
+            }
+        }
+        // The neutral face: the mean of the first `calibration_time` seconds of face frames.
+        let start = *self.calibration_start.get_or_insert(now_ms);
+        if now_ms - start <= f64::from(o.calibration_time) * 1000.0 || self.neutral_frames == 0 {
+            for (s, r) in self.neutral_sum.iter_mut().zip(&raw) {
+                *s += r;
+            }
+            self.neutral_frames += 1;
+        }
+        let n = self.neutral_frames as f32;
+        let neutral = self.neutral_sum.map(|s| (s / n).min(0.5));
+        let cal = |k: usize, x: f32| clamp01((x - neutral[k]) / (1.0 - neutral[k]));
+        // Smoothing: One Euro per weight; a blink closes at once and opens at most at the
+        // limited speed (a low-pass would lag the close).
+        let dt = dt.filter(|_| o.smoothing);
+        let open_step = dt.map(|dt| dt / o.blink_open_time.max(1e-3));
+        let limit = |x: f32, prev: f32| match open_step {
+            Some(step) if x < prev => x.max(prev - step),
+            _ => x,
+        };
+        let shown_blinks = [
+            self.presets[10] + self.presets[11],
+            self.presets[10] + self.presets[12],
+        ];
+        let mut blinks = [0.0; 2];
+        for e in 0..2 {
+            let k = BLINK + e;
+            self.arkit[k] = limit(raw[k], self.arkit[k]);
+            // A lid lowered by looking down is not a blink; then open below BLINK_OPEN,
+            // closed above BLINK_CLOSED.
+            let b = cal(k, raw[k]) - LOOK_DOWN_BLINK * cal(LOOK_DOWN + e, raw[LOOK_DOWN + e]);
+            blinks[e] = limit(
+                clamp01((b - BLINK_OPEN) / (BLINK_CLOSED - BLINK_OPEN)),
+                shown_blinks[e],
+            );
+        }
+        for k in (0..SHAPES).filter(|k| *k != BLINK && *k != BLINK + 1) {
+            self.arkit[k] = self.euro[k].filter(raw[k], dt, o);
+        }
+        let a = &self.arkit;
+        let one = |k: usize| cal(k, a[k]);
+        let pair = |k: usize| 0.5 * (one(k) + one(k + 1));
+        // Emotions, summing to at most 1 (nothing tracked tells "relaxed").
+        let mut emotions = [
+            pair(SMILE),
+            pair(BROW_DOWN),
+            pair(FROWN),
+            0.0,
+            0.5 * (one(BROW_INNER_UP) + pair(BROW_OUTER_UP)),
+        ];
+        normalize_sum(&mut emotions);
+        // Mouth shapes, summing to at most 1.
+        let mut mouth = [
+            clamp01(MOUTH_GAIN * (one(JAW_OPEN) - one(MOUTH_CLOSE))),
+            pair(UPPER_UP),
+            one(PUCKER),
+            pair(STRETCH),
+            one(FUNNEL),
+        ];
+        normalize_sum(&mut mouth);
+        // Gaze: the avatar's left eye looking out and its right eye looking in turn it left.
+        let h = 0.5 * (one(LOOK_OUT) + one(LOOK_IN + 1) - one(LOOK_IN) - one(LOOK_OUT + 1));
+        let v = 0.5 * (one(LOOK_UP) + one(LOOK_UP + 1) - one(LOOK_DOWN) - one(LOOK_DOWN + 1));
+        let both = blinks[0].min(blinks[1]);
+        self.presets[..5].copy_from_slice(&emotions);
+        self.presets[5..10].copy_from_slice(&mouth);
+        self.presets[10..].copy_from_slice(&[
+            both,
+            blinks[0] - both,
+            blinks[1] - both,
+            clamp01(v),
+            clamp01(-v),
+            clamp01(h),
+            clamp01(-h),
+        ]);
+        // three-vrm's pitch is > 0 looking down.
+        self.look_at = [h * EYE_RANGE_DEG, -v * EYE_RANGE_DEG];
+        self.head_rotation = obs.matrix.map(|m| {
+            let euro = crate::filter::OneEuroOptions {
+                min_cutoff: o.min_cutoff,
+                beta: o.beta * HEAD_BETA,
+                d_cutoff: 1.0,
+            };
+            self.head.filter(
+                head_rotation(&m, camera.flips_x()),
+                dt.unwrap_or(0.0),
+                &euro,
+            )
+        });
+    }
+}
+
+/// Scales `x` down so it sums to at most 1.
+fn normalize_sum(x: &mut [f32]) {
+    let s: f32 = x.iter().sum();
+    if s > 1.0 {
+        for v in x.iter_mut() {
+            *v /= s;
+        }
+    }
+}

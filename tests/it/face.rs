@@ -1,0 +1,254 @@
+//! The face (issue 50) through the whole pipeline on the human VRM 1.0 fixture: perfect sync
+//! passes weights through (smoothing off), mirrored to the avatar's sides; presets move; a
+//! blink closes at once and opens speed-limited; mouth shapes sum to at most 1; the head
+//! follows the matrix (mirror-aware) and drives the neck and head only with a face; a lost
+//! face eases out; a row-major matrix is refused by name.
+
+use crate::support::recordings;
+
+use glam::{Mat4, Quat};
+use handrig::face::{FaceObservation, ARKIT, PRESETS, SHAPES};
+use handrig::humanoid::bones::HumanBone as B;
+use handrig::{flat, FrameInput, Rig, RigOptions, SolveOutput};
+
+fn shape(name: &str) -> usize {
+    ARKIT.iter().position(|n| *n == name).expect(name)
+}
+
+fn preset(out: &SolveOutput, name: &str) -> f32 {
+    out.face.presets[PRESETS.iter().position(|n| *n == name).expect(name)]
+}
+
+fn matrix(q: Quat) -> [f32; 16] {
+    Mat4::from_rotation_translation(q, glam::Vec3::new(0.0, 0.0, -40.0)).to_cols_array()
+}
+
+fn frame(t: f64, shapes: [f32; SHAPES], m: Option<[f32; 16]>) -> FrameInput {
+    FrameInput {
+        time_ms: t,
+        face_tracking: Some(FaceObservation {
+            shapes: Some(shapes),
+            matrix: m,
+            mesh: None,
+        }),
+        ..FrameInput::default()
+    }
+}
+
+fn rig(o: RigOptions) -> Rig {
+    Rig::new(recordings::vrm(recordings::FIXTURE_VRM1), o).expect("rig")
+}
+
+#[test]
+fn perfect_sync_passes_weights_through_mirrored_and_presets_move() {
+    let mut w = [0.0; SHAPES];
+    for (k, v) in w.iter_mut().enumerate() {
+        *v = (k as f32 * 0.37).fract() * 0.5;
+    }
+    let mut opts = RigOptions::per_frame();
+    opts.face.calibration_time = 0.0;
+    // Mirrored input, no mirror: MediaPipe's "Left" (the face's left in the flipped image, the
+    // user's right) is the avatar's right.
+    opts.input_mirrored = true;
+    let mut r = rig(opts);
+    let mut out = SolveOutput::default();
+    r.solve(&frame(0.0, [0.0; SHAPES], None), &mut out).unwrap();
+    r.solve(&frame(33.0, w, None), &mut out).unwrap();
+    for (k, name) in ARKIT.iter().enumerate() {
+        let partner = if let Some(base) = name.strip_suffix("Left") {
+            shape(&format!("{base}Right"))
+        } else if let Some(base) = name.strip_suffix("Right") {
+            shape(&format!("{base}Left"))
+        } else {
+            k
+        };
+        assert!(
+            (out.face.arkit[k] - w[partner]).abs() < 0.05,
+            "{name}: {} vs {}",
+            out.face.arkit[k],
+            w[partner]
+        );
+    }
+    // Un-mirrored input: the names are the avatar's sides.
+    opts.input_mirrored = false;
+    let mut r = rig(opts);
+    r.solve(&frame(0.0, [0.0; SHAPES], None), &mut out).unwrap();
+    r.solve(&frame(33.0, w, None), &mut out).unwrap();
+    for k in 0..SHAPES {
+        assert!((out.face.arkit[k] - w[k]).abs() < 0.05, "{}", ARKIT[k]);
+    }
+    let mut open = [0.0; SHAPES];
+    open[shape("jawOpen")] = 0.6;
+    open[shape("mouthSmileLeft")] = 0.7;
+    open[shape("mouthSmileRight")] = 0.7;
+    r.solve(&frame(66.0, open, None), &mut out).unwrap();
+    assert!(preset(&out, "aa") > 0.5, "aa {}", preset(&out, "aa"));
+    assert!(
+        preset(&out, "happy") > 0.5,
+        "happy {}",
+        preset(&out, "happy")
+    );
+    let mouth: f32 = ["aa", "ih", "ou", "ee", "oh"]
+        .iter()
+        .map(|n| preset(&out, n))
+        .sum();
+    assert!(mouth <= 1.0 + 1e-6, "mouth shapes sum to {mouth}");
+}
+
+#[test]
+fn a_blink_closes_at_once_opens_limited_and_looking_down_is_not_one() {
+    let mut o = RigOptions::default();
+    o.face.calibration_time = 0.0;
+    let mut r = rig(o);
+    let mut out = SolveOutput::default();
+    let mut t = 0.0;
+    let mut step = |w: [f32; SHAPES], out: &mut SolveOutput| {
+        r.solve(&frame(t, w, None), out).unwrap();
+        t += 1000.0 / 30.0;
+    };
+    for _ in 0..5 {
+        step([0.0; SHAPES], &mut out);
+    }
+    let mut closed = [0.0; SHAPES];
+    closed[shape("eyeBlinkLeft")] = 0.9;
+    closed[shape("eyeBlinkRight")] = 0.9;
+    step(closed, &mut out);
+    assert!(
+        preset(&out, "blink") > 0.99,
+        "closed at once: {}",
+        preset(&out, "blink")
+    );
+    step([0.0; SHAPES], &mut out);
+    let first = preset(&out, "blink");
+    assert!(first > 0.5 && first < 0.9, "opens limited (0.1 s): {first}");
+    step([0.0; SHAPES], &mut out);
+    step([0.0; SHAPES], &mut out);
+    step([0.0; SHAPES], &mut out);
+    assert!(preset(&out, "blink") == 0.0, "open after 0.13 s");
+    // Looking down lowers MediaPipe's lids: a half blink with the eyes looking down is none.
+    let mut down = [0.0; SHAPES];
+    for n in ["eyeBlinkLeft", "eyeBlinkRight"] {
+        down[shape(n)] = 0.4;
+    }
+    for n in ["eyeLookDownLeft", "eyeLookDownRight"] {
+        down[shape(n)] = 0.6;
+    }
+    step(down, &mut out);
+    assert_eq!(preset(&out, "blink"), 0.0);
+    assert!(
+        out.face.look_at[1] > 5.0,
+        "pitch (smoothed) {}",
+        out.face.look_at[1]
+    );
+    // One eye: blinkLeft, the avatar's left.
+    let mut wink = [0.0; SHAPES];
+    wink[shape("eyeBlinkLeft")] = 0.9;
+    step(wink, &mut out);
+    assert!(preset(&out, "blinkLeft") > 0.99 && preset(&out, "blinkRight") == 0.0);
+}
+
+#[test]
+fn the_head_follows_the_matrix_mirror_aware_and_only_with_a_face() {
+    let yaw = Quat::from_rotation_y(0.4) * Quat::from_rotation_x(-0.2);
+    for mirror in [false, true] {
+        let mut o = RigOptions::per_frame();
+        o.mirror = mirror;
+        o.face.neck_share = 0.3;
+        let mut r = rig(o);
+        let mut out = SolveOutput::default();
+        let mut buf = vec![0.0; flat::output::LEN];
+        r.solve(&FrameInput::default(), &mut out).unwrap();
+        flat::write_output(&r, &out, &mut buf);
+        assert_eq!(
+            buf[flat::output::BONE_FLAGS + B::Head.index()],
+            0.0,
+            "no face, head not driven"
+        );
+        r.solve(&frame(33.0, [0.0; SHAPES], Some(matrix(yaw))), &mut out)
+            .unwrap();
+        let head = out.world.rotation[B::Head.index()];
+        let want = if mirror {
+            Quat::from_xyzw(yaw.x, -yaw.y, -yaw.z, yaw.w)
+        } else {
+            yaw
+        };
+        assert!(
+            head.angle_between(want) < 0.01,
+            "mirror {mirror}: {head:?} vs {want:?}"
+        );
+        let neck = out.local[B::Neck.index()];
+        assert!(
+            (neck.angle_between(Quat::IDENTITY) - 0.3 * want.angle_between(Quat::IDENTITY)).abs()
+                < 0.01
+        );
+        flat::write_output(&r, &out, &mut buf);
+        assert_eq!(buf[flat::output::BONE_FLAGS + B::Head.index()], 1.0);
+        assert_eq!(buf[flat::output::FACE_STATE], 1.0);
+    }
+}
+
+#[test]
+fn a_lost_face_holds_then_eases_out() {
+    let mut o = RigOptions::default();
+    o.face.calibration_time = 0.0;
+    let mut r = rig(o);
+    let mut out = SolveOutput::default();
+    let mut open = [0.0; SHAPES];
+    open[shape("jawOpen")] = 0.8;
+    r.solve(&frame(0.0, [0.0; SHAPES], None), &mut out).unwrap();
+    for k in 1..10 {
+        r.solve(
+            &frame(
+                f64::from(k) * 33.0,
+                open,
+                Some(matrix(Quat::from_rotation_y(0.3))),
+            ),
+            &mut out,
+        )
+        .unwrap();
+    }
+    let aa = preset(&out, "aa");
+    assert!(aa > 0.5);
+    let lost = |t: f64| FrameInput {
+        time_ms: t,
+        ..FrameInput::default()
+    };
+    r.solve(&lost(400.0), &mut out).unwrap();
+    assert_eq!(out.face.state, 2);
+    assert_eq!(preset(&out, "aa"), aa, "held");
+    r.solve(&lost(900.0), &mut out).unwrap();
+    assert!(
+        preset(&out, "aa") < aa && preset(&out, "aa") > 0.0,
+        "easing"
+    );
+    r.solve(&lost(1300.0), &mut out).unwrap();
+    assert_eq!(out.face.state, 0);
+    assert_eq!(preset(&out, "aa"), 0.0);
+    assert!(!out.face.head);
+}
+
+#[test]
+fn a_row_major_matrix_and_bad_scores_are_named() {
+    let mut r = rig(RigOptions::default());
+    let mut out = SolveOutput::default();
+    let m = Mat4::from_rotation_translation(Quat::IDENTITY, glam::Vec3::new(1.0, 2.0, -40.0))
+        .transpose();
+    let e = r
+        .solve(
+            &frame(0.0, [0.0; SHAPES], Some(m.to_cols_array())),
+            &mut out,
+        )
+        .unwrap_err();
+    assert!(
+        e.to_string().contains("facialTransformationMatrixes")
+            && e.to_string().contains("column-major"),
+        "{e}"
+    );
+    let mut w = [0.0; SHAPES];
+    w[shape("jawOpen")] = 2.0;
+    let e = r.solve(&frame(0.0, w, None), &mut out).unwrap_err();
+    assert!(e.to_string().contains("faceBlendshapes"), "{e}");
+    // The rig stays usable.
+    r.solve(&frame(33.0, [0.0; SHAPES], None), &mut out)
+        .unwrap();
+}
