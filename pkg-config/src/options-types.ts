@@ -144,6 +144,16 @@ export interface HandRigOptions {
     /** handStrategy retarget: converged when a Gauss-Newton step's largest angle is at most this (radians). (number in 0..1, default `0.0001`.) */
     stepTolerance?: number | undefined;
   } | undefined;
+  /** Options. `false` / `true` sets `enabled`. */
+  legs?:
+    | boolean
+    | {
+        /** Legs from the pose's lower body (two-bone IK, knee and ankle limits); a leg whose hip, knee or ankle is not seen stays standing at rest. (boolean, default `true`.) */
+        enabled?: boolean | undefined;
+        /** A leg is tracked when its hip, knee and ankle have at least this visibility and lie inside the image (when the pose's image landmarks are given). (number in 0..1, default `0.5`.) */
+        minVisibility?: number | undefined;
+      }
+    | undefined;
   /** Dotted paths as `optionDescriptions()` spells them are accepted too: `{ "alignment.weight": 0.5 }`. */
   [dottedPath: `${string}.${string}`]: unknown;
 }

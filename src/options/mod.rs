@@ -30,6 +30,7 @@ use crate::humanoid::bones::Finger;
 use crate::ik::{ArmIdle, ArmOptions, ArmSolver};
 pub use crate::input::hand_wrist::HandsOnlyOptions;
 use crate::input::mediapipe::CameraMapping;
+pub use crate::legs::LegOptions;
 use crate::solve::least_squares::Settings;
 use crate::torso::TorsoSource;
 
@@ -72,6 +73,8 @@ pub struct RigOptions {
     /// Arms from hands alone: the camera and framing assumed (see
     /// [`crate::input::hand_wrist`]).
     pub hands_only: HandsOnlyOptions,
+    /// Legs from the pose's lower body (see [`crate::legs`]).
+    pub legs: LegOptions,
 }
 
 /// How a hand whose MediaPipe label contradicts the pose is treated (JS:
@@ -211,6 +214,10 @@ impl RigOptions {
             distance: 0.0,
             shoulder_y: 0.0,
         },
+        legs: LegOptions {
+            enabled: false,
+            min_visibility: 0.0,
+        },
     };
 
     /// Reads options from JSON text: an object of the camelCase paths of [`table::OPTIONS`]
@@ -307,6 +314,7 @@ group_default! {
     ContactOptions => contact,
     RetargetOptions => retarget,
     HandsOnlyOptions => hands_only,
+    LegOptions => legs,
     HandStrategy => hand_strategy,
     ArmSolver => arm_solver,
     AlignPoint => alignment.point,

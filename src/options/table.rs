@@ -316,6 +316,11 @@ pub static OPTIONS: &[OptionSpec] = &[
         "handStrategy retarget: most Gauss-Newton iterations per finger and frame."),
     number!("retarget.stepTolerance", retarget.settings.step_tolerance, 0.0, 1.0, 1e-5, 1e-4,
         "handStrategy retarget: converged when a Gauss-Newton step's largest angle is at most this (radians)."),
+    // Legs (issue 51).
+    flag!("legs.enabled", legs.enabled, true,
+        "Legs from the pose's lower body (two-bone IK, knee and ankle limits); a leg whose hip, knee or ankle is not seen stays standing at rest."),
+    number!("legs.minVisibility", legs.min_visibility, 0.0, 1.0, 0.05, 0.5,
+        "A leg is tracked when its hip, knee and ankle have at least this visibility and lie inside the image (when the pose's image landmarks are given)."),
 ];
 
 impl Value {

@@ -38,6 +38,7 @@ mod contact;
 mod ease;
 mod frame;
 mod hands;
+mod legs;
 mod limit;
 mod observe;
 mod output;
@@ -92,6 +93,8 @@ pub struct Rig {
     reach: reach::Reach,
     ease: ease::Ease,
     limit: limit::Limit,
+    // Legs (issue 51).
+    legs: legs::Legs,
 }
 
 impl Rig {
@@ -122,6 +125,13 @@ impl Rig {
                 driven[b.index()] = skeleton.has(b);
             }
         }
+        // Legs (issue 51): the leg bones the avatar has, when legs are on.
+        for side in Side::BOTH {
+            for b in crate::legs::leg_bones(side) {
+                driven[b.index()] |= options.legs.enabled && skeleton.has(b);
+            }
+        }
+        let legs = legs::Legs::new(&skeleton);
         let torso = torso::Torso::new(&skeleton, options.calibration.frames);
         let aligned_parts =
             Side::BOTH.map(|side| AlignedPart::choose(&skeleton, side, options.alignment.finger));
@@ -141,6 +151,7 @@ impl Rig {
             reach,
             ease: ease::Ease::default(),
             limit: limit::Limit::default(),
+            legs,
         })
     }
 
@@ -177,6 +188,7 @@ impl Rig {
         self.reach.arms.reset();
         self.ease.restart();
         self.limit.restart();
+        self.legs.restart();
         let f = &mut self.frame;
         f.pose = None;
         f.anchors = [None, None];
@@ -352,6 +364,8 @@ impl Rig {
         // The torso and its forward kinematics: the world pose the arms hang from, once per
         // frame (arms and hands do not move it).
         self.torso.run(&cx, f, out);
+        // Legs (issue 51): from the posed hips.
+        self.legs.run(&cx, f, out);
         for side in Side::BOTH {
             self.observe.hand(&cx, side, f);
             self.hands.run(&cx, side, f, out);
