@@ -32,6 +32,61 @@ pub struct LegOptions {
     /// A leg is tracked when its hip, knee and ankle have at least this visibility and lie
     /// inside the image (when the pose's image landmarks are given). Default 0.5.
     pub min_visibility: f32,
+    /// The hips move with the user (root motion): up and down so the lower foot stands on the
+    /// floor, sideways and toward the camera from the pose's image. `false` keeps the hips
+    /// where they rest (the feet may then float or sink). Default `true`.
+    pub move_hips: bool,
+    /// A foot on the floor stays where it was planted while it bears weight. Default `true`.
+    pub plant: bool,
+}
+
+/// The avatar's soles: the floor's height and, per foot, the heel and ball points under the
+/// foot joint and the toes joint, as offsets from the foot joint at rest (world axes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Soles {
+    /// The floor's height (m): `y = 0` when the lowest foot or toes joint is within 15 cm
+    /// above it (VRM avatars stand on the origin), else that joint's height.
+    pub floor: f32,
+    /// `[left, right]` of `[heel, ball]`, from the foot joint.
+    pub points: [[Vec3; 2]; 2],
+}
+
+impl Soles {
+    /// The soles of `skeleton` at rest (`None` without both feet).
+    #[must_use]
+    pub fn new(skeleton: &Skeleton) -> Option<Self> {
+        let rest = |b: HumanBone| skeleton.rest_world(b);
+        let mut lowest = f32::INFINITY;
+        for side in Side::BOTH {
+            let [_, _, foot, toes] = leg_bones(side);
+            lowest = lowest.min(rest(foot)?.y);
+            lowest = lowest.min(rest(toes).map_or(f32::INFINITY, |p| p.y));
+        }
+        let floor = lowest.min(0.0).max(lowest - 0.15);
+        let points = Side::BOTH.map(|side| {
+            let [upper, _, foot, toes] = leg_bones(side);
+            let at = rest(foot).unwrap_or_default();
+            let down = floor - at.y;
+            // Without toes: the ball a fifth of the leg's length ahead of the heel.
+            let ball = rest(toes)
+                .map_or(Vec3::Z * 0.2 * (rest(upper).unwrap_or(at).y - at.y), |t| {
+                    t - at
+                });
+            [Vec3::new(0.0, down, 0.0), Vec3::new(ball.x, down, ball.z)]
+        });
+        Some(Soles { floor, points })
+    }
+
+    /// The lower of `side`'s heel and ball for the foot joint at `at` turned by `rotation`.
+    #[must_use]
+    pub fn lowest(&self, side: Side, at: Vec3, rotation: Quat) -> Vec3 {
+        let [heel, ball] = self.points[side.index()].map(|p| at + rotation * p);
+        if heel.y <= ball.y {
+            heel
+        } else {
+            ball
+        }
+    }
 }
 
 const DEG: f32 = PI / 180.0;

@@ -2,7 +2,7 @@
 // test --lib flat`; a test fails when this file is stale. Do not edit.
 
 /** The layout version these types describe (`LAYOUT.version`). */
-export const LAYOUT_VERSION = 8;
+export const LAYOUT_VERSION = 9;
 
 /** Offsets of the input `Float32Array` (`LAYOUT.input`). See docs/reference/flat-layout.md. */
 export interface InputLayout {
@@ -163,6 +163,10 @@ export interface OutputLayout {
   };
   /** What became of each input hand slot: 0 unused, 1 drove the left side, 2 the right side (see `side.handReassigned`), 3 ignored: score below `minHandScore`, 4 ignored: another hand drove its side, 5 ignored: its label contradicts the pose (`handedness: "drop"`); names by code: `LAYOUT.handUse`. */
   readonly handUse: number;
+  /** The hips' translation from their rest position `x y z` (m, the model's own frame; `legs.moveHips`): add it to the normalized hips' rest position. `bonePositions` are those of the hips at rest. */
+  readonly hipsOffset: number;
+  /** Per foot (left, right): 1 planted (on the floor, bearing weight, locked where it was put down; `legs.plant`), else 0. */
+  readonly feetPlanted: number;
   /** Length of the array. */
   readonly length: number;
 }

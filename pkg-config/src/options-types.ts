@@ -152,6 +152,10 @@ export interface HandRigOptions {
         enabled?: boolean | undefined;
         /** A leg is tracked when its hip, knee and ankle have at least this visibility and lie inside the image (when the pose's image landmarks are given). (number in 0..1, default `0.5`.) */
         minVisibility?: number | undefined;
+        /** The hips move with the user while the legs are tracked: up and down so the lower foot stands on the avatar's floor, sideways and toward the camera from the pose's image (hipsOffset); false keeps them at rest. (boolean, default `true`.) */
+        moveHips?: boolean | undefined;
+        /** A foot on the floor that bears weight stays where it was planted (no sliding) until it lifts or moves off. (boolean, default `true`.) */
+        plant?: boolean | undefined;
       }
     | undefined;
   /** Dotted paths as `optionDescriptions()` spells them are accepted too: `{ "alignment.weight": 0.5 }`. */

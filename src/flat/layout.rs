@@ -15,11 +15,11 @@ use crate::input::torso::{BODY_JOINT_COUNT, TORSO_BONE_COUNT};
 
 /// Layout version: bumped whenever an offset or meaning changes, and with it
 /// [`LAYOUT_SIGNATURE`] (a test checks that they move together).
-pub const VERSION: u32 = 8;
+pub const VERSION: u32 = 9;
 
 /// A digest of every row's path, offset and size at [`VERSION`]: a test recomputes it, so a
 /// layout change without a version bump fails.
-pub const LAYOUT_SIGNATURE: u64 = 0x0f1b_8dfa_5690_a0ea;
+pub const LAYOUT_SIGNATURE: u64 = 0x7365_f119_ec1b_507e;
 
 layout_side! {
     /// Input offsets (indices into the input `f32` array).
@@ -191,6 +191,14 @@ layout_side! {
         /// another hand drove its side, 5 ignored: its label contradicts the pose
         /// (`handedness: "drop"`); names by code: `LAYOUT.handUse`.
         HAND_USE handUse: MAX_HANDS;
+        // Legs (issue 51).
+        /// The hips' translation from their rest position `x y z` (m, the model's own frame;
+        /// `legs.moveHips`): add it to the normalized hips' rest position. `bonePositions`
+        /// are those of the hips at rest.
+        HIPS_OFFSET hipsOffset: 3;
+        /// Per foot (left, right): 1 planted (on the floor, bearing weight, locked where it
+        /// was put down; `legs.plant`), else 0.
+        FEET_PLANTED feetPlanted: 2;
     }
 }
 

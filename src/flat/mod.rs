@@ -436,6 +436,11 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
             HandUse::Contradicted => const { code(&HAND_USE_NAMES, "contradicted") },
         };
     }
+    // Legs (issue 51).
+    put_vec3(buf, output::HIPS_OFFSET, out.hips_offset);
+    for (k, planted) in out.planted.iter().enumerate() {
+        buf[output::FEET_PLANTED + k] = f32::from(u8::from(*planted));
+    }
 }
 
 /// Packs `frame` into a flat input array (the inverse of [`read_input`], for native callers

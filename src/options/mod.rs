@@ -217,6 +217,8 @@ impl RigOptions {
         legs: LegOptions {
             enabled: false,
             min_visibility: 0.0,
+            move_hips: false,
+            plant: false,
         },
     };
 

@@ -345,6 +345,8 @@ impl Rig {
         out.hand_use = [crate::pipeline::HandUse::Unused; crate::input::mediapipe::MAX_HANDS];
         out.retarget = [None, None];
         out.contact = [None, None];
+        out.hips_offset = Vec3::ZERO;
+        out.planted = [false; 2];
         // Everything not solved this frame goes back to rest (then the easing stage decides).
         out.local = [Quat::IDENTITY; BONE_COUNT];
 

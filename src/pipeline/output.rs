@@ -71,6 +71,14 @@ pub struct SolveOutput {
     /// What self-contact did per side (`[left, right]`): `Some` for every side with a wrist
     /// IK target while `contact.enabled`.
     pub contact: [Option<ContactReport>; 2],
+    // Legs (issue 51).
+    /// The hips' translation from their rest position (m; `legs.moveHips`): what an app adds
+    /// to the normalized hips' rest position. The bones' world positions (`world`) are those
+    /// of the hips at rest; add this to place them in the room.
+    pub hips_offset: Vec3,
+    /// Whether each foot (`[left, right]`) is planted: on the floor, bearing weight, locked
+    /// where it was put down (`legs.plant`).
+    pub planted: [bool; 2],
 }
 
 /// What the rig did with one tracked hand of the frame.
@@ -147,6 +155,8 @@ impl Default for SolveOutput {
             fingertips: [[None; 5]; 2],
             retarget: [None, None],
             contact: [None, None],
+            hips_offset: Vec3::ZERO,
+            planted: [false; 2],
         }
     }
 }
@@ -191,6 +201,7 @@ impl SolveOutput {
             a.pose_wrist = p(a.pose_wrist);
             a.avatar_offset = p(a.avatar_offset);
         }
+        self.hips_offset = p(self.hips_offset);
         for tip in self.fingertips.iter_mut().flatten().flatten() {
             *tip = p(*tip);
         }
