@@ -2,8 +2,11 @@
 //! full-body motion whose truth is known.
 //!
 //! ```text
-//! cargo run --release --example eval_legs
+//! cargo run --release --example eval_legs [-- --write-frames eval/frames/legs-synthetic.json]
 //! ```
+//!
+//! `--write-frames FILE` also writes the walk and the squat of section 2 as `rig.solve`
+//! frames (pose only, MediaPipe's shapes), for `node eval/speed.mjs --frames FILE`.
 //!
 //! ## 1. Head and shoulders (the shared ASL clips, legs out of frame)
 //! Every clip on the three real avatars with the default options and with `torso: "pose"`:
@@ -279,7 +282,42 @@ fn synthetic(
     }
 }
 
+/// The walk and the squat as `rig.solve` frames in MediaPipe's shapes (JSON).
+fn write_frames(path: &str, base: &FrameInput) {
+    let mut frames = Vec::new();
+    let mut seed = 7u32;
+    for (m, name) in ["walk in place", "squat"].iter().enumerate() {
+        for i in 0..FRAMES {
+            let (f, _) = frame(base, &motion(name, i), i, &mut seed);
+            let pose = f.pose.expect("pose");
+            let image = f.pose_image.expect("image");
+            let v = |p: Vec3, k: usize| vec![p.x, p.y, p.z, pose.visibility[k]];
+            frames.push(serde_json::json!({
+                "timeMs": (m * FRAMES + i) as f64 * 1000.0 / f64::from(FPS),
+                "hands": [],
+                "pose": {
+                    "landmarks": image.iter().enumerate().map(|(k, p)| v(*p, k)).collect::<Vec<_>>(),
+                    "worldLandmarks": pose.world.iter().enumerate().map(|(k, p)| v(*p, k)).collect::<Vec<_>>(),
+                },
+            }));
+        }
+    }
+    let doc = serde_json::json!({
+        "about": "Synthetic full-body frames of eval/rust/eval_legs.rs (walk in place, then a squat; 30 fps; pose only, legs in view): for node eval/speed.mjs --frames.",
+        "width": 1920,
+        "height": 1080,
+        "frames": frames,
+    });
+    std::fs::write(path, serde_json::to_string(&doc).expect("json")).expect("write frames");
+    println!("wrote {path}: {} frames\n", 2 * FRAMES);
+}
+
 fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(i) = args.iter().position(|a| a == "--write-frames") {
+        let base = recordings::asl(recordings::ASL[0])[0];
+        write_frames(args.get(i + 1).expect("--write-frames FILE"), &base);
+    }
     let avatars = [
         ("debug-robot", recordings::ROBOT),
         ("human-proportions", recordings::FIXTURE_VRM1),

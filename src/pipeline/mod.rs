@@ -14,6 +14,8 @@
 //! 3. **torso** (`torso.rs`): the torso bones from the app (`frame.torso`) or tracked from
 //!    `body` joints or the pose, eased over tracking loss ([`crate::torso`]); forward
 //!    kinematics of the posed torso places each arm's anchor.
+//!    Then **legs** (`legs.rs`, issue 51): each leg from the pose's lower body when seen
+//!    ([`crate::legs`]), eased to rest when not; the hips' offset and the planted feet.
 //! 4. per side: **observe**, the hand and wrist (`observe.rs`): the hand's landmarks mapped to
 //!    the avatar frame (turned with the torso when the pose places the arm), checked for
 //!    MediaPipe's depth flips, filtered; the wrist from a tracker (filtered) or the pose
