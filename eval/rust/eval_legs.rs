@@ -9,7 +9,7 @@
 //! frames (pose only, MediaPipe's shapes), for `node eval/speed.mjs --frames FILE`.
 //!
 //! ## 1. Head and shoulders (the shared ASL clips, legs out of frame)
-//! Every clip on the three real avatars with the default options and with `torso: "pose"`:
+//! Every clip of `../shared/data/asl/` (seven) on the three real avatars and two generated ones with the default options and with `torso: "pose"`:
 //! the largest turn of any leg bone from rest and between two frames (degrees), the largest
 //! hips offset (mm). The acceptance: no leg bone moves more than 1 degree.
 //!
@@ -291,7 +291,9 @@ fn write_frames(path: &str, base: &FrameInput) {
             let (f, _) = frame(base, &motion(name, i), i, &mut seed);
             let pose = f.pose.expect("pose");
             let image = f.pose_image.expect("image");
-            let v = |p: Vec3, k: usize| vec![p.x, p.y, p.z, pose.visibility[k]];
+            // Five decimals (10 µm, a hundredth of the noise): a smaller file.
+            let r = |x: f32| (f64::from(x) * 1e5).round() / 1e5;
+            let v = |p: Vec3, k: usize| vec![r(p.x), r(p.y), r(p.z), r(pose.visibility[k])];
             frames.push(serde_json::json!({
                 "timeMs": (m * FRAMES + i) as f64 * 1000.0 / f64::from(FPS),
                 "hands": [],
@@ -329,11 +331,19 @@ fn main() {
     println!("| avatar | options | clip | frames | largest leg turn from rest (deg) | largest leg turn between frames (deg) | largest hips offset (mm) |");
     println!("| --- | --- | --- | ---: | ---: | ---: | ---: |");
     let mut worst = 0.0f32;
+    // Every clip of the shared folder (the seven .json files).
+    let mut clips: Vec<String> = std::fs::read_dir(recordings::path("../shared/data/asl"))
+        .expect("../shared/data/asl")
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.ends_with(".json"))
+        .map(|n| format!("../shared/data/asl/{n}"))
+        .collect();
+    clips.sort();
     for (name, path) in avatars {
         let avatar = recordings::vrm(path);
         for options in ["{}", r#"{ "torso": "pose", "mirror": true }"#] {
             let o = RigOptions::from_json(options).expect("options");
-            for clip in recordings::ASL.iter().chain(&recordings::ASL_MORE) {
+            for clip in &clips {
                 let frames = recordings::asl(clip);
                 let mut rig = Rig::new(avatar.clone(), o).expect("rig");
                 let mut out = SolveOutput::default();
