@@ -8,10 +8,11 @@
 //! (Greene & Heckman, *The Clinical Measurement of Joint Motion*, AAOS 1994; the 1965 AAOS
 //! *Joint Motion: Method of Measuring and Recording* gives the same): hip flexion 120,
 //! extension 30, abduction 45, adduction 30, internal and external rotation 45; ankle
-//! dorsiflexion 20, plantarflexion 50. The knee's flexion is limited to 150 rather than the
-//! AAOS' active 135: a deep squat reaches 150-165 passively (Hemmerich et al. 2006, *Hip, knee,
-//! and ankle kinematics of high range of motion activities of daily living*, J Orthop Res
-//! 24:770). The foot's turn about the shin (MediaPipe gives one toe point, so the forefoot's
+//! plantarflexion 50. The knee's flexion is limited to 150 rather than the AAOS' active 135,
+//! and the ankle's dorsiflexion to 40 rather than its active 20: a deep squat, heels down,
+//! reaches about 150-165 at the knee and about 40 at the ankle under the body's weight
+//! (Hemmerich et al. 2006, *Hip, knee, and ankle kinematics of high range of motion activities
+//! of daily living*, J Orthop Res 24:770); at 20 a squatting avatar rose onto its toes. The foot's turn about the shin (MediaPipe gives one toe point, so the forefoot's
 //! own adduction and the subtalar inversion are not seen apart) is limited to 20 either way.
 //! See `docs/how-it-works/legs.md`.
 
@@ -98,8 +99,9 @@ const HIP_ADDUCTION: f32 = 30.0 * DEG;
 const HIP_ROTATION: f32 = 45.0 * DEG;
 /// Knee flexion (deep squat, Hemmerich et al. 2006); never below 0 (a hinge).
 pub const KNEE_FLEXION: f32 = 150.0 * DEG;
-/// Ankle: dorsiflexion (toes up), plantarflexion (toes down), turn about the shin.
-const ANKLE_DORSIFLEXION: f32 = 20.0 * DEG;
+/// Ankle: dorsiflexion (toes up; weight-bearing, Hemmerich et al. 2006), plantarflexion (toes
+/// down), turn about the shin.
+const ANKLE_DORSIFLEXION: f32 = 40.0 * DEG;
 const ANKLE_PLANTARFLEXION: f32 = 50.0 * DEG;
 const FOOT_TURN: f32 = 20.0 * DEG;
 
@@ -399,7 +401,7 @@ mod tests {
         let k = hip + p.local[0] * skeleton.rest_local(HumanBone::LeftLowerLeg);
         let a = k + p.local[0] * p.local[1] * skeleton.rest_local(HumanBone::LeftFoot);
         assert!((a - ankle).length() < 0.01, "{a} {ankle}");
-        // Toes 42 degrees up, limited to the 20 degrees of dorsiflexion (shin nearly upright).
+        // Toes 42 degrees up, limited to the 40 degrees of dorsiflexion (shin nearly upright).
         let toe = p.local[0] * p.local[1] * p.local[2] * Vec3::Z;
         let shin = p.local[0] * p.local[1];
         let local = shin.conjugate() * toe;

@@ -94,7 +94,8 @@ fn motion(name: &str, i: usize) -> Room {
             }
         }
         "squat" => {
-            // Down 35 cm (sitting back 12 cm) over 1.5 s, back up over 1.5 s.
+            // Down 35 cm (sitting back 12 cm) over 0.75 s and back up over 0.75 s, standing
+            // 1.5 s, again.
             let d = (t / 1.5 * core::f32::consts::PI).sin().max(0.0);
             Room {
                 hip: Vec3::new(0.0, STAND - 0.35 * d, -0.12 * d),
