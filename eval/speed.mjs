@@ -147,10 +147,16 @@ const flatCall = (r) => {
     sink += output[0];
   };
 };
-const [full, noContact, flat, scoped, scopedFlat, kdFull] = timeTogether(aslFrames.length, [
+// Legs off (issue 51): what the legs stage costs on these frames (on the ASL clips, where no leg
+// is seen, its check of the landmarks; on eval/frames/legs-synthetic.json, the legs solved).
+const noLegsRig = HandRig.fromVrm(robot, { legs: { enabled: false } });
+const noLegsFlatRig = HandRig.fromVrm(robot, { legs: { enabled: false } });
+const [full, noContact, flat, noLegs, noLegsFlat, scoped, scopedFlat, kdFull] = timeTogether(aslFrames.length, [
   ["handrig object API: full frame", (i) => (sink += rig.solve(aslFrames[i]).timeMs)],
   ["handrig object API: full frame, contact off", (i) => (sink += noContactRig.solve(aslFrames[i]).timeMs)],
   ["handrig flat path: full frame", flatCall(flatRig)],
+  ["handrig object API: full frame, legs off", (i) => (sink += noLegsRig.solve(aslFrames[i]).timeMs)],
+  ["handrig flat path: full frame, legs off", flatCall(noLegsFlatRig)],
   ["handrig object API: full frame, Kalidokit's scope", (i) => (sink += scopeRig.solve(aslFrames[i]).timeMs)],
   ["handrig flat path: full frame, Kalidokit's scope", flatCall(scopeFlatRig)],
   ["Kalidokit Pose.solve + Hand.solve per hand", (i) => (sink += kalidokitSolve(Kalidokit, kalidokitFull[i]))],
@@ -209,12 +215,14 @@ for (let p = 0; p < passes; p++) {
   manyBest = Math.min(manyBest, Number(process.hrtime.bigint() - t0) / 1e6);
 }
 const rigsPerMs = (rigs.length * aslFrames.length) / manyBest;
-for (const r of [rig, noContactRig, packer, flatRig, scopeRig, scopeFlatRig, handRig, many, ...rigs]) r.free();
+for (const r of [rig, noContactRig, noLegsRig, noLegsFlatRig, packer, flatRig, scopeRig, scopeFlatRig, handRig, many, ...rigs]) r.free();
 
 const rows = [
   { ...full, vs: kdFull },
   { ...noContact, vs: kdFull },
   { ...flat, vs: kdFull },
+  { ...noLegs, vs: kdFull },
+  { ...noLegsFlat, vs: kdFull },
   { ...scoped, vs: kdFull },
   { ...scopedFlat, vs: kdFull },
   ...variants.map((v) => ({ ...v, vs: kdFull })),

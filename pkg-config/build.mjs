@@ -57,12 +57,11 @@ const WASM_NAME = "handrig_bg.wasm";
 // The SIMD build's file, beside it.
 const WASM_SIMD_NAME = "handrig_simd_bg.wasm";
 
-// Size budget of the shipped .wasm, gzipped: 250 KiB, from issue 24 (serde and
+// Size budget of the shipped .wasm, gzipped: 258 KiB. 250 KiB from issue 24 (serde and
 // serde-wasm-bindgen read the options, rest poses and the .vrm's JSON at setup: 148.4 KiB
-// before, 205 KiB with them); 253 KiB with the face (issue 50: expressions, perfect sync, look-at
-// and the head from MediaPipe's face tracking, 247.1 -> 251.8 KiB). Printed with every build;
-// tests/node guards it.
-const WASM_GZIP_BUDGET = 253 * 1024;
+// before, 205 KiB with them); 258 KiB from issue 51 (the legs, feet and hips: 247.1 -> 255.3
+// KiB baseline, 2.7 KiB of headroom kept). Printed with every build; tests/node guards it.
+const WASM_GZIP_BUDGET = 258 * 1024;
 
 // Code generation for both WebAssembly builds: LLVM unrolls loops up to a cost of 125 instead
 // of its -O3 default (300). Fully unrolled loops over bones, fingers and sides made the

@@ -65,6 +65,7 @@ pub mod humanoid;
 pub mod ik;
 pub mod input;
 pub mod kinematics;
+pub mod legs;
 pub mod math;
 pub mod names;
 pub mod options;

@@ -2,7 +2,7 @@
 // test --lib flat`; a test fails when this file is stale. Do not edit.
 
 /** The layout version these types describe (`LAYOUT.version`). */
-export const LAYOUT_VERSION = 9;
+export const LAYOUT_VERSION = 10;
 
 /** Offsets of the input `Float32Array` (`LAYOUT.input`). See docs/reference/flat-layout.md. */
 export interface InputLayout {
@@ -185,6 +185,10 @@ export interface OutputLayout {
   readonly arkit: number;
   /** Look-at yaw and pitch, degrees (three-vrm's `VRMLookAt`: yaw > 0 toward the avatar's left, pitch > 0 down). */
   readonly lookAt: number;
+  /** The hips' translation from their rest position `x y z` (m, the model's own frame; `legs.moveHips`): add it to the normalized hips' rest position. `bonePositions` are those of the hips at rest. */
+  readonly hipsOffset: number;
+  /** Per foot (left, right): 1 planted (on the floor, bearing weight, locked where it was put down; `legs.plant`), else 0. */
+  readonly feetPlanted: number;
   /** Length of the array. */
   readonly length: number;
 }

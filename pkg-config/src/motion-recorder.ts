@@ -28,6 +28,8 @@ export interface RecordableResult {
   face?: string | null;
   expressions?: { [name: string]: number };
   lookAt?: { yaw: number; pitch: number };
+  /** The hips' translation from rest (root motion, `legs.moveHips`), added to the hips position. */
+  hipsOffset?: ArrayLike<number> | null;
 }
 
 /** The presets a recording carries (`FACE_PRESETS` then yaw and pitch per frame): the look* presets are the look-at's. */
@@ -108,7 +110,7 @@ export class MotionRecorder {
 
   /**
    * Records one frame: copies the rotation of every driven bone from `result.bones` (and the hips
-   * position from `result.worldPositions`), so the result object may be reused by the next
+   * position from `result.worldPositions` plus `result.hipsOffset`, the root motion), so the result object may be reused by the next
    * `solve`. Times must not go back; a frame at the same time as the last one replaces it.
    * Allocates nothing except when its storage doubles.
    * @param timeMs the frame's time, milliseconds (e.g. `result.timeMs`).
@@ -154,6 +156,15 @@ export class MotionRecorder {
           if (Math.abs(v!) > POSITION_LIMIT) throw new RangeError(`result.worldPositions.hips[${c}]: must be within -${POSITION_LIMIT}..${POSITION_LIMIT} (meters), got ${v}`);
         }
       }
+    }
+    // Legs (issue 51): the hips' root motion, added to the hips position recorded.
+    let offset: ArrayLike<number> | undefined = result.hipsOffset ?? undefined;
+    if (offset !== undefined) {
+      for (let c = 0; c < 3; c++) {
+        const v = offset[c];
+        if (!Number.isFinite(v) || Math.abs(v!) > POSITION_LIMIT) throw new TypeError(`result.hipsOffset[${c}]: must be a finite number within -${POSITION_LIMIT}..${POSITION_LIMIT} (meters), got ${describe(v)}`);
+      }
+      if (offset[0] === 0 && offset[1] === 0 && offset[2] === 0) offset = undefined;
     }
     const k = timeMs === last ? n - 1 : n;
     if (k === n) this.#grow(n + 1);
@@ -207,6 +218,11 @@ export class MotionRecorder {
     this.#face[fo + FACE_PRESETS.length] = yaw;
     this.#face[fo + FACE_PRESETS.length + 1] = pitch;
     if (live) this.#hasFace = true;
+    if (offset !== undefined) {
+      h[3 * k] = h[3 * k]! + s * offset[0]!;
+      h[3 * k + 1] = h[3 * k + 1]! + offset[1]!;
+      h[3 * k + 2] = h[3 * k + 2]! + s * offset[2]!;
+    }
     this.#count = k + 1;
   }
 

@@ -166,6 +166,20 @@ export interface HandRigOptions {
         head?: boolean | undefined;
       }
     | undefined;
+  /** Options. `false` / `true` sets `enabled`. */
+  legs?:
+    | boolean
+    | {
+        /** Legs from the pose's lower body (two-bone IK, knee and ankle limits); a leg whose hip, knee or ankle is not seen stays standing at rest. (boolean, default `true`.) */
+        enabled?: boolean | undefined;
+        /** A leg is tracked when its hip, knee and ankle have at least this visibility and lie inside the image (when the pose's image landmarks are given). (number in 0..1, default `0.5`.) */
+        minVisibility?: number | undefined;
+        /** The hips move with the user while the legs are tracked: up and down so the lower foot stands on the avatar's floor, sideways and toward the camera from the pose's image (hipsOffset); false keeps them at rest. (boolean, default `true`.) */
+        moveHips?: boolean | undefined;
+        /** A foot on the floor that bears weight stays where it was planted (no sliding) until it lifts or moves off. (boolean, default `true`.) */
+        plant?: boolean | undefined;
+      }
+    | undefined;
   /** Dotted paths as `optionDescriptions()` spells them are accepted too: `{ "alignment.weight": 0.5 }`. */
   [dottedPath: `${string}.${string}`]: unknown;
 }

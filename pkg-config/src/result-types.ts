@@ -130,7 +130,7 @@ export type HandUse = "left" | "right" | "lowScore" | "duplicate" | "contradicte
 export interface SolveResult {
   /** The frame's timestamp, milliseconds. */
   timeMs: number;
-  /** Local rotations of every bone the rig drives (`rig.drivenBones()`: arms, hands, fingers the avatar has; with `torso: "pose"` the torso bones), every frame: solved, held, or back at rest (identity) when tracking is lost. Write them all to `getNormalizedBoneNode(name).quaternion` (`applyToVRM` does). */
+  /** Local rotations of every bone the rig drives (`rig.drivenBones()`: arms, hands, fingers the avatar has; with `legs.enabled` the legs, feet and toes; with `torso: "pose"` the torso bones), every frame: solved, held, or back at rest (identity) when tracking is lost. Write them all to `getNormalizedBoneNode(name).quaternion` (`applyToVRM` does). */
   bones: BoneMap<Quat>;
   /** World positions of every bone of the avatar after solving, meters. */
   worldPositions: BoneMap<Vec3>;
@@ -162,6 +162,10 @@ export interface SolveResult {
   arkit: Float32Array;
   /** Where the eyes look relative to the head, degrees, as three-vrm's `vrm.lookAt.yaw` / `.pitch` (yaw > 0 toward the avatar's left, pitch > 0 down). */
   lookAt: { yaw: number; pitch: number };
+  /** The hips' translation from their rest position (meters, the model's own frame; `legs.moveHips`): add it to the normalized hips' rest position (`applyToVRM` does while the rig drives the legs). `worldPositions` are those of the hips at rest. `[0, 0, 0]` while no leg is tracked. */
+  hipsOffset: Vec3;
+  /** Per foot: planted (on the floor, bearing weight, locked where it was put down; `legs.plant`). */
+  feetPlanted: { left: boolean; right: boolean };
 }
 
 /** The VRM 1.0 preset expressions the face gives (`LAYOUT.expressions`). */

@@ -163,6 +163,14 @@ export function fillResult(
   use.length = count;
   for (let k = 0; k < count; k++) use[k] = HAND_USE[out[LO.handUse + k]!];
   fillFace(r, out, arrays.bones, driven);
+  // Legs (issue 51).
+  let hips = r.hipsOffset as Vec | undefined;
+  if (!Array.isArray(hips)) r.hipsOffset = hips = [0, 0, 0] as Vec;
+  vec(out, LO.hipsOffset, hips as Vec);
+  let planted = r.feetPlanted as { left: boolean; right: boolean } | undefined;
+  if (!isObject(planted)) planted = r.feetPlanted = { left: false, right: false };
+  planted.left = out[LO.feetPlanted] === 1;
+  planted.right = out[LO.feetPlanted + 1] === 1;
   return result;
 }
 

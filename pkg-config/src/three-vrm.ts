@@ -24,6 +24,8 @@ import { skinOfScene } from "./skin.js";
 interface BoneNodeLike {
   parent: unknown;
   quaternion: { set(x: number, y: number, z: number, w: number): unknown };
+  /** The hips' position is written while the rig drives the legs (root motion). */
+  position?: { set(x: number, y: number, z: number): unknown };
 }
 
 /** The parts of three-vrm's `VRM` the adapter uses. */
@@ -158,7 +160,8 @@ function nodesOf(humanoid: Humanoid): Map<string, BoneNodeLike | null> {
  * Writes a solve's rotations to `vrm.humanoid.getNormalizedBoneNode(name).quaternion`: `result`
  * is a `HandRig.solve` result (its `bones`: every bone the rig drives, every frame) or a flat
  * output array (`rig.output`, or what `solveInto` filled: every bone whose flag is not 0). Bones
- * the avatar lacks are skipped. No VRM 0.x sign flip is applied or needed: handrig already
+ * the avatar lacks are skipped. While the rig drives the legs (`legs.enabled`), the normalized hips'
+ * position is set to its rest position plus the result's `hipsOffset` (root motion). No VRM 0.x sign flip is applied or needed: handrig already
  * returns rotations in the model's own frame. Call `vrm.update(delta)` afterwards as usual
  * (three-vrm copies normalized rotations to the model's bones there). Returns how many bones were
  * written. A result with a face (issue 50) also sets `vrm.expressionManager` (the 52 ARKit
@@ -189,6 +192,7 @@ export function applyToVRM(
       node.quaternion.set(result[at]!, result[at + 1]!, result[at + 2]!, result[at + 3]!);
       written++;
     }
+    if (result[O.boneFlags + LEFT_UPPER_LEG] !== 0) moveHips(humanoid, nodes, result, O.hipsOffset);
     return written;
   }
   const bones: unknown = result !== null && typeof result === "object" ? result.bones : undefined;
@@ -204,6 +208,8 @@ export function applyToVRM(
     node.quaternion.set(q[0]!, q[1]!, q[2]!, q[3]!);
     written++;
   }
+  const offset = (result as { hipsOffset?: ArrayLike<number> }).hipsOffset;
+  if (map.leftUpperLeg !== undefined && offset !== undefined) moveHips(humanoid, nodes, offset, 0);
   return written;
 }
 
@@ -255,3 +261,13 @@ function applyFace(vrm: VRMLike, result: unknown): void {
 }
 
 const LOOK_PRESETS_FROM = LAYOUT.expressions.indexOf("lookUp");
+// Legs (issue 51): the hips' position while the rig drives the legs.
+const LEFT_UPPER_LEG = LAYOUT.bones.indexOf("leftUpperLeg");
+
+/** The normalized hips at their rest position plus the offset at `offset[at..at + 3]`. */
+function moveHips(humanoid: Humanoid, nodes: Map<string, BoneNodeLike | null>, offset: ArrayLike<number>, at: number): void {
+  const hips = nodes.get("hips");
+  const rest = humanoid.normalizedRestPose.hips?.position;
+  if (!hips?.position || !rest) return;
+  hips.position.set(rest[0]! + offset[at]!, rest[1]! + offset[at + 1]!, rest[2]! + offset[at + 2]!);
+}

@@ -16,11 +16,11 @@ use crate::input::torso::{BODY_JOINT_COUNT, TORSO_BONE_COUNT};
 
 /// Layout version: bumped whenever an offset or meaning changes, and with it
 /// [`LAYOUT_SIGNATURE`] (a test checks that they move together).
-pub const VERSION: u32 = 9;
+pub const VERSION: u32 = 10;
 
 /// A digest of every row's path, offset and size at [`VERSION`]: a test recomputes it, so a
 /// layout change without a version bump fails.
-pub const LAYOUT_SIGNATURE: u64 = 0x02dd_b711_8f3c_3e32;
+pub const LAYOUT_SIGNATURE: u64 = 0x6b5f_4609_bb55_af06;
 
 layout_side! {
     /// Input offsets (indices into the input `f32` array).
@@ -219,6 +219,14 @@ layout_side! {
         /// Look-at yaw and pitch, degrees (three-vrm's `VRMLookAt`: yaw > 0 toward the avatar's
         /// left, pitch > 0 down).
         LOOK_AT lookAt: 2;
+        // Legs (issue 51).
+        /// The hips' translation from their rest position `x y z` (m, the model's own frame;
+        /// `legs.moveHips`): add it to the normalized hips' rest position. `bonePositions`
+        /// are those of the hips at rest.
+        HIPS_OFFSET hipsOffset: 3;
+        /// Per foot (left, right): 1 planted (on the floor, bearing weight, locked where it
+        /// was put down; `legs.plant`), else 0.
+        FEET_PLANTED feetPlanted: 2;
     }
 }
 

@@ -480,6 +480,11 @@ pub fn write_output(rig: &Rig, out: &SolveOutput, buf: &mut [f32]) {
         .copy_from_slice(&face.presets);
     buf[output::ARKIT..output::ARKIT + face.arkit.len()].copy_from_slice(&face.arkit);
     buf[output::LOOK_AT..output::LOOK_AT + 2].copy_from_slice(&face.look_at);
+    // Legs (issue 51).
+    put_vec3(buf, output::HIPS_OFFSET, out.hips_offset);
+    for (k, planted) in out.planted.iter().enumerate() {
+        buf[output::FEET_PLANTED + k] = f32::from(u8::from(*planted));
+    }
 }
 
 /// Packs `frame` into a flat input array (the inverse of [`read_input`], for native callers

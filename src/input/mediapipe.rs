@@ -87,8 +87,9 @@ pub mod pose_landmark {
     /// Right hip.
     pub const RIGHT_HIP: usize = 24;
 
-    /// The pose landmarks a [`crate::Rig`] reads (face, arms, shoulders and hips); the others
-    /// (the pose's hands and legs) change nothing, and the rig does not filter them.
+    /// The pose landmarks a [`crate::Rig`] reads for the arms and torso (face, arms, shoulders
+    /// and hips); the others (the pose's hands, and the legs unless `legs.enabled`) change
+    /// nothing, and the rig does not filter them.
     pub const READ: [usize; 15] = [
         NOSE,
         LEFT_EYE,
@@ -105,6 +106,34 @@ pub mod pose_landmark {
         RIGHT_WRIST,
         LEFT_HIP,
         RIGHT_HIP,
+    ];
+
+    /// [`READ`] and the legs' knees, ankles, heels and toes (25-32): what a rig with
+    /// `legs.enabled` reads.
+    pub const READ_WITH_LEGS: [usize; 23] = [
+        NOSE,
+        LEFT_EYE,
+        RIGHT_EYE,
+        LEFT_EAR,
+        RIGHT_EAR,
+        MOUTH_LEFT,
+        MOUTH_RIGHT,
+        LEFT_SHOULDER,
+        RIGHT_SHOULDER,
+        LEFT_ELBOW,
+        RIGHT_ELBOW,
+        LEFT_WRIST,
+        RIGHT_WRIST,
+        LEFT_HIP,
+        RIGHT_HIP,
+        25,
+        26,
+        27,
+        28,
+        29,
+        30,
+        31,
+        32,
     ];
 }
 

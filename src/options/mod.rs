@@ -31,6 +31,7 @@ use crate::humanoid::bones::Finger;
 use crate::ik::{ArmIdle, ArmOptions, ArmSolver};
 pub use crate::input::hand_wrist::HandsOnlyOptions;
 use crate::input::mediapipe::CameraMapping;
+pub use crate::legs::LegOptions;
 use crate::solve::least_squares::Settings;
 use crate::torso::TorsoSource;
 
@@ -75,6 +76,8 @@ pub struct RigOptions {
     pub hands_only: HandsOnlyOptions,
     /// The face: expressions, look-at and head from a face tracker (issue 50).
     pub face: FaceOptions,
+    /// Legs from the pose's lower body (see [`crate::legs`]).
+    pub legs: LegOptions,
 }
 
 /// How a hand whose MediaPipe label contradicts the pose is treated (JS:
@@ -224,6 +227,12 @@ impl RigOptions {
             neck_share: 0.0,
             head: false,
         },
+        legs: LegOptions {
+            enabled: false,
+            min_visibility: 0.0,
+            move_hips: false,
+            plant: false,
+        },
     };
 
     /// Reads options from JSON text: an object of the camelCase paths of [`table::OPTIONS`]
@@ -322,6 +331,7 @@ group_default! {
     RetargetOptions => retarget,
     HandsOnlyOptions => hands_only,
     FaceOptions => face,
+    LegOptions => legs,
     HandStrategy => hand_strategy,
     ArmSolver => arm_solver,
     AlignPoint => alignment.point,

@@ -333,6 +333,15 @@ pub static OPTIONS: &[OptionSpec] = &[
         "The neck's share of the head's turn from the face (the head bone takes the rest)."),
     flag!("face.head", face.head, true,
         "The face's transformation matrix turns the head and neck (over the torso's chest)."),
+    // Legs (issue 51).
+    flag!("legs.enabled", legs.enabled, true,
+        "Legs from the pose's lower body (two-bone IK, knee and ankle limits); a leg whose hip, knee or ankle is not seen stays standing at rest."),
+    number!("legs.minVisibility", legs.min_visibility, 0.0, 1.0, 0.05, 0.5,
+        "A leg is tracked when its hip, knee and ankle have at least this visibility and lie inside the image (when the pose's image landmarks are given)."),
+    flag!("legs.moveHips", legs.move_hips, true,
+        "The hips move with the user while the legs are tracked: up and down so the lower foot stands on the avatar's floor, sideways and toward the camera from the pose's image (hipsOffset); false keeps them at rest."),
+    flag!("legs.plant", legs.plant, true,
+        "A foot on the floor that bears weight stays where it was planted (no sliding) until it lifts or moves off."),
 ];
 
 impl Value {

@@ -14,6 +14,8 @@
 //! 3. **torso** (`torso.rs`): the torso bones from the app (`frame.torso`) or tracked from
 //!    `body` joints or the pose, eased over tracking loss ([`crate::torso`]); forward
 //!    kinematics of the posed torso places each arm's anchor.
+//!    Then **legs** (`legs.rs`, issue 51): each leg from the pose's lower body when seen
+//!    ([`crate::legs`]), eased to rest when not; the hips' offset and the planted feet.
 //! 4. per side: **observe**, the hand and wrist (`observe.rs`): the hand's landmarks mapped to
 //!    the avatar frame (turned with the torso when the pose places the arm), checked for
 //!    MediaPipe's depth flips, filtered; the wrist from a tracker (filtered) or the pose
@@ -39,6 +41,7 @@ mod ease;
 mod face;
 mod frame;
 mod hands;
+mod legs;
 mod limit;
 mod observe;
 mod output;
@@ -95,6 +98,8 @@ pub struct Rig {
     limit: limit::Limit,
     // The face (issue 50), after the torso.
     face: face::FaceStage,
+    // Legs (issue 51).
+    legs: legs::Legs,
 }
 
 impl Rig {
@@ -125,6 +130,13 @@ impl Rig {
                 driven[b.index()] = skeleton.has(b);
             }
         }
+        // Legs (issue 51): the leg bones the avatar has, when legs are on.
+        for side in Side::BOTH {
+            for b in crate::legs::leg_bones(side) {
+                driven[b.index()] |= options.legs.enabled && skeleton.has(b);
+            }
+        }
+        let legs = legs::Legs::new(&skeleton);
         let torso = torso::Torso::new(&skeleton, options.calibration.frames);
         let aligned_parts =
             Side::BOTH.map(|side| AlignedPart::choose(&skeleton, side, options.alignment.finger));
@@ -145,6 +157,7 @@ impl Rig {
             ease: ease::Ease::default(),
             limit: limit::Limit::default(),
             face: face::FaceStage::default(),
+            legs,
         })
     }
 
@@ -182,6 +195,7 @@ impl Rig {
         self.ease.restart();
         self.limit.restart();
         self.face.restart();
+        self.legs.restart();
         let f = &mut self.frame;
         f.pose = None;
         f.anchors = [None, None];
@@ -344,6 +358,8 @@ impl Rig {
         out.hand_use = [crate::pipeline::HandUse::Unused; crate::input::mediapipe::MAX_HANDS];
         out.retarget = [None, None];
         out.contact = [None, None];
+        out.hips_offset = Vec3::ZERO;
+        out.planted = [false; 2];
         // Everything not solved this frame goes back to rest (then the easing stage decides).
         out.local = [Quat::IDENTITY; BONE_COUNT];
 
@@ -365,6 +381,8 @@ impl Rig {
         self.torso.run(&cx, f, out);
         // The face: expressions, look-at, the head over the posed torso (issue 50).
         self.face.run(&cx, f, out);
+        // Legs (issue 51): from the posed hips.
+        self.legs.run(&cx, f, out);
         for side in Side::BOTH {
             self.observe.hand(&cx, side, f);
             self.hands.run(&cx, side, f, out);

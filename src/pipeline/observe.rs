@@ -120,14 +120,15 @@ impl Observe {
         f.pose = cx.input.pose;
         if let Some(pose) = f.pose.as_mut() {
             if let Some(o) = &filter {
-                // Only the landmarks the rig reads: the pose's hands and legs are not used.
-                self.pose_filters.apply_to(
-                    &mut pose.world,
-                    &pose_landmark::READ,
-                    cx.now_ms,
-                    cx.dt,
-                    o,
-                );
+                // Only the landmarks the rig reads: the pose's hands are not used, nor its
+                // legs with `legs.enabled` off.
+                let read: &[usize] = if cx.options.legs.enabled {
+                    &pose_landmark::READ_WITH_LEGS
+                } else {
+                    &pose_landmark::READ
+                };
+                self.pose_filters
+                    .apply_to(&mut pose.world, read, cx.now_ms, cx.dt, o);
             }
             self.body.observe(pose);
         }

@@ -73,6 +73,14 @@ pub struct SolveOutput {
     pub contact: [Option<ContactReport>; 2],
     /// The face's expressions, look-at and head (issue 50).
     pub face: FaceReport,
+    // Legs (issue 51).
+    /// The hips' translation from their rest position (m; `legs.moveHips`): what an app adds
+    /// to the normalized hips' rest position. The bones' world positions (`world`) are those
+    /// of the hips at rest; add this to place them in the room.
+    pub hips_offset: Vec3,
+    /// Whether each foot (`[left, right]`) is planted: on the floor, bearing weight, locked
+    /// where it was put down (`legs.plant`).
+    pub planted: [bool; 2],
 }
 
 /// What the face stage gave this frame ([`crate::face`]).
@@ -178,6 +186,8 @@ impl Default for SolveOutput {
             retarget: [None, None],
             contact: [None, None],
             face: FaceReport::default(),
+            hips_offset: Vec3::ZERO,
+            planted: [false; 2],
         }
     }
 }
@@ -222,6 +232,7 @@ impl SolveOutput {
             a.pose_wrist = p(a.pose_wrist);
             a.avatar_offset = p(a.avatar_offset);
         }
+        self.hips_offset = p(self.hips_offset);
         for tip in self.fingertips.iter_mut().flatten().flatten() {
             *tip = p(*tip);
         }

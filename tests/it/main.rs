@@ -28,6 +28,7 @@ mod hand_props;
 mod hand_real;
 mod hand_rig;
 mod hand_synthetic;
+mod legs;
 mod live;
 mod missing_bones;
 mod no_alloc;

@@ -275,12 +275,19 @@ fn the_reported_world_pose_is_the_forward_kinematics_of_the_rotations() {
     }
 }
 
-/// The rig reads the pose landmarks in `pose_landmark::READ` only (and filters only those):
-/// moving every other landmark, with its visibility and image point, changes no output. A
-/// stage that starts reading another landmark fails this until the list names it.
+/// The rig reads the pose landmarks in `pose_landmark::READ` only (and filters only those),
+/// and with `legs.enabled` those of `READ_WITH_LEGS`: moving every other landmark, with its
+/// visibility and image point, changes no output. A stage that starts reading another
+/// landmark fails this until the list names it.
 #[test]
 fn pose_landmarks_outside_the_read_list_change_nothing() {
-    use handrig::mediapipe::pose_landmark::READ;
+    use handrig::mediapipe::pose_landmark::{READ, READ_WITH_LEGS};
+    for (read, legs) in [(&READ[..], false), (&READ_WITH_LEGS[..], true)] {
+        landmarks_outside_change_nothing(read, legs);
+    }
+}
+
+fn landmarks_outside_change_nothing(read: &[usize], legs: bool) {
     let frames = asl_frames();
     let moved: Vec<FrameInput> = frames
         .iter()
@@ -292,13 +299,13 @@ fn pose_landmarks_outside_the_read_list_change_nothing() {
                 Vec3::new(t.sin(), t.cos(), (0.3 * t).sin()) * 0.4
             };
             if let Some(pose) = f.pose.as_mut() {
-                for k in (0..pose.world.len()).filter(|k| !READ.contains(k)) {
+                for k in (0..pose.world.len()).filter(|k| !read.contains(k)) {
                     pose.world[k] += wobble(k);
                     pose.visibility[k] = ((i + k) % 2) as f32;
                 }
             }
             if let Some(image) = f.pose_image.as_mut() {
-                for k in (0..image.len()).filter(|k| !READ.contains(k)) {
+                for k in (0..image.len()).filter(|k| !read.contains(k)) {
                     image[k] += wobble(k + 40);
                 }
             }
@@ -308,11 +315,12 @@ fn pose_landmarks_outside_the_read_list_change_nothing() {
     assert_ne!(frames, moved, "the frames were moved");
     for avatar in recordings::real_avatars() {
         for options in [
-            "{}",
-            r#"{ "torso": "pose", "mirror": true }"#,
-            r#"{ "inputMirrored": true, "handedness": "drop" }"#,
+            "",
+            r#", "torso": "pose", "mirror": true"#,
+            r#", "inputMirrored": true, "handedness": "drop""#,
         ] {
-            let options = RigOptions::from_json(options).expect("options");
+            let options = format!(r#"{{ "legs": {{ "enabled": {legs} }}{options} }}"#);
+            let options = RigOptions::from_json(&options).expect("options");
             let mut a = Rig::new(avatar.clone(), options).expect("rig");
             let mut b = Rig::new(avatar.clone(), options).expect("rig");
             let (mut out_a, mut out_b) = (SolveOutput::default(), SolveOutput::default());

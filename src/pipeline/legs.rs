@@ -1,0 +1,345 @@
+//! The **legs** stage: each leg from the pose's lower body ([`crate::legs`]) when its hip,
+//! knee and ankle are seen (`legs.minVisibility`, inside the image), held then eased to the
+//! standing rest pose when they are not, blended back in when they return (the dropout
+//! timings of the arms, [`crate::filter::dropout`]). A head-and-shoulders webcam sees no legs:
+//! they stay exactly at rest. Runs after the torso stage (the hips as posed); the observe stage
+//! filtered the leg landmarks.
+
+use glam::{Quat, Vec3};
+
+use crate::filter::dropout::{Blend, Presence};
+use crate::filter::PointFilters;
+use crate::humanoid::bones::Side;
+use crate::humanoid::skeleton::Skeleton;
+use crate::input::mediapipe::PoseObservation;
+use crate::legs::{leg_bones, leg_landmarks, Leg, LegTarget, Soles};
+
+use super::frame::{Context, Frame};
+use super::output::SolveOutput;
+
+/// Largest height (m) of a foot's lowest sole point above the floor, and speed (m/s) of its
+/// tracked ankle, at which the foot counts as planted (bearing weight). A planted foot stays
+/// planted until it rises past [`LIFT_HEIGHT`] or its tracked ankle moves faster than
+/// [`LIFT_SPEED`]: the gap keeps noise from planting and lifting it frame to frame.
+const PLANT_HEIGHT: f32 = 0.03;
+const PLANT_SPEED: f32 = 0.3;
+const LIFT_HEIGHT: f32 = 0.05;
+const LIFT_SPEED: f32 = 0.6;
+
+/// The legs stage: per side the leg solver, its presence, the rotations shown last frame and
+/// the blend's anchors; the grounding's state (the avatar's soles, the hips' offset, the
+/// image reference of the root motion, each planted foot's lock).
+#[derive(Clone, Debug)]
+pub(super) struct Legs {
+    legs: [Option<Leg>; 2],
+    presence: [Presence; 2],
+    shown: [[Quat; 4]; 2],
+    anchor: [[Quat; 4]; 2],
+    soles: Option<Soles>,
+    /// The hips' offset shown last frame (internal frame).
+    offset: Vec3,
+    /// The hip midpoint in the image and the camera distance (m, user scale) when the root
+    /// motion started (a leg seen after none was).
+    reference: Option<(Vec3, f32)>,
+    root_filter: PointFilters<1>,
+    /// Each planted foot's ankle, world (with the offset); the tracked ankle last frame.
+    lock: [Option<Vec3>; 2],
+    last_ankle: [Option<Vec3>; 2],
+}
+
+impl Legs {
+    pub(super) fn new(skeleton: &Skeleton) -> Self {
+        Legs {
+            legs: Side::BOTH.map(|side| Leg::new(skeleton, side)),
+            presence: [Presence::default(); 2],
+            shown: [[Quat::IDENTITY; 4]; 2],
+            anchor: [[Quat::IDENTITY; 4]; 2],
+            soles: Soles::new(skeleton),
+            offset: Vec3::ZERO,
+            reference: None,
+            root_filter: PointFilters::default(),
+            lock: [None; 2],
+            last_ankle: [None; 2],
+        }
+    }
+
+    pub(super) fn restart(&mut self) {
+        for leg in self.legs.iter_mut().flatten() {
+            leg.reset();
+        }
+        self.presence = [Presence::default(); 2];
+        self.shown = [[Quat::IDENTITY; 4]; 2];
+        self.anchor = [[Quat::IDENTITY; 4]; 2];
+        self.offset = Vec3::ZERO;
+        self.reference = None;
+        self.root_filter.reset();
+        self.lock = [None; 2];
+        self.last_ankle = [None; 2];
+    }
+
+    /// Each leg's bones into `out.local` (solved, held, easing or at rest), the legs' world
+    /// pose when any leg is off rest, the hips' offset and the planted feet.
+    pub(super) fn run(&mut self, cx: &Context, f: &Frame, out: &mut SolveOutput) {
+        let o = &cx.options.legs;
+        if !o.enabled {
+            return;
+        }
+        let timing = cx.options.dropout.effective();
+        let pose = f.pose.as_ref();
+        let mut targets = [None; 2];
+        for side in Side::BOTH {
+            if let Some(leg) = &self.legs[side.index()] {
+                targets[side.index()] =
+                    pose.and_then(|p| target(cx, f, p, side, leg.lengths(), out));
+            }
+        }
+        let blends = Side::BOTH.map(|side| {
+            let live = targets[side.index()].is_some();
+            self.presence[side.index()].update(cx.now_ms, live, &timing)
+        });
+        // Sideways and toward the camera: from the pose's image, filtered.
+        let mut offset = self.offset;
+        let across = match (o.move_hips && targets.iter().any(Option::is_some), pose) {
+            (true, Some(p)) => self.across(cx, p),
+            _ => None,
+        };
+        match across {
+            Some(v) => (offset.x, offset.z) = (v.x, v.z),
+            None => {
+                // Not tracked: back to the rest position as the legs ease to rest.
+                self.reference = None;
+                let k = cx.dt.map_or(1.0, |dt| {
+                    (dt * 1000.0 / timing.fade_out_ms.max(1.0)).min(1.0)
+                });
+                offset.x -= k * offset.x;
+                offset.z -= k * offset.z;
+            }
+        }
+        // The legs as tracked, then the hips' height that puts the lower foot on the floor.
+        let mut moved = false;
+        for side in Side::BOTH {
+            moved |= self.pose_leg(cx, side, targets[side.index()], &blends, out);
+        }
+        if moved {
+            cx.skeleton.forward_body(&out.local, &mut out.world);
+        }
+        let soles = self.soles.filter(|_| o.move_hips);
+        offset.y = match (moved, soles) {
+            (true, Some(soles)) => soles.floor - self.lowest(&soles, out, [0, 1]),
+            _ => 0.0,
+        };
+        // A planted foot's ankle stays where it was put down: the hips low enough for the
+        // leg to reach it, the leg solved again toward it. A tracked ankle moving fast lifts
+        // it first.
+        let tracked_ankle = targets.map(|t| t.map(|t| t.ankle + offset));
+        let mut speed = [f32::INFINITY; 2];
+        for s in 0..2 {
+            if let (Some(a), Some(b), Some(dt)) = (tracked_ankle[s], self.last_ankle[s], cx.dt) {
+                speed[s] = (a - b).length() / dt.max(1e-3);
+            }
+            if speed[s] >= LIFT_SPEED {
+                self.lock[s] = None;
+            }
+        }
+        self.last_ankle = tracked_ankle;
+        let mut relocked = false;
+        for side in Side::BOTH {
+            let s = side.index();
+            if let (true, Some(lock), Some(leg), Some(_)) =
+                (o.plant, self.lock[s], &self.legs[s], targets[s])
+            {
+                let hip = out.world.position[leg_bones(side)[0].index()];
+                // From the hip (in the room: moved by the offset across) to the lock.
+                let d = lock - hip - Vec3::new(offset.x, 0.0, offset.z);
+                let reach = leg.length();
+                let level = reach * reach - d.x * d.x - d.z * d.z;
+                if level > 0.0 {
+                    offset.y = offset.y.min(d.y + level.sqrt());
+                }
+                relocked = true;
+            }
+        }
+        if relocked {
+            for side in Side::BOTH {
+                let s = side.index();
+                if let (Some(lock), Some(mut t)) = (self.lock[s], targets[s]) {
+                    t.ankle = lock - offset;
+                    self.pose_leg(cx, side, Some(t), &blends, out);
+                }
+            }
+            cx.skeleton.forward_body(&out.local, &mut out.world);
+            // No sole under the floor (a planted foot turned by its ankle may dip).
+            if let Some(soles) = soles {
+                offset.y = offset.y.max(soles.floor - self.lowest(&soles, out, [0, 1]));
+            }
+        }
+        // Commit what is shown.
+        for side in Side::BOTH {
+            for (k, bone) in leg_bones(side).iter().enumerate() {
+                let q = out.local[bone.index()];
+                let s = side.index();
+                if blends[s].capture {
+                    self.anchor[s][k] = self.shown[s][k];
+                }
+                self.shown[s][k] = q;
+            }
+        }
+        let Some(soles) = soles else { return };
+        // Planting: on the floor and slow; lifted when high or fast.
+        for side in Side::BOTH {
+            let s = side.index();
+            let speed = speed[s];
+            let height = self.lowest(&soles, out, [s, s]) + offset.y - soles.floor;
+            let planted = if self.lock[s].is_some() {
+                height < LIFT_HEIGHT && speed < LIFT_SPEED
+            } else {
+                height < PLANT_HEIGHT && speed < PLANT_SPEED
+            };
+            let ankle = out.world.position[leg_bones(side)[2].index()] + offset;
+            self.lock[s] =
+                (o.plant && planted && targets[s].is_some()).then(|| self.lock[s].unwrap_or(ankle));
+            out.planted[s] = self.lock[s].is_some();
+        }
+        self.offset = offset;
+        out.hips_offset = offset;
+    }
+
+    /// Solves `side`'s leg toward `target` (none: rest) and writes it into `out.local` as
+    /// `blends` shows it (the history is committed by [`Legs::run`]). Whether it is off rest.
+    // Out of line: called from two places per side (inlined, 2 KiB more .wasm).
+    #[inline(never)]
+    fn pose_leg(
+        &mut self,
+        cx: &Context,
+        side: Side,
+        target: Option<LegTarget>,
+        blends: &[Blend; 2],
+        out: &mut SolveOutput,
+    ) -> bool {
+        let s = side.index();
+        let Some(leg) = self.legs[s].as_mut() else {
+            return false;
+        };
+        let bones = leg_bones(side);
+        let parent = cx.skeleton.parent(bones[0]).map_or(0, |p| p.index());
+        let mut solved = [Quat::IDENTITY; 4];
+        if let Some(t) = &target {
+            solved[..3].copy_from_slice(&leg.solve(out.world.rotation[parent], t).local);
+        }
+        let mut moved = false;
+        for (k, bone) in bones.iter().enumerate() {
+            let mut anchor = self.anchor[s][k];
+            let q = blends[s].show(solved[k], &mut anchor, self.shown[s][k]);
+            if cx.skeleton.has(*bone) {
+                out.local[bone.index()] = q;
+                out.solved[bone.index()] = target.is_some();
+                moved |= q != Quat::IDENTITY;
+            }
+        }
+        moved
+    }
+
+    /// The height of the lowest sole point of the feet `sides` (indices) as posed in `out`,
+    /// the hips at rest.
+    fn lowest(&self, soles: &Soles, out: &SolveOutput, sides: [usize; 2]) -> f32 {
+        sides
+            .map(|s| {
+                let side = Side::BOTH[s];
+                let foot = leg_bones(side)[2].index();
+                soles
+                    .lowest(side, out.world.position[foot], out.world.rotation[foot])
+                    .y
+            })
+            .into_iter()
+            .fold(f32::INFINITY, f32::min)
+    }
+
+    /// The hips' sideways and forward offset (avatar scale, internal frame) from the hip
+    /// midpoint's image position and the camera distance the pose's size gives, relative to
+    /// where the root motion started; `None` without image landmarks or a measurable torso.
+    fn across(&mut self, cx: &Context, pose: &PoseObservation) -> Option<Vec3> {
+        use crate::input::mediapipe::pose_landmark as pl;
+        let image = cx.input.pose_image?;
+        let mid = |a: usize, b: usize, p: &[Vec3; 33]| 0.5 * (p[a] + p[b]);
+        let w = &pose.world;
+        let hip = mid(pl::LEFT_HIP, pl::RIGHT_HIP, &image);
+        // Meters per image height at the user's depth: the torso's world length over its
+        // image length (x in widths, y in heights).
+        let torso = |p: &[Vec3; 33], aspect: f32| {
+            let d =
+                mid(pl::LEFT_SHOULDER, pl::RIGHT_SHOULDER, p) - mid(pl::LEFT_HIP, pl::RIGHT_HIP, p);
+            (d.x * aspect).hypot(d.y)
+        };
+        let aspect = cx.input.image_aspect;
+        let meters = w[pl::LEFT_SHOULDER]
+            .lerp(w[pl::RIGHT_SHOULDER], 0.5)
+            .distance(w[pl::LEFT_HIP].lerp(w[pl::RIGHT_HIP], 0.5))
+            / torso(&image, aspect);
+        let fov = cx.options.hands_only.fov;
+        // tan(fov / 2) by sin and cos: libm's tanf is 1 KiB of .wasm the rig has no other use for.
+        let distance = meters * (0.5 * fov).cos() / (2.0 * (0.5 * fov).sin());
+        if !(meters.is_finite() && meters > 0.0) {
+            return None;
+        }
+        let (at, d0) = *self.reference.get_or_insert((hip, distance));
+        // The user's legs scaled to the avatar's (the first tracked leg's ratio).
+        let scale = Side::BOTH.into_iter().find_map(|side| {
+            let leg = self.legs[side.index()].as_ref()?;
+            let [h, k, a, _, _] = leg_landmarks(cx.camera.pose_side_for(side));
+            let user = w[h].distance(w[k]) + w[k].distance(w[a]);
+            (user > 1e-3).then(|| leg.length() / user)
+        })?;
+        let x = (hip.x - at.x) * aspect * meters;
+        let x = if cx.camera.flips_x() { -x } else { x };
+        let mut v = [Vec3::new(x, 0.0, d0 - distance) * scale];
+        if cx.options.filter.enabled {
+            let o = cx.options.filter.one_euro();
+            self.root_filter.apply(&mut v, cx.now_ms, cx.dt, &o);
+        }
+        v[0].is_finite().then_some(v[0])
+    }
+}
+
+/// Where the tracked leg of the avatar's `side` puts it (the user's thigh and shin directions,
+/// turned with the torso, with the avatar's thigh and shin `lengths`), or `None` when the hip,
+/// knee or ankle is not seen.
+fn target(
+    cx: &Context,
+    f: &Frame,
+    pose: &PoseObservation,
+    side: Side,
+    lengths: (f32, f32),
+    out: &SolveOutput,
+) -> Option<LegTarget> {
+    let [hip, knee, ankle, heel, toe] = leg_landmarks(cx.camera.pose_side_for(side));
+    let min = cx.options.legs.min_visibility;
+    // Seen: visible enough and inside the image (MediaPipe guesses a leg below the frame's
+    // edge with a visibility up to 0.84 on the ASL clips).
+    let inside = |x: f32| (0.0..=1.0).contains(&x);
+    let seen = |i: usize| {
+        pose.visibility[i] >= min
+            && cx
+                .input
+                .pose_image
+                .is_none_or(|im| inside(im[i].x) && inside(im[i].y))
+    };
+    if !(seen(hip) && seen(knee) && seen(ankle)) {
+        return None;
+    }
+    let at_hip = out.world.position[leg_bones(side)[0].index()];
+    let w = &pose.world;
+    let turn = f.turn.unwrap_or(Quat::IDENTITY);
+    let vector = |v| turn * cx.camera.to_avatar(v);
+    // Each of the user's segments along its direction with the avatar's length: the knee's
+    // angle and the leg's direction are the user's.
+    let (thigh, shin) = lengths;
+    let knee_at = at_hip + thigh * vector(w[knee] - w[hip]).try_normalize()?;
+    let ankle_at = knee_at + shin * vector(w[ankle] - w[knee]).try_normalize()?;
+    let t = LegTarget {
+        hip: at_hip,
+        knee: knee_at,
+        ankle: ankle_at,
+        foot: (seen(heel) && seen(toe)).then(|| vector(w[toe] - w[heel])),
+    };
+    (t.knee.is_finite() && t.ankle.is_finite()).then_some(t)
+}

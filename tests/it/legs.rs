@@ -1,0 +1,282 @@
+//! Legs (issue 51): on the shared head-and-shoulders ASL clips (legs out of frame) no leg bone
+//! moves; a lower body placed in view drives the legs with the user's knee angle, the knee
+//! bending forward; a leg that leaves the view eases back to rest without a jump.
+use crate::support::recordings;
+
+use glam::{Quat, Vec3};
+use handrig::humanoid::bones::Side;
+use handrig::legs::{leg_bones, leg_landmarks, Soles};
+use handrig::{FrameInput, Rig, RigOptions, SolveOutput};
+
+/// Every clip's frames (the six shared ASL clips).
+fn clips() -> Vec<(String, Vec<FrameInput>)> {
+    recordings::ASL
+        .iter()
+        .chain(&recordings::ASL_MORE)
+        .map(|c| (c.to_string(), recordings::asl(c)))
+        .collect()
+}
+
+fn avatars() -> Vec<handrig::Skeleton> {
+    let mut a = recordings::real_avatars().to_vec();
+    a.push(recordings::vrm("../shared/avatars/odd-armature-vrm0.vrm"));
+    a
+}
+
+/// Largest angle (degrees) of any leg bone's local rotation from rest, and of its change
+/// between two frames, over `frames`.
+fn leg_motion(rig: &mut Rig, frames: &[FrameInput]) -> (f32, f32) {
+    let mut out = SolveOutput::default();
+    let (mut from_rest, mut step) = (0.0f32, 0.0f32);
+    let mut last: Option<[Quat; 8]> = None;
+    for f in frames {
+        rig.solve(f, &mut out).expect("solve");
+        let q: [Quat; 8] =
+            core::array::from_fn(|k| out.local[leg_bones(Side::BOTH[k / 4])[k % 4].index()]);
+        for (k, q) in q.iter().enumerate() {
+            from_rest = from_rest.max(q.angle_between(Quat::IDENTITY).to_degrees());
+            if let Some(l) = last {
+                step = step.max(q.angle_between(l[k]).to_degrees());
+            }
+        }
+        last = Some(q);
+    }
+    (from_rest, step)
+}
+
+#[test]
+fn head_and_shoulders_clips_leave_the_legs_at_rest() {
+    for avatar in avatars() {
+        for options in ["{}", r#"{ "torso": "pose", "mirror": true }"#] {
+            let options = RigOptions::from_json(options).expect("options");
+            for (name, frames) in clips() {
+                let mut rig = Rig::new(avatar.clone(), options).expect("rig");
+                let (from_rest, _) = leg_motion(&mut rig, &frames);
+                assert!(
+                    from_rest <= 1.0,
+                    "{name}: a leg bone turned {from_rest} degrees"
+                );
+            }
+        }
+    }
+}
+
+/// `frame` with the subject's legs in view: hips at the frame's, each knee `knee` and ankle
+/// `ankle` (camera axes, m, from the hip), heel and toe under the ankle, all visible; the
+/// image landmarks the world ones seen from afar (2 m of the user per image height, the hip
+/// midpoint at the image's center).
+fn with_legs(frame: &FrameInput, knee: Vec3, ankle: Vec3) -> FrameInput {
+    let mut f = *frame;
+    let pose = f.pose.as_mut().expect("pose");
+    for user in Side::BOTH {
+        let [hip, k, a, heel, toe] = leg_landmarks(user);
+        let h = pose.world[hip];
+        for (i, p) in [
+            (k, h + knee),
+            (a, h + ankle),
+            (heel, h + ankle + Vec3::new(0.0, 0.05, 0.05)),
+            (toe, h + ankle + Vec3::new(0.0, 0.06, -0.15)),
+        ] {
+            pose.world[i] = p;
+        }
+        for i in [hip, k, a, heel, toe] {
+            pose.visibility[i] = 0.95;
+        }
+    }
+    let aspect = f.image_aspect;
+    f.pose_image = Some(
+        pose.world
+            .map(|p| Vec3::new(0.5 + 0.5 * p.x / aspect, 0.5 + 0.5 * p.y, 0.5 * p.z)),
+    );
+    f
+}
+
+/// The knee angle (degrees) of the avatar's `side` leg as shown.
+fn knee_angle(out: &SolveOutput, side: Side) -> f32 {
+    let [u, l, f, _] = leg_bones(side).map(|b| out.world.position[b.index()]);
+    (l - u).angle_between(f - l).to_degrees()
+}
+
+#[test]
+fn a_lower_body_in_view_drives_the_legs_and_leaving_it_eases_them_home() {
+    let base = recordings::asl(recordings::ASL[0]);
+    // The knee 30 degrees forward of the hip, the shin back to under the knee's line: a bent
+    // knee (toward the camera is -z).
+    let knee = Vec3::new(0.0, 0.4, -0.4 * 30f32.to_radians().tan());
+    let ankle = knee + Vec3::new(0.0, 0.4, 0.15);
+    let user_angle = knee.angle_between(ankle - knee).to_degrees();
+    // The legs as tracked (no planted foot holding the ankle).
+    let options = RigOptions::from_json(r#"{ "legs": { "plant": false } }"#).expect("options");
+    for avatar in avatars() {
+        let mut rig = Rig::new(avatar.clone(), options).expect("rig");
+        let mut out = SolveOutput::default();
+        let mut last = None;
+        let mut step = 0.0f32;
+        for (i, frame) in base.iter().enumerate() {
+            // In view for the first half, out of view (the clip's own legs) after it.
+            let f = if i < base.len() / 2 {
+                with_legs(frame, knee, ankle)
+            } else {
+                *frame
+            };
+            rig.solve(&f, &mut out).expect("solve");
+            out.turn_to_internal_frame(rig.skeleton().version());
+            let q = out.local[leg_bones(Side::Left)[1].index()];
+            if let Some(l) = last {
+                step = step.max(q.angle_between(l).to_degrees());
+            }
+            last = Some(q);
+            if i + 1 == base.len() / 2 {
+                for side in Side::BOTH {
+                    let a = knee_angle(&out, side);
+                    assert!(
+                        (a - user_angle).abs() < 3.0,
+                        "{side:?}: {a} vs {user_angle}"
+                    );
+                    // The knee bends forward: the knee joint in front of the hip-ankle line.
+                    let [u, l, f, _] = leg_bones(side).map(|b| out.world.position[b.index()]);
+                    let line = (f - u).normalize();
+                    let off = (l - u) - line * line.dot(l - u);
+                    assert!(off.z > 0.02, "{side:?}: knee offset {off}");
+                }
+                assert!(rig.drives(leg_bones(Side::Left)[0]));
+            }
+        }
+        // 250 ms hold then 500 ms fade at 30 fps: back at rest by the clip's end, in steps.
+        assert!(out.local[leg_bones(Side::Left)[1].index()].angle_between(Quat::IDENTITY) < 1e-3);
+        assert!(step < 0.4 * user_angle, "largest step {step} degrees");
+    }
+}
+
+#[test]
+fn legs_off_leave_them_to_the_app() {
+    let base = recordings::asl(recordings::ASL[0]);
+    let options = RigOptions::from_json(r#"{ "legs": { "enabled": false } }"#).expect("options");
+    let avatar = recordings::real_avatars()[0].clone();
+    let mut rig = Rig::new(avatar, options).expect("rig");
+    assert!(!rig.drives(leg_bones(Side::Left)[0]));
+    let frames: Vec<_> = base
+        .iter()
+        .map(|f| with_legs(f, Vec3::new(0.0, 0.4, -0.2), Vec3::new(0.0, 0.8, 0.0)))
+        .collect();
+    assert_eq!(leg_motion(&mut rig, &frames).0, 0.0);
+}
+
+/// The lower of the feet's lowest sole points (internal frame, in the room: with the hips'
+/// offset).
+fn lowest_sole(soles: &Soles, out: &SolveOutput) -> [f32; 2] {
+    Side::BOTH.map(|side| {
+        let foot = leg_bones(side)[2].index();
+        soles
+            .lowest(
+                side,
+                out.world.position[foot] + out.hips_offset,
+                out.world.rotation[foot],
+            )
+            .y
+    })
+}
+
+#[test]
+fn a_squat_lowers_the_hips_so_the_feet_stay_on_the_floor() {
+    let base = recordings::asl(recordings::ASL[0]);
+    // Standing (straight legs) for 20 frames, then a squat: thighs 55 degrees forward, shins
+    // 15 back, for the rest; feet flat (heel and toe as in `with_legs`).
+    let stand = (Vec3::new(0.0, 0.42, 0.0), Vec3::new(0.0, 0.82, 0.0));
+    let thigh = Vec3::new(
+        0.0,
+        0.42 * 55f32.to_radians().cos(),
+        -0.42 * 55f32.to_radians().sin(),
+    );
+    let squat = (
+        thigh,
+        thigh
+            + Vec3::new(
+                0.0,
+                0.4 * 15f32.to_radians().cos(),
+                0.4 * 15f32.to_radians().sin(),
+            ),
+    );
+    // The real avatars (the odd armature's rest legs are not upright: straight legs are not
+    // its rest).
+    for avatar in recordings::real_avatars() {
+        let soles = Soles::new(&avatar).expect("soles");
+        let mut rig = Rig::new(avatar.clone(), RigOptions::default()).expect("rig");
+        let mut out = SolveOutput::default();
+        let mut standing_y = 0.0;
+        for (i, frame) in base.iter().enumerate().take(60) {
+            let (knee, ankle) = if i < 20 { stand } else { squat };
+            rig.solve(&with_legs(frame, knee, ankle), &mut out)
+                .expect("solve");
+            out.turn_to_internal_frame(rig.skeleton().version());
+            let low = lowest_sole(&soles, &out);
+            // Neither foot under the floor; the lower one on it.
+            assert!(
+                low[0].min(low[1]) > soles.floor - 1e-3,
+                "frame {i}: {low:?}"
+            );
+            assert!(
+                (low[0].min(low[1]) - soles.floor).abs() < 1e-3,
+                "frame {i}: {low:?}"
+            );
+            if i == 19 {
+                standing_y = out.hips_offset.y;
+                assert!(standing_y.abs() < 0.02, "standing: hips {standing_y}");
+                assert!(out.planted == [true, true], "standing: {:?}", out.planted);
+            }
+        }
+        // Squatting: the hips a good part of the leg lower.
+        assert!(
+            out.hips_offset.y < standing_y - 0.1,
+            "squat: hips {}",
+            out.hips_offset.y
+        );
+    }
+}
+
+#[test]
+fn a_planted_foot_stays_put_while_the_other_steps() {
+    let base = recordings::asl(recordings::ASL[0]);
+    let stand = (Vec3::new(0.0, 0.42, 0.0), Vec3::new(0.0, 0.82, 0.0));
+    let avatar = recordings::real_avatars()[1].clone();
+    let mut rig = Rig::new(avatar, RigOptions::default()).expect("rig");
+    let mut out = SolveOutput::default();
+    let mut planted_at: Option<Vec3> = None;
+    let mut slide = 0.0f32;
+    for (i, frame) in base.iter().enumerate().take(60) {
+        let mut f = with_legs(frame, stand.0, stand.1);
+        // From frame 15 the left knee rises and falls (a step in place), the hips sway
+        // sideways in the image by up to 3% of its width.
+        let t = (i as f32 - 15.0).max(0.0) / 45.0 * core::f32::consts::TAU;
+        let lift = 0.5 - 0.5 * t.cos();
+        let pose = f.pose.as_mut().expect("pose");
+        let [hip, knee, ankle, heel, toe] = leg_landmarks(Side::Left);
+        let h = pose.world[hip];
+        let k = h + Vec3::new(0.0, 0.42 * (1.0 - 0.5 * lift), -0.3 * lift);
+        let a = k + Vec3::new(0.0, 0.4, 0.1 * lift);
+        pose.world[knee] = k;
+        pose.world[ankle] = a;
+        pose.world[heel] = a + Vec3::new(0.0, 0.05, 0.05);
+        pose.world[toe] = a + Vec3::new(0.0, 0.06, -0.15);
+        let image = f.pose_image.as_mut().expect("image");
+        for p in image.iter_mut() {
+            p.x += 0.03 * t.sin();
+        }
+        rig.solve(&f, &mut out).expect("solve");
+        out.turn_to_internal_frame(rig.skeleton().version());
+        // The right foot stays planted, its ankle where it was put down.
+        let right = out.world.position[leg_bones(Side::Right)[2].index()] + out.hips_offset;
+        if i >= 15 {
+            assert!(out.planted[1], "frame {i}: right foot not planted");
+            let at = *planted_at.get_or_insert(right);
+            slide = slide.max((right - at).length());
+        }
+        if (30..40).contains(&i) {
+            assert!(
+                !out.planted[0],
+                "frame {i}: the raised left foot is planted"
+            );
+        }
+    }
+    assert!(slide < 0.002, "the planted foot slid {slide} m");
+}
