@@ -331,28 +331,11 @@ fn limit_foot(d: Vec3) -> Quat {
 mod tests {
     use super::*;
 
-    use crate::humanoid::bones::HumanBone as B;
     use crate::humanoid::skeleton::VrmVersion;
 
     /// A T-pose body (VRM 1.0 frame), legs straight down.
     fn skeleton() -> Skeleton {
-        let bones = [
-            (B::Hips, Vec3::new(0.0, 1.0, 0.0)),
-            (B::Spine, Vec3::new(0.0, 1.1, 0.0)),
-            (B::Head, Vec3::new(0.0, 1.6, 0.0)),
-            (B::LeftUpperLeg, Vec3::new(0.1, 0.9, 0.0)),
-            (B::LeftLowerLeg, Vec3::new(0.1, 0.5, 0.0)),
-            (B::LeftFoot, Vec3::new(0.1, 0.1, 0.0)),
-            (B::RightUpperLeg, Vec3::new(-0.1, 0.9, 0.0)),
-            (B::RightLowerLeg, Vec3::new(-0.1, 0.5, 0.0)),
-            (B::RightFoot, Vec3::new(-0.1, 0.1, 0.0)),
-            (B::LeftUpperArm, Vec3::new(0.2, 1.4, 0.0)),
-            (B::LeftLowerArm, Vec3::new(0.45, 1.4, 0.0)),
-            (B::LeftHand, Vec3::new(0.7, 1.4, 0.0)),
-            (B::RightUpperArm, Vec3::new(-0.2, 1.4, 0.0)),
-            (B::RightLowerArm, Vec3::new(-0.45, 1.4, 0.0)),
-            (B::RightHand, Vec3::new(-0.7, 1.4, 0.0)),
-        ];
+        let bones = crate::humanoid::skeleton::test_body();
         Skeleton::new(&bones, VrmVersion::V1).unwrap()
     }
 

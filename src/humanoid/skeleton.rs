@@ -328,6 +328,30 @@ impl Skeleton {
     }
 }
 
+/// A T-pose body for tests (VRM 1.0 frame, meters, +X the avatar's left): hips, spine, head,
+/// legs straight down, arms out; no shoulders, chest or fingers.
+#[cfg(test)]
+pub(crate) fn test_body() -> Vec<(HumanBone, Vec3)> {
+    use HumanBone as B;
+    vec![
+        (B::Hips, Vec3::new(0.0, 1.0, 0.0)),
+        (B::Spine, Vec3::new(0.0, 1.1, 0.0)),
+        (B::Head, Vec3::new(0.0, 1.6, 0.0)),
+        (B::LeftUpperLeg, Vec3::new(0.1, 0.9, 0.0)),
+        (B::LeftLowerLeg, Vec3::new(0.1, 0.5, 0.0)),
+        (B::LeftFoot, Vec3::new(0.1, 0.1, 0.0)),
+        (B::RightUpperLeg, Vec3::new(-0.1, 0.9, 0.0)),
+        (B::RightLowerLeg, Vec3::new(-0.1, 0.5, 0.0)),
+        (B::RightFoot, Vec3::new(-0.1, 0.1, 0.0)),
+        (B::LeftUpperArm, Vec3::new(0.2, 1.4, 0.0)),
+        (B::LeftLowerArm, Vec3::new(0.45, 1.4, 0.0)),
+        (B::LeftHand, Vec3::new(0.7, 1.4, 0.0)),
+        (B::RightUpperArm, Vec3::new(-0.2, 1.4, 0.0)),
+        (B::RightLowerArm, Vec3::new(-0.45, 1.4, 0.0)),
+        (B::RightHand, Vec3::new(-0.7, 1.4, 0.0)),
+    ]
+}
+
 #[cfg(test)]
 mod tests {
 
@@ -346,41 +370,7 @@ mod tests {
     use crate::humanoid::bones::HumanBone as B;
 
     fn minimal() -> Vec<(HumanBone, Vec3)> {
-        let mut v = vec![
-            (B::Hips, Vec3::new(0.0, 1.0, 0.0)),
-            (B::Spine, Vec3::new(0.0, 1.1, 0.0)),
-            (B::Head, Vec3::new(0.0, 1.6, 0.0)),
-            (B::LeftUpperArm, Vec3::new(0.2, 1.4, 0.0)),
-            (B::LeftLowerArm, Vec3::new(0.45, 1.4, 0.0)),
-            (B::LeftHand, Vec3::new(0.7, 1.4, 0.0)),
-            (B::RightUpperArm, Vec3::new(-0.2, 1.4, 0.0)),
-            (B::RightLowerArm, Vec3::new(-0.45, 1.4, 0.0)),
-            (B::RightHand, Vec3::new(-0.7, 1.4, 0.0)),
-        ];
-        for (s, x) in [(1.0f32, "left"), (-1.0, "right")] {
-            let _ = x;
-            v.push((
-                if s > 0.0 {
-                    B::LeftUpperLeg
-                } else {
-                    B::RightUpperLeg
-                },
-                Vec3::new(0.1 * s, 0.9, 0.0),
-            ));
-            v.push((
-                if s > 0.0 {
-                    B::LeftLowerLeg
-                } else {
-                    B::RightLowerLeg
-                },
-                Vec3::new(0.1 * s, 0.5, 0.0),
-            ));
-            v.push((
-                if s > 0.0 { B::LeftFoot } else { B::RightFoot },
-                Vec3::new(0.1 * s, 0.1, 0.0),
-            ));
-        }
-        v
+        super::test_body()
     }
 
     #[test]

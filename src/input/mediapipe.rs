@@ -110,31 +110,19 @@ pub mod pose_landmark {
 
     /// [`READ`] and the legs' knees, ankles, heels and toes (25-32): what a rig with
     /// `legs.enabled` reads.
-    pub const READ_WITH_LEGS: [usize; 23] = [
-        NOSE,
-        LEFT_EYE,
-        RIGHT_EYE,
-        LEFT_EAR,
-        RIGHT_EAR,
-        MOUTH_LEFT,
-        MOUTH_RIGHT,
-        LEFT_SHOULDER,
-        RIGHT_SHOULDER,
-        LEFT_ELBOW,
-        RIGHT_ELBOW,
-        LEFT_WRIST,
-        RIGHT_WRIST,
-        LEFT_HIP,
-        RIGHT_HIP,
-        25,
-        26,
-        27,
-        28,
-        29,
-        30,
-        31,
-        32,
-    ];
+    pub const READ_WITH_LEGS: [usize; 23] = {
+        let mut read = [0; 23];
+        let mut k = 0;
+        while k < 23 {
+            read[k] = if k < READ.len() {
+                READ[k]
+            } else {
+                25 + k - READ.len()
+            };
+            k += 1;
+        }
+        read
+    };
 }
 
 /// MediaPipe's handedness label as given (it assumes a mirrored image; see the module docs).

@@ -11,7 +11,7 @@ import { after, before, test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync, readdirSync } from "node:fs";
 import { join } from "node:path";
-import { REPO, SHARED, launch, shot } from "./helpers.mjs";
+import { REPO, SHARED, launch, openContactShots, shot } from "./helpers.mjs";
 
 const LABELS = join(REPO, "eval", "labels");
 const TOUCHES = ["face", "chest", "hand"];
@@ -58,13 +58,7 @@ const errors = [];
 
 before(async () => {
   env = await launch();
-  page = await env.context.newPage();
-  await page.setViewportSize({ width: 640, height: 640 });
-  page.on("console", (m) => m.type() === "error" && errors.push(`console.error: ${m.text()}`));
-  page.on("pageerror", (e) => errors.push(`pageerror: ${e.message}`));
-  page.on("response", (r) => r.status() >= 400 && errors.push(`HTTP ${r.status()}: ${r.url()}`));
-  await page.goto(`${env.url}tests/contact-shots.html`);
-  await page.waitForFunction(() => window.__contactShots?.state === "ready", null, { timeout: 60_000 });
+  page = await openContactShots(env, errors);
   const info = await page.evaluate(() => window.__contactShots.load("/avatars/woman-vrm1.vrm"));
   assert.equal(String(info.metaVersion), "1");
   assert.ok(info.meshes > 0, "the generated adult has a skinned body");

@@ -89,6 +89,21 @@ export async function openDemo(env, query = "?paused") {
   return { page, errors };
 }
 
+/**
+ * A page of `tests/contact-shots.html` (the avatar posed by a solve, for screenshots), 640 x 640,
+ * ready to load an avatar; console errors, page errors and failed requests go into `errors`.
+ */
+export async function openContactShots(env, errors) {
+  const page = await env.context.newPage();
+  await page.setViewportSize({ width: 640, height: 640 });
+  page.on("console", (m) => m.type() === "error" && errors.push(`console.error: ${m.text()}`));
+  page.on("pageerror", (e) => errors.push(`pageerror: ${e.message}`));
+  page.on("response", (r) => r.status() >= 400 && errors.push(`HTTP ${r.status()}: ${r.url()}`));
+  await page.goto(`${env.url}tests/contact-shots.html`);
+  await page.waitForFunction(() => window.__contactShots?.state === "ready", null, { timeout: 60_000 });
+  return page;
+}
+
 export const shot = (name) => join(SCREENSHOTS, name);
 
 /**

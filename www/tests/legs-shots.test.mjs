@@ -11,7 +11,7 @@ import { after, before, test } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { join } from "node:path";
-import { REPO, launch, shot } from "./helpers.mjs";
+import { REPO, launch, openContactShots, shot } from "./helpers.mjs";
 
 const frames = JSON.parse(readFileSync(join(REPO, "eval", "frames", "legs-synthetic.json"), "utf8")).frames;
 // The walk is frames 0-134 (a 1.2 s cycle at 30 fps: the left foot highest at 9, the right at
@@ -29,13 +29,7 @@ const errors = [];
 
 before(async () => {
   env = await launch();
-  page = await env.context.newPage();
-  await page.setViewportSize({ width: 640, height: 640 });
-  page.on("console", (m) => m.type() === "error" && errors.push(`console.error: ${m.text()}`));
-  page.on("pageerror", (e) => errors.push(`pageerror: ${e.message}`));
-  page.on("response", (r) => r.status() >= 400 && errors.push(`HTTP ${r.status()}: ${r.url()}`));
-  await page.goto(`${env.url}tests/contact-shots.html`);
-  await page.waitForFunction(() => window.__contactShots?.state === "ready", null, { timeout: 60_000 });
+  page = await openContactShots(env, errors);
   await page.evaluate(() => window.__contactShots.load("/avatars/woman-vrm1.vrm"));
   await page.evaluate((frames) => window.__contactShots.start(frames), frames);
 });

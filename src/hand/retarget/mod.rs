@@ -791,31 +791,14 @@ pub(super) fn measure(model: &HandModel, local: &[Quat; 15]) -> [Option<[f32; 4]
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::humanoid::bones::HumanBone as B;
     use crate::humanoid::skeleton::VrmVersion;
 
     /// A T-pose body (VRM 1.0 frame) with a right hand whose fingers rest spread and bent
     /// (from 3 to 11 degrees a joint) in their anatomical planes, and a thumb forward and
     /// palmar.
     fn skeleton() -> Skeleton {
-        let mut bones = vec![
-            (B::Hips, Vec3::new(0.0, 1.0, 0.0)),
-            (B::Spine, Vec3::new(0.0, 1.1, 0.0)),
-            (B::Head, Vec3::new(0.0, 1.6, 0.0)),
-            (B::LeftUpperLeg, Vec3::new(0.1, 0.9, 0.0)),
-            (B::LeftLowerLeg, Vec3::new(0.1, 0.5, 0.0)),
-            (B::LeftFoot, Vec3::new(0.1, 0.1, 0.0)),
-            (B::RightUpperLeg, Vec3::new(-0.1, 0.9, 0.0)),
-            (B::RightLowerLeg, Vec3::new(-0.1, 0.5, 0.0)),
-            (B::RightFoot, Vec3::new(-0.1, 0.1, 0.0)),
-            (B::LeftUpperArm, Vec3::new(0.2, 1.4, 0.0)),
-            (B::LeftLowerArm, Vec3::new(0.45, 1.4, 0.0)),
-            (B::LeftHand, Vec3::new(0.7, 1.4, 0.0)),
-            (B::RightUpperArm, Vec3::new(-0.2, 1.4, 0.0)),
-            (B::RightLowerArm, Vec3::new(-0.45, 1.4, 0.0)),
-        ];
-        let hand = Vec3::new(-0.7, 1.4, 0.0);
-        bones.push((B::RightHand, hand));
+        let mut bones = crate::humanoid::skeleton::test_body();
+        let hand = Vec3::new(-0.7, 1.4, 0.0); // test_body's right hand
         let side = Side::Right;
         for (f, z, bend) in [
             (Finger::Index, 0.025_f32, 0.05_f32),
