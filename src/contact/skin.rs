@@ -798,16 +798,18 @@ impl BodySurface {
         }
         // Where the deepest ball alone would land (moved by its depth along the normal) is
         // where the hand lands unless another ball comes first: when the landing lies within
-        // a millimeter of it, that bracket needs 5 halvings; otherwise the whole one 12 (at
-        // most twice the depth plus 1 cm), to a few hundredths of a millimeter either way.
-        let mut halvings = 12;
+        // a millimeter of it, that bracket needs 9 halvings; otherwise the whole one 16 (at
+        // most twice the depth plus 1 cm), to a few micrometers either way (coarser, the
+        // landing differed by a bisection step between the SIMD and the baseline builds: 2e-4
+        // in the arm's rotations on `eat`).
+        let mut halvings = 16;
         let guess = -d0;
         if (lo..=hi).contains(&guess)
             && !reaches(guess - NEAR_GUESS, false)
             && reaches(guess + NEAR_GUESS, false)
         {
             (lo, hi) = (guess - NEAR_GUESS, guess + NEAR_GUESS);
-            halvings = 5;
+            halvings = 9;
         }
         for _ in 0..halvings {
             let mid = 0.5 * (lo + hi);
@@ -887,9 +889,8 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
             d.length() - CLOSE_RADII * (ra + rb) <= 0.0
         })
     };
-    // 12 halvings: the bracket (at most twice the gap plus 1 cm) to a few hundredths of a
-    // millimeter.
-    for _ in 0..12 {
+    // 16 halvings: the bracket (at most twice the gap plus 1 cm) to a few micrometers.
+    for _ in 0..16 {
         let mid = 0.5 * (lo + hi);
         if closed(mid) {
             hi = mid;
