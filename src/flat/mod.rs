@@ -173,6 +173,7 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
     // Which hands' world landmarks are given as meters (the others are made from image
     // landmarks below).
     let mut metric_world = [false; MAX_HANDS];
+    frame.world_from_image = [false; MAX_HANDS];
     for (i, metric) in metric_world.iter_mut().enumerate().take(count as usize) {
         let at = input::HANDS + i * input::HAND_STRIDE;
         let name = |f: &str| format!("frame.hands[{i}]{f}");
@@ -211,6 +212,7 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
                 }
                 hand.world = image;
                 crate::input::mediapipe::image_to_pseudo_world(&mut hand.world, aspect);
+                frame.world_from_image[i] = true;
                 if hand.world.iter().any(|p| !p.is_finite()) {
                     return Err(Error::invalid(
                         name(".landmarks"),

@@ -328,6 +328,10 @@ pub struct FrameInput {
     /// The image's width / height (`frame.imageAspect`; 16/9 when not given): how image
     /// landmarks' x and y compare ([`crate::input::hand_wrist`]).
     pub image_aspect: f32,
+    /// Per entry of `hands`: its `world` was made from its image landmarks (legacy Holistic
+    /// gives no hand world landmarks; [`image_to_pseudo_world`]), so it carries no metric
+    /// size of its own (chest contact's size cue skips such a hand).
+    pub world_from_image: [bool; MAX_HANDS],
 }
 
 impl Default for FrameInput {
@@ -350,6 +354,7 @@ impl Default for FrameInput {
             face: None,
             face_tracking: None,
             image_aspect: 16.0 / 9.0,
+            world_from_image: [false; MAX_HANDS],
         }
     }
 }

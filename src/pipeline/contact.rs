@@ -232,8 +232,8 @@ impl Contact {
             .map(|img| core::array::from_fn(|k| img[1 + k]));
         let cue = out_hand
             .filter(|_| on_skin)
-            .and_then(|i| frame.hands().get(i))
-            .and_then(|h| {
+            .and_then(|i| Some((i, frame.hands().get(i)?)))
+            .and_then(|(i, h)| {
                 let img = h.image?;
                 let palm = (img[hl::WRIST]
                     + img[hl::INDEX_MCP]
@@ -258,7 +258,12 @@ impl Contact {
                     palm,
                     facing: sign * sine,
                     extension,
-                    scale: crate::contact::chest::hand_scale(&img, &h.world, frame.image_aspect),
+                    // Image landmarks made into pseudo-world ones have no metric size.
+                    scale: if frame.world_from_image[i] {
+                        0.0
+                    } else {
+                        crate::contact::chest::hand_scale(&img, &h.world, frame.image_aspect)
+                    },
                 })
             });
         Some(HandPoints {

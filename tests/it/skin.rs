@@ -273,6 +273,57 @@ fn chest_contact_follows_the_visual_labels() {
     );
 }
 
+/// Chest contact's size cue needs the hand's metric size: a hand given by image landmarks
+/// alone (legacy Holistic, its world made from the image) never takes it. `hungry`'s curved
+/// hand drawn 1.6 times larger about its palm (as a hand much nearer the camera looks):
+/// with its world landmarks made from that image, the made-up metric size would take the cue
+/// on most chest frames; flagged as made from the image, none.
+#[test]
+fn the_chest_size_cue_needs_metric_hand_landmarks() {
+    let skel = recordings::vrm("tests/fixtures/avatars/woman-vrm1.vrm");
+    let frames = recordings::asl("../shared/data/asl/hungry.json");
+    let chest_frames = |from_image: bool, flagged: bool| {
+        let mut rig = handrig::Rig::new(skel.clone(), handrig::RigOptions::default()).unwrap();
+        let mut out = handrig::SolveOutput::default();
+        let mut n = 0;
+        for f in &frames {
+            let mut f = *f;
+            if from_image {
+                for k in 0..f.hand_count {
+                    let mut image = f.hands[k].image.expect("the clip has image landmarks");
+                    let palm = [0, 5, 9, 13, 17].iter().map(|&j| image[j]).sum::<Vec3>() / 5.0;
+                    for p in &mut image {
+                        *p = palm + (*p - palm) * 1.6;
+                    }
+                    f.hands[k].image = Some(image);
+                    f.hands[k].world = image;
+                    handrig::mediapipe::image_to_pseudo_world(
+                        &mut f.hands[k].world,
+                        f.image_aspect,
+                    );
+                    f.world_from_image[k] = flagged;
+                }
+            }
+            rig.solve(&f, &mut out).unwrap();
+            n += out
+                .contact
+                .iter()
+                .flatten()
+                .filter(|c| c.chest_weight >= 0.5)
+                .count();
+        }
+        n
+    };
+    assert!(chest_frames(false, false) >= 20, "with world landmarks");
+    // The pseudo-world's size, were it taken for a metric one, puts the hand on the chest.
+    let unflagged = chest_frames(true, false);
+    assert!(
+        unflagged >= 10,
+        "a made-up metric size: {unflagged} chest hand-frames"
+    );
+    assert_eq!(chest_frames(true, true), 0);
+}
+
 /// A hand that returns from a loss into a touch shows the pose contact placed (its solve) at
 /// once, not a blend-in from the pose shown while it was lost: on the six ASL clips with the
 /// woman and her skin, every touching side-frame (face, chest or hands at weight >= 0.5) of
