@@ -147,7 +147,10 @@ test("holistic mode: the signer's right hand drives the avatar's right hand, and
   const followed = log.filter((l, i) => l.right === "solved" && l.inputCurlRight != null && log[i - 1]?.right === "solved");
   const rInput = pearson(followed.map((l) => l.inputCurlRight), followed.map((l) => l.curlRight));
   console.log(`# holistic fingers: avatar vs its input hand, r = ${rInput.toFixed(2)} over ${followed.length} frames`);
-  assert.ok(followed.length >= 8 && rInput > 0.4, `the avatar's finger bend follows its input: r = ${rInput.toFixed(2)} over ${followed.length} frames`);
+  // (Once, in a clean-clone CI run on 2026-12-06, r = 0.17 over 12 frames; 0.91 and 0.99 in the
+  // runs around it: the pairs are printed on failure to find out why.)
+  const pairsText = followed.map((l) => `${l.inputCurlRight.toFixed(0)}->${l.curlRight.toFixed(0)}`).join(" ");
+  assert.ok(followed.length >= 8 && rInput > 0.4, `the avatar's finger bend follows its input: r = ${rInput.toFixed(2)} over ${followed.length} frames (input->avatar degrees: ${pairsText})`);
 });
 
 test("holistic mode: the arm follows the pose: the right hand rises to the face in `eat` and comes back down", async () => {
