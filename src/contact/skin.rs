@@ -35,6 +35,7 @@ use crate::humanoid::bones::{Finger, HumanBone, Side};
 
 use crate::humanoid::skeleton::{Skeleton, WorldPose};
 use crate::humanoid::SkinMesh;
+use crate::math::angle::atan2_fast;
 
 /// Triangles are sampled at most this far apart (m).
 pub const SPACING: f32 = 0.006;
@@ -149,7 +150,7 @@ pub struct RadialMap {
 /// Sector of direction `(x, z)` around +Y, continuous (0 at -Z, increasing toward +X...).
 #[inline]
 fn sector(x: f32, z: f32) -> f32 {
-    (x.atan2(z) + core::f32::consts::PI) / core::f32::consts::TAU * SECTORS as f32
+    (atan2_fast(x, z) + core::f32::consts::PI) / core::f32::consts::TAU * SECTORS as f32
 }
 
 impl RadialMap {
@@ -176,12 +177,10 @@ impl RadialMap {
                 ((q.y - self.bottom) / ROW, sector(d.x, d.z), r)
             }
             MapKind::Sphere => {
-                let r = d.length();
-                let polar = if r > 1e-9 {
-                    (d.y / r).clamp(-1.0, 1.0).acos()
-                } else {
-                    0.0
-                };
+                let across = (d.x * d.x + d.z * d.z).sqrt();
+                let r = (across * across + d.y * d.y).sqrt();
+                // The polar angle from +Y (acos(d.y / r), without libm's acos).
+                let polar = atan2_fast(across, d.y);
                 (
                     polar / core::f32::consts::PI * HEAD_ROWS as f32,
                     sector(d.x, d.z),
@@ -261,11 +260,13 @@ impl RadialMap {
         let i0 = u as usize;
         let i1 = (i0 + 1).min(self.rows - 1);
         let fu = u - i0 as f32;
+        // `sec` is in [0, SECTORS]: one turn added below 0 wraps it (libm's fmod and floor
+        // are calls in the `.wasm`).
         let v = sec - 0.5;
-        let v = v.rem_euclid(SECTORS as f32);
+        let v = if v < 0.0 { v + SECTORS as f32 } else { v };
         let j0 = (v as usize) % SECTORS;
         let j1 = (j0 + 1) % SECTORS;
-        let fv = v - v.floor();
+        let fv = v - (v as usize) as f32;
         let at = |i: usize, j: usize| self.radius[i * SECTORS + j];
         let a = at(i0, j0) + (at(i0, j1) - at(i0, j0)) * fv;
         let b = at(i1, j0) + (at(i1, j1) - at(i1, j0)) * fv;
@@ -675,6 +676,14 @@ impl Hull {
 /// ball's own landing (m).
 const NEAR_GUESS: f32 = 0.001;
 
+/// Secant steps [`BodySurface::settle`] takes on the deepest ball's own landing.
+const LAND_STEPS: usize = 6;
+/// How near 0 (m) that ball's depth must come for its landing to count as found.
+const LAND_TOLERANCE: f32 = 1e-6;
+/// How far either side of that landing (m) the hand is checked: out just before, in just
+/// after (the bisection's last step is about as wide).
+const LAND_CHECK: f32 = 4e-6;
+
 /// Rounding allowance of the hand-level bounds (m): they only skip what cannot matter.
 const BOUND_SLACK: f32 = 1e-4;
 
@@ -702,12 +711,35 @@ impl BodySurface {
     /// of the map it is deepest in (Gauss-Seidel, three passes).
     #[must_use]
     pub fn push(&self, wrist: Vec3, points: &[(Vec3, f32)], world: &WorldPose) -> Vec3 {
-        // push_out moves only balls deeper than 0: the maps a ball cannot be that deep in
-        // are not sampled.
-        super::colliders::push_out(1, points, |_, p, margin| {
-            self.depth_above(wrist + p, margin, world, [true; MAP_BONES.len()], 0.0)
-                .map(|(d, n, _)| (d, n))
-        })
+        // Only balls deeper than 0 move: the maps no ball of the hand can be that deep in
+        // (the hand's hull, where the pushes so far have taken it) are not sampled, which
+        // answers as sampling them would (`depth_above` with floor 0 skips them too).
+        let hull = Hull::of(points);
+        let all = [true; MAP_BONES.len()];
+        let mut total = Vec3::ZERO;
+        let mut mask = self.near(wrist + hull.center, hull.reach, world, all, 0.0);
+        for _ in 0..3 {
+            let mut moved = false;
+            for (p, margin) in points {
+                if let Some((d, n, _)) =
+                    self.depth_above(wrist + *p + total, *margin, world, mask, 0.0)
+                {
+                    if d > 0.0 {
+                        total += n * d;
+                        moved = true;
+                        mask = self.near(wrist + hull.center + total, hull.reach, world, all, 0.0);
+                    }
+                }
+            }
+            if !moved {
+                break;
+            }
+        }
+        if total.is_finite() {
+            total
+        } else {
+            Vec3::ZERO
+        }
     }
 
     /// The translation that lands the hand on the skin of the `only` maps: along the skin's
@@ -723,7 +755,7 @@ impl BodySurface {
         only: [bool; MAP_BONES.len()],
     ) -> Vec3 {
         let hull = Hull::of(points);
-        let deepest = |shift: Vec3| -> Option<(f32, Vec3)> {
+        let deepest = |shift: Vec3| -> Option<(f32, Vec3, usize, usize)> {
             let mask = self.near(
                 wrist + hull.center + shift,
                 hull.reach,
@@ -731,20 +763,21 @@ impl BodySurface {
                 only,
                 f32::NEG_INFINITY,
             );
-            let mut best: Option<(f32, Vec3)> = None;
-            for (p, margin) in points {
-                let floor = best.map_or(f32::NEG_INFINITY, |(bd, _)| bd);
-                if let Some((d, n, _)) =
+            // The depth, the outward normal, the map and the ball.
+            let mut best: Option<(f32, Vec3, usize, usize)> = None;
+            for (i, (p, margin)) in points.iter().enumerate() {
+                let floor = best.map_or(f32::NEG_INFINITY, |(bd, ..)| bd);
+                if let Some((d, n, k)) =
                     self.depth_above(wrist + *p + shift, *margin, world, mask, floor)
                 {
-                    if best.is_none_or(|(bd, _)| d > bd) {
-                        best = Some((d, n));
+                    if best.is_none_or(|(bd, ..)| d > bd) {
+                        best = Some((d, n, k, i));
                     }
                 }
             }
             best
         };
-        let Some((d0, n)) = deepest(Vec3::ZERO) else {
+        let Some((d0, n, k0, i0)) = deepest(Vec3::ZERO) else {
             return Vec3::ZERO;
         };
         // The balls (at most HAND_SPHERES) and the hull's center in each map's rest frame,
@@ -802,6 +835,33 @@ impl BodySurface {
         // most twice the depth plus 1 cm), to a few micrometers either way (coarser, the
         // landing differed by a bisection step between the SIMD and the baseline builds: 2e-4
         // in the arm's rotations on `eat`).
+        // The deepest ball alone lands where its own depth along the move is 0: a few secant
+        // steps on that one ball (its map, its rest-frame line) find it to a micrometer.
+        // When no other ball comes first (none inside just before it, one just after), that
+        // is the hand's landing, for 2 checks of the hand instead of the 11-18 of a bisection.
+        if let (Some(map), Some((_, margin))) = (self.maps[k0].as_ref(), balls.get(i0)) {
+            let along = |s: f32| map.depth_rest(base[k0][i0] + dir[k0] * s, *margin, f32::NEG_INFINITY);
+            let (mut s0, mut f0) = (0.0f32, d0);
+            let mut s1 = -d0;
+            for _ in 0..LAND_STEPS {
+                let Some(f1) = along(s1) else { break };
+                if f1.abs() <= LAND_TOLERANCE || f1 == f0 {
+                    break;
+                }
+                let next = s1 - f1 * (s1 - s0) / (f1 - f0);
+                (s0, f0, s1) = (s1, f1, next);
+            }
+            if along(s1).is_some_and(|f| f.abs() <= LAND_TOLERANCE)
+                && (lo..=hi).contains(&s1)
+                && !reaches(s1 - LAND_CHECK, false)
+                && reaches(s1 + LAND_CHECK, false)
+            {
+                let total = -n * (s1 - LAND_CHECK);
+                if total.is_finite() {
+                    return total;
+                }
+            }
+        }
         let mut halvings = 16;
         let guess = -d0;
         if (lo..=hi).contains(&guess)
@@ -835,9 +895,11 @@ pub const CLOSE_RADII: f32 = 0.7;
 
 /// The translation `D` that closes the gap between two hands' spheres (centers relative to
 /// their wrists `left` and `right`, world axes): with the left hand moved by `D / 2` and the
-/// right by `-D / 2`, their nearest spheres touch (at [`CLOSE_RADII`] of their radii) (along the line between the spheres nearest
-/// now; bisection, as one pair closing may bring another into overlap). Zero when either hand
-/// has no spheres.
+/// right by `-D / 2`, their nearest spheres touch (at [`CLOSE_RADII`] of their radii), along
+/// the line between the spheres nearest now. Each pair of spheres touches where a quadratic
+/// in the move says (the hands move along one line), so the first pair to touch on the way
+/// in (or, for hands overlapping now, the last to part on the way out) is found exactly,
+/// without a search. Zero when either hand has no spheres.
 #[must_use]
 pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> Vec3 {
     // At most HAND_SPHERES balls a hand (more are not looked at).
@@ -845,14 +907,12 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
         &l[..l.len().min(HAND_SPHERES)],
         &r[..r.len().min(HAND_SPHERES)],
     );
-    // Every pair's surface gap now, and the smallest.
-    let mut gaps = [0.0f32; HAND_SPHERES * HAND_SPHERES];
+    // The pair with the smallest surface gap now sets the line.
     let (mut g0, mut d0) = (f32::INFINITY, Vec3::Z);
-    for (i, (a, ra)) in l.iter().enumerate() {
-        for (j, (b, rb)) in r.iter().enumerate() {
+    for (a, ra) in l {
+        for (b, rb) in r {
             let d = (right + *b) - (left + *a);
             let g = d.length() - CLOSE_RADII * (ra + rb);
-            gaps[i * HAND_SPHERES + j] = g;
             if g < g0 {
                 (g0, d0) = (g, d);
             }
@@ -862,43 +922,60 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
         return Vec3::ZERO;
     }
     let u = d0.try_normalize().unwrap_or(Vec3::Z);
-    let (mut lo, mut hi) = if g0 > 0.0 {
-        (0.0, 2.0 * g0 + 0.01)
-    } else {
-        (2.0 * g0 - 0.01, 0.0)
+    // With the hands moved together by s, a pair's centers are `d - s u` apart: they touch
+    // for s in [b - w, b + w], b = d.u, w = sqrt(b^2 - |d|^2 + R^2) (no s when negative).
+    // Hands apart now (g0 > 0): the smallest entry at or after 0 (at most g0, where the
+    // nearest pair touches). Overlapping: the start of the run of overlapping s that holds
+    // 0, found by extending it down over every pair's interval that meets it.
+    let span = |a: Vec3, ra: f32, b: Vec3, rb: f32| -> Option<(f32, f32)> {
+        let d = (right + b) - (left + a);
+        let rr = CLOSE_RADII * (ra + rb);
+        let b = d.dot(u);
+        let c = d.length_squared() - rr * rr;
+        let disc = b * b - c;
+        if !(disc >= 0.0) {
+            return None;
+        }
+        let w = disc.sqrt();
+        // The smaller root without cancellation when b is large and c small.
+        let enter = if b > 0.0 { c / (b + w) } else { b - w };
+        Some((enter, b + w))
     };
-    // Moving the hands together by s changes a pair's gap by at most |s|, so only the pairs
-    // whose gap now is within the bracket's largest |s| can close during the bisection; the
-    // rest stay open, and asking whether any pair is closed needs only these.
-    let reach = lo.abs().max(hi.abs()) + 1e-5;
-    let mut pairs = [(0u8, 0u8); HAND_SPHERES * HAND_SPHERES];
-    let mut n = 0;
-    for i in 0..l.len() {
-        for j in 0..r.len() {
-            let g = gaps[i * HAND_SPHERES + j];
-            if g.is_nan() || g <= reach {
-                pairs[n] = (i as u8, j as u8);
-                n += 1;
+    let s = if g0 > 0.0 {
+        let mut first = g0;
+        for (a, ra) in l {
+            for (b, rb) in r {
+                if let Some((enter, leave)) = span(*a, *ra, *b, *rb) {
+                    if leave >= 0.0 && enter < first {
+                        first = enter.max(0.0);
+                    }
+                }
             }
         }
-    }
-    let closed = |s: f32| -> bool {
-        pairs[..n].iter().any(|&(i, j)| {
-            let ((a, ra), (b, rb)) = (l[i as usize], r[j as usize]);
-            let d = (right + b - 0.5 * s * u) - (left + a + 0.5 * s * u);
-            d.length() - CLOSE_RADII * (ra + rb) <= 0.0
-        })
-    };
-    // 16 halvings: the bracket (at most twice the gap plus 1 cm) to a few micrometers.
-    for _ in 0..16 {
-        let mid = 0.5 * (lo + hi);
-        if closed(mid) {
-            hi = mid;
-        } else {
-            lo = mid;
+        first
+    } else {
+        let mut start = 0.0f32;
+        // Each pass extends the run by the intervals that meet it; the run only grows, and
+        // a few passes settle it (every pair is looked at each pass).
+        for _ in 0..4 {
+            let mut moved = false;
+            for (a, ra) in l {
+                for (b, rb) in r {
+                    if let Some((enter, leave)) = span(*a, *ra, *b, *rb) {
+                        if leave >= start && enter < start {
+                            start = enter;
+                            moved = true;
+                        }
+                    }
+                }
+            }
+            if !moved {
+                break;
+            }
         }
-    }
-    let total = u * lo;
+        start
+    };
+    let total = u * s;
     if total.is_finite() {
         total
     } else {

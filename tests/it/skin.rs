@@ -180,18 +180,40 @@ fn close_brings_two_hands_into_touch() {
     for apart in [0.2, 0.04, 0.0] {
         let (lw, rw) = (Vec3::ZERO, Vec3::new(0.1 + apart, 0.01, 0.03));
         let d = skin::close(lw, &l, rw, &r);
-        let gap = l
-            .iter()
-            .flat_map(|(a, ra)| {
-                r.iter().map(move |(b, rb)| {
-                    ((rw - 0.5 * d + *b) - (lw + 0.5 * d + *a)).length()
-                        - skin::CLOSE_RADII * (ra + rb)
-                })
-            })
-            .fold(f32::INFINITY, f32::min);
-        assert!(gap.abs() < 0.001, "apart {apart}: gap after closing {gap}");
+        let gap = gap_after(lw, &l, rw, &r, d);
+        assert!(gap.abs() < 1e-5, "apart {apart}: gap after closing {gap}");
     }
     assert_eq!(skin::close(Vec3::ZERO, &[], Vec3::X, &r), Vec3::ZERO);
+}
+
+/// The smallest surface gap (at [`skin::CLOSE_RADII`]) between two hands' spheres once the
+/// left hand moves by `d / 2` and the right by `-d / 2`.
+fn gap_after(lw: Vec3, l: &[(Vec3, f32)], rw: Vec3, r: &[(Vec3, f32)], d: Vec3) -> f32 {
+    l.iter()
+        .flat_map(|(a, ra)| {
+            r.iter().map(move |(b, rb)| {
+                ((rw - 0.5 * d + *b) - (lw + 0.5 * d + *a)).length() - skin::CLOSE_RADII * (ra + rb)
+            })
+        })
+        .fold(f32::INFINITY, f32::min)
+}
+
+proptest::proptest! {
+    /// Whatever the hands (scattered spheres of any size, apart or overlapping), closing
+    /// leaves them just touching: no pair overlaps and one pair touches.
+    #[test]
+    fn close_leaves_any_hands_just_touching(
+        l in proptest::collection::vec(((-0.1f32..0.1, -0.1f32..0.1, -0.1f32..0.1), 0.003f32..0.03), 1..=skin::HAND_SPHERES),
+        r in proptest::collection::vec(((-0.1f32..0.1, -0.1f32..0.1, -0.1f32..0.1), 0.003f32..0.03), 1..=skin::HAND_SPHERES),
+        (x, y, z) in (-0.3f32..0.3, -0.3f32..0.3, -0.3f32..0.3),
+    ) {
+        let l: Vec<(Vec3, f32)> = l.into_iter().map(|((a, b, c), m)| (Vec3::new(a, b, c), m)).collect();
+        let r: Vec<(Vec3, f32)> = r.into_iter().map(|((a, b, c), m)| (Vec3::new(a, b, c), m)).collect();
+        let (lw, rw) = (Vec3::new(0.01, 0.02, -0.03), Vec3::new(x, y, z));
+        let d = skin::close(lw, &l, rw, &r);
+        let gap = gap_after(lw, &l, rw, &r, d);
+        proptest::prop_assert!(gap.abs() < 2e-5, "gap after closing {gap} (move {d})");
+    }
 }
 
 #[test]
