@@ -9,7 +9,11 @@
 //
 //   make pkg (or copy a built pkg/) && npm ci --prefix tests/node
 //   node eval/skin-contact.mjs [--pkg DIR] [--avatars woman-vrm1,voxel-vrm1,...] [--clips eat,please]
-//                              [--per-clip] [--json] [--options JSON]
+//                              [--per-clip] [--json] [--options JSON] [--fist]
+//
+// --fist adds `please-fist`: `please` with the chest hand curled into a fist (eval/fist.mjs;
+// no clip has a fist on the chest), scored on please's labels, in neither half (a hand shape
+// nothing was tuned on); it shows in the per-avatar and per-clip rows.
 //
 // Avatars (issue 52): the generated human bodies (tests/fixtures/avatars, VRM 1.0 and 0.x), the
 // stylized variants (target/avatars, made here by tools/avatars/generate.mjs when missing), the
@@ -79,6 +83,13 @@ const { HandRig } = await import(pathToFileURL(path.join(pkg, "index.mjs")).href
 const { restPoseFromVRM, applyToVRM } = await import(pathToFileURL(path.join(pkg, "three-vrm.js")).href);
 const avatars = (arg("--avatars") ?? ALL.join(",")).split(",");
 const clips = (arg("--clips") ?? measure.labeledClips(repo).join(",")).split(",");
+if (argv.includes("--fist")) clips.push("please-fist");
+const { fistFrames } = await import("./fist.mjs");
+/** A clip's frames (`please-fist`: please with the signer's right hand, MediaPipe's "Left", a fist). */
+const clipFrames = (clip) => {
+  const rec = JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", `${clip.replace(/-fist$/, "")}.json`), "utf8"));
+  return clip.endsWith("-fist") ? fistFrames(rec, "Left") : rec.frames;
+};
 const asJson = argv.includes("--json");
 const perClip = argv.includes("--per-clip");
 // --options JSON: options for both runs (contact.enabled is set per run on top of them).
@@ -137,8 +148,8 @@ for (const a of avatars) {
     continue;
   }
   for (const clip of clips) {
-    const frames = JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", `${clip}.json`), "utf8")).frames;
-    const labels = measure.readLabels(repo, clip);
+    const frames = clipFrames(clip);
+    const labels = measure.readLabels(repo, clip.replace(/-fist$/, ""));
     for (const contact of [true, false]) {
       const k = contact ? "on" : "off";
       const rig = new HandRig(restPoseFromVRM(vrm), { ...extra, contact: { ...extra.contact, enabled: contact } });

@@ -754,6 +754,27 @@ impl BodySurface {
         world: &WorldPose,
         only: [bool; MAP_BONES.len()],
     ) -> Vec3 {
+        self.land(wrist, points, world, only, false)
+    }
+
+    /// [`BodySurface::settle`] outward only: the translation that takes a hand with some
+    /// ball inside the body out along one line (the deepest ball's normal) until every ball
+    /// is out, zero for a hand already out. One line for the whole hand: pushing each ball
+    /// along its own normal ([`BodySurface::push`]) swings a hand near the torso's axis, where
+    /// the normals turn fast.
+    #[must_use]
+    pub fn lift_out(&self, wrist: Vec3, points: &[(Vec3, f32)], world: &WorldPose) -> Vec3 {
+        self.land(wrist, points, world, [true; MAP_BONES.len()], true)
+    }
+
+    fn land(
+        &self,
+        wrist: Vec3,
+        points: &[(Vec3, f32)],
+        world: &WorldPose,
+        only: [bool; MAP_BONES.len()],
+        out_only: bool,
+    ) -> Vec3 {
         let hull = Hull::of(points);
         let deepest = |shift: Vec3| -> Option<(f32, Vec3, usize, usize)> {
             let mask = self.near(
@@ -780,6 +801,9 @@ impl BodySurface {
         let Some((d0, n, k0, i0)) = deepest(Vec3::ZERO) else {
             return Vec3::ZERO;
         };
+        if out_only && d0 <= 0.0 {
+            return Vec3::ZERO;
+        }
         // The balls (at most HAND_SPHERES) and the hull's center in each map's rest frame,
         // and the direction of the move there: the hand moved by -s n puts a ball at
         // `base + s dir`, so the search below rotates nothing.
@@ -840,7 +864,8 @@ impl BodySurface {
         // When no other ball comes first (none inside just before it, one just after), that
         // is the hand's landing, for 2 checks of the hand instead of the 11-18 of a bisection.
         if let (Some(map), Some((_, margin))) = (self.maps[k0].as_ref(), balls.get(i0)) {
-            let along = |s: f32| map.depth_rest(base[k0][i0] + dir[k0] * s, *margin, f32::NEG_INFINITY);
+            let along =
+                |s: f32| map.depth_rest(base[k0][i0] + dir[k0] * s, *margin, f32::NEG_INFINITY);
             let (mut s0, mut f0) = (0.0f32, d0);
             let mut s1 = -d0;
             for _ in 0..LAND_STEPS {
@@ -933,7 +958,7 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
         let b = d.dot(u);
         let c = d.length_squared() - rr * rr;
         let disc = b * b - c;
-        if !(disc >= 0.0) {
+        if disc.is_nan() || disc < 0.0 {
             return None;
         }
         let w = disc.sqrt();

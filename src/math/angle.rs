@@ -47,7 +47,7 @@ pub fn atan2_fast(y: f32, x: f32) -> f32 {
     let p = p * s - 0.042_909_614;
     let p = p * s + 0.075_289_64;
     let p = p * s - 0.106_562_64;
-    let p = p * s + 0.142_088_99;
+    let p = p * s + 0.142_089;
     let p = p * s - 0.199_935_51;
     let p = p * s + 0.333_331_45;
     let mut r = a - a * s * p;
@@ -120,7 +120,15 @@ mod tests {
         }
         assert!(worst < 3e-7, "worst {worst} rad");
         // The axes, the octants' borders and the origin.
-        for (y, x) in [(0.0, 1.0), (1.0, 0.0), (0.0, -1.0), (-1.0, 0.0), (1.0, 1.0), (-2.0, -2.0), (0.0, 0.0)] {
+        for (y, x) in [
+            (0.0, 1.0),
+            (1.0, 0.0),
+            (0.0, -1.0),
+            (-1.0, 0.0),
+            (1.0, 1.0),
+            (-2.0, -2.0),
+            (0.0, 0.0),
+        ] {
             assert!((atan2_fast(y, x) - y.atan2(x)).abs() < 3e-7, "({y}, {x})");
         }
         assert!(atan2_fast(f32::NAN, 1.0).is_nan());

@@ -295,6 +295,54 @@ fn chest_contact_follows_the_visual_labels() {
     );
 }
 
+/// Chest contact for a fist, a hand shape no cue was chosen on: `please` with the signer's
+/// right hand (MediaPipe's "Left") curled into a fist (`support::fist`, as `eval/fist.mjs`)
+/// lands on the chest on most of its labeled chest frames (the flat palm's cue no longer sees
+/// a flat palm; the size cue does not care), and a fist elsewhere does not.
+#[test]
+fn a_fist_on_the_chest_lands_there() {
+    let skel = recordings::vrm("tests/fixtures/avatars/woman-vrm1.vrm");
+    let mut rig = handrig::Rig::new(skel, handrig::RigOptions::default()).unwrap();
+    let mut out = handrig::SolveOutput::default();
+    let labels = recordings::contact_labels("please");
+    let (mut chest, mut hit, mut other, mut other_hit) = (0, 0, 0, 0);
+    for (i, f) in recordings::asl("../shared/data/asl/please.json")
+        .iter()
+        .enumerate()
+    {
+        let mut f = *f;
+        for h in &mut f.hands[..f.hand_count] {
+            if h.handedness == handrig::mediapipe::Handedness::Left {
+                crate::support::fist::fist(h, true);
+            }
+        }
+        rig.solve(&f, &mut out).unwrap();
+        let Some(c) = out.contact[Side::Right.index()] else {
+            continue;
+        };
+        match labels["right"][i].as_str().unwrap() {
+            "chest" => {
+                chest += 1;
+                hit += usize::from(c.chest_weight >= 0.5);
+            }
+            "unsure" => {}
+            _ => {
+                other += 1;
+                other_hit += usize::from(c.chest_weight > 0.1);
+            }
+        }
+    }
+    assert!(chest >= 45, "{chest} chest hand-frames with a target");
+    assert!(
+        hit * 4 >= chest * 3,
+        "a fist on the chest lands on {hit} of {chest} chest frames"
+    );
+    assert!(
+        other_hit * 10 <= other,
+        "a fist off the chest lands on {other_hit} of {other} frames"
+    );
+}
+
 /// Chest contact's size cue needs the hand's metric size: a hand given by image landmarks
 /// alone (legacy Holistic, its world made from the image) never takes it. `hungry`'s curved
 /// hand drawn 1.6 times larger about its palm (as a hand much nearer the camera looks):

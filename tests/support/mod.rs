@@ -5,6 +5,7 @@
 
 pub mod arms;
 pub mod finger_dirs;
+pub mod fist;
 pub mod geometry;
 pub mod hand_model;
 pub mod kinect_wrists;

@@ -12,10 +12,10 @@
 // Needs no handrig build. Takes about 30 s.
 // --touches (needs pkg/, `make pkg`): the chibi (woman-head2-vrm1) and the figure of primitives
 // driven by handrig with default options through its three-vrm adapter over the shared clips
-// `eat` (fingertips at the mouth, frame 22: the middle of its labeled face run) and `hungry`
-// (a curved hand on the chest, frame 36), drawn front and side at that frame into
-// artifacts/screenshots/touch-<avatar>-<clip>-<frame>-<front|side>.png (issue 52's "before"
-// pictures).
+// `eat` (fingertips at the mouth, frame 22: the middle of its labeled face run), `hungry`
+// (a curved hand on the chest, frame 36) and `please-fist` (please's flat hand on the chest
+// curled into a fist by eval/fist.mjs, frame 35), drawn front and side at that frame into
+// artifacts/screenshots/touch-<avatar>-<clip>-<frame>-<front|side>.png.
 
 import fs from "node:fs";
 import http from "node:http";
@@ -44,7 +44,7 @@ const avatars = [
 ];
 
 const touches = argv.includes("--touches");
-const TOUCHES = [["eat", 22], ["hungry", 36]];
+const TOUCHES = [["eat", 22], ["hungry", 36], ["please-fist", 35]];
 const TOUCH_AVATARS = ["woman-head2-vrm1", "primitive-vrm1"];
 const PAGE = `<!doctype html><html><head><meta charset="utf-8"><link rel="icon" href="data:,">
 <script type="importmap">{"imports":{"three":"/m/three/build/three.module.js","three/addons/":"/m/three/examples/jsm/",
@@ -208,8 +208,10 @@ try {
   if (touches) {
     const shared = path.resolve(process.env.HANDRIG_SHARED || path.join(repo, "..", "shared"));
     for (const [clip, frame] of TOUCHES) {
-      const rec = JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", `${clip}.json`), "utf8"));
-      const frames = rec.frames.map((f) => ({ timeMs: f.timeMs, hands: f.hands, pose: f.pose, imageAspect: rec.width / rec.height }));
+      const rec = JSON.parse(fs.readFileSync(path.join(shared, "data", "asl", `${clip.replace(/-fist$/, "")}.json`), "utf8"));
+      // please-fist: please's chest hand (the signer's right, MediaPipe's "Left") made a fist.
+      const recorded = clip.endsWith("-fist") ? (await import("../../eval/fist.mjs")).fistFrames(rec, "Left") : rec.frames;
+      const frames = recorded.map((f) => ({ timeMs: f.timeMs, hands: f.hands, pose: f.pose, imageAspect: rec.width / rec.height }));
       for (const a of TOUCH_AVATARS) {
         const r = await page.evaluate(([u, fr, i]) => window.__touch(u, fr, i), [`/f/${a}.vrm`, frames, frame]);
         for (const [view, data] of Object.entries(r.shots)) {
