@@ -7,6 +7,7 @@ import * as THREE from "three";
 import { GLTFLoader } from "three/addons/loaders/GLTFLoader.js";
 import { VRMLoaderPlugin } from "@pixiv/three-vrm";
 import { clipById, clipPose } from "/bench/motions.mjs";
+import { FACE_ARMS, faceClipById, faceFrame } from "/bench/face-motions.mjs";
 
 export const WIDTH = 640;
 export const HEIGHT = 480;
@@ -59,6 +60,8 @@ function dress(v) {
   v.scene.traverse((o) => {
     if (!o.isSkinnedMesh) return;
     const g = o.geometry;
+    // Avatars dressed by their generator (vertex colours: outfit, hair, eyes, issue 50) keep them.
+    if (g.attributes.color) return;
     const mats = Array.isArray(o.material) ? o.material : [o.material];
     if (!mats.some((m) => m.name === "skin")) return;
     const n = g.attributes.position.count;
@@ -109,6 +112,7 @@ async function load(url) {
 }
 
 function pose(clip, i) {
+  if (clip.kind === "face") return poseFace(clip, i);
   const q = clipPose(clip, i);
   for (const name of Object.keys(vrm.humanoid.humanBones)) {
     const node = vrm.humanoid.getNormalizedBoneNode(name);
@@ -121,10 +125,40 @@ function pose(clip, i) {
   vrm.scene.updateMatrixWorld(true);
 }
 
+/** A face clip's frame (face-motions.mjs): arms down, the head turned, expressions, look-at. */
+function poseFace(clip, i) {
+  const f = faceFrame(clip, i);
+  const q = { ...FACE_ARMS, ...f.bones };
+  for (const name of Object.keys(vrm.humanoid.humanBones)) {
+    const node = vrm.humanoid.getNormalizedBoneNode(name);
+    if (!node) continue;
+    const r = q[name];
+    if (r) node.quaternion.set(r[0], r[1], r[2], r[3]);
+    else node.quaternion.identity();
+  }
+  const em = vrm.expressionManager;
+  for (const e of em?.expressions ?? []) em.setValue(e.expressionName, f.expressions[e.expressionName] ?? 0);
+  if (vrm.lookAt) {
+    vrm.lookAt.autoUpdate = false;
+    vrm.lookAt.yaw = f.lookAt[0];
+    vrm.lookAt.pitch = f.lookAt[1];
+  }
+  vrm.update(0);
+  vrm.scene.updateMatrixWorld(true);
+}
+
 const world = (name) => vrm.humanoid.getNormalizedBoneNode(name).getWorldPosition(new THREE.Vector3());
 
 /** Camera of a clip: body clips before the chest at about 1.35 x the head's height; hand clips 0.5 m before the right hand at the clip's first frame. */
 function placeCamera(clip) {
+  if (clip.kind === "face") {
+    // Face clips: 0.5 m before the eyes at rest, looking at them.
+    pose({ ...clip, tracks: {} }, 0);
+    const c = world("leftEye").add(world("rightEye")).multiplyScalar(0.5);
+    camera.position.set(c.x, c.y, c.z + 0.5);
+    camera.lookAt(c.x, c.y, c.z);
+    return { distance: 0.5, target: c.toArray() };
+  }
   if (clip.kind === "hand") {
     pose(clip, 0);
     const c = world("rightHand").add(world("rightMiddleProximal")).multiplyScalar(0.5);
@@ -145,7 +179,7 @@ window.__bench = {
   load,
   /** Selects a clip: poses frame 0 and places the camera; returns the camera. */
   clip(id) {
-    current = clipById(id);
+    current = id.startsWith("face-") ? { ...faceClipById(id), kind: "face" } : clipById(id);
     return { ...placeCamera(current), fov: camera.fov, position: camera.position.toArray() };
   },
   /** Renders frame `i` of the current clip: base64 RGBA, WIDTH x HEIGHT, top row first. */
