@@ -49,9 +49,25 @@ scene.add(fill);
 const camera = new THREE.PerspectiveCamera(40, WIDTH / HEIGHT, 0.05, 20);
 
 let vrm = null;
+let dressedOwn = false;
 
-/** Vertex colours from each vertex's dominant skin bone (its nearest humanoid ancestor). */
-function dress(v) {
+/**
+ * Vertex colours from each vertex's dominant skin bone (its nearest humanoid ancestor). The
+ * generated avatars carry their own colours since issue 50 (tools/avatars/face.mjs: the same
+ * regions, and a mouth and irises): the face clips show them (`own`); the body and hand clips
+ * keep this dress and the eyes' former plain colour, so their frames (frames.json) and the
+ * committed recordings made from them stay as they were.
+ */
+const EYES = [0.12, 0.09, 0.07];
+function dress(v, own) {
+  if (own) {
+    v.scene.traverse((o) => {
+      if (!o.isSkinnedMesh) return;
+      const g = o.geometry;
+      if (g.userData.ownColour) g.setAttribute("color", g.userData.ownColour);
+    });
+    return;
+  }
   const humanOf = new Map();
   for (const [name, bone] of Object.entries(v.humanoid.humanBones)) if (bone?.node) humanOf.set(bone.node, name);
   const head = v.humanoid.getRawBoneNode("head");
@@ -60,9 +76,16 @@ function dress(v) {
   v.scene.traverse((o) => {
     if (!o.isSkinnedMesh) return;
     const g = o.geometry;
-    // Avatars dressed by their generator (vertex colours: outfit, hair, eyes, issue 50) keep them.
-    if (g.attributes.color) return;
     const mats = Array.isArray(o.material) ? o.material : [o.material];
+    if (g.attributes.color && !g.userData.ownColour) g.userData.ownColour = g.attributes.color;
+    if (mats.some((m) => m.name === "eyes") && g.userData.ownColour) {
+      const n = g.attributes.position.count;
+      const col = new Float32Array(n * 3);
+      for (let i = 0; i < n; i++) col.set(EYES, i * 3);
+      g.setAttribute("color", new THREE.BufferAttribute(col, 3));
+      for (const m of mats) m.color.setRGB(1, 1, 1);
+      return;
+    }
     if (!mats.some((m) => m.name === "skin")) return;
     const n = g.attributes.position.count;
     const col = new Float32Array(n * 3);
@@ -106,7 +129,8 @@ async function load(url) {
   if (vrm.meta?.metaVersion !== "1") throw new Error(`${url}: the bench poses VRM 1.0 avatars only`);
   vrm.scene.traverse((o) => (o.frustumCulled = false));
   vrm.scene.updateMatrixWorld(true);
-  dress(vrm);
+  dress(vrm, false);
+  dressedOwn = false;
   scene.add(vrm.scene);
   return { name: url.split("/").pop() };
 }
@@ -180,6 +204,11 @@ window.__bench = {
   /** Selects a clip: poses frame 0 and places the camera; returns the camera. */
   clip(id) {
     current = id.startsWith("face-") ? { ...faceClipById(id), kind: "face" } : clipById(id);
+    const own = current.kind === "face";
+    if (own !== dressedOwn) {
+      dress(vrm, own);
+      dressedOwn = own;
+    }
     return { ...placeCamera(current), fov: camera.fov, position: camera.position.toArray() };
   },
   /** Renders frame `i` of the current clip: base64 RGBA, WIDTH x HEIGHT, top row first. */
