@@ -92,54 +92,38 @@ function measure(v, groups, bodyCount) {
     mouthHalf: 0.0245 * s,
     pivot: [0, mouth[1] + 0.02 * s, L.c[2] - 0.075 * s],
   };
-  f.lidL = lidMargins(v, bodyCount, L);
+  f.lidL = lidMargins(v, groups, "l", L);
   // The right eye's margins measured mirrored, in the left eye's frame (see shapeOf).
-  f.lidR = lidMargins((i) => mirror(v(i)), bodyCount, { ...R, c: mirror(R.c) });
+  f.lidR = lidMargins(v, groups, "r", { ...R, c: mirror(R.c) }, mirror);
   return f;
 }
 
-// Eyelid margins: around the eye (azimuth theta = atan2(x, z) from its centre), the elevation
-// phi = atan2(y, z) of the upper and lower edges of the gap through which the eyeball shows:
-// the largest gap in phi between skin vertices in front of the eyeball, per azimuth bin.
-const LID_BINS = 21;
-const LID_SPAN = 1.2; // radians of azimuth either side of straight ahead
-function lidMargins(v, bodyCount, eye) {
-  const bins = Array.from({ length: LID_BINS }, () => []);
-  for (let i = 0; i < bodyCount; i++) {
-    const q = sub(v(i), eye.c);
-    const rho = length(q);
-    if (rho < 0.9 * eye.r || rho > 2.2 * eye.r || q[2] <= 0) continue;
-    const theta = Math.atan2(q[0], q[2]);
-    const k = Math.round(((theta + LID_SPAN) / (2 * LID_SPAN)) * (LID_BINS - 1));
-    if (k < 0 || k >= LID_BINS) continue;
-    bins[k].push(Math.atan2(q[1], q[2]));
-  }
-  return bins.map((phis) => {
-    phis.sort((a, b) => a - b);
-    let best = { up: 0, lo: 0, gap: 0 };
-    for (let j = 1; j < phis.length; j++) {
-      const gap = phis[j] - phis[j - 1];
-      if (phis[j - 1] > -1.0 && phis[j] < 1.0 && gap > best.gap) best = { up: phis[j], lo: phis[j - 1], gap };
-    }
-    return best.gap > 0.12 ? best : { up: 0, lo: 0, gap: 0 };
-  });
+// Eyelid margins: the elevations phi = atan2(y, z) about the eye's centre of MakeHuman's upper
+// and lower lid joint cubes (which sit on the lid margins, straight ahead of the eye), narrowing
+// as an ellipse in the azimuth theta = atan2(x, z) to nothing at the eye's corners (LID_CORNER
+// either side of straight ahead; the almond of the base mesh's opening).
+const LID_CORNER = 1.0;
+function lidMargins(v, groups, side, eye, flip = (p) => p) {
+  const mean = (name) => {
+    let c = [0, 0, 0];
+    let n = 0;
+    for (const [a, b] of groups[name]) for (let i = a; i <= b; i++) (c = add(c, flip(v(i)))), n++;
+    return scale(c, 1 / n);
+  };
+  const elev = (p) => {
+    const q = sub(p, eye.c);
+    return Math.atan2(q[1], q[2]);
+  };
+  return { up: elev(mean(`joint-${side}-upperlid`)), lo: elev(mean(`joint-${side}-lowerlid`)) };
 }
 
-/** The margins at an azimuth, interpolated between bins (no gap outside the eye's corners). */
+/** The margins at an azimuth: the ellipse through the cubes' elevations, closed at the corners. */
 function marginAt(lid, theta) {
-  const t = ((theta + LID_SPAN) / (2 * LID_SPAN)) * (LID_BINS - 1);
-  const k = Math.floor(t);
-  if (k < 0 || k + 1 >= LID_BINS) return { up: 0, lo: 0, gap: 0 };
-  const a = lid[k];
-  const b = lid[k + 1];
-  const u = t - k;
-  // A bin without a gap (a corner) pulls the other's movement to nothing.
-  if (!a.gap || !b.gap) {
-    const m = a.gap ? a : b;
-    const w = a.gap ? 1 - u : u;
-    return { up: m.up, lo: m.lo, gap: m.gap * w, fade: w };
-  }
-  return { up: a.up + u * (b.up - a.up), lo: a.lo + u * (b.lo - a.lo), gap: a.gap + u * (b.gap - a.gap), fade: 1 };
+  const c = Math.sqrt(Math.max(0, 1 - (theta / LID_CORNER) ** 2));
+  const mid = (lid.up + lid.lo) / 2;
+  const up = mid + (lid.up - mid) * c;
+  const lo = mid + (lid.lo - mid) * c;
+  return { up, lo, gap: up - lo, fade: c > 0 ? 1 : 0 };
 }
 
 /**
@@ -156,19 +140,19 @@ function lids(f, p, upper, lower, yaw = 0) {
   const theta = Math.atan2(q[0], q[2]);
   const m = marginAt(f.lidL, theta);
   // Fading out toward the midline: nothing moves on the other half of the face.
-  const radial = (1 - smoothstep(1.5 * eye.r, 2.6 * eye.r, rho)) * smoothstep(0.002 * f.s, 0.008 * f.s, p[0]);
+  const radial = (1 - smoothstep(1.5 * eye.r, 2.4 * eye.r, rho)) * smoothstep(0.002 * f.s, 0.008 * f.s, p[0]);
   const phi = Math.atan2(q[1], q[2]);
   let turned = q;
   if (m.gap > 0 && radial > 0) {
-    const close = m.lo + 0.3 * (m.up - m.lo);
+    const close = m.lo + 0.4 * (m.up - m.lo);
     const mid = (m.up + m.lo) / 2;
     let a = 0;
     if (phi >= mid) {
       const target = upper >= 0 ? upper * (close - m.up) : -upper * m.gap * 0.5;
-      a = target * (1 - smoothstep(0, 0.9, phi - m.up)) * radial * m.fade;
+      a = target * (1 - smoothstep(0, 0.55, phi - m.up)) * radial * m.fade;
     } else {
       const target = lower >= 0 ? lower * (close - m.lo) : lower * m.gap * 0.3;
-      a = target * (1 - smoothstep(0, 0.7, m.lo - phi)) * radial * m.fade;
+      a = target * (1 - smoothstep(0, 0.45, m.lo - phi)) * radial * m.fade;
     }
     turned = rotX(q, -a);
   }
