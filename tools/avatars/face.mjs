@@ -32,7 +32,7 @@ export const ARKIT = [
  * look-at is of type bone (the eyes turn), so the lookUp/Down/Left/Right presets are absent.
  */
 export const PRESETS = [
-  { name: "aa", vrm0: "a", mix: { jawOpen: 0.9, mouthLowerDownLeft: 0.3, mouthLowerDownRight: 0.3 } },
+  { name: "aa", vrm0: "a", mix: { jawOpen: 0.9, mouthLowerDownLeft: 0.3, mouthLowerDownRight: 0.3, mouthStretchLeft: 0.5, mouthStretchRight: 0.5 } },
   { name: "ih", vrm0: "i", mix: { jawOpen: 0.25, mouthStretchLeft: 0.7, mouthStretchRight: 0.7 } },
   { name: "ou", vrm0: "u", mix: { mouthPucker: 1, jawOpen: 0.2 } },
   { name: "ee", vrm0: "e", mix: { jawOpen: 0.3, mouthStretchLeft: 0.5, mouthStretchRight: 0.5, mouthSmileLeft: 0.3, mouthSmileRight: 0.3 } },
