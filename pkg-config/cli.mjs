@@ -43,7 +43,8 @@ const USAGE = `usage: handrig export RECORDING.json|DIR... --avatar AVATAR.vrm|A
   --version, --help
 
 A directory stands for the .json files in it. Recordings are the shared format: an array of
-frames or { width, height, frames: [{ timeMs, hands, pose }] } (docs/guide/export.md).`;
+frames or { width, height, frames: [{ timeMs, hands, pose }] }; frames with a FaceLandmarkerResult's
+fields spread in (faceBlendshapes, ...) add expressions and look-at to the .vrma (docs/guide/export.md).`;
 
 class UsageError extends Error {}
 

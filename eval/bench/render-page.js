@@ -7,6 +7,7 @@ import * as THREE from "three";
 import { GLTFLoader } from "three/addons/loaders/GLTFLoader.js";
 import { VRMLoaderPlugin } from "@pixiv/three-vrm";
 import { clipById, clipPose } from "/bench/motions.mjs";
+import { FACE_ARMS, faceClipById, faceFrame } from "/bench/face-motions.mjs";
 
 export const WIDTH = 640;
 export const HEIGHT = 480;
@@ -48,9 +49,25 @@ scene.add(fill);
 const camera = new THREE.PerspectiveCamera(40, WIDTH / HEIGHT, 0.05, 20);
 
 let vrm = null;
+let dressedOwn = false;
 
-/** Vertex colours from each vertex's dominant skin bone (its nearest humanoid ancestor). */
-function dress(v) {
+/**
+ * Vertex colours from each vertex's dominant skin bone (its nearest humanoid ancestor). The
+ * generated avatars carry their own colours since issue 50 (tools/avatars/face.mjs: the same
+ * regions, and a mouth and irises): the face clips show them (`own`); the body and hand clips
+ * keep this dress and the eyes' former plain colour, so their frames (frames.json) and the
+ * committed recordings made from them stay as they were.
+ */
+const EYES = [0.12, 0.09, 0.07];
+function dress(v, own) {
+  if (own) {
+    v.scene.traverse((o) => {
+      if (!o.isSkinnedMesh) return;
+      const g = o.geometry;
+      if (g.userData.ownColour) g.setAttribute("color", g.userData.ownColour);
+    });
+    return;
+  }
   const humanOf = new Map();
   for (const [name, bone] of Object.entries(v.humanoid.humanBones)) if (bone?.node) humanOf.set(bone.node, name);
   const head = v.humanoid.getRawBoneNode("head");
@@ -60,6 +77,15 @@ function dress(v) {
     if (!o.isSkinnedMesh) return;
     const g = o.geometry;
     const mats = Array.isArray(o.material) ? o.material : [o.material];
+    if (g.attributes.color && !g.userData.ownColour) g.userData.ownColour = g.attributes.color;
+    if (mats.some((m) => m.name === "eyes") && g.userData.ownColour) {
+      const n = g.attributes.position.count;
+      const col = new Float32Array(n * 3);
+      for (let i = 0; i < n; i++) col.set(EYES, i * 3);
+      g.setAttribute("color", new THREE.BufferAttribute(col, 3));
+      for (const m of mats) m.color.setRGB(1, 1, 1);
+      return;
+    }
     if (!mats.some((m) => m.name === "skin")) return;
     const n = g.attributes.position.count;
     const col = new Float32Array(n * 3);
@@ -103,12 +129,14 @@ async function load(url) {
   if (vrm.meta?.metaVersion !== "1") throw new Error(`${url}: the bench poses VRM 1.0 avatars only`);
   vrm.scene.traverse((o) => (o.frustumCulled = false));
   vrm.scene.updateMatrixWorld(true);
-  dress(vrm);
+  dress(vrm, false);
+  dressedOwn = false;
   scene.add(vrm.scene);
   return { name: url.split("/").pop() };
 }
 
 function pose(clip, i) {
+  if (clip.kind === "face") return poseFace(clip, i);
   const q = clipPose(clip, i);
   for (const name of Object.keys(vrm.humanoid.humanBones)) {
     const node = vrm.humanoid.getNormalizedBoneNode(name);
@@ -121,10 +149,40 @@ function pose(clip, i) {
   vrm.scene.updateMatrixWorld(true);
 }
 
+/** A face clip's frame (face-motions.mjs): arms down, the head turned, expressions, look-at. */
+function poseFace(clip, i) {
+  const f = faceFrame(clip, i);
+  const q = { ...FACE_ARMS, ...f.bones };
+  for (const name of Object.keys(vrm.humanoid.humanBones)) {
+    const node = vrm.humanoid.getNormalizedBoneNode(name);
+    if (!node) continue;
+    const r = q[name];
+    if (r) node.quaternion.set(r[0], r[1], r[2], r[3]);
+    else node.quaternion.identity();
+  }
+  const em = vrm.expressionManager;
+  for (const e of em?.expressions ?? []) em.setValue(e.expressionName, f.expressions[e.expressionName] ?? 0);
+  if (vrm.lookAt) {
+    vrm.lookAt.autoUpdate = false;
+    vrm.lookAt.yaw = f.lookAt[0];
+    vrm.lookAt.pitch = f.lookAt[1];
+  }
+  vrm.update(0);
+  vrm.scene.updateMatrixWorld(true);
+}
+
 const world = (name) => vrm.humanoid.getNormalizedBoneNode(name).getWorldPosition(new THREE.Vector3());
 
 /** Camera of a clip: body clips before the chest at about 1.35 x the head's height; hand clips 0.5 m before the right hand at the clip's first frame. */
 function placeCamera(clip) {
+  if (clip.kind === "face") {
+    // Face clips: 0.5 m before the eyes at rest, looking at them.
+    pose({ ...clip, tracks: {} }, 0);
+    const c = world("leftEye").add(world("rightEye")).multiplyScalar(0.5);
+    camera.position.set(c.x, c.y, c.z + 0.5);
+    camera.lookAt(c.x, c.y, c.z);
+    return { distance: 0.5, target: c.toArray() };
+  }
   if (clip.kind === "hand") {
     pose(clip, 0);
     const c = world("rightHand").add(world("rightMiddleProximal")).multiplyScalar(0.5);
@@ -145,7 +203,12 @@ window.__bench = {
   load,
   /** Selects a clip: poses frame 0 and places the camera; returns the camera. */
   clip(id) {
-    current = clipById(id);
+    current = id.startsWith("face-") ? { ...faceClipById(id), kind: "face" } : clipById(id);
+    const own = current.kind === "face";
+    if (own !== dressedOwn) {
+      dress(vrm, own);
+      dressedOwn = own;
+    }
     return { ...placeCamera(current), fov: camera.fov, position: camera.position.toArray() };
   },
   /** Renders frame `i` of the current clip: base64 RGBA, WIDTH x HEIGHT, top row first. */

@@ -19,6 +19,7 @@ import { fileURLToPath } from "node:url";
 
 import { writeGlb } from "./gltf.mjs";
 import { figureFileNames, figureMesh, figureShapes, FIGURES } from "./figures.mjs";
+import { ARKIT, faceColours, faceTargets, PRESETS } from "./face.mjs";
 import { stylize } from "./stylize.mjs";
 import {
   applyTarget,
@@ -280,7 +281,7 @@ function skeletonNodes(prep, posed, { names, frame, frameRot, armature, rotation
 }
 
 /** Positions, normals, top-4 joints and weights, and the triangles of the kept faces. */
-function meshArrays(src, prep, posed, frame, jointOfBone) {
+function meshArrays(src, prep, posed, frame, jointOfBone, face) {
   const n = src.kept.length;
   const positions = new Float32Array(3 * n);
   posed.positions.forEach((p, i) => positions.set(frame(p), 3 * i));
@@ -324,11 +325,19 @@ function meshArrays(src, prep, posed, frame, jointOfBone) {
     normals,
     joints,
     weights,
+    ...(face ? { colors: face.colors, targets: face.targets.map((t) => ({ ...t, deltas: framed(t.deltas, frame) })) } : {}),
     primitives: [
       { indices: Uint16Array.from(tri.skin), material: 0 },
       { indices: Uint16Array.from(tri.eyes), material: 1 },
     ],
   };
+}
+
+/** Deltas (x y z per vertex) in the file's frame. */
+function framed(deltas, frame) {
+  const out = new Float32Array(deltas.length);
+  for (let i = 0; i < deltas.length; i += 3) out.set(frame([deltas[i], deltas[i + 1], deltas[i + 2]]), i);
+  return out;
 }
 
 // Plain metallic-roughness materials: three-vrm renders them lit (no MToon, no unlit).
@@ -337,13 +346,20 @@ const MATERIALS = [
   { name: "eyes", pbrMetallicRoughness: { baseColorFactor: [0.12, 0.09, 0.07, 1], metallicFactor: 0, roughnessFactor: 0.3 } },
 ];
 
+// The humans' materials: white base colours multiplied by the vertex colours (COLOR_0: skin,
+// outfit, hair, the eyes' sclera, iris and pupil; tools/avatars/face.mjs), same names.
+const FACE_MATERIALS = [
+  { name: "skin", pbrMetallicRoughness: { baseColorFactor: [1, 1, 1, 1], metallicFactor: 0, roughnessFactor: 0.65 } },
+  { name: "eyes", pbrMetallicRoughness: { baseColorFactor: [1, 1, 1, 1], metallicFactor: 0, roughnessFactor: 0.3 } },
+];
+
 const identityFrame = (p) => p;
 const turnFrame = (p) => [-p[0], p[1], -p[2]]; // VRM 0.x: a half turn about +Y, faces -Z
 const turnRot = (q) => qnormalize(qmul([0, 1, 0, 0], q));
 
 function assemble(src, prep, posed, opts) {
   const sk = skeletonNodes(prep, posed, opts);
-  const mesh = opts.buildMesh ? opts.buildMesh(sk) : meshArrays(src, prep, posed, opts.frame, sk.jointOfBone);
+  const mesh = opts.buildMesh ? opts.buildMesh(sk) : meshArrays(src, prep, posed, opts.frame, sk.jointOfBone, opts.face);
   const nodes = sk.nodes;
   nodes.push({ name: opts.meshName, mesh: 0, skin: 0 });
   const bodyNode = nodes.length - 1;
@@ -353,7 +369,7 @@ function assemble(src, prep, posed, opts) {
     sceneNodes: [...sk.sceneRoots, bodyNode],
     mesh,
     skin: { joints: sk.joints, inverseBindMatrices: sk.ibm, skeleton: sk.skeletonRoot },
-    materials: opts.materials ?? MATERIALS,
+    materials: opts.materials ?? (opts.face ? FACE_MATERIALS : MATERIALS),
     meshName: opts.meshName,
     extensions,
     generator: GENERATOR,
@@ -368,7 +384,41 @@ function lookAtOffset(prep, posed, frame) {
   return frame(sub(mid, posed.heads[byName.head.index]));
 }
 
-function vrm1Extension(body, prep, posed, sk, bodyNode) {
+/** VRM 1.0 expressions: the presets as mixes of the ARKit targets, the 52 as custom ones. */
+function vrm1Expressions(face, bodyNode) {
+  if (!face) return { preset: {}, custom: {} };
+  const index = new Map(ARKIT.map((n, i) => [n, i]));
+  const expression = (mix) => ({
+    morphTargetBinds: Object.entries(mix).map(([n, w]) => ({ node: bodyNode, index: index.get(n), weight: w })),
+    isBinary: false,
+    overrideBlink: "none",
+    overrideLookAt: "none",
+    overrideMouth: "none",
+  });
+  return {
+    preset: Object.fromEntries(PRESETS.map((p) => [p.name, expression(p.mix)])),
+    custom: Object.fromEntries(ARKIT.map((n) => [n, expression({ [n]: 1 })])),
+  };
+}
+
+/** VRM 0.x blend shape groups: the presets by their 0.x names (surprised: a named one), the 52. */
+function vrm0BlendShapeGroups(face) {
+  if (!face) return [];
+  const index = new Map(ARKIT.map((n, i) => [n, i]));
+  const group = (name, presetName, mix) => ({
+    name,
+    presetName,
+    binds: Object.entries(mix).map(([n, w]) => ({ mesh: 0, index: index.get(n), weight: 100 * w })),
+    materialValues: [],
+    isBinary: false,
+  });
+  return [
+    ...PRESETS.map((p) => group(p.vrm0 ?? p.name, p.vrm0 ?? "unknown", p.mix)),
+    ...ARKIT.map((n) => group(n, "unknown", { [n]: 1 })),
+  ];
+}
+
+function vrm1Extension(body, prep, posed, sk, bodyNode, face) {
   const humanBones = {};
   for (const [bone, vrmName] of Object.entries(VRM1_BONES)) if (sk.nodeOf.has(bone)) humanBones[vrmName] = { node: sk.nodeOf.get(bone) };
   const range = (input, output) => ({ inputMaxValue: input, outputScale: output });
@@ -393,22 +443,24 @@ function vrm1Extension(body, prep, posed, sk, bodyNode) {
         modification: "allowModificationRedistribution",
       },
       humanoid: { humanBones },
-      // No expressions, but the object: three-vrm loads the look-at only beside one.
-      expressions: { preset: {}, custom: {} },
+      // The figures have no expressions, but the object: three-vrm loads the look-at only
+      // beside one.
+      expressions: vrm1Expressions(face, bodyNode),
       firstPerson: { meshAnnotations: [{ node: bodyNode, type: "auto" }] },
       lookAt: {
         offsetFromHeadBone: lookAtOffset(prep, posed, identityFrame),
         type: "bone",
-        rangeMapHorizontalInner: range(90, 10),
-        rangeMapHorizontalOuter: range(90, 10),
-        rangeMapVerticalDown: range(90, 10),
-        rangeMapVerticalUp: range(90, 10),
+        // The eyes turn as far as the gaze, up to 30 degrees (issue 50: an iris that shows it).
+        rangeMapHorizontalInner: range(30, 30),
+        rangeMapHorizontalOuter: range(30, 30),
+        rangeMapVerticalDown: range(30, 30),
+        rangeMapVerticalUp: range(30, 30),
       },
     },
   };
 }
 
-function vrm0Extension(body, prep, posed, sk, bodyNode) {
+function vrm0Extension(body, prep, posed, sk, bodyNode, face) {
   const humanBones = Object.entries(VRM0_BONES).filter(([bone]) => sk.nodeOf.has(bone)).map(([bone, vrmName]) => ({
     bone: vrmName,
     node: sk.nodeOf.get(bone),
@@ -417,7 +469,7 @@ function vrm0Extension(body, prep, posed, sk, bodyNode) {
   // VRM 0.x stores the offset in Unity's axes (z negated from glTF's): three-vrm and UniVRM
   // negate z on reading. In the file's glTF frame the eyes are at -z (the avatar faces -Z).
   const o = lookAtOffset(prep, posed, turnFrame);
-  const curve = { curve: [0, 0, 0, 1, 1, 1, 1, 0], xRange: 90, yRange: 10 };
+  const curve = { curve: [0, 0, 0, 1, 1, 1, 1, 0], xRange: 30, yRange: 30 };
   return {
     VRM: {
       exporterVersion: GENERATOR,
@@ -457,9 +509,9 @@ function vrm0Extension(body, prep, posed, sk, bodyNode) {
         lookAtVerticalDown: curve,
         lookAtVerticalUp: curve,
       },
-      blendShapeMaster: { blendShapeGroups: [] },
+      blendShapeMaster: { blendShapeGroups: vrm0BlendShapeGroups(face) },
       secondaryAnimation: { boneGroups: [], colliderGroups: [] },
-      materialProperties: MATERIALS.map((m) => ({
+      materialProperties: (face ? FACE_MATERIALS : MATERIALS).map((m) => ({
         name: m.name,
         shader: "VRM_USE_GLTFSHADER",
         renderQueue: 2000,
@@ -478,16 +530,20 @@ function generateBody(src, data, body, formats = ["vrm1", "vrm0", "mixamo", "unr
   const prep = prepareBody(src, data, body);
   const tPosed = bodyInPose(src, prep, prep.tPose);
   const aPosed = bodyInPose(src, prep, prep.aPose);
+  // The face (issue 50): morph targets from the rest shape (the head is the same in both
+  // poses), vertex colours.
+  const { targets, measures } = faceTargets(prep.positions, src.groups, src.kept);
+  const face = { targets, colors: faceColours(prep.positions, src.groups, src.kept, prep.weights, prep.skeleton, measures) };
   const out = {};
   if (formats.includes("vrm1")) out[`${body.id}-vrm1.vrm`] = assemble(src, prep, tPosed, {
     names: identityNames(prep), frame: identityFrame, frameRot: (q) => q, rotations: false,
-    tips: (b) => `${b.name}_end`, meshName: "Body",
-    extensions: (sk, bodyNode) => vrm1Extension(body, prep, tPosed, sk, bodyNode),
+    tips: (b) => `${b.name}_end`, meshName: "Body", face,
+    extensions: (sk, bodyNode) => vrm1Extension(body, prep, tPosed, sk, bodyNode, face),
   });
   if (formats.includes("vrm0")) out[`${body.id}-vrm0.vrm`] = assemble(src, prep, tPosed, {
     names: identityNames(prep), frame: turnFrame, frameRot: turnRot, rotations: false,
-    tips: (b) => `${b.name}_end`, meshName: "Body",
-    extensions: (sk, bodyNode) => vrm0Extension(body, prep, tPosed, sk, bodyNode),
+    tips: (b) => `${b.name}_end`, meshName: "Body", face,
+    extensions: (sk, bodyNode) => vrm0Extension(body, prep, tPosed, sk, bodyNode, face),
   });
   // Mixamo: T-pose, bones under an "Armature" node turned +90 degrees about X and scaled
   // 0.01 (bone values in centimeters, Z up), as Mixamo FBX files come through Blender.
@@ -495,12 +551,12 @@ function generateBody(src, data, body, formats = ["vrm1", "vrm0", "mixamo", "unr
   if (formats.includes("mixamo")) out[`${body.id}-mixamo.glb`] = assemble(src, prep, tPosed, {
     names: MIXAMO_NAMES, frame: identityFrame, frameRot: (q) => q, rotations: true,
     armature: { name: "Armature", rotation: [h, 0, 0, h], scale: 0.01 },
-    tips: mixamoTipName, meshName: "Body",
+    tips: mixamoTipName, meshName: "Body", face,
   });
   // Unreal mannequin: the base mesh's A-pose, meters, the rig's own names (Root -> root).
   const unrealNames = { ...identityNames(prep), Root: "root" };
   if (formats.includes("unreal")) out[`${body.id}-unreal.glb`] = assemble(src, prep, aPosed, {
-    names: unrealNames, frame: identityFrame, frameRot: (q) => q, rotations: true, meshName: "Body",
+    names: unrealNames, frame: identityFrame, frameRot: (q) => q, rotations: true, meshName: "Body", face,
   });
   return out;
 }

@@ -71,7 +71,7 @@ export function writeGlb({ nodes, sceneNodes, mesh, skin, materials, meshName, e
   const bin = new BinWriter();
   const accessors = [];
   const accessor = (view, componentType, count, type, extra = {}) => {
-    accessors.push({ bufferView: view, componentType, count, type, ...extra });
+    accessors.push(view === undefined ? { componentType, count, type, ...extra } : { bufferView: view, componentType, count, type, ...extra });
     return accessors.length - 1;
   };
   const vertexCount = mesh.positions.length / 3;
@@ -80,8 +80,27 @@ export function writeGlb({ nodes, sceneNodes, mesh, skin, materials, meshName, e
   const jointType = mesh.joints instanceof Uint8Array ? UNSIGNED_BYTE : UNSIGNED_SHORT;
   const joints = accessor(bin.view(mesh.joints, ARRAY_BUFFER), jointType, vertexCount, "VEC4");
   const weights = accessor(bin.view(mesh.weights, ARRAY_BUFFER), FLOAT, vertexCount, "VEC4");
+  const attributes = { POSITION: position, NORMAL: normal, JOINTS_0: joints, WEIGHTS_0: weights };
+  if (mesh.colors) {
+    attributes.COLOR_0 = accessor(bin.view(mesh.colors, ARRAY_BUFFER), UNSIGNED_BYTE, vertexCount, "VEC4", { normalized: true });
+  }
+  // Morph targets: sparse POSITION deltas (zeros but at `indices`), shared by every primitive.
+  const targets = (mesh.targets ?? []).map((t) => {
+    const { min, max } = minMax(t.deltas, 3);
+    for (let k = 0; k < 3; k++) {
+      min[k] = Math.min(min[k], 0);
+      max[k] = Math.max(max[k], 0);
+    }
+    const sparse = {
+      count: t.indices.length,
+      indices: { bufferView: bin.view(t.indices), componentType: UNSIGNED_SHORT },
+      values: { bufferView: bin.view(t.deltas) },
+    };
+    return { POSITION: accessor(undefined, FLOAT, vertexCount, "VEC3", { min, max, sparse }) };
+  });
   const primitives = mesh.primitives.map((p) => ({
-    attributes: { POSITION: position, NORMAL: normal, JOINTS_0: joints, WEIGHTS_0: weights },
+    attributes,
+    ...(targets.length ? { targets } : {}),
     indices: accessor(bin.view(p.indices, ELEMENT_ARRAY_BUFFER), UNSIGNED_SHORT, p.indices.length, "SCALAR"),
     material: p.material,
     mode: 4,
@@ -95,7 +114,7 @@ export function writeGlb({ nodes, sceneNodes, mesh, skin, materials, meshName, e
     scene: 0,
     scenes: [{ name: "Scene", nodes: sceneNodes }],
     nodes,
-    meshes: [{ name: meshName, primitives }],
+    meshes: [{ name: meshName, primitives, ...(targets.length ? { weights: targets.map(() => 0), extras: { targetNames: mesh.targets.map((t) => t.name) } } : {}) }],
     skins: [{ name: "Armature", joints: skin.joints, inverseBindMatrices: ibm, skeleton: skin.skeleton }],
     materials,
     accessors,

@@ -1,5 +1,6 @@
 // The `handrig` command (the package's bin, docs/guide/export.md): `handrig export` on every shared
-// recording in the recording format at once (worker threads), the files it writes read back;
+// recording in the recording format at once (worker threads), the files it writes read back
+// (a recording with a face: expressions and look-at in the .vrma);
 // a bad file, a missing avatar and an unknown option each give one line and a non-zero exit, a
 // bad file without stopping the others.
 
@@ -14,7 +15,7 @@ import { after, describe, it } from "node:test";
 import { HandRig, MotionRecorder } from "handrig";
 import { BVHLoader } from "three/examples/jsm/loaders/BVHLoader.js";
 
-import { CHILD_TIMEOUT_MS, avatarFiles, readBytes, shared } from "./support.mjs";
+import { CHILD_TIMEOUT_MS, avatarFiles, readBytes, repo, shared } from "./support.mjs";
 
 const require = createRequire(import.meta.url);
 const pkgDir = path.dirname(require.resolve("handrig/package.json"));
@@ -80,6 +81,44 @@ describe("handrig export (the package's bin)", () => {
     }
     assert.equal(Number(summary[3]), frames);
     assert.equal(Number(summary[5]), bytes);
+  });
+
+  it("a recording whose frames carry a FaceLandmarkerResult: the .vrma has the expressions and the look-at, as MotionRecorder writes them", () => {
+    // FaceLandmarker on the bench's renders of the woman saying "aa" (tests/fixtures/face):
+    // blendshapes, matrices and the package's 20 landmarks, spread into each frame.
+    const data = JSON.parse(fs.readFileSync(path.join(repo, "tests", "fixtures", "face", "bench-shots.json"), "utf8"));
+    const toFrame = (f, t0) => {
+      const landmarks = Array.from({ length: 478 }, () => ({ x: 0.5, y: 0.5, z: 0 }));
+      data.meshIndices.forEach((k, i) => (landmarks[k] = { x: f.mesh[i][0], y: f.mesh[i][1], z: f.mesh[i][2] }));
+      return {
+        timeMs: t0 + f.timeMs,
+        faceLandmarks: [landmarks],
+        faceBlendshapes: [{ categories: f.blendshapes.map((score, index) => ({ index, score, categoryName: data.names[index], displayName: "" })) }],
+        facialTransformationMatrixes: [{ rows: 4, columns: 4, data: f.matrix }],
+      };
+    };
+    const t0 = data.still.length * (1000 / 30);
+    const frames = [...data.still.map((f) => toFrame(f, 0)), ...data.shots.find((x) => x.name === "aa").frames.map((f) => toFrame(f, t0))];
+    const file = path.join(tmp, "face-aa.json");
+    fs.writeFileSync(file, JSON.stringify({ width: 640, height: 480, frames }));
+    const out = path.join(tmp, "face-aa.vrma");
+    const r = handrig("export", file, "--avatar", avatar, "--out", out, "--quiet");
+    assert.equal(r.status, 0, r.stderr);
+    const bytes = fs.readFileSync(out);
+    const json = JSON.parse(bytes.subarray(20, 20 + bytes.readUInt32LE(12)).toString("utf8"));
+    const ext = json.extensions.VRMC_vrm_animation;
+    assert.ok(ext.expressions?.preset?.aa && ext.lookAt, JSON.stringify(Object.keys(ext)));
+    const rig = HandRig.fromVrm(readBytes(avatar), { mirror: true });
+    const recorder = new MotionRecorder(rig);
+    let aa = 0;
+    for (const f of frames) {
+      const res = rig.solve({ ...f, imageAspect: 640 / 480 });
+      aa = Math.max(aa, res.expressions.aa);
+      recorder.add(f.timeMs, res);
+    }
+    rig.free();
+    assert.ok(aa >= 0.3, `aa reaches ${aa}`);
+    assert.ok(Buffer.from(recorder.toVRMA()).equals(bytes), "same bytes as MotionRecorder.toVRMA()");
   });
 
   it("--out file.bvh: BVH text three's BVHLoader reads; --tolerance makes a smaller .vrma", () => {

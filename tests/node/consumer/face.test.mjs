@@ -59,6 +59,9 @@ function meshPoints(ear, count = 478) {
 async function withExpressions(vrm, names) {
   const { VRMExpression, VRMExpressionManager } = await import("@pixiv/three-vrm");
   const manager = new VRMExpressionManager();
+  // The generated avatars carry their own expressions (issue 50): replaced by these, also in the
+  // scene where an AnimationMixer looks them up by name.
+  for (const e of vrm.expressionManager?.expressions ?? []) e.removeFromParent();
   for (const name of names) {
     const expression = new VRMExpression(name);
     manager.registerExpression(expression);

@@ -1,0 +1,155 @@
+// The generated humans' face (issue 50, tools/avatars/face.mjs) as three-vrm loads it: the 13
+// presets and the 52 ARKit expressions bound to morph targets, the shapes moving the right
+// part of the face the right way (a blink closes one eye's lids and keeps them off the
+// eyeball, aa drops the jaw), the eyes' iris turned by the look-at, the outfit's colours; and
+// handrig driving them (perfect sync on the VRM 1.0 and 0.x files).
+
+import assert from "node:assert/strict";
+import path from "node:path";
+import { describe, it } from "node:test";
+
+import { HandRig, LAYOUT } from "handrig";
+import { applyToVRM, restPoseFromVRM } from "handrig/three-vrm";
+import { avatarFiles, loadVRM } from "./support.mjs";
+
+const ARKIT = LAYOUT.arkit;
+const PRESETS = ["aa", "ih", "ou", "ee", "oh", "blink", "blinkLeft", "blinkRight", "happy", "angry", "sad", "relaxed", "surprised"];
+const vrms = avatarFiles().filter((f) => f.endsWith(".vrm") && !f.includes(`${path.sep}figures${path.sep}`));
+
+/** The body's skinned mesh (the skin primitive) and the world position of a named bone. */
+function bodyMesh(vrm) {
+  let mesh = null;
+  vrm.scene.traverse((o) => {
+    if (o.isSkinnedMesh && o.material.name === "skin") mesh = o;
+  });
+  return mesh;
+}
+
+/** Per vertex of a morph target: [rest position, delta] for the vertices it moves (file frame). */
+function moved(mesh, name) {
+  const i = mesh.morphTargetDictionary[name];
+  assert.ok(i !== undefined, `morph target ${name}`);
+  const pos = mesh.geometry.attributes.position;
+  const d = mesh.geometry.morphAttributes.position[i];
+  const out = [];
+  for (let v = 0; v < pos.count; v++) {
+    const dv = [d.getX(v), d.getY(v), d.getZ(v)];
+    if (Math.hypot(...dv) > 1e-6) out.push([[pos.getX(v), pos.getY(v), pos.getZ(v)], dv]);
+  }
+  return out;
+}
+
+function faceFrame(weights) {
+  const categories = [{ index: 0, score: 0, categoryName: "_neutral", displayName: "" }];
+  ARKIT.slice(0, 51).forEach((n, i) => categories.push({ index: i + 1, score: weights[n] ?? 0, categoryName: n, displayName: "" }));
+  return {
+    faceBlendshapes: [{ categories, headIndex: -1, headName: "" }],
+    facialTransformationMatrixes: [{ rows: 4, columns: 4, data: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, -40, 1] }],
+  };
+}
+
+describe("the generated avatars' face (issue 50)", () => {
+  it("every human VRM (1.0 and 0.x) has the 13 presets and the 52 ARKit expressions, each bound to morph targets", async () => {
+    assert.equal(vrms.length, 6);
+    for (const file of vrms) {
+      const vrm = await loadVRM(file);
+      const names = new Set(vrm.expressionManager.expressions.map((e) => e.expressionName));
+      for (const n of [...PRESETS, ...ARKIT]) assert.ok(names.has(n), `${path.basename(file)}: expression ${n}`);
+      const mesh = bodyMesh(vrm);
+      assert.equal(mesh.geometry.morphAttributes.position.length, 52, `${path.basename(file)}: morph targets`);
+      for (const n of ARKIT) assert.ok(moved(mesh, n).length > 20, `${path.basename(file)}: ${n} moves vertices`);
+      assert.equal(vrm.lookAt.applier.constructor.name, "VRMLookAtBoneApplier", "look-at turns the eye bones");
+    }
+  });
+
+  it("a blink closes the lids of that eye only, down from above and up from below, and keeps them off the eyeball", async () => {
+    for (const name of ["woman-vrm1.vrm", "child-vrm1.vrm", "man-vrm0.vrm"]) {
+      const file = vrms.find((f) => path.basename(f) === name);
+      const vrm = await loadVRM(file);
+      const mesh = bodyMesh(vrm);
+      // VRM 0.x files face -Z: the avatar's left is at -X there.
+      const leftSign = name.includes("vrm0") ? -1 : 1;
+      const eye = vrm.humanoid.getRawBoneNode("leftEye").getWorldPosition(new (vrm.scene.position.constructor)());
+      const lids = moved(mesh, "eyeBlinkLeft");
+      let down = 0;
+      let up = 0;
+      for (const [p, d] of lids) {
+        assert.ok(p[0] * leftSign > 0, `${name}: eyeBlinkLeft moves a vertex at x ${p[0].toFixed(3)}`);
+        const before = Math.hypot(p[0] - eye.x, p[1] - eye.y, p[2] - eye.z);
+        const after = Math.hypot(p[0] + d[0] - eye.x, p[1] + d[1] - eye.y, p[2] + d[2] - eye.z);
+        assert.ok(after > before - 5e-4, `${name}: a lid vertex comes no closer to the eye's centre (${before.toFixed(4)} -> ${after.toFixed(4)} m)`);
+        if (p[1] > eye.y) down = Math.min(down, d[1]);
+        else up = Math.max(up, d[1]);
+      }
+      // The upper lid does most of the closing (to 40% up the opening).
+      assert.ok(down < -0.004 && up > 0.001 && -down > up, `${name}: upper lid down ${down.toFixed(4)} m, lower lid up ${up.toFixed(4)} m`);
+      const jaw = moved(mesh, "jawOpen");
+      const chin = Math.min(...jaw.map(([, d]) => d[1]));
+      assert.ok(chin < -0.01, `${name}: jawOpen drops the chin ${chin.toFixed(4)} m`);
+      assert.ok(jaw.every(([p]) => p[1] < eye.y), `${name}: jawOpen moves nothing at the eyes' height`);
+    }
+  });
+
+  it("the eyes have a dark iris and pupil on a light sclera, and the look-at turns them", async () => {
+    const file = vrms.find((f) => path.basename(f) === "woman-vrm1.vrm");
+    const vrm = await loadVRM(file);
+    let eyes = null;
+    vrm.scene.traverse((o) => {
+      if (o.isSkinnedMesh && o.material.name === "eyes") eyes = o;
+    });
+    const color = eyes.geometry.attributes.color;
+    const pos = eyes.geometry.attributes.position;
+    const index = eyes.geometry.index;
+    let front = { z: -Infinity };
+    let back = { z: Infinity };
+    for (let k = 0; k < index.count; k++) {
+      const v = index.getX(k);
+      if (pos.getX(v) <= 0) continue; // the left eye
+      const z = pos.getZ(v);
+      if (z > front.z) front = { z, v };
+      if (z < back.z) back = { z, v };
+    }
+    assert.ok(color.getX(front.v) < 0.1 && color.getX(back.v) > 0.7, `pupil ${color.getX(front.v)}, sclera ${color.getX(back.v)}`);
+    vrm.lookAt.autoUpdate = false;
+    vrm.lookAt.yaw = 20;
+    vrm.lookAt.pitch = 0;
+    vrm.update(0);
+    const q = vrm.humanoid.getRawBoneNode("leftEye").quaternion;
+    const angle = (2 * Math.acos(Math.min(1, Math.abs(q.w))) * 180) / Math.PI;
+    assert.ok(Math.abs(angle - 20) < 1, `yaw 20 turns the eye ${angle.toFixed(1)} degrees`);
+  });
+
+  it("the outfit: top, trousers and shoes coloured apart from the skin", async () => {
+    const vrm = await loadVRM(vrms.find((f) => path.basename(f) === "man-vrm1.vrm"));
+    const mesh = bodyMesh(vrm);
+    const color = mesh.geometry.attributes.color;
+    const pos = mesh.geometry.attributes.position;
+    const at = (pred) => {
+      for (let v = 0; v < pos.count; v++) if (pred(pos.getX(v), pos.getY(v), pos.getZ(v))) return [color.getX(v), color.getY(v), color.getZ(v)];
+      return null;
+    };
+    const chest = at((x, y, z) => Math.abs(x) < 0.02 && y > 1.25 && y < 1.35 && z > 0.05);
+    const shin = at((x, y) => x > 0.05 && y > 0.3 && y < 0.4);
+    const toe = at((x, y, z) => y < 0.03 && z > 0.1);
+    const cheek = at((x, y, z) => Math.abs(x) < 0.03 && y > 1.55 && y < 1.6 && z > 0.08);
+    assert.ok(chest[2] > chest[0] + 0.2, `a blue top: ${chest}`);
+    assert.ok(shin[0] < 0.15 && shin[2] < 0.15, `dark trousers: ${shin}`);
+    assert.ok(toe[0] > toe[2] && toe[0] < 0.4, `brown shoes: ${toe}`);
+    assert.ok(cheek[0] > 0.6, `skin on the face: ${cheek}`);
+  });
+
+  it("perfect sync: handrig's ARKit weights reach the avatar's morph targets (VRM 1.0 and 0.x)", async () => {
+    for (const name of ["woman-vrm1.vrm", "woman-vrm0.vrm"]) {
+      const vrm = await loadVRM(vrms.find((f) => path.basename(f) === name));
+      const rig = new HandRig(restPoseFromVRM(vrm), { face: { smoothing: false } });
+      let r;
+      for (let i = 0; i < 5; i++) r = rig.solve({ timeMs: i * 33, ...faceFrame({ jawOpen: 0.7, eyeBlinkLeft: 0.9 }) });
+      applyToVRM(vrm, r);
+      vrm.update(0);
+      const mesh = bodyMesh(vrm);
+      const infl = (n) => mesh.morphTargetInfluences[mesh.morphTargetDictionary[n]];
+      assert.ok(infl("jawOpen") > 0.5, `${name}: jawOpen influence ${infl("jawOpen")}`);
+      assert.ok(infl("mouthSmileLeft") < 0.05, `${name}: mouthSmileLeft influence ${infl("mouthSmileLeft")}`);
+    }
+  });
+});

@@ -1,0 +1,465 @@
+// The generated humans' face (issue 50): procedural morph targets from the base mesh's face
+// regions (eyelids, jaw, lips, cheeks, brows, nose), the VRM expressions bound to them, and
+// vertex colours (an outfit by body region, hair, the iris and pupil of each eye, the mouth's
+// inside). Nothing here moves a rest vertex: the targets are deltas (sparse accessors), the
+// colours a COLOR_0 attribute.
+//
+// Every shape is a smooth field over the rest positions of the body (mesh frame: +Y up, the
+// body faces +Z, its left at +X), measured from the body itself so that each body shape gets
+// its own: the eyes (helper spheres: centre, radius), the eyelid margins (per azimuth around
+// the eye, the edges of the gap in the skin in front of the eyeball), the mouth's slit (between
+// two midline lip vertices of the base mesh: the same vertex indices in every body, since the
+// body targets only move vertices). Lengths scale with the distance between the eyes.
+// "Left" is the avatar's left (+X), as in ARKit and VRM (`blinkLeft` closes the left eye).
+
+import { add, dot, length, normalize, scale, sub } from "./math.mjs";
+
+/** ARKit's 52 blendshape names, in Apple's documentation order (as MediaPipe names them). */
+export const ARKIT = [
+  "eyeBlinkLeft", "eyeLookDownLeft", "eyeLookInLeft", "eyeLookOutLeft", "eyeLookUpLeft", "eyeSquintLeft", "eyeWideLeft",
+  "eyeBlinkRight", "eyeLookDownRight", "eyeLookInRight", "eyeLookOutRight", "eyeLookUpRight", "eyeSquintRight", "eyeWideRight",
+  "jawForward", "jawLeft", "jawRight", "jawOpen",
+  "mouthClose", "mouthFunnel", "mouthPucker", "mouthLeft", "mouthRight",
+  "mouthSmileLeft", "mouthSmileRight", "mouthFrownLeft", "mouthFrownRight", "mouthDimpleLeft", "mouthDimpleRight",
+  "mouthStretchLeft", "mouthStretchRight", "mouthRollLower", "mouthRollUpper", "mouthShrugLower", "mouthShrugUpper",
+  "mouthPressLeft", "mouthPressRight", "mouthLowerDownLeft", "mouthLowerDownRight", "mouthUpperUpLeft", "mouthUpperUpRight",
+  "browDownLeft", "browDownRight", "browInnerUp", "browOuterUpLeft", "browOuterUpRight",
+  "cheekPuff", "cheekSquintLeft", "cheekSquintRight", "noseSneerLeft", "noseSneerRight", "tongueOut",
+];
+
+/**
+ * The VRM 1.0 presets as mixes of the ARKit targets (weights), and their VRM 0.x names. The
+ * look-at is of type bone (the eyes turn), so the lookUp/Down/Left/Right presets are absent.
+ */
+export const PRESETS = [
+  { name: "aa", vrm0: "a", mix: { jawOpen: 0.9, mouthLowerDownLeft: 0.3, mouthLowerDownRight: 0.3, mouthStretchLeft: 0.5, mouthStretchRight: 0.5 } },
+  { name: "ih", vrm0: "i", mix: { jawOpen: 0.25, mouthStretchLeft: 0.7, mouthStretchRight: 0.7 } },
+  { name: "ou", vrm0: "u", mix: { mouthPucker: 1, jawOpen: 0.2 } },
+  { name: "ee", vrm0: "e", mix: { jawOpen: 0.3, mouthStretchLeft: 0.5, mouthStretchRight: 0.5, mouthSmileLeft: 0.3, mouthSmileRight: 0.3 } },
+  { name: "oh", vrm0: "o", mix: { mouthFunnel: 0.9, jawOpen: 0.5 } },
+  { name: "blink", vrm0: "blink", mix: { eyeBlinkLeft: 1, eyeBlinkRight: 1 } },
+  { name: "blinkLeft", vrm0: "blink_l", mix: { eyeBlinkLeft: 1 } },
+  { name: "blinkRight", vrm0: "blink_r", mix: { eyeBlinkRight: 1 } },
+  { name: "happy", vrm0: "joy", mix: { mouthSmileLeft: 1, mouthSmileRight: 1, cheekSquintLeft: 0.7, cheekSquintRight: 0.7, eyeSquintLeft: 0.5, eyeSquintRight: 0.5 } },
+  { name: "angry", vrm0: "angry", mix: { browDownLeft: 1, browDownRight: 1, noseSneerLeft: 0.5, noseSneerRight: 0.5, mouthFrownLeft: 0.5, mouthFrownRight: 0.5, eyeSquintLeft: 0.3, eyeSquintRight: 0.3 } },
+  { name: "sad", vrm0: "sorrow", mix: { browInnerUp: 1, mouthFrownLeft: 0.8, mouthFrownRight: 0.8, eyeLookDownLeft: 0.4, eyeLookDownRight: 0.4 } },
+  { name: "relaxed", vrm0: "fun", mix: { mouthSmileLeft: 0.5, mouthSmileRight: 0.5, eyeBlinkLeft: 0.3, eyeBlinkRight: 0.3 } },
+  { name: "surprised", vrm0: null, mix: { eyeWideLeft: 1, eyeWideRight: 1, browInnerUp: 1, browOuterUpLeft: 1, browOuterUpRight: 1, jawOpen: 0.4 } },
+];
+
+const clamp01 = (t) => (t < 0 ? 0 : t > 1 ? 1 : t);
+/** 0 at or below e0, 1 at or above e1 (e0 > e1 reverses it). */
+function smoothstep(e0, e1, x) {
+  const t = clamp01((x - e0) / (e1 - e0));
+  return t * t * (3 - 2 * t);
+}
+/** A compact bump: 1 at d = 0, 0 from d = 1 on (no tail: the targets stay sparse). */
+const bump = (d2) => (d2 >= 1 ? 0 : (1 - d2) * (1 - d2));
+const rotX = (q, a) => [q[0], q[1] * Math.cos(a) - q[2] * Math.sin(a), q[1] * Math.sin(a) + q[2] * Math.cos(a)];
+const rotY = (q, a) => [q[0] * Math.cos(a) + q[2] * Math.sin(a), q[1], -q[0] * Math.sin(a) + q[2] * Math.cos(a)];
+const mirror = (p) => [-p[0], p[1], p[2]];
+
+// Midline vertices of the base mesh's lips (HM08): the lowest of the upper lip's outside and
+// the highest of the lower lip's; the slit is between them.
+const UPPER_LIP = 362;
+const LOWER_LIP = 455;
+// The base mesh's distance between the eye centres: lengths below are for it.
+const BASE_EYE_SEP = 0.0616;
+
+/** The face's measures from the body's rest positions (`v(i)`: vertex i, mesh frame). */
+function measure(v, groups, bodyCount) {
+  const eye = (name) => {
+    const ids = [];
+    for (const [a, b] of groups[name]) for (let i = a; i <= b; i++) ids.push(i);
+    let c = [0, 0, 0];
+    for (const i of ids) c = add(c, v(i));
+    c = scale(c, 1 / ids.length);
+    let r = 0;
+    for (const i of ids) r += length(sub(v(i), c)) / ids.length;
+    return { ids, c, r };
+  };
+  const L = eye("helper-l-eye");
+  const R = eye("helper-r-eye");
+  const s = length(sub(L.c, R.c)) / BASE_EYE_SEP;
+  const up = v(UPPER_LIP);
+  const lo = v(LOWER_LIP);
+  const mouth = [0, (up[1] + lo[1]) / 2, Math.max(up[2], lo[2])];
+  const f = {
+    s,
+    eyeL: L,
+    eyeR: R,
+    mouth,
+    mouthHalf: 0.0245 * s,
+    pivot: [0, mouth[1] + 0.02 * s, L.c[2] - 0.075 * s],
+  };
+  f.lidL = lidMargins(v, groups, "l", L);
+  // The right eye's margins measured mirrored, in the left eye's frame (see shapeOf).
+  f.lidR = lidMargins(v, groups, "r", { ...R, c: mirror(R.c) }, mirror);
+  return f;
+}
+
+// Eyelid margins: the elevations phi = atan2(y, z) about the eye's centre of MakeHuman's upper
+// and lower lid joint cubes (which sit on the lid margins, straight ahead of the eye), narrowing
+// as an ellipse in the azimuth theta = atan2(x, z) to nothing at the eye's corners (LID_CORNER
+// either side of straight ahead; the almond of the base mesh's opening).
+const LID_CORNER = 1.0;
+function lidMargins(v, groups, side, eye, flip = (p) => p) {
+  const mean = (name) => {
+    let c = [0, 0, 0];
+    let n = 0;
+    for (const [a, b] of groups[name]) for (let i = a; i <= b; i++) (c = add(c, flip(v(i)))), n++;
+    return scale(c, 1 / n);
+  };
+  const elev = (p) => {
+    const q = sub(p, eye.c);
+    return Math.atan2(q[1], q[2]);
+  };
+  return { up: elev(mean(`joint-${side}-upperlid`)), lo: elev(mean(`joint-${side}-lowerlid`)) };
+}
+
+/** The margins at an azimuth: the ellipse through the cubes' elevations, closed at the corners. */
+function marginAt(lid, theta) {
+  const c = Math.sqrt(Math.max(0, 1 - (theta / LID_CORNER) ** 2));
+  const mid = (lid.up + lid.lo) / 2;
+  const up = mid + (lid.up - mid) * c;
+  const lo = mid + (lid.lo - mid) * c;
+  return { up, lo, gap: up - lo, fade: c > 0 ? 1 : 0 };
+}
+
+/**
+ * The lids of the eye on the avatar's left moved: the upper lid turned about the eye's
+ * horizontal axis by `upper` of the way to the closing line (negative: opened by that share of
+ * the gap), the lower lid by `lower`; `yaw` turns both lids sideways (radians, +: toward +X).
+ * Turning about the eyeball's centre keeps the lids off the eyeball.
+ */
+function lids(f, p, upper, lower, yaw = 0) {
+  const eye = f.eyeL;
+  const q = sub(p, eye.c);
+  const rho = length(q);
+  if (rho < 0.85 * eye.r || rho > 2.6 * eye.r || q[2] < -0.3 * eye.r) return null;
+  const theta = Math.atan2(q[0], q[2]);
+  const m = marginAt(f.lidL, theta);
+  // Fading out toward the midline: nothing moves on the other half of the face.
+  const radial = (1 - smoothstep(1.5 * eye.r, 2.4 * eye.r, rho)) * smoothstep(0.002 * f.s, 0.008 * f.s, p[0]);
+  const phi = Math.atan2(q[1], q[2]);
+  let turned = q;
+  if (m.gap > 0 && radial > 0) {
+    const close = m.lo + 0.4 * (m.up - m.lo);
+    const mid = (m.up + m.lo) / 2;
+    let a = 0;
+    if (phi >= mid) {
+      const target = upper >= 0 ? upper * (close - m.up) : -upper * m.gap * 0.5;
+      a = target * (1 - smoothstep(0, 0.55, phi - m.up)) * radial * m.fade;
+    } else {
+      const target = lower >= 0 ? lower * (close - m.lo) : lower * m.gap * 0.3;
+      a = target * (1 - smoothstep(0, 0.45, m.lo - phi)) * radial * m.fade;
+    }
+    turned = rotX(q, -a);
+  }
+  if (yaw) {
+    const w = bump((q[0] * q[0] + q[1] * q[1]) / (2.2 * eye.r) ** 2) * radial;
+    turned = rotY(turned, yaw * w);
+  }
+  const d = sub(turned, q);
+  return d[0] || d[1] || d[2] ? d : null;
+}
+
+// The lower face (jaw) weight: below the slit, in front of the jaw's pivot, not the neck.
+function jawWeight(f, p) {
+  const [x, y, z] = p;
+  const s = f.s;
+  const ax = Math.abs(x);
+  const band = 0.0025 * s + 0.6 * Math.max(0, ax - f.mouthHalf * 0.9);
+  const below = smoothstep(-band, band, f.mouth[1] - y);
+  const front = smoothstep(f.pivot[2] + 0.01 * s, f.pivot[2] + 0.06 * s, z);
+  const side = 1 - smoothstep(0.05 * s, 0.075 * s, ax);
+  const chin = smoothstep(f.mouth[1] - 0.1 * s, f.mouth[1] - 0.055 * s, y);
+  return below * front * side * chin;
+}
+function jawTurn(f, p, w, a) {
+  const q = sub(p, f.pivot);
+  return scale(sub(rotX(q, a), q), w);
+}
+
+// The lips: a band around the slit, out to past the corners, in front.
+function lipWeight(f, p) {
+  const s = f.s;
+  const u = Math.abs(p[0]) / (f.mouthHalf * 1.2);
+  const dv = (p[1] - f.mouth[1]) / (0.013 * s);
+  const front = smoothstep(f.mouth[2] - 0.035 * s, f.mouth[2] - 0.015 * s, p[2]);
+  return (1 - smoothstep(0.75, 1, u)) * (1 - smoothstep(0.55, 1, Math.abs(dv))) * front;
+}
+const upperSide = (f, p) => smoothstep(-0.0015 * f.s, 0.0015 * f.s, p[1] - f.mouth[1]);
+// The left half of the mouth fading across the midline.
+const leftHalf = (f, p) => smoothstep(-0.006 * f.s, 0.006 * f.s, p[0]);
+// A bump around a point (x, y) on the face (front of the head only), radius rx, ry.
+function faceBump(f, p, cx, cy, rx, ry, zmin) {
+  if (p[2] < zmin) return 0;
+  const dx = (p[0] - cx) / rx;
+  const dy = (p[1] - cy) / ry;
+  return bump(dx * dx + dy * dy);
+}
+function cornerWeight(f, p, r = 0.017) {
+  const c = [f.mouthHalf, f.mouth[1], f.mouth[2] - 0.012 * f.s];
+  const d = sub(p, c);
+  return p[2] < f.mouth[2] - 0.04 * f.s ? 0 : bump(dot(d, d) / (r * f.s) ** 2);
+}
+
+/**
+ * The shapes of the left side (and the symmetric ones): name -> (f, p) -> delta or null.
+ * Right-side shapes are the left ones mirrored (x -> -x).
+ */
+const LEFT = {
+  eyeBlink: (f, p) => lids(f, p, 1, 1),
+  eyeLookDown: (f, p) => lids(f, p, 0.35, -0.3),
+  eyeLookIn: (f, p) => lids(f, p, 0, 0, -0.08),
+  eyeLookOut: (f, p) => lids(f, p, 0, 0, 0.08),
+  eyeLookUp: (f, p) => lids(f, p, -0.25, -0.15),
+  eyeSquint: (f, p) => lids(f, p, 0.15, 0.45),
+  eyeWide: (f, p) => lids(f, p, -0.6, -0.2),
+  mouthSmile: (f, p) => {
+    const w = cornerWeight(f, p, 0.022);
+    return w ? scale([0.006, 0.007, -0.004], w * f.s) : null;
+  },
+  mouthFrown: (f, p) => {
+    const w = cornerWeight(f, p, 0.02);
+    return w ? scale([0.001, -0.007, 0], w * f.s) : null;
+  },
+  mouthDimple: (f, p) => {
+    const w = cornerWeight(f, p, 0.018);
+    return w ? scale([0.004, 0, -0.004], w * f.s) : null;
+  },
+  mouthStretch: (f, p) => {
+    const w = cornerWeight(f, p, 0.022);
+    return w ? scale([0.007, -0.003, -0.001], w * f.s) : null;
+  },
+  mouthPress: (f, p) => {
+    const w = lipWeight(f, p) * leftHalf(f, p);
+    return w ? scale([0, upperSide(f, p) > 0.5 ? -0.0015 : 0.0015, -0.0015], w * f.s) : null;
+  },
+  mouthLowerDown: (f, p) => {
+    const w = lipWeight(f, p) * (1 - upperSide(f, p)) * leftHalf(f, p);
+    return w ? scale([0, -0.005, 0.0005], w * f.s) : null;
+  },
+  mouthUpperUp: (f, p) => {
+    const w = lipWeight(f, p) * upperSide(f, p) * leftHalf(f, p);
+    return w ? scale([0, 0.005, 0.0005], w * f.s) : null;
+  },
+  browDown: (f, p) => {
+    const e = f.eyeL;
+    const w = faceBump(f, p, e.c[0], e.c[1] + 1.8 * e.r, 1.9 * e.r, 1.1 * e.r, e.c[2]);
+    return w ? scale([-0.0015, -0.005, 0.0005], w * f.s) : null;
+  },
+  browOuterUp: (f, p) => {
+    const e = f.eyeL;
+    const w = faceBump(f, p, e.c[0] + 0.9 * e.r, e.c[1] + 1.9 * e.r, 1.3 * e.r, 1.2 * e.r, e.c[2] - e.r);
+    return w ? scale([0, 0.006, 0], w * f.s) : null;
+  },
+  cheekSquint: (f, p) => {
+    const e = f.eyeL;
+    const w = faceBump(f, p, e.c[0] + 0.2 * e.r, e.c[1] - 1.9 * e.r, 1.6 * e.r, 0.9 * e.r, e.c[2] - 0.5 * e.r);
+    return w ? scale([0, 0.004, 0.001], w * f.s) : null;
+  },
+  noseSneer: (f, p) => {
+    const w = faceBump(f, p, 0.011 * f.s, f.mouth[1] + 0.032 * f.s, 0.012 * f.s, 0.012 * f.s, f.mouth[2] - 0.02 * f.s);
+    return w ? scale([0.0005, 0.003, 0], w * f.s) : null;
+  },
+};
+
+const SYMMETRIC = {
+  jawOpen: (f, p) => {
+    const w = jawWeight(f, p);
+    return w ? jawTurn(f, p, w, 0.2) : null;
+  },
+  jawForward: (f, p) => {
+    const w = jawWeight(f, p);
+    return w ? scale([0, 0, 0.006], w * f.s) : null;
+  },
+  jawLeft: (f, p) => {
+    const w = jawWeight(f, p);
+    return w ? scale([0.008, 0, 0], w * f.s) : null;
+  },
+  jawRight: (f, p) => {
+    const w = jawWeight(f, p);
+    return w ? scale([-0.008, 0, 0], w * f.s) : null;
+  },
+  // With jawOpen: the lips closed again over the open jaw (ARKit's use).
+  mouthClose: (f, p) => {
+    const w = lipWeight(f, p);
+    if (!w) return null;
+    const up = upperSide(f, p);
+    const jaw = jawTurn(f, p, jawWeight(f, p), 0.2);
+    const half = scale(jawTurn(f, [p[0], f.mouth[1] - 0.002 * f.s, p[2]], 1, 0.2), 0.5);
+    return scale(up > 0.5 ? half : sub(half, jaw), w);
+  },
+  mouthFunnel: (f, p) => {
+    const w = lipWeight(f, p);
+    if (!w) return null;
+    const open = upperSide(f, p) > 0.5 ? 0.0035 : -0.0035;
+    return scale([-0.25 * p[0] / f.s, open, 0.006], w * f.s);
+  },
+  mouthPucker: (f, p) => {
+    const w = lipWeight(f, p);
+    return w ? scale([-0.4 * p[0] / f.s, 0, 0.007], w * f.s) : null;
+  },
+  mouthLeft: (f, p) => {
+    const w = lipWeight(f, p);
+    return w ? scale([0.007, 0, 0], w * f.s) : null;
+  },
+  mouthRight: (f, p) => {
+    const w = lipWeight(f, p);
+    return w ? scale([-0.007, 0, 0], w * f.s) : null;
+  },
+  mouthRollLower: (f, p) => {
+    const w = lipWeight(f, p) * (1 - upperSide(f, p));
+    return w ? scale([0, 0.001, -0.004], w * f.s) : null;
+  },
+  mouthRollUpper: (f, p) => {
+    const w = lipWeight(f, p) * upperSide(f, p);
+    return w ? scale([0, -0.001, -0.004], w * f.s) : null;
+  },
+  mouthShrugLower: (f, p) => {
+    const w = lipWeight(f, p) * (1 - upperSide(f, p));
+    return w ? scale([0, 0.003, 0.002], w * f.s) : null;
+  },
+  mouthShrugUpper: (f, p) => {
+    const w = lipWeight(f, p) * upperSide(f, p);
+    return w ? scale([0, 0.0025, 0.001], w * f.s) : null;
+  },
+  browInnerUp: (f, p) => {
+    const e = f.eyeL;
+    const w = faceBump(f, p, 0, e.c[1] + 1.8 * e.r, 1.6 * e.r, 1.2 * e.r, e.c[2] - 0.3 * e.r);
+    return w ? scale([0, 0.006, 0], w * f.s) : null;
+  },
+  cheekPuff: (f, p) => {
+    const ax = Math.abs(p[0]);
+    const w = faceBump(f, [ax, p[1], p[2]], 0.04 * f.s, f.mouth[1] + 0.012 * f.s, 0.022 * f.s, 0.024 * f.s, f.pivot[2] + 0.02 * f.s);
+    return w ? scale([Math.sign(p[0]) * 0.005, 0, 0.004], w * f.s) : null;
+  },
+  // No tongue in the mesh (the base mesh's tongue helper is dropped): the lower lip drops
+  // forward, as it does around a tongue stuck out.
+  tongueOut: (f, p) => {
+    const w = lipWeight(f, p) * (1 - upperSide(f, p));
+    return w ? scale([0, -0.004, 0.004], w * f.s) : null;
+  },
+};
+
+function shapeOf(name) {
+  if (SYMMETRIC[name]) return SYMMETRIC[name];
+  const m = /^(.*)(Left|Right)$/.exec(name);
+  const left = LEFT[m[1]];
+  if (m[2] === "Left") return left;
+  // The right side: the field of the left evaluated on the mirrored point, mirrored back.
+  return (f, p) => {
+    const fm = { ...f, eyeL: { ...f.eyeR, c: mirror(f.eyeR.c) }, lidL: f.lidR };
+    const d = left(fm, mirror(p));
+    return d ? mirror(d) : null;
+  };
+}
+
+/**
+ * The face of one body: `positions` (Float64Array, mesh frame, every base vertex), the base
+ * mesh's `groups`, the `kept` vertices in file order. Returns the morph targets (`name`,
+ * sparse `indices` into the kept vertices, Float32 `deltas`), in ARKit order.
+ */
+export function faceTargets(positions, groups, kept) {
+  const v = (i) => [positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]];
+  const bodyCount = groups.body[0][1] + 1;
+  const f = measure(v, groups, bodyCount);
+  const targets = [];
+  for (const name of ARKIT) {
+    const shape = shapeOf(name);
+    const indices = [];
+    const deltas = [];
+    kept.forEach((vi, k) => {
+      if (vi >= bodyCount) return; // the eyes turn with their bones, never morph
+      const d = shape(f, v(vi));
+      if (!d) return;
+      const d32 = d.map(Math.fround);
+      if (Math.max(Math.abs(d32[0]), Math.abs(d32[1]), Math.abs(d32[2])) < 1e-5) return;
+      indices.push(k);
+      deltas.push(...d32);
+    });
+    targets.push({ name, indices: Uint16Array.from(indices), deltas: Float32Array.from(deltas) });
+  }
+  return { targets, measures: f };
+}
+
+// ---------------------------------------------------------------------------------------------
+// Colours (linear RGB, as glTF's COLOR_0): the render bench's regions (eval/bench/render-page.js)
+
+export const COLOURS = {
+  skin: [0.72, 0.45, 0.33],
+  top: [0.08, 0.2, 0.45],
+  trousers: [0.09, 0.09, 0.1],
+  shoes: [0.25, 0.12, 0.05],
+  hair: [0.05, 0.03, 0.02],
+  mouth: [0.2, 0.04, 0.04],
+  sclera: [0.85, 0.83, 0.8],
+  iris: [0.12, 0.22, 0.35],
+  pupil: [0.01, 0.01, 0.01],
+};
+const REGION = {
+  pelvis: "trousers", thigh_l: "trousers", thigh_r: "trousers", calf_l: "trousers", calf_r: "trousers",
+  foot_l: "shoes", foot_r: "shoes", ball_l: "shoes", ball_r: "shoes",
+  spine_01: "top", spine_02: "top", spine_03: "top", clavicle_l: "top", clavicle_r: "top",
+  upperarm_l: "top", upperarm_r: "top",
+};
+
+/**
+ * COLOR_0 of the kept vertices (RGBA, normalized unsigned bytes): the outfit by each vertex's
+ * dominant bone (a top over the torso and upper arms, trousers, shoes), hair on the skull above
+ * the brows and the back of the head, the mouth's inside, and on the eyes a pupil and iris
+ * around each eye's forward axis, the sclera elsewhere.
+ */
+export function faceColours(positions, groups, kept, weights, skeleton, measures) {
+  const v = (i) => [positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]];
+  const bodyCount = groups.body[0][1] + 1;
+  const f = measures;
+  const head = skeleton.find((b) => b.name === "head");
+  const eyeY = f.eyeL.c[1];
+  const out = new Uint8Array(4 * kept.length);
+  const forward = (eye, target) => normalize(sub(target, eye));
+  const eyeAxis = {
+    l: forward(f.eyeL.c, skeleton.find((b) => b.name === "eye_l").tail),
+    r: forward(f.eyeR.c, skeleton.find((b) => b.name === "eye_r").tail),
+  };
+  // The mouth's inside: skin with skin in front of it (within 3 mm across, 6 mm ahead).
+  const near = [];
+  for (let i = 0; i < bodyCount; i++) {
+    const p = v(i);
+    if (Math.abs(p[0]) < f.mouthHalf * 1.2 && Math.abs(p[1] - f.mouth[1]) < 0.04 * f.s && p[2] > f.pivot[2]) near.push(p);
+  }
+  const occluded = (p) => near.some((o) => Math.abs(o[0] - p[0]) < 0.003 && Math.abs(o[1] - p[1]) < 0.003 && o[2] > p[2] + 0.006);
+  kept.forEach((vi, k) => {
+    const p = v(vi);
+    let region;
+    if (vi >= bodyCount) {
+      const left = p[0] > 0;
+      const e = left ? f.eyeL : f.eyeR;
+      const c = dot(normalize(sub(p, e.c)), left ? eyeAxis.l : eyeAxis.r);
+      region = c > 0.96 ? "pupil" : c > 0.88 ? "iris" : "sclera";
+    } else {
+      const bone = skeleton[weights[vi][0][0]].name;
+      region = REGION[bone] ?? "skin";
+      if (bone === "head" || bone === "neck_01") {
+        const s = f.s;
+        const inMouth =
+          Math.abs(p[0]) < 0.9 * f.mouthHalf &&
+          p[1] - f.mouth[1] < 0.015 * s &&
+          f.mouth[1] - p[1] < 0.025 * s &&
+          p[2] > f.pivot[2] &&
+          occluded(p);
+        // The lips' seam: the base mesh's lips are joined by faces across the slit, which
+        // stretch over the opening when the jaw drops; dark, they show it as open.
+        const slit = Math.abs(p[0]) < 0.95 * f.mouthHalf && Math.abs(p[1] - f.mouth[1]) < 0.0022 * s && p[2] > f.pivot[2];
+        if (inMouth || slit) region = "mouth";
+        else if (bone === "head" && (p[1] > eyeY + 0.045 * s || (p[2] < head.head[2] - 0.026 * s && p[1] > eyeY - 0.06 * s))) region = "hair";
+      }
+    }
+    const c = COLOURS[region];
+    for (let j = 0; j < 3; j++) out[4 * k + j] = Math.round(255 * c[j]);
+    out[4 * k + 3] = 255;
+  });
+  return out;
+}
