@@ -351,13 +351,17 @@ impl ContactSolver {
         }
         let cues = [0, 1].map(|k| targets[k].and_then(|t| t.hand).and_then(|h| h.cue));
         for ((target, report), side) in targets.iter_mut().zip(reports.iter_mut()).zip(Side::BOTH) {
-            let Some(t) = target.as_mut() else { continue };
+            let Some(t) = target.as_mut() else {
+                rate.hold_chest(side.index(), None);
+                continue;
+            };
             let points = &spheres[side.index()][..count[side.index()]];
             let face = report.as_ref().map_or(0.0, |r| r.weight);
             if let (Some(torso), Some(hand), Some(cue)) =
                 (&faces.torso_image, &t.hand, &cues[side.index()])
             {
                 let (w, u, v) = chest::weight(torso, cue, cues[1 - side.index()].as_ref());
+                let w = rate.hold_chest(side.index(), Some(w));
                 let w = o.weight * w * (1.0 - face);
                 if w > 0.0 {
                     if let Some(shift) =
@@ -369,6 +373,8 @@ impl ContactSolver {
                 if let Some(r) = report.as_mut() {
                     r.chest_weight = w;
                 }
+            } else {
+                rate.hold_chest(side.index(), None);
             }
             if face > 0.0 {
                 let mut only = [false; skin::MAP_BONES.len()];
@@ -459,7 +465,20 @@ impl ContactSolver {
         let (sl, sr) = (at(l.arm()[1]), at(r.arm()[1]));
         let mid = 0.5 * (sl + sr);
         let hips = 0.5 * (at(hips_l) + at(hips_r));
-        let place = mid + (sl - sr) * u + (hips - mid) * v;
+        // The chest seen below the head: a head large enough to hang below the shoulders
+        // (a chibi's) covers the upper chest, and a hand carried there met the chin. The
+        // torso's top is then the chin's height on the shoulders-to-hips line.
+        let mut top = mid;
+        if let Some(chin) = surface.chin {
+            let h = HumanBone::Head.index();
+            let chin = world.position[h] + world.rotation[h] * chin;
+            let down = hips - mid;
+            let t = (chin - mid).dot(down) / down.length_squared();
+            if t > 0.0 && t < 1.0 {
+                top = mid + down * t;
+            }
+        }
+        let place = top + (sl - sr) * u + (hips - top) * v;
         let palm = wrist + hand.avatar[0]?;
         let c = HumanBone::Chest.index();
         let forward = (world.rotation[c] * Vec3::Z).normalize_or(Vec3::Z);
@@ -729,13 +748,27 @@ pub struct ContactRate {
     shift: [Vec3; 2],
     /// Largest change of a correction this frame (m; infinite: no limit).
     step: f32,
+    /// Each side's chest cue as held last frame (see [`CHEST_RELEASE`]).
+    chest: [f32; 2],
+    /// Seconds since the last frame (0: the first of a session).
+    dt: f32,
 }
+
+/// Seconds a hand on the chest takes to let go when the chest cue drops (from full weight
+/// to none): the cue, read from one image, flickers for a frame or two while a hand moves on
+/// the chest (`hungry`'s curved hand sliding down: on the long-armed avatar the hand jumped
+/// 10 cm off and back between frames, and the turn limit, slowing those jumps, took it through
+/// the chest). A cue that comes back within it finds the hand still there; one that stays
+/// away lets go over 6 frames at 30 fps.
+pub const CHEST_RELEASE: f32 = 0.2;
 
 impl Default for ContactRate {
     fn default() -> Self {
         ContactRate {
             shift: [Vec3::ZERO; 2],
             step: f32::INFINITY,
+            chest: [0.0; 2],
+            dt: 0.0,
         }
     }
 }
@@ -749,11 +782,27 @@ impl ContactRate {
             Some(_) => self.step = f32::INFINITY,
             None => *self = ContactRate::default(),
         }
+        if let Some(dt) = dt {
+            self.dt = crate::math::clamp(dt, 0.0, 1.0);
+        }
     }
 
     /// Forgets last frame's corrections (a frame without any target).
     pub fn forget(&mut self) {
         self.shift = [Vec3::ZERO; 2];
+        self.chest = [0.0; 2];
+    }
+
+    /// Side `k`'s chest cue `w` this frame, held against last frame's (falling by at most
+    /// `dt / CHEST_RELEASE`); `None`: no cue (no hand or no torso), which lets go at once.
+    fn hold_chest(&mut self, k: usize, w: Option<f32>) -> f32 {
+        let held = match w {
+            Some(w) => w.max(self.chest[k] - self.dt / CHEST_RELEASE),
+            None => 0.0,
+        };
+        let held = if held.is_finite() { held.max(0.0) } else { 0.0 };
+        self.chest[k] = held;
+        held
     }
 
     /// Limits each side's correction (`targets` against `start`) to `step` from last frame's.
