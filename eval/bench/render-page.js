@@ -6,7 +6,7 @@
 import * as THREE from "three";
 import { GLTFLoader } from "three/addons/loaders/GLTFLoader.js";
 import { VRMLoaderPlugin } from "@pixiv/three-vrm";
-import { clipById, clipPose } from "/bench/motions.mjs";
+import { LEG_REST_BONES, anyClipById, clipPose, legClipPose } from "/bench/motions.mjs";
 
 export const WIDTH = 640;
 export const HEIGHT = 480;
@@ -48,6 +48,9 @@ scene.add(fill);
 const camera = new THREE.PerspectiveCamera(40, WIDTH / HEIGHT, 0.05, 20);
 
 let vrm = null;
+/** World positions of the hips, legs, feet and toes at rest (leg clips), and the hips' rest position. */
+let legRest = null;
+let hipsRestPosition = null;
 
 /** Vertex colours from each vertex's dominant skin bone (its nearest humanoid ancestor). */
 function dress(v) {
@@ -105,11 +108,27 @@ async function load(url) {
   vrm.scene.updateMatrixWorld(true);
   dress(vrm);
   scene.add(vrm.scene);
+  hipsRestPosition = vrm.humanoid.getNormalizedBoneNode("hips").position.clone();
+  vrm.scene.updateMatrixWorld(true);
+  legRest = {};
+  for (const b of LEG_REST_BONES) {
+    const node = vrm.humanoid.getNormalizedBoneNode(b);
+    if (node) legRest[b] = node.getWorldPosition(new THREE.Vector3()).toArray();
+  }
   return { name: url.split("/").pop() };
 }
 
 function pose(clip, i) {
-  const q = clipPose(clip, i);
+  let q;
+  if (clip.kind === "legs") {
+    const t = legClipPose(clip, i, legRest);
+    q = t.bones;
+    const hips = vrm.humanoid.getNormalizedBoneNode("hips");
+    hips.position.set(hipsRestPosition.x + t.hipsOffset[0], hipsRestPosition.y + t.hipsOffset[1], hipsRestPosition.z + t.hipsOffset[2]);
+  } else {
+    q = clipPose(clip, i);
+    vrm.humanoid.getNormalizedBoneNode("hips").position.copy(hipsRestPosition);
+  }
   for (const name of Object.keys(vrm.humanoid.humanBones)) {
     const node = vrm.humanoid.getNormalizedBoneNode(name);
     if (!node) continue;
@@ -132,6 +151,17 @@ function placeCamera(clip) {
     camera.lookAt(c.x, c.y, c.z);
     return { distance: 0.5, target: c.toArray() };
   }
+  if (clip.kind === "legs") {
+    // The whole body: the camera level with the middle of the standing avatar, far enough that
+    // its height (the bounding box at rest) fills 1 / 1.2 of the view's height.
+    pose(clip, 0);
+    const top = new THREE.Box3().setFromObject(vrm.scene).max.y;
+    const y = 0.5 * top;
+    const d = (0.6 * top) / Math.tan((camera.fov * Math.PI) / 360);
+    camera.position.set(0, y, d);
+    camera.lookAt(0, y, 0);
+    return { distance: d, target: [0, y, 0] };
+  }
   const headY = world("head").y;
   const y = world("upperChest").y + 0.1 * headY;
   const d = 1.35 * headY;
@@ -145,8 +175,12 @@ window.__bench = {
   load,
   /** Selects a clip: poses frame 0 and places the camera; returns the camera. */
   clip(id) {
-    current = clipById(id);
+    current = anyClipById(id);
     return { ...placeCamera(current), fov: camera.fov, position: camera.position.toArray() };
+  },
+  /** World positions at rest of the hips, legs, feet and toes (legClipPose's `rest`). */
+  legRest() {
+    return legRest;
   },
   /** Renders frame `i` of the current clip: base64 RGBA, WIDTH x HEIGHT, top row first. */
   frame(i) {
