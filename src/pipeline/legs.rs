@@ -12,7 +12,7 @@ use crate::filter::PointFilters;
 use crate::humanoid::bones::Side;
 use crate::humanoid::skeleton::Skeleton;
 use crate::input::mediapipe::PoseObservation;
-use crate::legs::{leg_bones, leg_landmarks, Leg, LegTarget, Soles};
+use crate::legs::{leg_bones, leg_landmarks, Leg, LegRest, LegTarget, Soles};
 
 use super::frame::{Context, Frame};
 use super::output::SolveOutput;
@@ -141,6 +141,13 @@ impl Legs {
         }
         let soles = self.soles.filter(|_| o.move_hips);
         offset.y = match (moved, soles) {
+            // Seated legs that are not seen leave the hips where they rest (on the chair).
+            _ if o.rest == LegRest::Seated && targets.iter().all(Option::is_none) => {
+                let k = cx.dt.map_or(1.0, |dt| {
+                    (dt * 1000.0 / timing.fade_out_ms.max(1.0)).min(1.0)
+                });
+                offset.y - k * offset.y
+            }
             (true, Some(soles)) => soles.floor - self.lowest(&soles, out, [0, 1]),
             _ => 0.0,
         };
@@ -242,10 +249,11 @@ impl Legs {
         if let Some(t) = &target {
             solved[..3].copy_from_slice(&leg.solve(out.world.rotation[parent], t).local);
         }
+        let rest = leg.rest_pose(cx.options.legs.rest);
         let mut moved = false;
         for (k, bone) in bones.iter().enumerate() {
             let mut anchor = self.anchor[s][k];
-            let q = blends[s].show(solved[k], &mut anchor, self.shown[s][k]);
+            let q = blends[s].show_with_rest(solved[k], rest[k], &mut anchor, self.shown[s][k]);
             if cx.skeleton.has(*bone) {
                 out.local[bone.index()] = q;
                 out.solved[bone.index()] = target.is_some();

@@ -345,3 +345,55 @@ fn a_thigh_the_image_shows_foreshortened_comes_toward_the_camera() {
         }
     }
 }
+
+/// `legs.rest: "seated"`: legs that are not seen (a head-and-shoulders clip) sit, thighs
+/// forward and shins down at right angles, the hips where they rest; legs that come into view
+/// are solved as before and the hips grounded; the default stands.
+#[test]
+fn seated_rest_bends_hips_and_knees_of_unseen_legs() {
+    let base = recordings::asl(recordings::ASL[0]);
+    let seated = RigOptions::from_json(r#"{ "legs": { "rest": "seated" } }"#).expect("options");
+    for avatar in avatars() {
+        for (options, sits) in [(seated, true), (RigOptions::default(), false)] {
+            let mut rig = Rig::new(avatar.clone(), options).expect("rig");
+            let mut out = SolveOutput::default();
+            for frame in base.iter().take(30) {
+                rig.solve(frame, &mut out).expect("solve");
+            }
+            out.turn_to_internal_frame(rig.skeleton().version());
+            for side in Side::BOTH {
+                let [u, l, f, _] = leg_bones(side).map(|b| out.world.position[b.index()]);
+                let (thigh, shin) = ((l - u).normalize(), (f - l).normalize());
+                if sits {
+                    assert!(thigh.z > 0.95, "{side:?}: thigh {thigh}");
+                    assert!(shin.y < -0.95, "{side:?}: shin {shin}");
+                    let a = knee_angle(&out, side);
+                    assert!((a - 90.0).abs() < 10.0, "{side:?}: knee {a}");
+                } else {
+                    // At rest (some shared avatars rest with their legs out of line).
+                    for b in leg_bones(side) {
+                        assert_eq!(
+                            out.local[b.index()],
+                            Quat::IDENTITY,
+                            "{side:?} standing {b:?}"
+                        );
+                    }
+                }
+            }
+            assert_eq!(out.hips_offset, Vec3::ZERO, "the hips stay where they rest");
+            // Then the legs in view: solved as tracked (standing), the hips grounded.
+            for frame in base.iter().take(60).skip(30) {
+                let f = with_legs(frame, Vec3::new(0.0, 0.42, 0.0), Vec3::new(0.0, 0.82, 0.0));
+                rig.solve(&f, &mut out).expect("solve");
+            }
+            out.turn_to_internal_frame(rig.skeleton().version());
+            for side in Side::BOTH {
+                assert!(
+                    knee_angle(&out, side) < 15.0,
+                    "{side:?} in view: {}",
+                    knee_angle(&out, side)
+                );
+            }
+        }
+    }
+}
