@@ -182,18 +182,48 @@ window.__bench = {
   legRest() {
     return legRest;
   },
+  /**
+   * Renders the avatar posed by `bones` ({ name: [x, y, z, w] } normalized rotations; others
+   * identity) with the normalized hips at `hips` ([x, y, z]), from the current clip's camera
+   * ("front") or as far from the avatar's right ("side"): base64 RGBA as frame() (the leg
+   * screenshots of a solved pose, eval/bench/legs-shots.mjs).
+   */
+  show(bones, hips, view = "front") {
+    for (const name of Object.keys(vrm.humanoid.humanBones)) {
+      const node = vrm.humanoid.getNormalizedBoneNode(name);
+      const r = bones[name];
+      if (node) r ? node.quaternion.set(r[0], r[1], r[2], r[3]) : node.quaternion.identity();
+    }
+    vrm.humanoid.getNormalizedBoneNode("hips").position.set(hips[0], hips[1], hips[2]);
+    vrm.update(0);
+    vrm.scene.updateMatrixWorld(true);
+    const saved = camera.position.clone();
+    if (view === "side") {
+      camera.position.set(-saved.z, saved.y, 0);
+      camera.lookAt(0, saved.y, 0);
+    }
+    renderer.render(scene, camera);
+    camera.position.copy(saved);
+    camera.lookAt(0, saved.y, 0);
+    return pixels();
+  },
   /** Renders frame `i` of the current clip: base64 RGBA, WIDTH x HEIGHT, top row first. */
   frame(i) {
     pose(current, i);
     renderer.render(scene, camera);
-    const px = new Uint8Array(WIDTH * HEIGHT * 4);
-    gl.readPixels(0, 0, WIDTH, HEIGHT, gl.RGBA, gl.UNSIGNED_BYTE, px);
-    const flipped = new Uint8Array(px.length);
-    const row = WIDTH * 4;
-    for (let y = 0; y < HEIGHT; y++) flipped.set(px.subarray((HEIGHT - 1 - y) * row, (HEIGHT - y) * row), y * row);
-    let s = "";
-    for (let k = 0; k < flipped.length; k += 0x8000) s += String.fromCharCode.apply(null, flipped.subarray(k, k + 0x8000));
-    return btoa(s);
+    return pixels();
   },
 };
+
+/** The canvas' RGBA pixels, base64, top row first. */
+function pixels() {
+  const px = new Uint8Array(WIDTH * HEIGHT * 4);
+  gl.readPixels(0, 0, WIDTH, HEIGHT, gl.RGBA, gl.UNSIGNED_BYTE, px);
+  const flipped = new Uint8Array(px.length);
+  const row = WIDTH * 4;
+  for (let y = 0; y < HEIGHT; y++) flipped.set(px.subarray((HEIGHT - 1 - y) * row, (HEIGHT - y) * row), y * row);
+  let s = "";
+  for (let k = 0; k < flipped.length; k += 0x8000) s += String.fromCharCode.apply(null, flipped.subarray(k, k + 0x8000));
+  return btoa(s);
+}
 window.__benchReady = true;
