@@ -38,6 +38,9 @@
 //   2 cm above the floor;
 // * knee backwards: frames with a knee bent more than 10 degrees whose knee lies behind its
 //   hip-ankle line (against the hips' forward).
+//
+// LEGS_DEBUG=FRAME prints each method's hip joints, knees and ankles (from the hip, mm) on that
+// frame of every clip to stderr (diagnostics).
 
 import { existsSync, readFileSync, writeFileSync } from "node:fs";
 import { createRequire } from "node:module";
