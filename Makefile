@@ -27,7 +27,7 @@ NODE_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NODE_DIRS))
 .PHONY: help setup setup-system setup-rust setup-node pkg pkg-dev \
         test test-rust test-wasm test-node test-www test-docs docs demo eval bench record-check avatars clean \
         bench-truth bench-render bench-track bench-tasks bench-score fuzz soak \
-        eval-face eval-face-bench
+        eval-face eval-face-bench eval-bench-legs bench-score-legs
 
 help:
 	@echo "make demo       build the package (pkg/) and serve the demo on 127.0.0.1"
@@ -47,6 +47,8 @@ help:
 	@echo "make bench-track  MediaPipe (npm, headless Chromium) over the clips: eval/bench/clips/*-{hands,holistic}.json"
 	@echo "make bench-tasks  the same with the MediaPipe Tasks API and ../shared/data/models: eval/bench/clips/*-tasks.json"
 	@echo "make bench-score  solve the recordings with handrig and Kalidokit, compare with the truth (prints the tables)"
+	@echo "make eval-bench-legs  the bench's leg clips (issue 51): render, track (Tasks API), score handrig and Kalidokit's legs (15 min)"
+	@echo "make bench-score-legs score the leg clips' recordings only (eval/bench/score-legs.mjs)"
 	@echo "make avatars    regenerate the human avatars in tests/fixtures/avatars/ from ../shared/data/makehuman (tools/avatars/)"
 	@echo "make record-check  record the shared videos with tools/record-video.mjs and compare with the shared recordings"
 	@echo "make fuzz       issue 49's fuzzers at full length: 100,000 cases per surface (glTF readers; MotionRecorder, worker, CLI)"
@@ -180,8 +182,21 @@ bench-tasks: setup-node
 
 bench-score: pkg eval/node_modules/.package-lock.json tests/node/node_modules/.package-lock.json
 	node eval/bench/score.mjs
-	@if compgen -G "eval/bench/clips/*-tasks.json" >/dev/null; then node eval/bench/score.mjs --tracker tasks; \
+	@if [ -f eval/bench/clips/woman-reach-tasks.json ]; then node eval/bench/score.mjs --tracker tasks; \
 	else echo "bench-score: no Tasks API recordings (not committed): make bench-tasks for the second table"; fi
+
+# The bench's leg clips (issue 51): whole-body motion (walking in place, a step sideways, squats,
+# standing on one leg) rendered on the woman (tune), the man, the child and the primitive figure
+# (report), tracked by the Tasks API PoseLandmarker, scored for handrig and Kalidokit's legs
+# (docs/measurements/2026-12-06-legs-bench.md). The clips and their recordings are committed:
+# bench-score-legs alone re-scores them.
+eval-bench-legs: pkg eval/node_modules/.package-lock.json tests/node/node_modules/.package-lock.json
+	node eval/bench/render.mjs --legs
+	node eval/bench/tasks.mjs --legs
+	node eval/bench/score-legs.mjs
+
+bench-score-legs: pkg eval/node_modules/.package-lock.json tests/node/node_modules/.package-lock.json
+	node eval/bench/score-legs.mjs
 
 # The face on real faces (issue 50): FaceLandmarker recorded on the shared ASL clips (not
 # committed, ~1 MB a clip; recorded once), handrig and Kalidokit scored against the labels of

@@ -39,7 +39,24 @@ pub struct LegOptions {
     pub move_hips: bool,
     /// A foot on the floor stays where it was planted while it bears weight. Default `true`.
     pub plant: bool,
+    /// Where legs that are not seen rest. Default [`LegRest::Standing`].
+    pub rest: LegRest,
 }
+
+/// Where legs that are not seen rest (JS: `options.legs.rest`): a head-and-shoulders webcam
+/// sees none.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum LegRest {
+    /// `"standing"`: the avatar's rest pose (legs straight, feet on the floor).
+    #[default]
+    Standing,
+    /// `"seated"`: hips and knees bent [`SEATED_BEND`] (the thighs forward, the shins down,
+    /// the feet flat), the hips where they rest: sitting on a chair at the hips' height.
+    Seated,
+}
+
+/// The seated rest's hip flexion and knee flexion (radians): a chair's right angles.
+pub const SEATED_BEND: f32 = PI / 2.0;
 
 /// The avatar's soles: the floor's height and, per foot, the heel and ball points under the
 /// foot joint and the toes joint, as offsets from the foot joint at rest (world axes).
@@ -93,7 +110,7 @@ impl Soles {
 const DEG: f32 = PI / 180.0;
 /// Hip: flexion, extension, abduction, adduction, rotation either way (AAOS).
 const HIP_FLEXION: f32 = 120.0 * DEG;
-const HIP_EXTENSION: f32 = 30.0 * DEG;
+pub(crate) const HIP_EXTENSION: f32 = 30.0 * DEG;
 const HIP_ABDUCTION: f32 = 45.0 * DEG;
 const HIP_ADDUCTION: f32 = 30.0 * DEG;
 const HIP_ROTATION: f32 = 45.0 * DEG;
@@ -221,6 +238,23 @@ impl Leg {
     #[must_use]
     pub fn lengths(&self) -> (f32, f32) {
         (self.chain.upper.length(), self.chain.lower.length())
+    }
+
+    /// The rest pose's local rotations `[upperLeg, lowerLeg, foot, toes]` for `rest` (in the
+    /// hips' frame): identity standing; seated, the thigh turned from its rest direction to
+    /// the hips' forward and the shin to straight down (hip and knee at [`SEATED_BEND`] on a
+    /// straight rest leg), the foot as the shin turns it (flat).
+    #[must_use]
+    pub fn rest_pose(&self, rest: LegRest) -> [Quat; 4] {
+        match rest {
+            LegRest::Standing => [Quat::IDENTITY; 4],
+            LegRest::Seated => {
+                let (sin, cos) = SEATED_BEND.sin_cos();
+                let thigh = Quat::from_rotation_arc(self.thigh, Vec3::new(0.0, -cos, sin));
+                let shin = Quat::from_rotation_arc(self.shin, thigh.conjugate() * Vec3::NEG_Y);
+                [thigh, shin, Quat::IDENTITY, Quat::IDENTITY]
+            }
+        }
     }
 
     /// Forgets the knee's swivel memory.

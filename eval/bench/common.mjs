@@ -9,9 +9,13 @@ export const REPO = resolve(HERE, "..", "..");
 export const CLIP_DIR = join(HERE, "clips");
 /** The rendered avatars: tests/fixtures/avatars/NAME-vrm1.vrm. */
 export const AVATARS = ["woman", "child"];
-export const avatarFile = (a) => join(REPO, "tests", "fixtures", "avatars", `${a}-vrm1.vrm`);
+/** The leg clips' avatars (issue 51): tuned on the woman, reported on the others. */
+export const LEG_AVATARS = ["woman", "man", "child", "primitive"];
+/** An avatar's file under tests/fixtures/avatars: NAME-vrm1.vrm, the stylized figures in figures/. */
+export const avatarPath = (a) => (["primitive", "voxel"].includes(a) ? `figures/${a}-vrm1.vrm` : `${a}-vrm1.vrm`);
+export const avatarFile = (a) => join(REPO, "tests", "fixtures", "avatars", avatarPath(a));
 export const videoFile = (avatar, clip) => join(CLIP_DIR, `${avatar}-${clip.id}.mp4`);
 /** MediaPipe mode per clip: holistic (pose + hands) for body clips, hands (world landmarks) for hand clips. */
-export const modeOf = (clip) => (clip.kind === "hand" ? "hands" : "holistic");
+export const modeOf = (clip) => (clip.kind === "hand" ? "hands" : clip.kind === "legs" ? "tasks" : "holistic");
 export const recordingFile = (avatar, clip, tracker = "legacy") =>
   join(CLIP_DIR, `${avatar}-${clip.id}-${tracker === "tasks" ? "tasks" : modeOf(clip)}.json`);

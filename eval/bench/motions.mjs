@@ -253,3 +253,255 @@ export const clipById = (id) => {
   if (!c) throw new Error(`no clip "${id}" (have ${CLIPS.map((x) => x.id).join(", ")})`);
   return c;
 };
+
+// ---- leg clips (issue 51) -----------------------------------------------------------------------
+// Whole-body motion: the hips' room position and both feet, keyframed in units of the avatar's
+// leg length L (the rest hip joint's height above the floor), turned into rotations of the hips'
+// children by two-bone IK on the avatar's own rest skeleton (so a planted foot stays exactly
+// where it was put down, on every avatar). Per key and side: `lift` (the ankle's rise above its
+// rest height), `x` (outwards: + is the avatar's left for the left foot and its right for the
+// right foot), `z` (forwards), `pitch` (the foot's toes-down turn, degrees); for the hips `x`
+// (+ = the avatar's left), `z` (forwards) and `drop` (down). The hips stay upright (identity);
+// the standing legs' hips come down only as far as the feet need to reach (at most 99.9% of the
+// leg's length), the knee bends forwards (its pole), the feet stay level but for `pitch`; the
+// arms hang at the arm clips' rest posture. The floor is y = 0 (VRM avatars stand on it).
+//
+//   legClipPose(clip, i, rest) -> { bones: { leftUpperLeg: [x, y, z, w], ... }, hipsOffset: [x, y, z] }
+//
+// `rest`: world positions at rest of the normalized hips, upper legs, lower legs, feet and toes
+// ({ hips: [x, y, z], leftUpperLeg: ..., ... }, restOfLegs below reads them from three-vrm).
+
+/** Leg ranges (degrees) the truth keeps inside (the leg page's limits, docs/how-it-works/legs.md). */
+export const LEG_RANGES = { kneeFlex: [0, 150], hipFlex: [-30, 120], ankleDorsi: [-50, 40] };
+
+const FOOT = { lift: 0, x: 0, z: 0, pitch: 0 };
+const HIPS = { x: 0, z: 0, drop: 0 };
+const LEG_CLIPS_DEF = [
+  {
+    // Walking in place: each foot up 0.22 L and 0.06 L forward with its toes down, the weight
+    // shifted over the standing foot; a step a side every 15 frames (a stride of 1 s).
+    id: "walk", kind: "legs", frames: 120,
+    keys: (() => {
+      const k = [[0, {}], [8, {}]];
+      for (let c = 0; c < 3; c++) {
+        const t = 8 + 30 * c;
+        k.push([t + 7, { hips: { x: -0.04 }, left: { lift: 0.22, z: 0.06, pitch: 15 } }]);
+        k.push([t + 15, { hips: { x: 0 } }]);
+        k.push([t + 22, { hips: { x: 0.04 }, right: { lift: 0.22, z: 0.06, pitch: 15 } }]);
+        k.push([t + 30, {}]);
+      }
+      k.push([119, {}]);
+      return k;
+    })(),
+  },
+  {
+    // A step sideways to the avatar's left and back: the left foot out 0.3 L, the hips over
+    // it, the right foot after; then the right foot back, the hips, the left foot.
+    id: "sidestep", kind: "legs", frames: 120,
+    keys: [
+      [0, {}], [10, {}],
+      [20, { hips: { x: 0.04 }, left: { lift: 0.1, x: 0.15 } }],
+      [30, { hips: { x: 0.08 }, left: { x: 0.3 } }],
+      [45, { hips: { x: 0.26 }, left: { x: 0.3 } }],
+      [53, { hips: { x: 0.3 }, left: { x: 0.3 }, right: { lift: 0.1, x: -0.15 } }],
+      [62, { hips: { x: 0.3 }, left: { x: 0.3 }, right: { x: -0.3 } }],
+      [72, { hips: { x: 0.3 }, left: { x: 0.3 }, right: { x: -0.3 } }],
+      [80, { hips: { x: 0.26 }, left: { x: 0.3 }, right: { lift: 0.1, x: -0.15 } }],
+      [90, { hips: { x: 0.2 }, left: { x: 0.3 } }],
+      [102, { hips: { x: 0.04 }, left: { x: 0.3 } }],
+      [108, { hips: { x: 0 }, left: { lift: 0.1, x: 0.15 } }],
+      [116, {}], [119, {}],
+    ],
+  },
+  {
+    // Two squats, feet planted: down 0.35 L sitting back 0.12 L in 1 s, held, up in 1 s;
+    // then a shallower one (0.25 L).
+    id: "squat", kind: "legs", frames: 120,
+    keys: [
+      [0, {}], [8, {}],
+      [38, { hips: { drop: 0.35, z: -0.12 } }],
+      [46, { hips: { drop: 0.35, z: -0.12 } }],
+      [74, {}],
+      [96, { hips: { drop: 0.25, z: -0.08 } }],
+      [119, {}],
+    ],
+  },
+  {
+    // Standing on the right leg: the weight over it, the left foot up 0.35 L and 0.1 L forward
+    // (toes down 20 degrees), held 1.3 s, and down again.
+    id: "oneleg", kind: "legs", frames: 120,
+    keys: [
+      [0, {}], [8, {}],
+      [22, { hips: { x: -0.07 } }],
+      [40, { hips: { x: -0.08 }, left: { lift: 0.35, z: 0.1, pitch: 20 } }],
+      [80, { hips: { x: -0.08 }, left: { lift: 0.35, z: 0.1, pitch: 20 } }],
+      [96, { hips: { x: -0.07 } }],
+      [110, {}], [119, {}],
+    ],
+  },
+];
+
+/** The keyframed channels of a leg clip at frame `i` (smoothstep between keys, as the arm clips). */
+export function legChannels(clip, i) {
+  const flat = (pose) => {
+    const out = {};
+    for (const [part, def] of [["hips", HIPS], ["left", FOOT], ["right", FOOT]]) {
+      for (const [k, v] of Object.entries(def)) out[`${part}.${k}`] = pose[part]?.[k] ?? v;
+    }
+    return out;
+  };
+  const keys = clip.keys;
+  let k = 0;
+  while (k < keys.length - 2 && i > keys[k + 1][0]) k++;
+  const [t0, pa] = keys[k];
+  const [t1, pb] = keys[Math.min(k + 1, keys.length - 1)];
+  const a = flat(pa);
+  const b = flat(pb);
+  const u = t1 > t0 ? Math.min(1, Math.max(0, (i - t0) / (t1 - t0))) : 0;
+  const e = u * u * (3 - 2 * u);
+  const out = {};
+  for (const key of Object.keys(a)) out[key] = a[key] + (b[key] - a[key]) * e;
+  return out;
+}
+
+const v3 = {
+  sub: (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]],
+  add: (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]],
+  scale: (a, s) => [a[0] * s, a[1] * s, a[2] * s],
+  dot: (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2],
+  cross: (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]],
+  len: (a) => Math.hypot(a[0], a[1], a[2]),
+};
+v3.norm = (a) => v3.scale(a, 1 / v3.len(a));
+/** Rotation matrix (columns d, x', d x x') of a direction and an axis made perpendicular to it. */
+function frameOf(d, x) {
+  const dn = v3.norm(d);
+  const xn = v3.norm(v3.sub(x, v3.scale(dn, v3.dot(x, dn))));
+  return [dn, xn, v3.cross(dn, xn)];
+}
+/** Quaternion of the rotation taking frame A onto frame B (both column triples). */
+function quatBetweenFrames(A, B) {
+  // R = B * A^T
+  const m = [[0, 0, 0], [0, 0, 0], [0, 0, 0]];
+  for (let r = 0; r < 3; r++) for (let c = 0; c < 3; c++) for (let k = 0; k < 3; k++) m[r][c] += B[k][r] * A[k][c];
+  return quatFromMatrix(m);
+}
+function quatFromMatrix(m) {
+  const tr = m[0][0] + m[1][1] + m[2][2];
+  let q;
+  if (tr > 0) {
+    const s = Math.sqrt(tr + 1) * 2;
+    q = [(m[2][1] - m[1][2]) / s, (m[0][2] - m[2][0]) / s, (m[1][0] - m[0][1]) / s, s / 4];
+  } else if (m[0][0] > m[1][1] && m[0][0] > m[2][2]) {
+    const s = Math.sqrt(1 + m[0][0] - m[1][1] - m[2][2]) * 2;
+    q = [s / 4, (m[0][1] + m[1][0]) / s, (m[0][2] + m[2][0]) / s, (m[2][1] - m[1][2]) / s];
+  } else if (m[1][1] > m[2][2]) {
+    const s = Math.sqrt(1 + m[1][1] - m[0][0] - m[2][2]) * 2;
+    q = [(m[0][1] + m[1][0]) / s, s / 4, (m[1][2] + m[2][1]) / s, (m[0][2] - m[2][0]) / s];
+  } else {
+    const s = Math.sqrt(1 + m[2][2] - m[0][0] - m[1][1]) * 2;
+    q = [(m[0][2] + m[2][0]) / s, (m[1][2] + m[2][1]) / s, s / 4, (m[1][0] - m[0][1]) / s];
+  }
+  const l = Math.hypot(...q);
+  return q.map((x) => x / l);
+}
+const qConj = (q) => [-q[0], -q[1], -q[2], q[3]];
+
+/** The arms' rest posture of the arm clips (REST_ARM), as bone rotations. */
+function restArms() {
+  const out = {};
+  for (const side of ["right", "left"]) {
+    const m = side === "right" ? (q) => q : mirror;
+    out[`${side}UpperArm`] = m(upperArm(REST_ARM.upperArm));
+    out[`${side}LowerArm`] = m(lowerArm(REST_ARM.lowerArm));
+    out[`${side}Hand`] = m(hand({}));
+    Object.assign(out, handShapeBones(side, (() => {
+      const s = SHAPES[REST_ARM.shape];
+      return { index: s.index, middle: s.middle, ring: s.ring, little: s.little, thumb: s.thumb };
+    })()));
+  }
+  return out;
+}
+
+/**
+ * The truth of a leg clip at frame `i` on an avatar whose rest skeleton is `rest`: normalized
+ * bone rotations (legs, feet, toes at identity, the arms' rest posture) and the hips' offset from
+ * their rest position (meters). Also the knees' and ankles' room positions it solved for.
+ */
+export function legClipPose(clip, i, rest) {
+  const c = legChannels(clip, i);
+  const L = rest.leftUpperLeg[1];
+  const sides = ["left", "right"];
+  const cap = (s) => s[0].toUpperCase() + s.slice(1);
+  const leg = {};
+  for (const s of sides) {
+    const hip = rest[`${s}UpperLeg`];
+    const knee = rest[`${s}LowerLeg`];
+    const ankle = rest[`${s}Foot`];
+    const out = s === "left" ? 1 : -1; // +X is the avatar's left
+    leg[s] = {
+      hipRel: v3.sub(hip, rest.hips),
+      a: v3.len(v3.sub(knee, hip)),
+      b: v3.len(v3.sub(ankle, knee)),
+      d0: v3.norm(v3.sub(knee, hip)),
+      e0: v3.norm(v3.sub(ankle, knee)),
+      ankle: [ankle[0] + out * c[`${s}.x`] * L, ankle[1] + c[`${s}.lift`] * L, ankle[2] + c[`${s}.z`] * L],
+      pitch: c[`${s}.pitch`],
+    };
+  }
+  // The hips: keyed x, z and drop; no lower than needed for both feet to reach.
+  const off = [c["hips.x"] * L, -c["hips.drop"] * L, c["hips.z"] * L];
+  for (const s of sides) {
+    const l = leg[s];
+    const reach = 0.999 * (l.a + l.b);
+    const h = v3.add(v3.add(rest.hips, off), l.hipRel);
+    const dx = l.ankle[0] - h[0];
+    const dz = l.ankle[2] - h[2];
+    const maxY = l.ankle[1] + Math.sqrt(Math.max(0, reach * reach - dx * dx - dz * dz));
+    if (h[1] > maxY) off[1] -= h[1] - maxY;
+  }
+  const bones = restArms();
+  const points = {};
+  const X = [1, 0, 0];
+  const FWD = [0, 0, 1];
+  for (const s of sides) {
+    const l = leg[s];
+    const H = v3.add(v3.add(rest.hips, off), l.hipRel);
+    const toA = v3.sub(l.ankle, H);
+    const d = Math.min(Math.max(v3.len(toA), Math.abs(l.a - l.b) + 1e-6), (l.a + l.b) * 0.999999);
+    const u = v3.norm(toA);
+    const v = v3.norm(v3.sub(FWD, v3.scale(u, v3.dot(FWD, u)))); // the knee's pole: forwards
+    const cosA = (l.a * l.a + d * d - l.b * l.b) / (2 * l.a * d);
+    const sinA = Math.sqrt(Math.max(0, 1 - cosA * cosA));
+    const K = v3.add(H, v3.add(v3.scale(u, l.a * cosA), v3.scale(v, l.a * sinA)));
+    const A = v3.add(H, v3.scale(u, d));
+    const d1 = v3.norm(v3.sub(K, H));
+    const e1 = v3.norm(v3.sub(A, K));
+    // The knee's hinge axis: the bend plane's normal (+X for a knee bent forwards).
+    let n = v3.cross(d1, e1);
+    n = v3.len(n) > 1e-6 ? v3.norm(n) : v3.norm(v3.cross(FWD, d1));
+    const thigh = quatBetweenFrames(frameOf(l.d0, X), frameOf(d1, n));
+    const shinWorld = quatBetweenFrames(frameOf(l.e0, X), frameOf(e1, n));
+    const footWorld = qAxis("x", l.pitch);
+    bones[`${s}UpperLeg`] = thigh;
+    bones[`${s}LowerLeg`] = qMul(qConj(thigh), shinWorld);
+    bones[`${s}Foot`] = qMul(qConj(shinWorld), footWorld);
+    bones[`${s}Toes`] = [0, 0, 0, 1];
+    points[`${s}Knee`] = K;
+    points[`${s}Ankle`] = A;
+    points[`${s}Hip`] = H;
+  }
+  bones.hips = [0, 0, 0, 1];
+  return { bones, hipsOffset: off, points };
+}
+
+/** World positions at rest of the bones legClipPose needs, from a three-vrm VRM (normalized bones at identity). */
+export const LEG_REST_BONES = ["hips", "leftUpperLeg", "rightUpperLeg", "leftLowerLeg", "rightLowerLeg", "leftFoot", "rightFoot", "leftToes", "rightToes"];
+
+export const LEG_CLIPS = LEG_CLIPS_DEF;
+/** Any clip, arm or leg. */
+export const anyClipById = (id) => {
+  const c = [...CLIPS_DEF, ...LEG_CLIPS_DEF].find((x) => x.id === id);
+  if (!c) throw new Error(`no clip "${id}" (have ${[...CLIPS_DEF, ...LEG_CLIPS_DEF].map((x) => x.id).join(", ")})`);
+  return c;
+};

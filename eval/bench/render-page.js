@@ -6,7 +6,7 @@
 import * as THREE from "three";
 import { GLTFLoader } from "three/addons/loaders/GLTFLoader.js";
 import { VRMLoaderPlugin } from "@pixiv/three-vrm";
-import { clipById, clipPose } from "/bench/motions.mjs";
+import { LEG_REST_BONES, anyClipById, clipPose, legClipPose } from "/bench/motions.mjs";
 import { FACE_ARMS, faceClipById, faceFrame } from "/bench/face-motions.mjs";
 
 export const WIDTH = 640;
@@ -50,6 +50,9 @@ const camera = new THREE.PerspectiveCamera(40, WIDTH / HEIGHT, 0.05, 20);
 
 let vrm = null;
 let dressedOwn = false;
+/** World positions of the hips, legs, feet and toes at rest (leg clips), and the hips' rest position. */
+let legRest = null;
+let hipsRestPosition = null;
 
 /**
  * Vertex colours from each vertex's dominant skin bone (its nearest humanoid ancestor). The
@@ -132,12 +135,31 @@ async function load(url) {
   dress(vrm, false);
   dressedOwn = false;
   scene.add(vrm.scene);
+  hipsRestPosition = vrm.humanoid.getNormalizedBoneNode("hips").position.clone();
+  vrm.scene.updateMatrixWorld(true);
+  legRest = {};
+  for (const b of LEG_REST_BONES) {
+    const node = vrm.humanoid.getNormalizedBoneNode(b);
+    if (node) legRest[b] = node.getWorldPosition(new THREE.Vector3()).toArray();
+  }
   return { name: url.split("/").pop() };
 }
 
 function pose(clip, i) {
-  if (clip.kind === "face") return poseFace(clip, i);
-  const q = clipPose(clip, i);
+  if (clip.kind === "face") {
+    vrm.humanoid.getNormalizedBoneNode("hips").position.copy(hipsRestPosition);
+    return poseFace(clip, i);
+  }
+  let q;
+  if (clip.kind === "legs") {
+    const t = legClipPose(clip, i, legRest);
+    q = t.bones;
+    const hips = vrm.humanoid.getNormalizedBoneNode("hips");
+    hips.position.set(hipsRestPosition.x + t.hipsOffset[0], hipsRestPosition.y + t.hipsOffset[1], hipsRestPosition.z + t.hipsOffset[2]);
+  } else {
+    q = clipPose(clip, i);
+    vrm.humanoid.getNormalizedBoneNode("hips").position.copy(hipsRestPosition);
+  }
   for (const name of Object.keys(vrm.humanoid.humanBones)) {
     const node = vrm.humanoid.getNormalizedBoneNode(name);
     if (!node) continue;
@@ -190,6 +212,17 @@ function placeCamera(clip) {
     camera.lookAt(c.x, c.y, c.z);
     return { distance: 0.5, target: c.toArray() };
   }
+  if (clip.kind === "legs") {
+    // The whole body: the camera level with the middle of the standing avatar, far enough that
+    // its height (the bounding box at rest) fills 1 / 1.2 of the view's height.
+    pose(clip, 0);
+    const top = new THREE.Box3().setFromObject(vrm.scene).max.y;
+    const y = 0.5 * top;
+    const d = (0.6 * top) / Math.tan((camera.fov * Math.PI) / 360);
+    camera.position.set(0, y, d);
+    camera.lookAt(0, y, 0);
+    return { distance: d, target: [0, y, 0] };
+  }
   const headY = world("head").y;
   const y = world("upperChest").y + 0.1 * headY;
   const d = 1.35 * headY;
@@ -203,7 +236,7 @@ window.__bench = {
   load,
   /** Selects a clip: poses frame 0 and places the camera; returns the camera. */
   clip(id) {
-    current = id.startsWith("face-") ? { ...faceClipById(id), kind: "face" } : clipById(id);
+    current = id.startsWith("face-") ? { ...faceClipById(id), kind: "face" } : anyClipById(id);
     const own = current.kind === "face";
     if (own !== dressedOwn) {
       dress(vrm, own);
@@ -211,18 +244,52 @@ window.__bench = {
     }
     return { ...placeCamera(current), fov: camera.fov, position: camera.position.toArray() };
   },
+  /** World positions at rest of the hips, legs, feet and toes (legClipPose's `rest`). */
+  legRest() {
+    return legRest;
+  },
+  /**
+   * Renders the avatar posed by `bones` ({ name: [x, y, z, w] } normalized rotations; others
+   * identity) with the normalized hips at `hips` ([x, y, z]), from the current clip's camera
+   * ("front") or as far from the avatar's right ("side"): base64 RGBA as frame() (the leg
+   * screenshots of a solved pose, eval/bench/legs-shots.mjs).
+   */
+  show(bones, hips, view = "front") {
+    for (const name of Object.keys(vrm.humanoid.humanBones)) {
+      const node = vrm.humanoid.getNormalizedBoneNode(name);
+      const r = bones[name];
+      if (node) r ? node.quaternion.set(r[0], r[1], r[2], r[3]) : node.quaternion.identity();
+    }
+    vrm.humanoid.getNormalizedBoneNode("hips").position.set(hips[0], hips[1], hips[2]);
+    vrm.update(0);
+    vrm.scene.updateMatrixWorld(true);
+    const saved = camera.position.clone();
+    if (view === "side") {
+      camera.position.set(-saved.z, saved.y, 0);
+      camera.lookAt(0, saved.y, 0);
+    }
+    renderer.render(scene, camera);
+    camera.position.copy(saved);
+    camera.lookAt(0, saved.y, 0);
+    return pixels();
+  },
   /** Renders frame `i` of the current clip: base64 RGBA, WIDTH x HEIGHT, top row first. */
   frame(i) {
     pose(current, i);
     renderer.render(scene, camera);
-    const px = new Uint8Array(WIDTH * HEIGHT * 4);
-    gl.readPixels(0, 0, WIDTH, HEIGHT, gl.RGBA, gl.UNSIGNED_BYTE, px);
-    const flipped = new Uint8Array(px.length);
-    const row = WIDTH * 4;
-    for (let y = 0; y < HEIGHT; y++) flipped.set(px.subarray((HEIGHT - 1 - y) * row, (HEIGHT - y) * row), y * row);
-    let s = "";
-    for (let k = 0; k < flipped.length; k += 0x8000) s += String.fromCharCode.apply(null, flipped.subarray(k, k + 0x8000));
-    return btoa(s);
+    return pixels();
   },
 };
+
+/** The canvas' RGBA pixels, base64, top row first. */
+function pixels() {
+  const px = new Uint8Array(WIDTH * HEIGHT * 4);
+  gl.readPixels(0, 0, WIDTH, HEIGHT, gl.RGBA, gl.UNSIGNED_BYTE, px);
+  const flipped = new Uint8Array(px.length);
+  const row = WIDTH * 4;
+  for (let y = 0; y < HEIGHT; y++) flipped.set(px.subarray((HEIGHT - 1 - y) * row, (HEIGHT - y) * row), y * row);
+  let s = "";
+  for (let k = 0; k < flipped.length; k += 0x8000) s += String.fromCharCode.apply(null, flipped.subarray(k, k + 0x8000));
+  return btoa(s);
+}
 window.__benchReady = true;

@@ -7,6 +7,9 @@
 // compares with a fresh rendering.
 //
 //   node eval/bench/render.mjs [--avatars woman,child] [--clips reach,fist,...] [--png DIR] [--no-video]
+//   node eval/bench/render.mjs --legs [--avatars woman,man,child,primitive] [--clips walk,squat,...]
+//
+// --legs renders the leg clips (LEG_CLIPS: whole body, hips moving) on LEG_AVATARS instead.
 //
 // --png DIR also writes every frame as DIR/AVATAR-CLIP-NNN.png (through ffmpeg), --no-video
 // renders and hashes only (frames.json is updated either way).
@@ -19,9 +22,9 @@ import { tmpdir } from "node:os";
 import { extname, join, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
 import { parseArgs } from "node:util";
-import { CLIPS, FPS } from "./motions.mjs";
+import { CLIPS, FPS, LEG_CLIPS } from "./motions.mjs";
 
-import { AVATARS, CLIP_DIR, HERE, REPO, videoFile } from "./common.mjs";
+import { AVATARS, CLIP_DIR, HERE, LEG_AVATARS, REPO, avatarPath, videoFile } from "./common.mjs";
 
 export const WIDTH = 640;
 export const HEIGHT = 480;
@@ -82,7 +85,11 @@ export async function openRenderer() {
     /** The Chromium build (its user agent): the frame hashes are those of one build on one machine. */
     browser: /Chrome\/[0-9.]+/.exec(userAgent)?.[0] ?? userAgent,
     async load(avatar) {
-      return page.evaluate((u) => window.__bench.load(u), `/avatars/${avatar}-vrm1.vrm`);
+      return page.evaluate((u) => window.__bench.load(u), `/avatars/${avatarPath(avatar)}`);
+    },
+    /** The loaded avatar's rest skeleton for legClipPose. */
+    async legRest() {
+      return page.evaluate(() => window.__bench.legRest());
     },
     async clip(id) {
       return page.evaluate((c) => window.__bench.clip(c), id);
@@ -112,10 +119,11 @@ function ffmpeg(args) {
 
 async function main() {
   const { values: o } = parseArgs({
-    options: { avatars: { type: "string" }, clips: { type: "string" }, png: { type: "string" }, "no-video": { type: "boolean" } },
+    options: { avatars: { type: "string" }, clips: { type: "string" }, png: { type: "string" }, "no-video": { type: "boolean" }, legs: { type: "boolean" } },
   });
-  const avatars = (o.avatars ?? AVATARS.join(",")).split(",");
-  const clips = o.clips ? o.clips.split(",").map((id) => CLIPS.find((c) => c.id === id) ?? (() => { throw new Error(`no clip ${id}`); })()) : CLIPS;
+  const avatars = (o.avatars ?? (o.legs ? LEG_AVATARS : AVATARS).join(",")).split(",");
+  const all = o.legs ? LEG_CLIPS : CLIPS;
+  const clips = o.clips ? o.clips.split(",").map((id) => all.find((c) => c.id === id) ?? (() => { throw new Error(`no clip ${id}`); })()) : all;
   mkdirSync(CLIP_DIR, { recursive: true });
   const hashFile = join(CLIP_DIR, "frames.json");
   const hashes = existsSync(hashFile) ? JSON.parse(readFileSync(hashFile, "utf8")) : { clips: {} };

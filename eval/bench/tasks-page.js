@@ -18,20 +18,23 @@ const ms = [];
 
 window.__tasks = {
   /** A new clip: fresh landmarkers (no tracking state carried over from the last clip). */
-  async start({ source, w, h, fps, version }) {
+  async start({ source, w, h, fps, version, hands = true }) {
     hand?.close();
     pose?.close();
+    hand = null;
     const base = (file) => ({ modelAssetPath: `/models/${file}`, delegate: "CPU" });
-    hand = await HandLandmarker.createFromOptions(fileset, {
-      baseOptions: base("hand_landmarker.task"), runningMode: "VIDEO", numHands: 2,
-      minHandDetectionConfidence: 0.5, minHandPresenceConfidence: 0.5, minTrackingConfidence: 0.5,
-    });
+    if (hands) {
+      hand = await HandLandmarker.createFromOptions(fileset, {
+        baseOptions: base("hand_landmarker.task"), runningMode: "VIDEO", numHands: 2,
+        minHandDetectionConfidence: 0.5, minHandPresenceConfidence: 0.5, minTrackingConfidence: 0.5,
+      });
+    }
     pose = await PoseLandmarker.createFromOptions(fileset, { baseOptions: base("pose_landmarker_full.task"), runningMode: "VIDEO", numPoses: 1 });
     width = w;
     height = h;
     ms.length = 0;
     rec = new RecordingBuilder({
-      source, width: w, height: h, fps, mediapipe: `@mediapipe/tasks-vision ${version} (hand_landmarker.task, pose_landmarker_full.task)`,
+      source, width: w, height: h, fps, mediapipe: `@mediapipe/tasks-vision ${version} (${hands ? "hand_landmarker.task, " : ""}pose_landmarker_full.task)`,
       mode: "tasks", inference: "cpu", settings: SETTINGS,
     });
   },
@@ -42,7 +45,7 @@ window.__tasks = {
     for (let k = 0; k < bin.length; k++) px[k] = bin.charCodeAt(k);
     const image = new ImageData(px, width, height);
     const t0 = performance.now();
-    const hr = hand.detectForVideo(image, timeMs);
+    const hr = hand ? hand.detectForVideo(image, timeMs) : { handedness: [], landmarks: [] };
     const pr = pose.detectForVideo(image, timeMs);
     ms.push(performance.now() - t0);
     const f = rec.add(i, timeMs, handsFromTasks(hr), poseFrom(pr.landmarks?.[0], pr.worldLandmarks?.[0]));

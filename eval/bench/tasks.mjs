@@ -6,20 +6,25 @@
 // shared recording format (hands with world landmarks and handedness, pose with world landmarks).
 //
 //   node eval/bench/tasks.mjs [--avatars woman,child] [--clips reach,fist,...]
+//   node eval/bench/tasks.mjs --legs [--avatars woman,man,child,primitive] [--clips walk,...]
+//
+// --legs tracks the leg clips (whole body) with the PoseLandmarker alone (no hands: they are a
+// few pixels wide at that framing, and the leg scores do not use them).
 
 import { execFileSync } from "node:child_process";
 import { basename, join } from "node:path";
 import { readFileSync, writeFileSync } from "node:fs";
 import { parseArgs } from "node:util";
-import { AVATARS, REPO, recordingFile, videoFile } from "./common.mjs";
-import { CLIPS, FPS } from "./motions.mjs";
+import { AVATARS, LEG_AVATARS, REPO, recordingFile, videoFile } from "./common.mjs";
+import { CLIPS, FPS, LEG_CLIPS } from "./motions.mjs";
 import { HEIGHT, WIDTH, openBenchPage } from "./render.mjs";
 
 const tasksFile = (avatar, clip) => recordingFile(avatar, clip, "tasks");
 
-const { values: o } = parseArgs({ options: { avatars: { type: "string" }, clips: { type: "string" } } });
-const avatars = (o.avatars ?? AVATARS.join(",")).split(",");
-const clips = o.clips ? CLIPS.filter((c) => o.clips.split(",").includes(c.id)) : CLIPS;
+const { values: o } = parseArgs({ options: { avatars: { type: "string" }, clips: { type: "string" }, legs: { type: "boolean" } } });
+const avatars = (o.avatars ?? (o.legs ? LEG_AVATARS : AVATARS).join(",")).split(",");
+const all = o.legs ? LEG_CLIPS : CLIPS;
+const clips = o.clips ? all.filter((c) => o.clips.split(",").includes(c.id)) : all;
 const version = JSON.parse(readFileSync(join(REPO, "www", "node_modules", "@mediapipe", "tasks-vision", "package.json"), "utf8")).version;
 const t0 = Date.now();
 const { page, errors, close } = await openBenchPage("tasks-page.html");
@@ -31,7 +36,7 @@ try {
       const size = WIDTH * HEIGHT * 4;
       const n = raw.length / size;
       if (n !== clip.frames) throw new Error(`${video}: ${n} frames decoded, the clip has ${clip.frames}`);
-      await page.evaluate((a) => window.__tasks.start(a), { source: basename(video), w: WIDTH, h: HEIGHT, fps: FPS, version });
+      await page.evaluate((a) => window.__tasks.start(a), { source: basename(video), w: WIDTH, h: HEIGHT, fps: FPS, version, hands: clip.kind !== "legs" });
       let hands = 0;
       let poses = 0;
       for (let i = 0; i < n; i++) {

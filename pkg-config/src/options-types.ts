@@ -178,6 +178,8 @@ export interface HandRigOptions {
         moveHips?: boolean | undefined;
         /** A foot on the floor that bears weight stays where it was planted (no sliding) until it lifts or moves off. (boolean, default `true`.) */
         plant?: boolean | undefined;
+        /** Where legs that are not seen rest: "standing" (the avatar's rest pose) or "seated" (hips and knees bent 90 degrees, feet flat, the hips in place: for a webcam that sees a seated user from the waist up). (one of `"standing"`, `"seated"`, default `"standing"`.) */
+        rest?: "standing" | "seated" | undefined;
       }
     | undefined;
   /** Dotted paths as `optionDescriptions()` spells them are accepted too: `{ "alignment.weight": 0.5 }`. */

@@ -31,7 +31,7 @@ use crate::humanoid::bones::Finger;
 use crate::ik::{ArmIdle, ArmOptions, ArmSolver};
 pub use crate::input::hand_wrist::HandsOnlyOptions;
 use crate::input::mediapipe::CameraMapping;
-pub use crate::legs::LegOptions;
+pub use crate::legs::{LegOptions, LegRest};
 use crate::solve::least_squares::Settings;
 use crate::torso::TorsoSource;
 
@@ -130,6 +130,7 @@ option_enum! {
     HandStrategy { Analytic = "analytic", Retarget = "retarget" }
     ArmSolver { TwoBone = "twoBone", Fabrik = "fabrik", Ccd = "ccd" }
     ArmIdle { Down = "down", TPose = "tpose" }
+    LegRest { Standing = "standing", Seated = "seated" }
     AlignPoint { Dip = "dip", Tip = "tip" }
     Finger { Thumb = "thumb", Index = "index", Middle = "middle", Ring = "ring", Little = "little" }
     HandednessPolicy { Reassign = "reassign", Drop = "drop", Trust = "trust" }
@@ -232,6 +233,7 @@ impl RigOptions {
             min_visibility: 0.0,
             move_hips: false,
             plant: false,
+            rest: LegRest::Standing,
         },
     };
 

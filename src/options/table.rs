@@ -7,6 +7,7 @@ use crate::contact::{
 };
 use crate::hand::HandStrategy;
 use crate::ik::{ArmIdle, ArmSolver};
+use crate::legs::LegRest;
 use crate::torso::TorsoSource;
 
 use super::{HandednessPolicy, OptionDescription, OptionEnum, OptionKind, RigOptions};
@@ -342,6 +343,8 @@ pub static OPTIONS: &[OptionSpec] = &[
         "The hips move with the user while the legs are tracked: up and down so the lower foot stands on the avatar's floor, sideways and toward the camera from the pose's image (hipsOffset); false keeps them at rest."),
     flag!("legs.plant", legs.plant, true,
         "A foot on the floor that bears weight stays where it was planted (no sliding) until it lifts or moves off."),
+    choice!("legs.rest", legs.rest: LegRest, "standing",
+        "Where legs that are not seen rest: \"standing\" (the avatar's rest pose) or \"seated\" (hips and knees bent 90 degrees, feet flat, the hips in place: for a webcam that sees a seated user from the waist up)."),
 ];
 
 impl Value {

@@ -12,7 +12,7 @@ use crate::filter::PointFilters;
 use crate::humanoid::bones::Side;
 use crate::humanoid::skeleton::Skeleton;
 use crate::input::mediapipe::PoseObservation;
-use crate::legs::{leg_bones, leg_landmarks, Leg, LegTarget, Soles};
+use crate::legs::{leg_bones, leg_landmarks, Leg, LegRest, LegTarget, Soles};
 
 use super::frame::{Context, Frame};
 use super::output::SolveOutput;
@@ -45,6 +45,9 @@ pub(super) struct Legs {
     /// Each planted foot's ankle, world (with the offset); the tracked ankle last frame.
     lock: [Option<Vec3>; 2],
     last_ankle: [Option<Vec3>; 2],
+    /// Each leg's thigh and shin directions read from the image (not filtered with the world
+    /// landmarks by the observe stage).
+    segments: [PointFilters<2>; 2],
 }
 
 impl Legs {
@@ -60,6 +63,7 @@ impl Legs {
             root_filter: PointFilters::default(),
             lock: [None; 2],
             last_ankle: [None; 2],
+            segments: [PointFilters::default(); 2],
         }
     }
 
@@ -75,6 +79,7 @@ impl Legs {
         self.root_filter.reset();
         self.lock = [None; 2];
         self.last_ankle = [None; 2];
+        self.segments = [PointFilters::default(); 2];
     }
 
     /// Each leg's bones into `out.local` (solved, held, easing or at rest), the legs' world
@@ -87,10 +92,21 @@ impl Legs {
         let timing = cx.options.dropout.effective();
         let pose = f.pose.as_ref();
         let mut targets = [None; 2];
+        let hips = cx
+            .skeleton
+            .parent(leg_bones(Side::Left)[0])
+            .map_or(Quat::IDENTITY, |p| out.world.rotation[p.index()]);
         for side in Side::BOTH {
             if let Some(leg) = &self.legs[side.index()] {
-                targets[side.index()] =
-                    pose.and_then(|p| target(cx, f, p, side, leg.lengths(), out));
+                targets[side.index()] = pose.and_then(|p| {
+                    let view = View {
+                        turn: pelvis_turn(cx, p, hips),
+                        hips,
+                        meters: meters_per_height(cx, p),
+                    };
+                    let filter = &mut self.segments[side.index()];
+                    target(cx, &view, p, side, leg.lengths(), out, filter)
+                });
             }
         }
         let blends = Side::BOTH.map(|side| {
@@ -125,6 +141,13 @@ impl Legs {
         }
         let soles = self.soles.filter(|_| o.move_hips);
         offset.y = match (moved, soles) {
+            // Seated legs that are not seen leave the hips where they rest (on the chair).
+            _ if o.rest == LegRest::Seated && targets.iter().all(Option::is_none) => {
+                let k = cx.dt.map_or(1.0, |dt| {
+                    (dt * 1000.0 / timing.fade_out_ms.max(1.0)).min(1.0)
+                });
+                offset.y - k * offset.y
+            }
             (true, Some(soles)) => soles.floor - self.lowest(&soles, out, [0, 1]),
             _ => 0.0,
         };
@@ -226,10 +249,11 @@ impl Legs {
         if let Some(t) = &target {
             solved[..3].copy_from_slice(&leg.solve(out.world.rotation[parent], t).local);
         }
+        let rest = leg.rest_pose(cx.options.legs.rest);
         let mut moved = false;
         for (k, bone) in bones.iter().enumerate() {
             let mut anchor = self.anchor[s][k];
-            let q = blends[s].show(solved[k], &mut anchor, self.shown[s][k]);
+            let q = blends[s].show_with_rest(solved[k], rest[k], &mut anchor, self.shown[s][k]);
             if cx.skeleton.has(*bone) {
                 out.local[bone.index()] = q;
                 out.solved[bone.index()] = target.is_some();
@@ -263,18 +287,8 @@ impl Legs {
         let mid = |a: usize, b: usize, p: &[Vec3; 33]| 0.5 * (p[a] + p[b]);
         let w = &pose.world;
         let hip = mid(pl::LEFT_HIP, pl::RIGHT_HIP, &image);
-        // Meters per image height at the user's depth: the torso's world length over its
-        // image length (x in widths, y in heights).
-        let torso = |p: &[Vec3; 33], aspect: f32| {
-            let d =
-                mid(pl::LEFT_SHOULDER, pl::RIGHT_SHOULDER, p) - mid(pl::LEFT_HIP, pl::RIGHT_HIP, p);
-            (d.x * aspect).hypot(d.y)
-        };
         let aspect = cx.input.image_aspect;
-        let meters = w[pl::LEFT_SHOULDER]
-            .lerp(w[pl::RIGHT_SHOULDER], 0.5)
-            .distance(w[pl::LEFT_HIP].lerp(w[pl::RIGHT_HIP], 0.5))
-            / torso(&image, aspect);
+        let meters = meters_per_height(cx, pose).unwrap_or(f32::NAN);
         let fov = cx.options.hands_only.fov;
         // tan(fov / 2) by sin and cos: libm's tanf is 1 KiB of .wasm the rig has no other use for.
         let distance = meters * (0.5 * fov).cos() / (2.0 * (0.5 * fov).sin());
@@ -300,16 +314,120 @@ impl Legs {
     }
 }
 
+/// The turn from the user's pelvis to the avatar's hips (world rotation `hips`), about the
+/// vertical only: the hip line's yaw. The upper torso's turn, which places the arms, also takes
+/// out the lean MediaPipe's depth gives the shoulders over the hips of a user standing
+/// upright (its world landmarks put a rendered avatar's shoulders behind its hips); the legs
+/// hang from the pelvis, and turned by that lean they leaned forward (the ground-truth bench's
+/// leg clips, docs/measurements/2026-12-06-legs-bench.md).
+fn pelvis_turn(cx: &Context, pose: &PoseObservation, hips: Quat) -> Quat {
+    let [l, ..] = leg_landmarks(cx.camera.pose_side_for(Side::Left));
+    let [r, ..] = leg_landmarks(cx.camera.pose_side_for(Side::Right));
+    let d = cx.camera.to_avatar(pose.world[l] - pose.world[r]);
+    let yaw = |v: Vec3| (-v.z).atan2(v.x);
+    let user = if d.x.hypot(d.z) >= crate::torso::MIN_HIP_WIDTH {
+        yaw(d)
+    } else {
+        0.0
+    };
+    Quat::from_rotation_y(yaw(hips * Vec3::X) - user)
+}
+
+/// Meters per image height at the user's depth: the torso's world length (shoulder midpoint
+/// to hip midpoint) over its image length (x in widths, y in heights); `None` without image
+/// landmarks or a measurable torso.
+fn meters_per_height(cx: &Context, pose: &PoseObservation) -> Option<f32> {
+    use crate::input::mediapipe::pose_landmark as pl;
+    let image = cx.input.pose_image?;
+    let mid = |a: usize, b: usize, p: &[Vec3; 33]| 0.5 * (p[a] + p[b]);
+    let chord = |p: &[Vec3; 33]| {
+        mid(pl::LEFT_SHOULDER, pl::RIGHT_SHOULDER, p) - mid(pl::LEFT_HIP, pl::RIGHT_HIP, p)
+    };
+    let d = chord(&image);
+    let meters = chord(&pose.world).length() / (d.x * cx.input.image_aspect).hypot(d.y);
+    (meters.is_finite() && meters > 0.0).then_some(meters)
+}
+
+/// How the user's leg segments are read on a frame: the pelvis' turn, the avatar's hips (world
+/// rotation) and the image's scale (meters per image height), when the image is given.
+struct View {
+    turn: Quat,
+    hips: Quat,
+    meters: Option<f32>,
+}
+
+impl View {
+    /// The user's segment from landmark `a` to `b` in the avatar's world axes, its world
+    /// length. With the image: across and up as the image shows it (MediaPipe's world
+    /// landmarks put a squatting user's thighs straight down, and a raised knee's thigh at
+    /// full length below the hip, where the image shows them foreshortened), and the depth the
+    /// length leaves ([`depth`], [`SURE_DEPTH`]).
+    fn segment(
+        &self,
+        cx: &Context,
+        pose: &PoseObservation,
+        a: usize,
+        b: usize,
+        valid: impl Fn(Vec3) -> bool,
+    ) -> Vec3 {
+        let world = pose.world[b] - pose.world[a];
+        let to_world = |v: Vec3| self.turn * cx.camera.to_avatar(v);
+        let (Some(image), Some(m)) = (cx.input.pose_image, self.meters) else {
+            return to_world(world);
+        };
+        let d = image[b] - image[a];
+        let across = Vec3::new(d.x * cx.input.image_aspect * m, d.y * m, 0.0);
+        let length = world.length();
+        let z = depth(length, across.length());
+        // MediaPipe's z (away from the camera positive), bounded by the depth the image
+        // leaves; toward the image's depth as the segment is seen shortened beyond what the
+        // landmarks' noise makes (a quarter of its length deep: 3% shorter) and fully at half
+        // its length (30 degrees out of the image plane), the way that is `valid` (when both
+        // are, MediaPipe's).
+        let mp = world.z.clamp(-z, z);
+        let sure =
+            ((z / length.max(1e-6) - SURE_DEPTH.0) / (SURE_DEPTH.1 - SURE_DEPTH.0)).clamp(0.0, 1.0);
+        if sure <= 0.0 {
+            return to_world(across + Vec3::Z * mp);
+        }
+        let away = valid(to_world(across + Vec3::Z * z));
+        let toward = valid(to_world(across - Vec3::Z * z));
+        let sign = match (away, toward) {
+            (true, false) => 1.0,
+            (false, true) => -1.0,
+            _ => {
+                if world.z >= 0.0 {
+                    1.0
+                } else {
+                    -1.0
+                }
+            }
+        };
+        to_world(across + Vec3::Z * (mp + sure * (sign * z - mp)))
+    }
+}
+
+/// A leg segment's depth from the image over its length: below the first, noise (its depth is
+/// MediaPipe's, bounded by the image's); from the second, sure (the image's, the way the
+/// joint's range allows); blended between.
+const SURE_DEPTH: (f32, f32) = (0.25, 0.5);
+
+/// The depth (m) a segment of `length` has when `across` of it is seen in the image.
+fn depth(length: f32, across: f32) -> f32 {
+    (length * length - across * across).max(0.0).sqrt()
+}
+
 /// Where the tracked leg of the avatar's `side` puts it (the user's thigh and shin directions,
-/// turned with the torso, with the avatar's thigh and shin `lengths`), or `None` when the hip,
+/// read as `view` says, with the avatar's thigh and shin `lengths`), or `None` when the hip,
 /// knee or ankle is not seen.
 fn target(
     cx: &Context,
-    f: &Frame,
+    view: &View,
     pose: &PoseObservation,
     side: Side,
     lengths: (f32, f32),
     out: &SolveOutput,
+    filter: &mut PointFilters<2>,
 ) -> Option<LegTarget> {
     let [hip, knee, ankle, heel, toe] = leg_landmarks(cx.camera.pose_side_for(side));
     let min = cx.options.legs.min_visibility;
@@ -328,13 +446,28 @@ fn target(
     }
     let at_hip = out.world.position[leg_bones(side)[0].index()];
     let w = &pose.world;
-    let turn = f.turn.unwrap_or(Quat::IDENTITY);
-    let vector = |v| turn * cx.camera.to_avatar(v);
+    let vector = |v| view.turn * cx.camera.to_avatar(v);
     // Each of the user's segments along its direction with the avatar's length: the knee's
-    // angle and the leg's direction are the user's.
+    // angle and the leg's direction are the user's. The thigh within the hip's extension,
+    // the knee bent forwards (in front of the hip-ankle line).
+    let hips = view.hips;
+    let thigh_dir = view.segment(cx, pose, hip, knee, |v| {
+        let v = hips.conjugate() * v;
+        v.z.atan2(-v.y) >= -crate::legs::HIP_EXTENSION
+    });
+    let forward = hips * Vec3::Z;
+    let shin_dir = view.segment(cx, pose, knee, ankle, |s| {
+        let u = thigh_dir + s;
+        let off = thigh_dir - u * (thigh_dir.dot(u) / u.length_squared().max(1e-9));
+        off.dot(forward) >= -1e-3
+    });
+    let mut dirs = [thigh_dir, shin_dir];
+    if cx.options.filter.enabled && view.meters.is_some() && cx.input.pose_image.is_some() {
+        filter.apply(&mut dirs, cx.now_ms, cx.dt, &cx.options.filter.one_euro());
+    }
     let (thigh, shin) = lengths;
-    let knee_at = at_hip + thigh * vector(w[knee] - w[hip]).try_normalize()?;
-    let ankle_at = knee_at + shin * vector(w[ankle] - w[knee]).try_normalize()?;
+    let knee_at = at_hip + thigh * dirs[0].try_normalize()?;
+    let ankle_at = knee_at + shin * dirs[1].try_normalize()?;
     let t = LegTarget {
         hip: at_hip,
         knee: knee_at,

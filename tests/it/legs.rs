@@ -258,7 +258,14 @@ fn a_planted_foot_stays_put_while_the_other_steps() {
         pose.world[ankle] = a;
         pose.world[heel] = a + Vec3::new(0.0, 0.05, 0.05);
         pose.world[toe] = a + Vec3::new(0.0, 0.06, -0.15);
+        let world = pose.world;
+        let aspect = f.image_aspect;
         let image = f.pose_image.as_mut().expect("image");
+        // The image as with_legs makes it (the raised leg seen raised).
+        for i in [knee, ankle, heel, toe] {
+            let p = world[i];
+            image[i] = Vec3::new(0.5 + 0.5 * p.x / aspect, 0.5 + 0.5 * p.y, 0.5 * p.z);
+        }
         for p in image.iter_mut() {
             p.x += 0.03 * t.sin();
         }
@@ -279,4 +286,114 @@ fn a_planted_foot_stays_put_while_the_other_steps() {
         }
     }
     assert!(slide < 0.002, "the planted foot slid {slide} m");
+}
+
+/// MediaPipe's world landmarks put a squatting user's thighs straight down where the image
+/// shows them foreshortened (the ground-truth bench's squat): the image's shortening gives the
+/// thigh its depth, toward the camera as the hip's extension range requires; a leg the image
+/// shows at full length stays as the world landmarks have it.
+#[test]
+fn a_thigh_the_image_shows_foreshortened_comes_toward_the_camera() {
+    let base = recordings::asl(recordings::ASL[0]);
+    let options = RigOptions::from_json(r#"{ "legs": { "plant": false, "moveHips": false } }"#)
+        .expect("options");
+    for avatar in avatars() {
+        let mut rig = Rig::new(avatar.clone(), options).expect("rig");
+        let mut out = SolveOutput::default();
+        let mut forward = [0.0f32; 2];
+        for (i, frame) in base.iter().enumerate().take(20) {
+            // Standing straight in the world landmarks on every frame; from frame 10 the image
+            // shows each knee half the thigh's length below its hip (the shin straight down).
+            let mut f = with_legs(frame, Vec3::new(0.0, 0.42, 0.0), Vec3::new(0.0, 0.82, 0.0));
+            if i >= 10 {
+                let aspect = f.image_aspect;
+                let world = f.pose.as_ref().expect("pose").world;
+                let image = f.pose_image.as_mut().expect("image");
+                for user in Side::BOTH {
+                    let [hip, knee, ankle, heel, toe] = leg_landmarks(user);
+                    let h = world[hip];
+                    let at =
+                        |p: Vec3| Vec3::new(0.5 + 0.5 * p.x / aspect, 0.5 + 0.5 * p.y, 0.5 * p.z);
+                    image[knee] = at(h + Vec3::new(0.0, 0.21, 0.0));
+                    image[ankle] = at(h + Vec3::new(0.0, 0.61, 0.0));
+                    image[heel] = at(h + Vec3::new(0.0, 0.66, 0.0));
+                    image[toe] = at(h + Vec3::new(0.0, 0.67, 0.0));
+                }
+            }
+            rig.solve(&f, &mut out).expect("solve");
+            out.turn_to_internal_frame(rig.skeleton().version());
+            for side in Side::BOTH {
+                let [u, l, ..] = leg_bones(side).map(|b| out.world.position[b.index()]);
+                let thigh = l - u;
+                if i == 9 {
+                    // The image agrees with the world: the thigh hangs (MediaPipe's own depth).
+                    assert!(
+                        thigh.z.abs() < 0.15 * thigh.length(),
+                        "{side:?} standing: {thigh}"
+                    );
+                }
+                forward[side.index()] = thigh.z / thigh.length();
+            }
+        }
+        // Half the length seen: 60 degrees out of the image plane (sin 60 = 0.87), filtered.
+        for side in Side::BOTH {
+            assert!(
+                forward[side.index()] > 0.7,
+                "{side:?}: thigh forward {}",
+                forward[side.index()]
+            );
+        }
+    }
+}
+
+/// `legs.rest: "seated"`: legs that are not seen (a head-and-shoulders clip) sit, thighs
+/// forward and shins down at right angles, the hips where they rest; legs that come into view
+/// are solved as before and the hips grounded; the default stands.
+#[test]
+fn seated_rest_bends_hips_and_knees_of_unseen_legs() {
+    let base = recordings::asl(recordings::ASL[0]);
+    let seated = RigOptions::from_json(r#"{ "legs": { "rest": "seated" } }"#).expect("options");
+    for avatar in avatars() {
+        for (options, sits) in [(seated, true), (RigOptions::default(), false)] {
+            let mut rig = Rig::new(avatar.clone(), options).expect("rig");
+            let mut out = SolveOutput::default();
+            for frame in base.iter().take(30) {
+                rig.solve(frame, &mut out).expect("solve");
+            }
+            out.turn_to_internal_frame(rig.skeleton().version());
+            for side in Side::BOTH {
+                let [u, l, f, _] = leg_bones(side).map(|b| out.world.position[b.index()]);
+                let (thigh, shin) = ((l - u).normalize(), (f - l).normalize());
+                if sits {
+                    assert!(thigh.z > 0.95, "{side:?}: thigh {thigh}");
+                    assert!(shin.y < -0.95, "{side:?}: shin {shin}");
+                    let a = knee_angle(&out, side);
+                    assert!((a - 90.0).abs() < 10.0, "{side:?}: knee {a}");
+                } else {
+                    // At rest (some shared avatars rest with their legs out of line).
+                    for b in leg_bones(side) {
+                        assert_eq!(
+                            out.local[b.index()],
+                            Quat::IDENTITY,
+                            "{side:?} standing {b:?}"
+                        );
+                    }
+                }
+            }
+            assert_eq!(out.hips_offset, Vec3::ZERO, "the hips stay where they rest");
+            // Then the legs in view: solved as tracked (standing), the hips grounded.
+            for frame in base.iter().take(60).skip(30) {
+                let f = with_legs(frame, Vec3::new(0.0, 0.42, 0.0), Vec3::new(0.0, 0.82, 0.0));
+                rig.solve(&f, &mut out).expect("solve");
+            }
+            out.turn_to_internal_frame(rig.skeleton().version());
+            for side in Side::BOTH {
+                assert!(
+                    knee_angle(&out, side) < 15.0,
+                    "{side:?} in view: {}",
+                    knee_angle(&out, side)
+                );
+            }
+        }
+    }
 }

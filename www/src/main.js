@@ -164,6 +164,8 @@ new ResizeObserver(resize).observe(canvas);
 
 /** "front" or "side": where the body camera looks from (the close-ups follow the hand). */
 let bodyView = "front";
+/** Frame the whole body, feet to head (for legs in view), instead of the upper body. */
+let wholeBody = false;
 
 function frameCamera(avatar) {
   const b = avatar.rest.bones;
@@ -180,7 +182,15 @@ function frameCamera(avatar) {
   const upright =
     lu && ru && b.head && b.hips && b.head[1] - b.hips[1] > 0.5 * L && Math.abs(lu.y - ru.y) < 0.1 * L && lu.x > ru.x;
   let cx, cy, halfW, halfH;
-  if (upright) {
+  if (wholeBody) {
+    // Feet to head, a margin for the head above its joint, a raised foot and the hips moving.
+    const c = box.getCenter(new THREE.Vector3());
+    const size = box.getSize(new THREE.Vector3());
+    cx = c.x;
+    cy = c.y + 0.1 * L;
+    halfW = size.x / 2 + 0.6 * L;
+    halfH = size.y / 2 + 0.45 * L;
+  } else if (upright) {
     // Upper body and both arms in the T-pose: centred a bit below the shoulders.
     cx = (lu.x + ru.x) / 2;
     cy = (lu.y + ru.y) / 2 - 0.3 * L;
@@ -201,7 +211,7 @@ function frameCamera(avatar) {
     // the T-pose stays in front of the near plane.
     const c = box.getCenter(new THREE.Vector3());
     const depthHalf = box.getSize(new THREE.Vector3()).z / 2 + 0.9 * L;
-    const reach = upright ? cx - ru.x + 1.3 * L : box.getSize(new THREE.Vector3()).x / 2;
+    const reach = upright && !wholeBody ? cx - ru.x + 1.3 * L : box.getSize(new THREE.Vector3()).x / 2;
     const dist = Math.max(halfH / t, depthHalf / (t * aspect)) + reach;
     bodyCamera.position.set(cx - dist, cy + 0.15 * L, c.z);
     controls.target.set(cx, cy, c.z);
@@ -649,6 +659,7 @@ function wireUi() {
   for (const r of document.querySelectorAll('input[name="body-view"]')) {
     r.addEventListener("change", () => setBodyView(r.value));
   }
+  $("whole-body").addEventListener("change", () => setWholeBody($("whole-body").checked));
 
   $("wasm-base").value = LOCAL_WASM_BASE;
   $("webcam-mode").addEventListener("change", showWebcamMode);
@@ -659,6 +670,13 @@ function wireUi() {
   $("download-recording").addEventListener("click", downloadRecording);
   $("download-vrma").addEventListener("click", () => downloadMotion("vrma"));
   $("download-bvh").addEventListener("click", () => downloadMotion("bvh"));
+}
+
+function setWholeBody(on) {
+  wholeBody = !!on;
+  $("whole-body").checked = wholeBody;
+  if (views.with.avatar) frameCamera(views.with.avatar);
+  dirty = true;
 }
 
 function setBodyView(v) {
@@ -999,6 +1017,7 @@ async function main() {
   const wanted = params.get("avatar") ?? DEFAULT_AVATAR;
   await selectAvatar(AVATARS.some((a) => a.id === wanted) ? wanted : DEFAULT_AVATAR);
   if (params.get("view") === "side") setBodyView("side");
+  if (params.get("body") === "whole") setWholeBody(true);
 
   resize();
   demo.state = "ready";
@@ -1017,6 +1036,11 @@ Object.assign(demo, {
   },
   /** Loads an avatar of the menu by id (AVATARS: "woman", "man-vrm0", "robot", ...). */
   selectAvatar: (id) => selectAvatar(id).then(nextRender),
+  /** Frames the whole body (true) or the upper body (false) in the body view. */
+  setWholeBody: (on) => {
+    setWholeBody(on);
+    return nextRender();
+  },
   /** The body camera: "front" or "side". */
   setBodyView: (v) => {
     setBodyView(v);

@@ -140,6 +140,32 @@ for (const id of GENERATED) {
   });
 }
 
+test("whole body: the body view frames the woman feet to head, front and side; the upper-body framing leaves her feet out", async () => {
+  await page.evaluate(() => window.__handrigDemo.selectAvatar("woman"));
+  await page.evaluate(() => window.__handrigDemo.showFrames([{ timeMs: 0, hands: [] }]));
+  const inside = (p, r) => p && p.x > r.x && p.x < r.x + r.w && p.y > r.y && p.y < r.y + r.h;
+  const at = (bone) => page.evaluate((b) => window.__handrigDemo.screenPoint("with", b), bone);
+  for (const view of ["front", "side"]) {
+    await page.evaluate((v) => window.__handrigDemo.setBodyView(v), view);
+    await page.evaluate(() => window.__handrigDemo.setWholeBody(false));
+    const r = (await rects()).with.body;
+    assert.ok(!inside(await at("leftFoot"), r), `${view}, upper body: the foot is in view`);
+    await page.evaluate(() => window.__handrigDemo.setWholeBody(true));
+    assert.equal(await page.isChecked("#whole-body"), true);
+    for (const bone of ["leftFoot", "rightToes", "head", "leftHand"]) {
+      const p = await at(bone);
+      assert.ok(inside(p, r), `${view}, whole body: ${bone} at ${JSON.stringify(p)} outside ${JSON.stringify(r)}`);
+    }
+    // Feet to head fill most of the view's height.
+    const span = (await at("leftFoot")).y - (await at("head")).y;
+    assert.ok(span > 0.55 * r.h, `${view}: feet to head ${span} of ${r.h} px`);
+    await page.screenshot({ path: shot(`avatar-woman-whole-body-${view}.png`) });
+  }
+  await page.evaluate(() => window.__handrigDemo.setWholeBody(false));
+  await page.evaluate(() => window.__handrigDemo.setBodyView("front"));
+  assert.deepEqual(errors, []);
+});
+
 test("the robot stays selectable: bones drawn, no body", async () => {
   await page.evaluate(() => window.__handrigDemo.selectAvatar("robot"));
   const s = await state();

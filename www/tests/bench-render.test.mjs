@@ -16,7 +16,7 @@ import { REPO } from "./helpers.mjs";
 
 const BENCH = join(REPO, "eval", "bench");
 const { openRenderer, sha256 } = await import(join(BENCH, "render.mjs"));
-const { CLIPS, clipAngles, clipPose, RANGES } = await import(join(BENCH, "motions.mjs"));
+const { CLIPS, LEG_CLIPS, LEG_RANGES, clipAngles, clipPose, legClipPose, RANGES } = await import(join(BENCH, "motions.mjs"));
 const committed = JSON.parse(readFileSync(join(BENCH, "clips", "frames.json"), "utf8"));
 
 let r;
@@ -27,10 +27,11 @@ after(async () => {
   await r?.close();
 });
 
-// One body clip and one hand clip, three frames each, on both avatars' first.
+// One body clip, one hand clip and one leg clip (whole body, the hips moving), three frames each.
 const CASES = [
   { name: "woman-wave", frames: [0, 30, 74] },
   { name: "child-pinch", frames: [0, 20, 55] },
+  { name: "man-squat", frames: [0, 40, 96] },
 ];
 
 test("re-rendered frames hash to the committed frames.json (same Chromium build), and twice the same in one session", async () => {
@@ -103,4 +104,57 @@ test("score.mjs on the committed pinch and wave recordings: the metric's self-ch
   } finally {
     rmSync(dir, { recursive: true, force: true });
   }
+});
+
+test("the leg clips' truth (legClipPose) on each leg avatar: knees bent forwards within range, planted feet still, no sole under the floor, the hips moving", async () => {
+  const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+  const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  const len = (a) => Math.hypot(...a);
+  const deg = (a, b) => (Math.acos(Math.min(1, Math.max(-1, dot(a, b) / (len(a) * len(b))))) * 180) / Math.PI;
+  const { LEG_AVATARS } = await import(join(BENCH, "common.mjs"));
+  for (const avatar of LEG_AVATARS) {
+    await r.load(avatar);
+    const rest = await r.legRest();
+    for (const clip of LEG_CLIPS) {
+      let prev = null;
+      let planted = 0;
+      let lifted = 0;
+      let hipsMoved = 0;
+      for (let i = 0; i < clip.frames; i++) {
+        const t = legClipPose(clip, i, rest);
+        for (const q of Object.values(t.bones)) assert.ok(Math.abs(Math.hypot(...q) - 1) < 1e-9, `${avatar} ${clip.id} ${i}: not unit`);
+        hipsMoved = Math.max(hipsMoved, len(t.hipsOffset));
+        for (const side of ["left", "right"]) {
+          const H = t.points[`${side}Hip`];
+          const K = t.points[`${side}Knee`];
+          const A = t.points[`${side}Ankle`];
+          const knee = deg(sub(K, H), sub(A, K));
+          const hipFlex = deg([0, -1, 0], sub(K, H)) * Math.sign(K[2] - H[2] || 1);
+          assert.ok(knee >= LEG_RANGES.kneeFlex[0] && knee <= LEG_RANGES.kneeFlex[1], `${avatar} ${clip.id} ${i} ${side}: knee ${knee}`);
+          assert.ok(hipFlex >= LEG_RANGES.hipFlex[0] && hipFlex <= LEG_RANGES.hipFlex[1], `${avatar} ${clip.id} ${i} ${side}: hip flexion ${hipFlex}`);
+          // The knee in front of the hip-ankle line (it bends forwards), when bent.
+          const u = sub(A, H);
+          const k = sub(K, H);
+          const off = sub(k, u.map((x) => (x * dot(k, u)) / dot(u, u)));
+          if (knee > 1) assert.ok(off[2] > 0, `${avatar} ${clip.id} ${i} ${side}: knee behind the hip-ankle line`);
+          // No sole under the floor: the ankle at or above its rest height (the foot level or toes down when lifted).
+          const restAnkle = rest[`${side}Foot`];
+          assert.ok(A[1] >= restAnkle[1] - 1e-9, `${avatar} ${clip.id} ${i} ${side}: ankle under its rest height`);
+          if (prev) {
+            const moved = len(sub(A, prev.points[`${side}Ankle`]));
+            if (A[1] < restAnkle[1] + 1e-9 && prev.points[`${side}Ankle`][1] < restAnkle[1] + 1e-9) {
+              // On the floor on both frames: planted, or sliding into place (never here: feet are lifted to move).
+              assert.ok(moved < 1e-9, `${avatar} ${clip.id} ${i} ${side}: a foot on the floor moved ${moved} m`);
+              planted++;
+            } else lifted++;
+          }
+        }
+        prev = t;
+      }
+      assert.ok(planted > clip.frames / 2, `${avatar} ${clip.id}: ${planted} planted foot-frames`);
+      if (clip.id !== "squat") assert.ok(lifted > 10, `${avatar} ${clip.id}: ${lifted} lifted foot-frames`);
+      assert.ok(hipsMoved > 0.02, `${avatar} ${clip.id}: the hips moved ${hipsMoved} m at most`);
+    }
+  }
+  assert.deepEqual(r.errors, []);
 });
