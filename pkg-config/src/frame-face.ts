@@ -3,7 +3,8 @@
 // HolisticLandmarkerResult's `faceLandmarks` / `faceBlendshapes` spread into the frame, a legacy
 // Holistic result's `faceLandmarks` (one list of 468 or 478) or a legacy FaceMesh result's
 // `multiFaceLandmarks`. Only the blendshapes (by name), the matrix and the few landmarks
-// `LAYOUT.faceMesh` lists are read; the first face drives the avatar.
+// `LAYOUT.faceMesh` lists are read, the landmarks only in frames without blendshapes (and a
+// rig's first frames); the first face drives the avatar.
 
 import { at, describe, fail, isFiniteNumber, isObject, isView, notFinite, type Bag } from "./errors.js";
 import { LAYOUT, LI } from "./layout.js";
@@ -136,9 +137,10 @@ function packMatrix(m: unknown, field: string, input: Float32Array): void {
 
 /**
  * Packs the frame's face-tracker fields, if any. Returns whether any was given (a result with
- * no face detected counts as given: its face is lost this frame).
+ * no face detected counts as given: its face is lost this frame). `checkAll`: also read the
+ * landmarks of a frame with blendshapes (a rig's first frames), where the rig does not use them.
  */
-export function packFaceTracking(frame: Bag, input: Float32Array): boolean {
+export function packFaceTracking(frame: Bag, input: Float32Array, checkAll: boolean): boolean {
   input[LI.faceTracked] = 0;
   const landmarks = frame.faceLandmarks;
   const shapes = frame.faceBlendshapes;
@@ -150,19 +152,8 @@ export function packFaceTracking(frame: Bag, input: Float32Array): boolean {
   input[LI.faceHasMesh] = 0;
   const hasLandmarks = landmarks !== undefined && landmarks !== null;
   const hasMulti = multi !== undefined && multi !== null;
-  const hasShapes = shapes !== undefined && shapes !== null;
-  const hasMatrices = matrices !== undefined && matrices !== null;
   let tracked = false;
-  if (hasLandmarks || hasMulti) {
-    const field = hasLandmarks ? "frame.faceLandmarks" : "frame.multiFaceLandmarks";
-    at(field, -1, "");
-    const face = firstFace(hasLandmarks ? landmarks : multi, field);
-    if (face !== undefined) {
-      packMesh(face, field, nested ? 0 : -1, input);
-      tracked = true;
-    }
-  }
-  if (hasShapes) {
+  if (shapes !== undefined && shapes !== null) {
     at("frame.faceBlendshapes", -1, "");
     if (!Array.isArray(shapes)) fail("frame.faceBlendshapes", `must be an array (one entry per face), got ${describe(shapes)}`);
     if (shapes.length > 0) {
@@ -173,7 +164,19 @@ export function packFaceTracking(frame: Bag, input: Float32Array): boolean {
       tracked = true;
     }
   }
-  if (hasMatrices) {
+  // The landmarks measure the weights only without blendshapes (the rig's fallback): with
+  // them, the 20 points are read (and checked) only in a rig's first frames. Reading them
+  // was half the face's cost in the object API (docs/measurements/2026-12-06-face.md).
+  if ((hasLandmarks || hasMulti) && (!tracked || checkAll)) {
+    const field = hasLandmarks ? "frame.faceLandmarks" : "frame.multiFaceLandmarks";
+    at(field, -1, "");
+    const face = firstFace(hasLandmarks ? landmarks : multi, field);
+    if (face !== undefined) {
+      packMesh(face, field, nested ? 0 : -1, input);
+      tracked = true;
+    }
+  }
+  if (matrices !== undefined && matrices !== null) {
     at("frame.facialTransformationMatrixes", -1, "");
     if (Array.isArray(matrices) && matrices.length === 16 && typeof matrices[0] === "number") {
       packMatrix(matrices, "frame.facialTransformationMatrixes", input);
