@@ -72,7 +72,11 @@ function packMesh(list: unknown, fieldName: string, face: number, input: Float32
   input[LI.faceHasMesh] = 1;
 }
 
-function packShapes(list: unknown, field: string, input: Float32Array): void {
+/**
+ * `byIndex`: a category carrying MediaPipe's `index` equal to its place in a list of 52 is
+ * taken by it (its name checked in a rig's first frames only).
+ */
+function packShapes(list: unknown, field: string, input: Float32Array, byIndex: boolean): void {
   let categories: unknown = list;
   let sub = "";
   if (isObject(list) && !Array.isArray(list)) {
@@ -84,29 +88,43 @@ function packShapes(list: unknown, field: string, input: Float32Array): void {
   }
   const shapes = LI.faceShapes;
   input.fill(0, shapes, shapes + LAYOUT.arkit.length);
-  for (let k = 0; k < categories.length; k++) {
+  const n = categories.length;
+  for (let k = 0; k < n; k++) {
     const c: unknown = categories[k];
     if (!isObject(c)) fail(`${field}${sub}[${k}]`, `must be a category { categoryName, score }, got ${describe(c)}`);
-    const catName = c.categoryName;
-    let i: number | undefined;
-    // MediaPipe's order (`_neutral`, then the ARKit names): the name checked where it should be,
-    // without a lookup.
-    if (k > 0 && catName === ARKIT_NAMES[k - 1]) i = k - 1;
-    else if (typeof catName === "string") {
-      if (catName === "_neutral") continue;
-      i = SHAPE_INDEX.get(catName);
-      if (i === undefined) {
-        fail(`${field}${sub}[${k}].categoryName`, `"${catName}" is not an ARKit blendshape name (MediaPipe's FaceLandmarker with outputFaceBlendshapes)`);
-      }
-    } else if (categories.length === 52 && k > 0) {
-      i = k - 1; // MediaPipe's order: _neutral, then the ARKit names alphabetically.
-    } else continue;
+    let i: number;
+    if (byIndex && c.index === k && n === 52) {
+      // MediaPipe's category: its index is the blendshape's place in MediaPipe's order
+      // (`_neutral`, then the ARKit names), its name not read (a string elsewhere in memory).
+      if (k === 0) continue;
+      i = k - 1;
+    } else {
+      i = shapeIndex(c.categoryName, n, k, field, sub);
+      if (i < 0) continue;
+    }
     const s = c.score;
     if (!isFiniteNumber(s)) notFinite(s, `${field}${sub}[${k}].score`);
     if (s < 0 || s > 1) fail(`${field}${sub}[${k}].score`, `must be in 0..1, got ${s}`);
     input[shapes + i] = s;
   }
   input[LI.faceHasShapes] = 1;
+}
+
+/** Category `k`'s place in `LAYOUT.arkit` found by its name; -1 to skip it (`_neutral`). */
+function shapeIndex(catName: unknown, n: number, k: number, field: string, sub: string): number {
+  // MediaPipe's order (`_neutral`, then the ARKit names): the name checked where it should be,
+  // without a lookup.
+  if (k > 0 && catName === ARKIT_NAMES[k - 1]) return k - 1;
+  if (typeof catName === "string") {
+    if (catName === "_neutral") return -1;
+    const i = SHAPE_INDEX.get(catName);
+    if (i === undefined) {
+      fail(`${field}${sub}[${k}].categoryName`, `"${catName}" is not an ARKit blendshape name (MediaPipe's FaceLandmarker with outputFaceBlendshapes)`);
+    }
+    return i;
+  }
+  // No name, 52 categories: MediaPipe's order, _neutral then the ARKit names alphabetically.
+  return n === 52 && k > 0 ? k - 1 : -1;
 }
 
 function packMatrix(m: unknown, field: string, input: Float32Array): void {
@@ -159,8 +177,8 @@ export function packFaceTracking(frame: Bag, input: Float32Array, checkAll: bool
     if (shapes.length > 0) {
       const first: unknown = shapes[0];
       // One face's categories given without the list of faces.
-      if (isObject(first) && "categoryName" in first) packShapes(shapes, "frame.faceBlendshapes", input);
-      else packShapes(first, "frame.faceBlendshapes[0]", input);
+      if (isObject(first) && "categoryName" in first) packShapes(shapes, "frame.faceBlendshapes", input, !checkAll);
+      else packShapes(first, "frame.faceBlendshapes[0]", input, !checkAll);
       tracked = true;
     }
   }
