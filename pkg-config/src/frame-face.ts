@@ -3,7 +3,8 @@
 // HolisticLandmarkerResult's `faceLandmarks` / `faceBlendshapes` spread into the frame, a legacy
 // Holistic result's `faceLandmarks` (one list of 468 or 478) or a legacy FaceMesh result's
 // `multiFaceLandmarks`. Only the blendshapes (by name), the matrix and the few landmarks
-// `LAYOUT.faceMesh` lists are read; the first face drives the avatar.
+// `LAYOUT.faceMesh` lists are read, the landmarks only in frames without blendshapes (and a
+// rig's first frames); the first face drives the avatar.
 
 import { at, describe, fail, isFiniteNumber, isObject, isView, notFinite, type Bag } from "./errors.js";
 import { LAYOUT, LI } from "./layout.js";
@@ -71,7 +72,11 @@ function packMesh(list: unknown, fieldName: string, face: number, input: Float32
   input[LI.faceHasMesh] = 1;
 }
 
-function packShapes(list: unknown, field: string, input: Float32Array): void {
+/**
+ * `byIndex`: a category carrying MediaPipe's `index` equal to its place in a list of 52 is
+ * taken by it (its name checked in a rig's first frames only).
+ */
+function packShapes(list: unknown, field: string, input: Float32Array, byIndex: boolean): void {
   let categories: unknown = list;
   let sub = "";
   if (isObject(list) && !Array.isArray(list)) {
@@ -83,29 +88,43 @@ function packShapes(list: unknown, field: string, input: Float32Array): void {
   }
   const shapes = LI.faceShapes;
   input.fill(0, shapes, shapes + LAYOUT.arkit.length);
-  for (let k = 0; k < categories.length; k++) {
+  const n = categories.length;
+  for (let k = 0; k < n; k++) {
     const c: unknown = categories[k];
     if (!isObject(c)) fail(`${field}${sub}[${k}]`, `must be a category { categoryName, score }, got ${describe(c)}`);
-    const catName = c.categoryName;
-    let i: number | undefined;
-    // MediaPipe's order (`_neutral`, then the ARKit names): the name checked where it should be,
-    // without a lookup.
-    if (k > 0 && catName === ARKIT_NAMES[k - 1]) i = k - 1;
-    else if (typeof catName === "string") {
-      if (catName === "_neutral") continue;
-      i = SHAPE_INDEX.get(catName);
-      if (i === undefined) {
-        fail(`${field}${sub}[${k}].categoryName`, `"${catName}" is not an ARKit blendshape name (MediaPipe's FaceLandmarker with outputFaceBlendshapes)`);
-      }
-    } else if (categories.length === 52 && k > 0) {
-      i = k - 1; // MediaPipe's order: _neutral, then the ARKit names alphabetically.
-    } else continue;
+    let i: number;
+    if (byIndex && c.index === k && n === 52) {
+      // MediaPipe's category: its index is the blendshape's place in MediaPipe's order
+      // (`_neutral`, then the ARKit names), its name not read (a string elsewhere in memory).
+      if (k === 0) continue;
+      i = k - 1;
+    } else {
+      i = shapeIndex(c.categoryName, n, k, field, sub);
+      if (i < 0) continue;
+    }
     const s = c.score;
     if (!isFiniteNumber(s)) notFinite(s, `${field}${sub}[${k}].score`);
     if (s < 0 || s > 1) fail(`${field}${sub}[${k}].score`, `must be in 0..1, got ${s}`);
     input[shapes + i] = s;
   }
   input[LI.faceHasShapes] = 1;
+}
+
+/** Category `k`'s place in `LAYOUT.arkit` found by its name; -1 to skip it (`_neutral`). */
+function shapeIndex(catName: unknown, n: number, k: number, field: string, sub: string): number {
+  // MediaPipe's order (`_neutral`, then the ARKit names): the name checked where it should be,
+  // without a lookup.
+  if (k > 0 && catName === ARKIT_NAMES[k - 1]) return k - 1;
+  if (typeof catName === "string") {
+    if (catName === "_neutral") return -1;
+    const i = SHAPE_INDEX.get(catName);
+    if (i === undefined) {
+      fail(`${field}${sub}[${k}].categoryName`, `"${catName}" is not an ARKit blendshape name (MediaPipe's FaceLandmarker with outputFaceBlendshapes)`);
+    }
+    return i;
+  }
+  // No name, 52 categories: MediaPipe's order, _neutral then the ARKit names alphabetically.
+  return n === 52 && k > 0 ? k - 1 : -1;
 }
 
 function packMatrix(m: unknown, field: string, input: Float32Array): void {
@@ -136,9 +155,10 @@ function packMatrix(m: unknown, field: string, input: Float32Array): void {
 
 /**
  * Packs the frame's face-tracker fields, if any. Returns whether any was given (a result with
- * no face detected counts as given: its face is lost this frame).
+ * no face detected counts as given: its face is lost this frame). `checkAll`: also read the
+ * landmarks of a frame with blendshapes (a rig's first frames), where the rig does not use them.
  */
-export function packFaceTracking(frame: Bag, input: Float32Array): boolean {
+export function packFaceTracking(frame: Bag, input: Float32Array, checkAll: boolean): boolean {
   input[LI.faceTracked] = 0;
   const landmarks = frame.faceLandmarks;
   const shapes = frame.faceBlendshapes;
@@ -150,10 +170,22 @@ export function packFaceTracking(frame: Bag, input: Float32Array): boolean {
   input[LI.faceHasMesh] = 0;
   const hasLandmarks = landmarks !== undefined && landmarks !== null;
   const hasMulti = multi !== undefined && multi !== null;
-  const hasShapes = shapes !== undefined && shapes !== null;
-  const hasMatrices = matrices !== undefined && matrices !== null;
   let tracked = false;
-  if (hasLandmarks || hasMulti) {
+  if (shapes !== undefined && shapes !== null) {
+    at("frame.faceBlendshapes", -1, "");
+    if (!Array.isArray(shapes)) fail("frame.faceBlendshapes", `must be an array (one entry per face), got ${describe(shapes)}`);
+    if (shapes.length > 0) {
+      const first: unknown = shapes[0];
+      // One face's categories given without the list of faces.
+      if (isObject(first) && "categoryName" in first) packShapes(shapes, "frame.faceBlendshapes", input, !checkAll);
+      else packShapes(first, "frame.faceBlendshapes[0]", input, !checkAll);
+      tracked = true;
+    }
+  }
+  // The landmarks measure the weights only without blendshapes (the rig's fallback): with
+  // them, the 20 points are read (and checked) only in a rig's first frames. Reading them
+  // was half the face's cost in the object API (docs/measurements/2026-12-06-face.md).
+  if ((hasLandmarks || hasMulti) && (!tracked || checkAll)) {
     const field = hasLandmarks ? "frame.faceLandmarks" : "frame.multiFaceLandmarks";
     at(field, -1, "");
     const face = firstFace(hasLandmarks ? landmarks : multi, field);
@@ -162,18 +194,7 @@ export function packFaceTracking(frame: Bag, input: Float32Array): boolean {
       tracked = true;
     }
   }
-  if (hasShapes) {
-    at("frame.faceBlendshapes", -1, "");
-    if (!Array.isArray(shapes)) fail("frame.faceBlendshapes", `must be an array (one entry per face), got ${describe(shapes)}`);
-    if (shapes.length > 0) {
-      const first: unknown = shapes[0];
-      // One face's categories given without the list of faces.
-      if (isObject(first) && "categoryName" in first) packShapes(shapes, "frame.faceBlendshapes", input);
-      else packShapes(first, "frame.faceBlendshapes[0]", input);
-      tracked = true;
-    }
-  }
-  if (hasMatrices) {
+  if (matrices !== undefined && matrices !== null) {
     at("frame.facialTransformationMatrixes", -1, "");
     if (Array.isArray(matrices) && matrices.length === 16 && typeof matrices[0] === "number") {
       packMatrix(matrices, "frame.facialTransformationMatrixes", input);

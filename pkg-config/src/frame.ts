@@ -211,7 +211,7 @@ export function packFrame(frame: unknown, input: Float32Array, lookAround: boole
   // A face tracker's face (issue 50): FaceLandmarker / Holistic fields spread into the frame.
   input[LI.faceTracked] = 0;
   FACE_FIELDS.given = false;
-  if (lookForFace && packFaceTracking(frame, input)) {
+  if (lookForFace && packFaceTracking(frame, input, lookAround)) {
     given = true;
     FACE_FIELDS.given = true;
   }

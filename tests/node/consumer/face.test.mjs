@@ -177,6 +177,28 @@ describe("the face", () => {
     assert.ok(!json.includes("expressions") && !json.includes("lookAt"));
   });
 
+  it("landmarks beside blendshapes: the results are those without them; checked in a rig's first frames only", () => {
+    const withMesh = HandRig.fromVrm(robot, { face: { calibrationTime: 0.2 } });
+    const without = HandRig.fromVrm(robot, { face: { calibrationTime: 0.2 } });
+    for (let t = 0; t < 12; t++) {
+      // Eyes that the landmark fallback would read as open, then closed.
+      const face = faceResult({ jawOpen: t / 12, eyeBlinkRight: t > 8 ? 0.9 : 0 }, 0.1 * t, meshPoints(t > 6 ? 0.05 : 0.3));
+      const a = withMesh.solve({ timeMs: t * 33, ...face }, {});
+      const { faceLandmarks, ...rest } = face;
+      assert.equal(faceLandmarks.length, 1);
+      const b = without.solve({ timeMs: t * 33, ...rest }, {});
+      assert.deepEqual(a, b, `frame ${t}`);
+    }
+    const pixels = meshPoints(0.3).map((p) => ({ x: p.x * 640, y: p.y * 480, z: p.z }));
+    const rig = HandRig.fromVrm(robot);
+    throwsWith(() => rig.solve({ timeMs: 0, ...faceResult(), faceLandmarks: [pixels] }), /^frame\.faceLandmarks\[0\]\[33\]: x and y must be normalized/);
+    for (let t = 0; t < 3; t++) rig.solve({ timeMs: t * 33, ...faceResult() });
+    // Past the first frames, landmarks beside blendshapes are not read (the rig would not use them).
+    assert.equal(rig.solve({ timeMs: 100, ...faceResult(), faceLandmarks: [pixels] }).face, "tracked");
+    // Without blendshapes they are read and checked in every frame.
+    throwsWith(() => rig.solve({ timeMs: 133, faceLandmarks: [pixels] }), /^frame\.faceLandmarks\[0\]\[33\]: x and y must be normalized/);
+  });
+
   it("legacy 468 landmarks without blendshapes: a closed eye blinks", () => {
     const rig = HandRig.fromVrm(robot, { face: { calibrationTime: 0.2 } });
     let r;
