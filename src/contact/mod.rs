@@ -465,20 +465,7 @@ impl ContactSolver {
         let (sl, sr) = (at(l.arm()[1]), at(r.arm()[1]));
         let mid = 0.5 * (sl + sr);
         let hips = 0.5 * (at(hips_l) + at(hips_r));
-        // The chest seen below the head: a head large enough to hang below the shoulders
-        // (a chibi's) covers the upper chest, and a hand carried there met the chin. The
-        // torso's top is then the chin's height on the shoulders-to-hips line.
-        let mut top = mid;
-        if let Some(chin) = surface.chin {
-            let h = HumanBone::Head.index();
-            let chin = world.position[h] + world.rotation[h] * chin;
-            let down = hips - mid;
-            let t = (chin - mid).dot(down) / down.length_squared();
-            if t > 0.0 && t < 1.0 {
-                top = mid + down * t;
-            }
-        }
-        let place = top + (sl - sr) * u + (hips - top) * v;
+        let place = mid + (sl - sr) * u + (hips - mid) * v;
         let palm = wrist + hand.avatar[0]?;
         let c = HumanBone::Chest.index();
         let forward = (world.rotation[c] * Vec3::Z).normalize_or(Vec3::Z);

@@ -371,9 +371,6 @@ pub struct BodySurface {
     /// Head samples relative to the head bone (rest, internal frame), kept for placing the
     /// face anchors at setup.
     head_samples: Vec<Vec3>,
-    /// The head's lowest skin sample in front (relative to the head bone, rest, internal
-    /// frame): on a large head it hangs below the shoulders, over the upper chest.
-    pub chin: Option<Vec3>,
     /// Skin vertices and samples used.
     pub samples: usize,
 }
@@ -465,12 +462,6 @@ impl BodySurface {
             Some(h) => per_map[HEAD_MAP].iter().map(|p| *p - h).collect(),
             None => Vec::new(),
         };
-        // The head's lowest skin in front (the chin, or what hangs lowest of a large head).
-        let chin = head_samples
-            .iter()
-            .filter(|p| p.z >= 0.0)
-            .min_by(|a, b| a.y.total_cmp(&b.y))
-            .copied();
         let palm = crate::humanoid::measure::avatar_palm_length(skeleton);
         let mut finger_radius = [super::colliders::TIP_MARGIN * palm; 2];
         let mut palm_half = [super::colliders::HAND_MARGIN * palm; 2];
@@ -485,7 +476,6 @@ impl BodySurface {
             finger_radius,
             palm_half,
             head_samples,
-            chin,
             samples,
         })
     }
