@@ -471,11 +471,17 @@ impl ContactSolver {
         let forward = (world.rotation[c] * Vec3::Z).normalize_or(Vec3::Z);
         let mut shift = place - palm;
         shift -= forward * shift.dot(forward);
-        // Onto the torso, but with the head and neck in the way: a hand on the upper chest
-        // stops under the chin rather than being settled into it (a curved hand at the collar
-        // on `hungry` ended 74 mm inside the man's chin with the torso alone).
-        let settle = surface.settle(wrist + shift, points, world, [true; skin::MAP_BONES.len()]);
-        let total = shift + settle;
+        // Onto the torso's skin, then out of the head and neck along one line where they are
+        // in the way: a large head's lower front hangs over the upper chest (the chibi's),
+        // and settling against all maps stopped the hand under the chin, 8-12 cm off the
+        // chest; settled on the torso alone, a curved hand at the collar stayed in the chin
+        // (74 mm on the man, `hungry`: the push alone did not get it out).
+        let mut torso = [true; skin::MAP_BONES.len()];
+        torso[skin::HEAD_MAP] = false;
+        torso[skin::NECK_MAP] = false;
+        let settle = surface.settle(wrist + shift, points, world, torso);
+        let lift = surface.lift_out(wrist + shift + settle, points, world);
+        let total = shift + settle + lift;
         total.is_finite().then_some(total)
     }
 

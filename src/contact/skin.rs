@@ -73,6 +73,8 @@ pub const MAP_BONES: [HumanBone; 6] = [
 
 /// Index of the head's map in [`MAP_BONES`].
 pub const HEAD_MAP: usize = 0;
+/// Index of the neck's map in [`MAP_BONES`].
+pub const NECK_MAP: usize = 1;
 
 fn part_of(skeleton: &Skeleton, bone: HumanBone) -> Part {
     use HumanBone as B;
