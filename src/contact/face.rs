@@ -394,6 +394,27 @@ pub fn pose_tip(
     camera: CameraMapping,
     depth_trust: f32,
 ) -> Vec3 {
+    let anchors = camera_anchors(face, camera);
+    pose_tip_at(&anchors, tip, image_tip, fit, camera, depth_trust)
+}
+
+/// The face's anchors in camera axes, as [`pose_tip_at`] takes them: once a frame for every
+/// part of a hand.
+#[must_use]
+pub fn camera_anchors(face: &UserFace, camera: CameraMapping) -> [Vec3; ANCHORS] {
+    face.anchors.map(|a| camera.to_avatar(face.frame.to_world(a)))
+}
+
+/// [`pose_tip`] with the face's anchors already in camera axes ([`camera_anchors`]).
+#[must_use]
+pub fn pose_tip_at(
+    anchors: &[Vec3; ANCHORS],
+    tip: Vec3,
+    image_tip: Option<Vec3>,
+    fit: Option<&ImageFit>,
+    camera: CameraMapping,
+    depth_trust: f32,
+) -> Vec3 {
     // `to_avatar` is its own inverse: camera axes and back.
     let c = camera.to_avatar(tip);
     let (x, y) = match (image_tip, fit) {
@@ -401,8 +422,7 @@ pub fn pose_tip(
         _ => (c.x, c.y),
     };
     let mut nearest = (f32::INFINITY, c.z);
-    for a in &face.anchors {
-        let w = camera.to_avatar(face.frame.to_world(*a));
+    for w in anchors {
         let d2 = (w.x - x) * (w.x - x) + (w.y - y) * (w.y - y);
         if d2 < nearest.0 {
             nearest = (d2, w.z);

@@ -526,6 +526,10 @@ impl ContactSolver {
         let mut beta = 0.0f32;
         let (mut sum, mut meet, mut total) = (Vec3::ZERO, Vec3::ZERO, 0.0f32);
         let mut exact: Option<(Vec3, Vec3)> = None;
+        let seen = match hand.source {
+            Source::Pose => face::camera_anchors(user, faces.camera),
+            Source::Tracker => [Vec3::ZERO; ANCHORS],
+        };
         // One loop over the parts (finger-major, base to tip), not a nested one: LLVM keeps
         // it rolled (the nested one cost 0.7 KiB of wasm, gzipped).
         for p in 0..hands::PARTS {
@@ -539,8 +543,8 @@ impl ContactSolver {
             let Some(avatar) = avatar else { continue };
             let part = hand.user_parts[4 * f + k];
             let user_point = match hand.source {
-                Source::Pose => face::pose_tip(
-                    user,
+                Source::Pose => face::pose_tip_at(
+                    &seen,
                     part,
                     hand.image_parts.map(|i| i[4 * f + k]),
                     faces.pose_image.as_ref(),

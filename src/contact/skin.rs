@@ -806,6 +806,22 @@ impl BodySurface {
         if out_only && d0 <= 0.0 {
             return Vec3::ZERO;
         }
+        let (mut lo, mut hi) = if d0 < 0.0 {
+            (0.0, -2.0 * d0 + 0.01)
+        } else {
+            (-2.0 * d0 - 0.01, 0.0)
+        };
+        // Every move looked at below lies within [lo, hi] widened by NEAR_GUESS (and the
+        // checks' few micrometers): maps that no ball can reach anywhere on that stretch of
+        // the line answer no to every `reaches` and are neither rotated into nor sampled.
+        let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo) + NEAR_GUESS + BOUND_SLACK);
+        let only = self.near(
+            wrist + hull.center - n * mid,
+            hull.reach + half,
+            world,
+            only,
+            -f32::from_bits(1),
+        );
         // The balls (at most HAND_SPHERES) and the hull's center in each map's rest frame,
         // and the direction of the move there: the hand moved by -s n puts a ball at
         // `base + s dir`, so the search below rotates nothing.
@@ -843,11 +859,6 @@ impl BodySurface {
                             .is_some_and(|d| if or_zero { d >= 0.0 } else { d > 0.0 })
                     })
             })
-        };
-        let (mut lo, mut hi) = if d0 < 0.0 {
-            (0.0, -2.0 * d0 + 0.01)
-        } else {
-            (-2.0 * d0 - 0.01, 0.0)
         };
         if d0 < 0.0 && !reaches(hi, true) {
             return -n * hi;
@@ -920,26 +931,120 @@ impl BodySurface {
 /// 13-17 mm apart (median) on the generated adults.
 pub const CLOSE_RADII: f32 = 0.7;
 
+/// Balls per group in [`close`]'s pruning: consecutive balls of a hand (the joints of one or
+/// two fingers, the tips) bounded together.
+const CLOSE_GROUP: usize = 4;
+/// Groups of [`CLOSE_GROUP`] balls a hand has at most.
+const CLOSE_GROUPS: usize = HAND_SPHERES.div_ceil(CLOSE_GROUP);
+
+/// A group of a hand's balls in [`close`]: its center, the largest distance from it to a ball's
+/// center, and the largest radius (times [`CLOSE_RADII`]).
+#[derive(Clone, Copy)]
+struct Group {
+    center: Vec3,
+    spread: f32,
+    radius: f32,
+}
+
+/// The balls (world centers) of one hand in [`close`], and their groups.
+struct Balls {
+    at: [Vec3; HAND_SPHERES],
+    radius: [f32; HAND_SPHERES],
+    n: usize,
+    groups: [Group; CLOSE_GROUPS],
+}
+
+impl Balls {
+    fn of(wrist: Vec3, points: &[(Vec3, f32)]) -> Balls {
+        let mut b = Balls {
+            at: [Vec3::ZERO; HAND_SPHERES],
+            radius: [0.0; HAND_SPHERES],
+            n: points.len().min(HAND_SPHERES),
+            groups: [Group {
+                center: Vec3::ZERO,
+                spread: 0.0,
+                radius: 0.0,
+            }; CLOSE_GROUPS],
+        };
+        for (i, (p, r)) in points.iter().take(HAND_SPHERES).enumerate() {
+            b.at[i] = wrist + *p;
+            b.radius[i] = *r;
+        }
+        for (g, group) in b.groups.iter_mut().enumerate().take(b.n.div_ceil(CLOSE_GROUP)) {
+            let range = g * CLOSE_GROUP..((g + 1) * CLOSE_GROUP).min(b.n);
+            let at = &b.at[range.clone()];
+            let center = at.iter().fold(Vec3::ZERO, |a, p| a + *p) / at.len() as f32;
+            *group = Group {
+                center,
+                spread: at.iter().fold(0.0f32, |a, p| a.max((*p - center).length())),
+                radius: CLOSE_RADII * b.radius[range].iter().fold(0.0f32, |a, r| a.max(*r)),
+            };
+        }
+        b
+    }
+
+    fn groups(&self) -> usize {
+        self.n.div_ceil(CLOSE_GROUP)
+    }
+}
+
+/// Rounding allowance (m) of [`close`]'s group bounds: a group pair is skipped only when
+/// its bound clears the answer by this much, so skipping never changes the answer.
+const CLOSE_SLACK: f32 = 1e-4;
+
 /// The translation `D` that closes the gap between two hands' spheres (centers relative to
 /// their wrists `left` and `right`, world axes): with the left hand moved by `D / 2` and the
 /// right by `-D / 2`, their nearest spheres touch (at [`CLOSE_RADII`] of their radii), along
 /// the line between the spheres nearest now. Each pair of spheres touches where a quadratic
 /// in the move says (the hands move along one line), so the first pair to touch on the way
 /// in (or, for hands overlapping now, the last to part on the way out) is found exactly,
-/// without a search. Zero when either hand has no spheres.
+/// without a search. Pairs of ball groups that bounds show cannot change the answer are not
+/// looked at (the answer is the same as looking at every pair). Zero when either hand has no
+/// spheres.
 #[must_use]
 pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> Vec3 {
     // At most HAND_SPHERES balls a hand (more are not looked at).
-    let (l, r) = (
-        &l[..l.len().min(HAND_SPHERES)],
-        &r[..r.len().min(HAND_SPHERES)],
-    );
-    // The pair with the smallest surface gap now sets the line.
+    let (a, b) = (Balls::of(left, l), Balls::of(right, r));
+    let (ga, gb) = (a.groups(), b.groups());
+    let mut skip = [[false; CLOSE_GROUPS]; CLOSE_GROUPS];
+    // The pair with the smallest surface gap now sets the line (the first such pair in the
+    // order of `l` then `r`). No pair of two groups is nearer than the groups' centers less
+    // their spreads and radii: the group pair with the smallest such bound gives a gap
+    // that every group pair bounded beyond it cannot beat.
+    let gap = |i: usize, j: usize| -> (f32, Vec3) {
+        let d = b.at[j] - a.at[i];
+        (d.length() - CLOSE_RADII * (a.radius[i] + b.radius[j]), d)
+    };
+    let mut bound = [[0.0f32; CLOSE_GROUPS]; CLOSE_GROUPS];
+    let mut seed = (0, 0);
+    for x in 0..ga {
+        for y in 0..gb {
+            let (p, q) = (&a.groups[x], &b.groups[y]);
+            bound[x][y] =
+                (q.center - p.center).length() - p.spread - q.spread - p.radius - q.radius;
+            if bound[x][y] < bound[seed.0][seed.1] {
+                seed = (x, y);
+            }
+        }
+    }
+    let mut best = f32::INFINITY;
+    for i in seed.0 * CLOSE_GROUP..((seed.0 + 1) * CLOSE_GROUP).min(a.n) {
+        for j in seed.1 * CLOSE_GROUP..((seed.1 + 1) * CLOSE_GROUP).min(b.n) {
+            best = best.min(gap(i, j).0);
+        }
+    }
+    for x in 0..ga {
+        for y in 0..gb {
+            skip[x][y] = bound[x][y] > best + CLOSE_SLACK;
+        }
+    }
     let (mut g0, mut d0) = (f32::INFINITY, Vec3::Z);
-    for (a, ra) in l {
-        for (b, rb) in r {
-            let d = (right + *b) - (left + *a);
-            let g = d.length() - CLOSE_RADII * (ra + rb);
+    for i in 0..a.n {
+        for j in 0..b.n {
+            if skip[i / CLOSE_GROUP][j / CLOSE_GROUP] {
+                continue;
+            }
+            let (g, d) = gap(i, j);
             if g < g0 {
                 (g0, d0) = (g, d);
             }
@@ -954,29 +1059,54 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
     // Hands apart now (g0 > 0): the smallest entry at or after 0 (at most g0, where the
     // nearest pair touches). Overlapping: the start of the run of overlapping s that holds
     // 0, found by extending it down over every pair's interval that meets it.
-    let span = |a: Vec3, ra: f32, b: Vec3, rb: f32| -> Option<(f32, f32)> {
-        let d = (right + b) - (left + a);
-        let rr = CLOSE_RADII * (ra + rb);
-        let b = d.dot(u);
+    // A pair of groups none of whose pairs comes within touching of the line, or (hands
+    // apart) all of whose pairs enter only after g0 or leave before 0, changes nothing.
+    for (p, row) in a.groups[..ga].iter().zip(skip.iter_mut()) {
+        for (q, skipped) in b.groups[..gb].iter().zip(row.iter_mut()) {
+            let d = q.center - p.center;
+            let along = d.dot(u);
+            let off = (d.length_squared() - along * along).max(0.0).sqrt();
+            let (spread, reach) = (p.spread + q.spread, p.radius + q.radius);
+            *skipped = off - spread > reach + CLOSE_SLACK
+                || (g0 > 0.0
+                    && (along - spread - reach > g0 + CLOSE_SLACK
+                        || along + spread + reach < -CLOSE_SLACK));
+        }
+    }
+    let span = |i: usize, j: usize| -> Option<(f32, f32)> {
+        if skip[i / CLOSE_GROUP][j / CLOSE_GROUP] {
+            return None;
+        }
+        let d = b.at[j] - a.at[i];
+        let rr = CLOSE_RADII * (a.radius[i] + b.radius[j]);
+        let along = d.dot(u);
         let c = d.length_squared() - rr * rr;
-        let disc = b * b - c;
+        let disc = along * along - c;
         if disc.is_nan() || disc < 0.0 {
             return None;
         }
         let w = disc.sqrt();
         // The smaller root without cancellation when b is large and c small.
-        let enter = if b > 0.0 { c / (b + w) } else { b - w };
-        Some((enter, b + w))
+        let enter = if along > 0.0 { c / (along + w) } else { along - w };
+        Some((enter, along + w))
     };
+    // The pairs' intervals, in the order of `l` then `r` (those with none left out).
+    let mut spans = [(0.0f32, 0.0f32); HAND_SPHERES * HAND_SPHERES];
+    let mut m = 0;
+    for i in 0..a.n {
+        for j in 0..b.n {
+            if let Some(interval) = span(i, j) {
+                spans[m] = interval;
+                m += 1;
+            }
+        }
+    }
+    let spans = &spans[..m];
     let s = if g0 > 0.0 {
         let mut first = g0;
-        for (a, ra) in l {
-            for (b, rb) in r {
-                if let Some((enter, leave)) = span(*a, *ra, *b, *rb) {
-                    if leave >= 0.0 && enter < first {
-                        first = enter.max(0.0);
-                    }
-                }
+        for &(enter, leave) in spans {
+            if leave >= 0.0 && enter < first {
+                first = enter.max(0.0);
             }
         }
         first
@@ -986,14 +1116,10 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
         // a few passes settle it (every pair is looked at each pass).
         for _ in 0..4 {
             let mut moved = false;
-            for (a, ra) in l {
-                for (b, rb) in r {
-                    if let Some((enter, leave)) = span(*a, *ra, *b, *rb) {
-                        if leave >= start && enter < start {
-                            start = enter;
-                            moved = true;
-                        }
-                    }
+            for &(enter, leave) in spans {
+                if leave >= start && enter < start {
+                    start = enter;
+                    moved = true;
                 }
             }
             if !moved {

@@ -186,6 +186,45 @@ fn close_brings_two_hands_into_touch() {
     assert_eq!(skin::close(Vec3::ZERO, &[], Vec3::X, &r), Vec3::ZERO);
 }
 
+/// [`skin::close`] by every pair of spheres, none skipped: the answer its pruning must keep
+/// to the bit.
+fn close_every_pair(lw: Vec3, l: &[(Vec3, f32)], rw: Vec3, r: &[(Vec3, f32)]) -> Vec3 {
+    let rr = |ra: f32, rb: f32| skin::CLOSE_RADII * (ra + rb);
+    let pairs = || l.iter().flat_map(|a| r.iter().map(move |b| (*a, *b)));
+    let (mut g0, mut d0) = (f32::INFINITY, Vec3::Z);
+    for ((a, ra), (b, rb)) in pairs() {
+        let d = (rw + b) - (lw + a);
+        if d.length() - rr(ra, rb) < g0 {
+            (g0, d0) = (d.length() - rr(ra, rb), d);
+        }
+    }
+    if !g0.is_finite() {
+        return Vec3::ZERO;
+    }
+    let u = d0.try_normalize().unwrap_or(Vec3::Z);
+    let spans = pairs().filter_map(|((a, ra), (b, rb))| {
+        let d = (rw + b) - (lw + a);
+        let (along, c) = (d.dot(u), d.length_squared() - rr(ra, rb) * rr(ra, rb));
+        let w = (along * along - c).sqrt();
+        (w >= 0.0).then(|| (if along > 0.0 { c / (along + w) } else { along - w }, along + w))
+    });
+    let mut s = if g0 > 0.0 { g0 } else { 0.0 };
+    for _ in 0..if g0 > 0.0 { 1 } else { 4 } {
+        let before = s;
+        for (enter, leave) in spans.clone() {
+            if g0 > 0.0 && leave >= 0.0 && enter < s {
+                s = enter.max(0.0);
+            } else if g0 <= 0.0 && leave >= s && enter < s {
+                s = enter;
+            }
+        }
+        if s == before {
+            break;
+        }
+    }
+    if (u * s).is_finite() { u * s } else { Vec3::ZERO }
+}
+
 /// The smallest surface gap (at [`skin::CLOSE_RADII`]) between two hands' spheres once the
 /// left hand moves by `d / 2` and the right by `-d / 2`.
 fn gap_after(lw: Vec3, l: &[(Vec3, f32)], rw: Vec3, r: &[(Vec3, f32)], d: Vec3) -> f32 {
@@ -213,6 +252,22 @@ proptest::proptest! {
         let d = skin::close(lw, &l, rw, &r);
         let gap = gap_after(lw, &l, rw, &r, d);
         proptest::prop_assert!(gap.abs() < 2e-5, "gap after closing {gap} (move {d})");
+    }
+
+    /// The pairs of ball groups that [`skin::close`] skips change nothing: its answer is the
+    /// one every pair gives, to the bit, for hands shaped like hands (balls in clusters a few
+    /// centimeters wide, as fingers are) at any distance, apart or overlapping.
+    #[test]
+    fn close_skips_only_what_cannot_matter(
+        l in proptest::collection::vec(((-0.04f32..0.04, -0.04f32..0.04, -0.02f32..0.02), 0.004f32..0.02), 1..=skin::HAND_SPHERES),
+        r in proptest::collection::vec(((-0.04f32..0.04, -0.04f32..0.04, -0.02f32..0.02), 0.004f32..0.02), 1..=skin::HAND_SPHERES),
+        (x, y, z) in (-0.25f32..0.25, -0.1f32..0.1, -0.1f32..0.1),
+    ) {
+        let l: Vec<(Vec3, f32)> = l.into_iter().map(|((a, b, c), m)| (Vec3::new(a, b, c), m)).collect();
+        let r: Vec<(Vec3, f32)> = r.into_iter().map(|((a, b, c), m)| (Vec3::new(a, b, c), m)).collect();
+        let (lw, rw) = (Vec3::new(0.01, 0.02, -0.03), Vec3::new(x, y, z));
+        let (fast, every) = (skin::close(lw, &l, rw, &r), close_every_pair(lw, &l, rw, &r));
+        proptest::prop_assert_eq!(fast.to_array().map(f32::to_bits), every.to_array().map(f32::to_bits), "{} vs {}", fast, every);
     }
 }
 
