@@ -931,66 +931,36 @@ impl BodySurface {
 /// 13-17 mm apart (median) on the generated adults.
 pub const CLOSE_RADII: f32 = 0.7;
 
-/// Balls per group in [`close`]'s pruning: consecutive balls of a hand (the joints of one or
-/// two fingers, the tips) bounded together.
-const CLOSE_GROUP: usize = 4;
-/// Groups of [`CLOSE_GROUP`] balls a hand has at most.
-const CLOSE_GROUPS: usize = HAND_SPHERES.div_ceil(CLOSE_GROUP);
-
-/// A group of a hand's balls in [`close`]: its center, the largest distance from it to a ball's
-/// center, and the largest radius (times [`CLOSE_RADII`]).
-#[derive(Clone, Copy)]
-struct Group {
-    center: Vec3,
-    spread: f32,
-    radius: f32,
-}
-
-/// The balls (world centers) of one hand in [`close`], and their groups.
+/// One hand's balls in [`close`], world centers by coordinate (so that a hand's balls against
+/// one of the other hand are a loop the compiler turns into vector instructions).
 struct Balls {
-    at: [Vec3; HAND_SPHERES],
+    x: [f32; HAND_SPHERES],
+    y: [f32; HAND_SPHERES],
+    z: [f32; HAND_SPHERES],
     radius: [f32; HAND_SPHERES],
     n: usize,
-    groups: [Group; CLOSE_GROUPS],
 }
 
 impl Balls {
     fn of(wrist: Vec3, points: &[(Vec3, f32)]) -> Balls {
         let mut b = Balls {
-            at: [Vec3::ZERO; HAND_SPHERES],
+            x: [0.0; HAND_SPHERES],
+            y: [0.0; HAND_SPHERES],
+            z: [0.0; HAND_SPHERES],
             radius: [0.0; HAND_SPHERES],
             n: points.len().min(HAND_SPHERES),
-            groups: [Group {
-                center: Vec3::ZERO,
-                spread: 0.0,
-                radius: 0.0,
-            }; CLOSE_GROUPS],
         };
         for (i, (p, r)) in points.iter().take(HAND_SPHERES).enumerate() {
-            b.at[i] = wrist + *p;
-            b.radius[i] = *r;
-        }
-        for (g, group) in b.groups.iter_mut().enumerate().take(b.n.div_ceil(CLOSE_GROUP)) {
-            let range = g * CLOSE_GROUP..((g + 1) * CLOSE_GROUP).min(b.n);
-            let at = &b.at[range.clone()];
-            let center = at.iter().fold(Vec3::ZERO, |a, p| a + *p) / at.len() as f32;
-            *group = Group {
-                center,
-                spread: at.iter().fold(0.0f32, |a, p| a.max((*p - center).length())),
-                radius: CLOSE_RADII * b.radius[range].iter().fold(0.0f32, |a, r| a.max(*r)),
-            };
+            let at = wrist + *p;
+            (b.x[i], b.y[i], b.z[i], b.radius[i]) = (at.x, at.y, at.z, *r);
         }
         b
     }
 
-    fn groups(&self) -> usize {
-        self.n.div_ceil(CLOSE_GROUP)
+    fn at(&self, i: usize) -> Vec3 {
+        Vec3::new(self.x[i], self.y[i], self.z[i])
     }
 }
-
-/// Rounding allowance (m) of [`close`]'s group bounds: a group pair is skipped only when
-/// its bound clears the answer by this much, so skipping never changes the answer.
-const CLOSE_SLACK: f32 = 1e-4;
 
 /// The translation `D` that closes the gap between two hands' spheres (centers relative to
 /// their wrists `left` and `right`, world axes): with the left hand moved by `D / 2` and the
@@ -998,105 +968,57 @@ const CLOSE_SLACK: f32 = 1e-4;
 /// the line between the spheres nearest now. Each pair of spheres touches where a quadratic
 /// in the move says (the hands move along one line), so the first pair to touch on the way
 /// in (or, for hands overlapping now, the last to part on the way out) is found exactly,
-/// without a search. Pairs of ball groups that bounds show cannot change the answer are not
-/// looked at (the answer is the same as looking at every pair). Zero when either hand has no
-/// spheres.
+/// without a search. Zero when either hand has no spheres.
 #[must_use]
 pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> Vec3 {
     // At most HAND_SPHERES balls a hand (more are not looked at).
     let (a, b) = (Balls::of(left, l), Balls::of(right, r));
-    let (ga, gb) = (a.groups(), b.groups());
-    let mut skip = [[false; CLOSE_GROUPS]; CLOSE_GROUPS];
+    let n = b.n;
     // The pair with the smallest surface gap now sets the line (the first such pair in the
-    // order of `l` then `r`). No pair of two groups is nearer than the groups' centers less
-    // their spreads and radii: the group pair with the smallest such bound gives a gap
-    // that every group pair bounded beyond it cannot beat.
-    let gap = |i: usize, j: usize| -> (f32, Vec3) {
-        let d = b.at[j] - a.at[i];
-        (d.length() - CLOSE_RADII * (a.radius[i] + b.radius[j]), d)
-    };
-    let mut bound = [[0.0f32; CLOSE_GROUPS]; CLOSE_GROUPS];
-    let mut seed = (0, 0);
-    for x in 0..ga {
-        for y in 0..gb {
-            let (p, q) = (&a.groups[x], &b.groups[y]);
-            bound[x][y] =
-                (q.center - p.center).length() - p.spread - q.spread - p.radius - q.radius;
-            if bound[x][y] < bound[seed.0][seed.1] {
-                seed = (x, y);
-            }
-        }
-    }
-    let mut best = f32::INFINITY;
-    for i in seed.0 * CLOSE_GROUP..((seed.0 + 1) * CLOSE_GROUP).min(a.n) {
-        for j in seed.1 * CLOSE_GROUP..((seed.1 + 1) * CLOSE_GROUP).min(b.n) {
-            best = best.min(gap(i, j).0);
-        }
-    }
-    for x in 0..ga {
-        for y in 0..gb {
-            skip[x][y] = bound[x][y] > best + CLOSE_SLACK;
-        }
-    }
-    let (mut g0, mut d0) = (f32::INFINITY, Vec3::Z);
+    // order of `l` then `r`): each ball of `l` against all of `r` at once, then the least.
+    let (mut g0, mut best) = (f32::INFINITY, (0, 0));
+    let mut gaps = [0.0f32; HAND_SPHERES];
     for i in 0..a.n {
-        for j in 0..b.n {
-            if skip[i / CLOSE_GROUP][j / CLOSE_GROUP] {
-                continue;
-            }
-            let (g, d) = gap(i, j);
-            if g < g0 {
-                (g0, d0) = (g, d);
+        let (x, y, z, ra) = (a.x[i], a.y[i], a.z[i], a.radius[i]);
+        for (j, g) in gaps[..n].iter_mut().enumerate() {
+            let (dx, dy, dz) = (b.x[j] - x, b.y[j] - y, b.z[j] - z);
+            *g = (dx * dx + dy * dy + dz * dz).sqrt() - CLOSE_RADII * (ra + b.radius[j]);
+        }
+        for (j, g) in gaps[..n].iter().enumerate() {
+            if *g < g0 {
+                (g0, best) = (*g, (i, j));
             }
         }
     }
     if !g0.is_finite() {
         return Vec3::ZERO;
     }
-    let u = d0.try_normalize().unwrap_or(Vec3::Z);
+    let u = (b.at(best.1) - a.at(best.0)).try_normalize().unwrap_or(Vec3::Z);
     // With the hands moved together by s, a pair's centers are `d - s u` apart: they touch
     // for s in [b - w, b + w], b = d.u, w = sqrt(b^2 - |d|^2 + R^2) (no s when negative).
     // Hands apart now (g0 > 0): the smallest entry at or after 0 (at most g0, where the
     // nearest pair touches). Overlapping: the start of the run of overlapping s that holds
-    // 0, found by extending it down over every pair's interval that meets it.
-    // A pair of groups none of whose pairs comes within touching of the line, or (hands
-    // apart) all of whose pairs enter only after g0 or leave before 0, changes nothing.
-    for (p, row) in a.groups[..ga].iter().zip(skip.iter_mut()) {
-        for (q, skipped) in b.groups[..gb].iter().zip(row.iter_mut()) {
-            let d = q.center - p.center;
-            let along = d.dot(u);
-            let off = (d.length_squared() - along * along).max(0.0).sqrt();
-            let (spread, reach) = (p.spread + q.spread, p.radius + q.radius);
-            *skipped = off - spread > reach + CLOSE_SLACK
-                || (g0 > 0.0
-                    && (along - spread - reach > g0 + CLOSE_SLACK
-                        || along + spread + reach < -CLOSE_SLACK));
-        }
-    }
-    let span = |i: usize, j: usize| -> Option<(f32, f32)> {
-        if skip[i / CLOSE_GROUP][j / CLOSE_GROUP] {
-            return None;
-        }
-        let d = b.at[j] - a.at[i];
-        let rr = CLOSE_RADII * (a.radius[i] + b.radius[j]);
-        let along = d.dot(u);
-        let c = d.length_squared() - rr * rr;
-        let disc = along * along - c;
-        if disc.is_nan() || disc < 0.0 {
-            return None;
-        }
-        let w = disc.sqrt();
-        // The smaller root without cancellation when b is large and c small.
-        let enter = if along > 0.0 { c / (along + w) } else { along - w };
-        Some((enter, along + w))
-    };
-    // The pairs' intervals, in the order of `l` then `r` (those with none left out).
+    // 0, found by extending it down over every pair's interval that meets it. The pairs'
+    // intervals are worked out once, in the order of `l` then `r` (those with none left out).
     let mut spans = [(0.0f32, 0.0f32); HAND_SPHERES * HAND_SPHERES];
     let mut m = 0;
+    let (mut enter, mut leave) = ([0.0f32; HAND_SPHERES], [0.0f32; HAND_SPHERES]);
     for i in 0..a.n {
-        for j in 0..b.n {
-            if let Some(interval) = span(i, j) {
-                spans[m] = interval;
+        let (x, y, z, ra) = (a.x[i], a.y[i], a.z[i], a.radius[i]);
+        for j in 0..n {
+            let (dx, dy, dz) = (b.x[j] - x, b.y[j] - y, b.z[j] - z);
+            let rr = CLOSE_RADII * (ra + b.radius[j]);
+            let along = dx * u.x + dy * u.y + dz * u.z;
+            let c = (dx * dx + dy * dy + dz * dz) - rr * rr;
+            let w = (along * along - c).sqrt();
+            // The smaller root without cancellation when b is large and c small.
+            enter[j] = if along > 0.0 { c / (along + w) } else { along - w };
+            leave[j] = along + w;
+        }
+        // No real root (NaN: the square root of a negative): no interval.
+        for j in 0..n {
+            if !leave[j].is_nan() {
+                spans[m] = (enter[j], leave[j]);
                 m += 1;
             }
         }

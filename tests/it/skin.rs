@@ -186,8 +186,7 @@ fn close_brings_two_hands_into_touch() {
     assert_eq!(skin::close(Vec3::ZERO, &[], Vec3::X, &r), Vec3::ZERO);
 }
 
-/// [`skin::close`] by every pair of spheres, none skipped: the answer its pruning must keep
-/// to the bit.
+/// [`skin::close`] pair by pair: the answer its vector form must keep to the bit.
 fn close_every_pair(lw: Vec3, l: &[(Vec3, f32)], rw: Vec3, r: &[(Vec3, f32)]) -> Vec3 {
     let rr = |ra: f32, rb: f32| skin::CLOSE_RADII * (ra + rb);
     let pairs = || l.iter().flat_map(|a| r.iter().map(move |b| (*a, *b)));
@@ -254,11 +253,12 @@ proptest::proptest! {
         proptest::prop_assert!(gap.abs() < 2e-5, "gap after closing {gap} (move {d})");
     }
 
-    /// The pairs of ball groups that [`skin::close`] skips change nothing: its answer is the
-    /// one every pair gives, to the bit, for hands shaped like hands (balls in clusters a few
-    /// centimeters wide, as fingers are) at any distance, apart or overlapping.
+    /// [`skin::close`], each ball of one hand against all of the other's at once, gives the
+    /// answer of every pair looked at one by one, to the bit, for hands shaped like hands
+    /// (balls in clusters a few centimeters wide, as fingers are) at any distance, apart or
+    /// overlapping.
     #[test]
-    fn close_skips_only_what_cannot_matter(
+    fn close_gives_every_pairs_answer_to_the_bit(
         l in proptest::collection::vec(((-0.04f32..0.04, -0.04f32..0.04, -0.02f32..0.02), 0.004f32..0.02), 1..=skin::HAND_SPHERES),
         r in proptest::collection::vec(((-0.04f32..0.04, -0.04f32..0.04, -0.02f32..0.02), 0.004f32..0.02), 1..=skin::HAND_SPHERES),
         (x, y, z) in (-0.25f32..0.25, -0.1f32..0.1, -0.1f32..0.1),
