@@ -306,6 +306,13 @@ impl RadialMap {
     ) -> Option<(f32, Vec3)> {
         let q = self.rest + rotation.inverse() * (p - position);
         let depth = self.depth_rest(q, margin, floor)?;
+        Some((depth, self.outward(q, rotation)))
+    }
+
+    /// The outward direction (world) at `q`, a point in the map's rest frame, with the bone
+    /// turned by `rotation`.
+    #[inline]
+    fn outward(&self, q: Vec3, rotation: Quat) -> Vec3 {
         let d = q - self.center;
         let radial = match self.kind {
             MapKind::Cylinder => {
@@ -317,7 +324,7 @@ impl RadialMap {
             MapKind::Sphere => d,
         };
         let n = radial.try_normalize().unwrap_or(Vec3::Z);
-        Some((depth, rotation * n))
+        rotation * n
     }
 
     /// [`RadialMap::depth_above`]'s depth of a ball at `q`, a point in the map's rest frame
@@ -509,6 +516,22 @@ impl BodySurface {
         only: [bool; MAP_BONES.len()],
         floor: f32,
     ) -> Option<(f32, Vec3, usize)> {
+        let (d, q, k) = self.deepest_rest(p, margin, world, only, floor)?;
+        let map = self.maps[k].as_ref()?;
+        Some((d, map.outward(q, world.rotation[map.bone.index()]), k))
+    }
+
+    /// [`BodySurface::depth_above`] without the outward direction: the depth, the point in
+    /// the deepest map's rest frame and that map (its direction is worked out for the one
+    /// map that wins, not for each map looked at).
+    fn deepest_rest(
+        &self,
+        p: Vec3,
+        margin: f32,
+        world: &WorldPose,
+        only: Mask,
+        floor: f32,
+    ) -> Option<(f32, Vec3, usize)> {
         let mut best: Option<(f32, Vec3, usize)> = None;
         for (k, map) in self.maps.iter().enumerate() {
             let Some(map) = map else { continue };
@@ -517,11 +540,10 @@ impl BodySurface {
             }
             let b = map.bone.index();
             let floor = best.map_or(floor, |(bd, _, _)| bd.max(floor));
-            if let Some((d, n)) =
-                map.depth_above(p, margin, world.position[b], world.rotation[b], floor)
-            {
+            let q = map.rest + world.rotation[b].inverse() * (p - world.position[b]);
+            if let Some(d) = map.depth_rest(q, margin, floor) {
                 if best.is_none_or(|(bd, _, _)| d > bd) {
-                    best = Some((d, n, k));
+                    best = Some((d, q, k));
                 }
             }
         }
@@ -786,19 +808,22 @@ impl BodySurface {
                 only,
                 f32::NEG_INFINITY,
             );
-            // The depth, the outward normal, the map and the ball.
+            // The depth, the point in its map's rest frame, the map and the ball.
             let mut best: Option<(f32, Vec3, usize, usize)> = None;
             for (i, (p, margin)) in points.iter().enumerate() {
                 let floor = best.map_or(f32::NEG_INFINITY, |(bd, ..)| bd);
-                if let Some((d, n, k)) =
-                    self.depth_above(wrist + *p + shift, *margin, world, mask, floor)
+                if let Some((d, q, k)) =
+                    self.deepest_rest(wrist + *p + shift, *margin, world, mask, floor)
                 {
                     if best.is_none_or(|(bd, ..)| d > bd) {
-                        best = Some((d, n, k, i));
+                        best = Some((d, q, k, i));
                     }
                 }
             }
-            best
+            // The outward normal of the deepest ball's map.
+            let (d, q, k, i) = best?;
+            let map = self.maps[k].as_ref()?;
+            Some((d, map.outward(q, world.rotation[map.bone.index()]), k, i))
         };
         let Some((d0, n, k0, i0)) = deepest(Vec3::ZERO) else {
             return Vec3::ZERO;
