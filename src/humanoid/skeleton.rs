@@ -300,6 +300,31 @@ impl Skeleton {
         }
     }
 
+    /// [`Skeleton::forward_body`] of `root` and the body bones below it only, assuming the rest
+    /// of `out` is current (`root`'s parent in particular): the neck and head turned after the
+    /// torso was posed (the face stage), without posing the torso, legs and arms again. The
+    /// same values as `forward_body` where the rest is current. Allocates nothing.
+    pub fn forward_subtree(&self, root: HumanBone, local: &[Quat; BONE_COUNT], out: &mut WorldPose) {
+        // Bones come after their parents in `HumanBone::ALL`: one pass from the root, a bone
+        // posed when its parent was.
+        let mut posed: u64 = 0;
+        for bone in HumanBone::ALL[root.index()..]
+            .iter()
+            .take_while(|b| !b.is_finger())
+        {
+            let i = bone.index();
+            if !self.present[i] {
+                continue;
+            }
+            let under = i == root.index()
+                || self.parent[i].is_some_and(|p| posed & (1 << p.index()) != 0);
+            if under {
+                self.pose_bone(i, local, out);
+                posed |= 1 << i;
+            }
+        }
+    }
+
     /// Forward kinematics of the side's arm from its root (its shoulder, or its upper arm on an
     /// avatar without shoulder bones) down to the fingers, assuming the rest of `out` is
     /// current (the root's parent in particular): an arm after its IK, without recomputing the
@@ -419,6 +444,40 @@ mod tests {
             arm.position[B::RightHand.index()],
             s.rest_world(B::RightHand).unwrap()
         );
+    }
+
+    #[test]
+    fn a_subtree_posed_again_equals_the_whole_body_posed_again() {
+        use crate::humanoid::bones::HumanBone as B;
+        // A body with a neck, eyes and a jaw, and shoulders on the upper chest.
+        let mut body = minimal();
+        body.extend([
+            (B::Chest, Vec3::new(0.0, 1.25, 0.0)),
+            (B::UpperChest, Vec3::new(0.0, 1.38, 0.0)),
+            (B::Neck, Vec3::new(0.0, 1.5, 0.0)),
+            (B::LeftEye, Vec3::new(0.03, 1.66, 0.08)),
+            (B::RightEye, Vec3::new(-0.03, 1.66, 0.08)),
+            (B::Jaw, Vec3::new(0.0, 1.58, 0.03)),
+            (B::LeftShoulder, Vec3::new(0.05, 1.42, 0.0)),
+        ]);
+        let s = Skeleton::new(&body, VrmVersion::V1).unwrap();
+        let mut local = [Quat::IDENTITY; BONE_COUNT];
+        local[B::Spine.index()] = Quat::from_rotation_z(0.2);
+        local[B::LeftLowerArm.index()] = Quat::from_rotation_y(0.7);
+        let mut w = WorldPose::default();
+        s.forward_body(&local, &mut w);
+        // The neck and head turned after the body was posed.
+        local[B::Neck.index()] = Quat::from_rotation_y(0.3);
+        local[B::Head.index()] = Quat::from_rotation_x(-0.4);
+        let mut whole = w.clone();
+        s.forward_body(&local, &mut whole);
+        s.forward_subtree(B::Neck, &local, &mut w);
+        for b in s.bones() {
+            let i = b.index();
+            assert_eq!(w.position[i], whole.position[i], "{b:?}");
+            assert_eq!(w.rotation[i], whole.rotation[i], "{b:?}");
+        }
+        assert_ne!(w.position[B::LeftEye.index()], s.rest_world(B::LeftEye).unwrap());
     }
 
     #[test]

@@ -25,7 +25,7 @@ impl FaceStage {
     }
 
     // Out of line: inlined into solve_valid it cost a second copy of the body's forward
-    // kinematics.
+    // kinematics (when it posed the whole body again).
     #[inline(never)]
     /// Runs after the torso: `out.face`, and the neck and head in `out.local` (the world pose
     /// posed again) when the face turns them.
@@ -94,6 +94,7 @@ fn turn_head(cx: &Context, r: Quat, k: f32, out: &mut SolveOutput) -> bool {
     }
     out.local[head.index()] = out.local[head.index()].slerp(head_local, k).normalize();
     out.solved[head.index()] = k >= 1.0;
-    sk.forward_body(&out.local, &mut out.world);
+    // The torso stage posed the whole body: only the neck's (or head's) subtree moved.
+    sk.forward_subtree(first, &out.local, &mut out.world);
     true
 }

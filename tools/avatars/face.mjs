@@ -127,12 +127,23 @@ function marginAt(lid, theta) {
 }
 
 /**
+ * How a lid closes (`lids`): `closeAt`, the closing line's place up the opening (0: the lower
+ * lid's margin, 1: the upper's); `over`, how far past it the upper lid goes (a share of the
+ * opening); `lidR`, the radius (in eyeball radii) of the sphere the upper lid's skin is brought
+ * in to where it lies further out (0: none), over `pull` (radians above the upper margin: all
+ * of it below the first, none above the second).
+ */
+const SQUINT_LID = { closeAt: 0.4, over: 0, lidR: 0, pull: [0, 0] };
+const BLINK_LID = { closeAt: -0.1, over: 0.05, lidR: 1.08, pull: [0.2, 0.35] };
+
+/**
  * The lids of the eye on the avatar's left moved: the upper lid turned about the eye's
  * horizontal axis by `upper` of the way to the closing line (negative: opened by that share of
  * the gap), the lower lid by `lower`; `yaw` turns both lids sideways (radians, +: toward +X).
  * Turning about the eyeball's centre keeps the lids off the eyeball.
  */
-function lids(f, p, upper, lower, yaw = 0) {
+function lids(f, p, upper, lower, yaw = 0, how = SQUINT_LID) {
+  const { closeAt, over, lidR, pull: lidPull } = how;
   const eye = f.eyeL;
   const q = sub(p, eye.c);
   const rho = length(q);
@@ -144,17 +155,27 @@ function lids(f, p, upper, lower, yaw = 0) {
   const phi = Math.atan2(q[1], q[2]);
   let turned = q;
   if (m.gap > 0 && radial > 0) {
-    const close = m.lo + 0.4 * (m.up - m.lo);
+    const close = m.lo + closeAt * (m.up - m.lo);
     const mid = (m.up + m.lo) / 2;
     let a = 0;
     if (phi >= mid) {
-      const target = upper >= 0 ? upper * (close - m.up) : -upper * m.gap * 0.5;
+      const target = upper >= 0 ? upper * (close - over * m.gap - m.up) : -upper * m.gap * 0.5;
       a = target * (1 - smoothstep(0, 0.55, phi - m.up)) * radial * m.fade;
     } else {
       const target = lower >= 0 ? lower * (close - m.lo) : lower * m.gap * 0.3;
       a = target * (1 - smoothstep(0, 0.45, m.lo - phi)) * radial * m.fade;
     }
     turned = rotX(q, -a);
+    // The closing upper lid lies on a sphere over the eyeball (`lidR` of its radius): the skin of
+    // the fold above the margin, which sits further out (the socket's rim), comes in over the
+    // ball as the lid unfolds, instead of turning down as an overhang (whose underside faced
+    // down, dark: read as a squint).
+    if (lidR > 0 && upper > 0 && phi >= mid) {
+      const pull = upper * (1 - smoothstep(lidPull[0], lidPull[1], phi - m.up)) * radial * m.fade;
+      const r = length(turned);
+      const R = lidR * eye.r;
+      if (r > R && pull > 0) turned = scale(turned, (r - pull * (r - R)) / r);
+    }
   }
   if (yaw) {
     const w = bump((q[0] * q[0] + q[1] * q[1]) / (2.2 * eye.r) ** 2) * radial;
@@ -210,7 +231,11 @@ function cornerWeight(f, p, r = 0.017) {
  * Right-side shapes are the left ones mirrored (x -> -x).
  */
 const LEFT = {
-  eyeBlink: (f, p) => lids(f, p, 1, 1),
+  // A blink: the upper lid comes down over the ball to the lower lid's margin and a little
+  // past it (the lower lid barely moves), its fold unfolding onto a sphere over the eyeball
+  // (see `lids`). Closing 40% up the opening with both lids (the squint's line) read as a
+  // squint to FaceLandmarker (docs/measurements/2026-12-06-face.md).
+  eyeBlink: (f, p) => lids(f, p, 1, 1, 0, BLINK_LID),
   eyeLookDown: (f, p) => lids(f, p, 0.35, -0.3),
   eyeLookIn: (f, p) => lids(f, p, 0, 0, -0.08),
   eyeLookOut: (f, p) => lids(f, p, 0, 0, 0.08),

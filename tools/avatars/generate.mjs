@@ -325,7 +325,7 @@ function meshArrays(src, prep, posed, frame, jointOfBone, face) {
     normals,
     joints,
     weights,
-    ...(face ? { colors: face.colors, targets: face.targets.map((t) => ({ ...t, deltas: framed(t.deltas, frame) })) } : {}),
+    ...(face ? { colors: face.colors, targets: withNormals(positions, normals, [tri.skin, tri.eyes], face.targets.map((t) => ({ ...t, deltas: framed(t.deltas, frame) }))) } : {}),
     primitives: [
       { indices: Uint16Array.from(tri.skin), material: 0 },
       { indices: Uint16Array.from(tri.eyes), material: 1 },
@@ -334,6 +334,59 @@ function meshArrays(src, prep, posed, frame, jointOfBone, face) {
 }
 
 /** Deltas (x y z per vertex) in the file's frame. */
+/**
+ * The morph targets with their NORMAL deltas: each target's vertex normals computed again as the
+ * rest's are (area-weighted, from the morphed positions) where its moved vertices' triangles are,
+ * minus the rest's. Without them a renderer keeps the rest normals on a moved surface: a lid
+ * turned down over the eye kept the shading of the socket's upper wall (dark, facing down),
+ * which FaceLandmarker read as a squint (docs/measurements/2026-12-06-face.md).
+ */
+// The targets given NORMAL deltas: the blinks (the other targets' shading moves little; all
+// of them would make each file 25% larger).
+const NORMAL_TARGETS = /^eyeBlink/;
+function withNormals(positions, normals, lists, targets) {
+  const n = positions.length / 3;
+  // Each vertex's triangles: pairs (list, offset of the triangle in it).
+  const around = Array.from({ length: n }, () => []);
+  lists.forEach((list, l) => {
+    for (let t = 0; t < list.length; t += 3) for (let k = 0; k < 3; k++) around[list[t + k]].push(l, t);
+  });
+  return targets.map((tg) => {
+    if (!NORMAL_TARGETS.test(tg.name)) return { ...tg, normalIndices: new Uint16Array(0), normalDeltas: new Float32Array(0) };
+    const moved = new Map();
+    tg.indices.forEach((vi, k) => moved.set(vi, k));
+    const at = (i) => {
+      const k = moved.get(i);
+      const p = [positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]];
+      return k === undefined ? p : add(p, [tg.deltas[3 * k], tg.deltas[3 * k + 1], tg.deltas[3 * k + 2]]);
+    };
+    const touched = new Set();
+    for (const vi of tg.indices) {
+      const a = around[vi];
+      for (let j = 0; j < a.length; j += 2) for (let k = 0; k < 3; k++) touched.add(lists[a[j]][a[j + 1] + k]);
+    }
+    const idx = [];
+    const deltas = [];
+    for (const i of [...touched].sort((x, y) => x - y)) {
+      const a = around[i];
+      let acc = [0, 0, 0];
+      for (let j = 0; j < a.length; j += 2) {
+        const list = lists[a[j]];
+        const t = a[j + 1];
+        const [p, q, r] = [at(list[t]), at(list[t + 1]), at(list[t + 2])];
+        acc = add(acc, cross(sub(q, p), sub(r, p)));
+      }
+      const len = length(acc);
+      if (!(len > 0)) continue;
+      const d = [0, 1, 2].map((k) => Math.fround(acc[k] / len - normals[3 * i + k]));
+      if (Math.max(Math.abs(d[0]), Math.abs(d[1]), Math.abs(d[2])) < 1e-3) continue;
+      idx.push(i);
+      deltas.push(...d);
+    }
+    return { ...tg, normalIndices: Uint16Array.from(idx), normalDeltas: Float32Array.from(deltas) };
+  });
+}
+
 function framed(deltas, frame) {
   const out = new Float32Array(deltas.length);
   for (let i = 0; i < deltas.length; i += 3) out.set(frame([deltas[i], deltas[i + 1], deltas[i + 2]]), i);

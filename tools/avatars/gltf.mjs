@@ -96,7 +96,21 @@ export function writeGlb({ nodes, sceneNodes, mesh, skin, materials, meshName, e
       indices: { bufferView: bin.view(t.indices), componentType: UNSIGNED_SHORT },
       values: { bufferView: bin.view(t.deltas) },
     };
-    return { POSITION: accessor(undefined, FLOAT, vertexCount, "VEC3", { min, max, sparse }) };
+    const out = { POSITION: accessor(undefined, FLOAT, vertexCount, "VEC3", { min, max, sparse }) };
+    // NORMAL deltas likewise when given (every target then has them: an accessor without data
+    // is all zeros).
+    if (t.normalIndices) {
+      out.NORMAL = t.normalIndices.length
+        ? accessor(undefined, FLOAT, vertexCount, "VEC3", {
+            sparse: {
+              count: t.normalIndices.length,
+              indices: { bufferView: bin.view(t.normalIndices), componentType: UNSIGNED_SHORT },
+              values: { bufferView: bin.view(t.normalDeltas) },
+            },
+          })
+        : accessor(undefined, FLOAT, vertexCount, "VEC3");
+    }
+    return out;
   });
   const primitives = mesh.primitives.map((p) => ({
     attributes,

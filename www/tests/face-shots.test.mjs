@@ -5,8 +5,9 @@
 // tests/fixtures/face/bench-shots.json, made by `node eval/face-bench.mjs --write-shots`), after
 // 2 s of its still face: saying "aa" and "ou", smiling, looking to its left, each from the front;
 // and blinking, with the blink set on three-vrm's expression manager directly (handrig does not
-// report the bench's rendered blink: MediaPipe reads those closed lids as a squint; the test
-// checks that this is still so). Saves artifacts/screenshots/face-<blink|aa|ou|smile|look-left>.png.
+// report the bench's rendered blink: MediaPipe reads the closed lids with eyeBlink 0.6 and
+// eyeLookDown 0.75, and handrig's look-down correction leaves 0.2-0.35; the test checks that this is
+// still so). Saves artifacts/screenshots/face-<blink|aa|ou|smile|look-left>.png.
 // Checks that the intended preset is on in the result and its morph target on the mesh, the
 // other shots' near zero, and that the look-at turns the eyes.
 
@@ -97,8 +98,9 @@ test("the default avatar blinking (the blink expression set directly: see the no
   assert.ok(r.influences.eyeBlinkLeft > 0.99 && r.influences.eyeBlinkRight > 0.99, JSON.stringify(r.influences));
   assert.ok(r.influences.jawOpen === 0 && r.influences.mouthSmileLeft === 0);
   // Driven by the bench's FaceLandmarker results, handrig does not close these eyes: MediaPipe
-  // reads the rendered closed lids as a squint (eyeBlink 0.2-0.3, eyeSquint 0.75), under
-  // handrig's blink threshold. Checked here so that a change shows.
+  // reads the rendered closed lids with eyeBlink 0.6-0.67 and eyeLookDown 0.75 (as a real
+  // blink), and handrig takes half the calibrated look-down off the blink (LOOK_DOWN_BLINK),
+  // under its blink threshold. Checked here so that a change shows.
   const blink = data.shots.find((x) => x.name === "blink");
   const still = data.still.map((f) => frame(f));
   const t0 = still[still.length - 1].timeMs + 1000 / 30;
