@@ -22,9 +22,11 @@ use super::output::SolveOutput;
 /// planted until it rises past [`LIFT_HEIGHT`] or its tracked ankle moves faster than
 /// [`LIFT_SPEED`]: the gap keeps noise from planting and lifting it frame to frame.
 const PLANT_HEIGHT: f32 = 0.03;
-const PLANT_SPEED: f32 = 0.3;
+const PLANT_SPEED: f32 = 0.5;
 const LIFT_HEIGHT: f32 = 0.05;
 const LIFT_SPEED: f32 = 0.6;
+/// How long (ms) the hips take to follow the planted feet across (a time constant).
+const FOLLOW_MS: f32 = 100.0;
 
 /// The legs stage: per side the leg solver, its presence, the rotations shown last frame and
 /// the blend's anchors; the grounding's state (the avatar's soles, the hips' offset, the
@@ -41,6 +43,9 @@ pub(super) struct Legs {
     /// The hip midpoint in the image and the camera distance (m, user scale) when the root
     /// motion started (a leg seen after none was).
     reference: Option<(Vec3, f32)>,
+    /// What the planted feet moved the hips across beyond the image's motion (x and z): the
+    /// hips follow a planted foot, the image moves them while no foot is planted.
+    drift: Vec3,
     root_filter: PointFilters<1>,
     /// Each planted foot's ankle, world (with the offset); the tracked ankle last frame.
     lock: [Option<Vec3>; 2],
@@ -60,6 +65,7 @@ impl Legs {
             soles: Soles::new(skeleton),
             offset: Vec3::ZERO,
             reference: None,
+            drift: Vec3::ZERO,
             root_filter: PointFilters::default(),
             lock: [None; 2],
             last_ankle: [None; 2],
@@ -76,6 +82,7 @@ impl Legs {
         self.anchor = [[Quat::IDENTITY; 4]; 2];
         self.offset = Vec3::ZERO;
         self.reference = None;
+        self.drift = Vec3::ZERO;
         self.root_filter.reset();
         self.lock = [None; 2];
         self.last_ankle = [None; 2];
@@ -119,10 +126,11 @@ impl Legs {
             _ => None,
         };
         match across {
-            Some(v) => (offset.x, offset.z) = (v.x, v.z),
+            Some(v) => (offset.x, offset.z) = (v.x + self.drift.x, v.z + self.drift.z),
             None => {
                 // Not tracked: back to the rest position as the legs ease to rest.
                 self.reference = None;
+                self.drift = Vec3::ZERO;
                 let k = cx.dt.map_or(1.0, |dt| {
                     (dt * 1000.0 / timing.fade_out_ms.max(1.0)).min(1.0)
                 });
@@ -150,6 +158,13 @@ impl Legs {
             (true, Some(soles)) => soles.floor - self.lowest(&soles, out, [0, 1]),
             _ => 0.0,
         };
+        // Each tracked foot's height above the floor (a planted foot lifts when the tracked
+        // one rises: after the re-solve below it stands on its lock).
+        let heights = [0, 1].map(|s| {
+            soles.map_or(f32::INFINITY, |soles| {
+                self.lowest(&soles, out, [s, s]) + offset.y - soles.floor
+            })
+        });
         // A planted foot's ankle stays where it was put down: the hips low enough for the
         // leg to reach it, the leg solved again toward it. A tracked ankle moving fast lifts
         // it first.
@@ -164,6 +179,24 @@ impl Legs {
             }
         }
         self.last_ankle = tracked_ankle;
+        // The hips follow the planted feet across (the mean of what each lock asks, eased
+        // over [`FOLLOW_MS`]: a foot lifting off hands the hips to the other without a jump):
+        // the leg keeps its tracked shape, the IK below holds the foot on its lock. Re-solving
+        // the leg toward a lock the image's hips motion disagrees with bent the knee (the
+        // bench's sidestep).
+        let (mut sum, mut n) = (Vec3::ZERO, 0.0);
+        for (lock, target) in self.lock.iter().zip(&targets) {
+            if let (true, Some(lock), Some(t)) = (o.plant, lock, target) {
+                sum += lock - t.ankle - offset;
+                n += 1.0;
+            }
+        }
+        if n > 0.0 && across.is_some() {
+            let k = cx.dt.map_or(1.0, |dt| (dt * 1000.0 / FOLLOW_MS).min(1.0));
+            let d = Vec3::new(sum.x, 0.0, sum.z) * (k / n);
+            offset += d;
+            self.drift += d;
+        }
         let mut relocked = false;
         for side in Side::BOTH {
             let s = side.index();
@@ -206,12 +239,14 @@ impl Legs {
                 self.shown[s][k] = q;
             }
         }
-        let Some(soles) = soles else { return };
+        if soles.is_none() {
+            return;
+        }
         // Planting: on the floor and slow; lifted when high or fast.
         for side in Side::BOTH {
             let s = side.index();
             let speed = speed[s];
-            let height = self.lowest(&soles, out, [s, s]) + offset.y - soles.floor;
+            let height = heights[s];
             let planted = if self.lock[s].is_some() {
                 height < LIFT_HEIGHT && speed < LIFT_SPEED
             } else {
