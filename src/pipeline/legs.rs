@@ -400,7 +400,7 @@ impl View {
     /// world length over its image length) does not hold for the legs of every body (the
     /// bench's man standing still: his thighs read 5-8% short, 20-30 degrees deep, the knees
     /// 19 cm forward). On the bench, MediaPipe's bounded depth put the knee 15-30 mm from the
-    /// truth (median, thigh alone) where the foreshortening's put it 36-82 mm
+    /// truth (median, thigh alone) where the foreshortening's put it 34-82 mm
     /// (docs/measurements/2026-12-06-legs-bench.md, third session).
     fn segment(&self, cx: &Context, pose: &PoseObservation, a: usize, b: usize) -> Vec3 {
         let world = pose.world[b] - pose.world[a];
