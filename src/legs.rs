@@ -110,7 +110,7 @@ impl Soles {
 const DEG: f32 = PI / 180.0;
 /// Hip: flexion, extension, abduction, adduction, rotation either way (AAOS).
 const HIP_FLEXION: f32 = 120.0 * DEG;
-pub(crate) const HIP_EXTENSION: f32 = 30.0 * DEG;
+const HIP_EXTENSION: f32 = 30.0 * DEG;
 const HIP_ABDUCTION: f32 = 45.0 * DEG;
 const HIP_ADDUCTION: f32 = 30.0 * DEG;
 const HIP_ROTATION: f32 = 45.0 * DEG;

@@ -22,9 +22,11 @@ use super::output::SolveOutput;
 /// planted until it rises past [`LIFT_HEIGHT`] or its tracked ankle moves faster than
 /// [`LIFT_SPEED`]: the gap keeps noise from planting and lifting it frame to frame.
 const PLANT_HEIGHT: f32 = 0.03;
-const PLANT_SPEED: f32 = 0.3;
+const PLANT_SPEED: f32 = 0.5;
 const LIFT_HEIGHT: f32 = 0.05;
 const LIFT_SPEED: f32 = 0.6;
+/// How long (ms) the hips take to follow the planted feet across (a time constant).
+const FOLLOW_MS: f32 = 100.0;
 
 /// The legs stage: per side the leg solver, its presence, the rotations shown last frame and
 /// the blend's anchors; the grounding's state (the avatar's soles, the hips' offset, the
@@ -41,6 +43,9 @@ pub(super) struct Legs {
     /// The hip midpoint in the image and the camera distance (m, user scale) when the root
     /// motion started (a leg seen after none was).
     reference: Option<(Vec3, f32)>,
+    /// What the planted feet moved the hips across beyond the image's motion (x and z): the
+    /// hips follow a planted foot, the image moves them while no foot is planted.
+    drift: Vec3,
     root_filter: PointFilters<1>,
     /// Each planted foot's ankle, world (with the offset); the tracked ankle last frame.
     lock: [Option<Vec3>; 2],
@@ -60,6 +65,7 @@ impl Legs {
             soles: Soles::new(skeleton),
             offset: Vec3::ZERO,
             reference: None,
+            drift: Vec3::ZERO,
             root_filter: PointFilters::default(),
             lock: [None; 2],
             last_ankle: [None; 2],
@@ -76,6 +82,7 @@ impl Legs {
         self.anchor = [[Quat::IDENTITY; 4]; 2];
         self.offset = Vec3::ZERO;
         self.reference = None;
+        self.drift = Vec3::ZERO;
         self.root_filter.reset();
         self.lock = [None; 2];
         self.last_ankle = [None; 2];
@@ -101,7 +108,6 @@ impl Legs {
                 targets[side.index()] = pose.and_then(|p| {
                     let view = View {
                         turn: pelvis_turn(cx, p, hips),
-                        hips,
                         meters: meters_per_height(cx, p),
                     };
                     let filter = &mut self.segments[side.index()];
@@ -120,10 +126,11 @@ impl Legs {
             _ => None,
         };
         match across {
-            Some(v) => (offset.x, offset.z) = (v.x, v.z),
+            Some(v) => (offset.x, offset.z) = (v.x + self.drift.x, v.z + self.drift.z),
             None => {
                 // Not tracked: back to the rest position as the legs ease to rest.
                 self.reference = None;
+                self.drift = Vec3::ZERO;
                 let k = cx.dt.map_or(1.0, |dt| {
                     (dt * 1000.0 / timing.fade_out_ms.max(1.0)).min(1.0)
                 });
@@ -151,6 +158,13 @@ impl Legs {
             (true, Some(soles)) => soles.floor - self.lowest(&soles, out, [0, 1]),
             _ => 0.0,
         };
+        // Each tracked foot's height above the floor (a planted foot lifts when the tracked
+        // one rises: after the re-solve below it stands on its lock).
+        let heights = [0, 1].map(|s| {
+            soles.map_or(f32::INFINITY, |soles| {
+                self.lowest(&soles, out, [s, s]) + offset.y - soles.floor
+            })
+        });
         // A planted foot's ankle stays where it was put down: the hips low enough for the
         // leg to reach it, the leg solved again toward it. A tracked ankle moving fast lifts
         // it first.
@@ -165,6 +179,24 @@ impl Legs {
             }
         }
         self.last_ankle = tracked_ankle;
+        // The hips follow the planted feet across (the mean of what each lock asks, eased
+        // over [`FOLLOW_MS`]: a foot lifting off hands the hips to the other without a jump):
+        // the leg keeps its tracked shape, the IK below holds the foot on its lock. Re-solving
+        // the leg toward a lock the image's hips motion disagrees with bent the knee (the
+        // bench's sidestep).
+        let (mut sum, mut n) = (Vec3::ZERO, 0.0);
+        for (lock, target) in self.lock.iter().zip(&targets) {
+            if let (true, Some(lock), Some(t)) = (o.plant, lock, target) {
+                sum += lock - t.ankle - offset;
+                n += 1.0;
+            }
+        }
+        if n > 0.0 && across.is_some() {
+            let k = cx.dt.map_or(1.0, |dt| (dt * 1000.0 / FOLLOW_MS).min(1.0));
+            let d = Vec3::new(sum.x, 0.0, sum.z) * (k / n);
+            offset += d;
+            self.drift += d;
+        }
         let mut relocked = false;
         for side in Side::BOTH {
             let s = side.index();
@@ -207,12 +239,14 @@ impl Legs {
                 self.shown[s][k] = q;
             }
         }
-        let Some(soles) = soles else { return };
+        if soles.is_none() {
+            return;
+        }
         // Planting: on the floor and slow; lifted when high or fast.
         for side in Side::BOTH {
             let s = side.index();
             let speed = speed[s];
-            let height = self.lowest(&soles, out, [s, s]) + offset.y - soles.floor;
+            let height = heights[s];
             let planted = if self.lock[s].is_some() {
                 height < LIFT_HEIGHT && speed < LIFT_SPEED
             } else {
@@ -348,11 +382,10 @@ fn meters_per_height(cx: &Context, pose: &PoseObservation) -> Option<f32> {
     (meters.is_finite() && meters > 0.0).then_some(meters)
 }
 
-/// How the user's leg segments are read on a frame: the pelvis' turn, the avatar's hips (world
-/// rotation) and the image's scale (meters per image height), when the image is given.
+/// How the user's leg segments are read on a frame: the pelvis' turn and the image's scale
+/// (meters per image height), when the image is given.
 struct View {
     turn: Quat,
-    hips: Quat,
     meters: Option<f32>,
 }
 
@@ -360,16 +393,16 @@ impl View {
     /// The user's segment from landmark `a` to `b` in the avatar's world axes, its world
     /// length. With the image: across and up as the image shows it (MediaPipe's world
     /// landmarks put a squatting user's thighs straight down, and a raised knee's thigh at
-    /// full length below the hip, where the image shows them foreshortened), and the depth the
-    /// length leaves ([`depth`], [`SURE_DEPTH`]).
-    fn segment(
-        &self,
-        cx: &Context,
-        pose: &PoseObservation,
-        a: usize,
-        b: usize,
-        valid: impl Fn(Vec3) -> bool,
-    ) -> Vec3 {
+    /// full length below the hip, where the image shows them foreshortened), its depth
+    /// MediaPipe's, bounded by the depth the image leaves ([`depth`]).
+    ///
+    /// The depth is not taken from the image's foreshortening: the image's scale (the torso's
+    /// world length over its image length) does not hold for the legs of every body (the
+    /// bench's man standing still: his thighs read 5-8% short, 20-30 degrees deep, the knees
+    /// 19 cm forward). On the bench, MediaPipe's bounded depth put the knee 15-30 mm from the
+    /// truth (median, thigh alone) where the foreshortening's put it 34-82 mm
+    /// (docs/measurements/2026-12-06-legs-bench.md, third session).
+    fn segment(&self, cx: &Context, pose: &PoseObservation, a: usize, b: usize) -> Vec3 {
         let world = pose.world[b] - pose.world[a];
         let to_world = |v: Vec3| self.turn * cx.camera.to_avatar(v);
         let (Some(image), Some(m)) = (cx.input.pose_image, self.meters) else {
@@ -377,40 +410,10 @@ impl View {
         };
         let d = image[b] - image[a];
         let across = Vec3::new(d.x * cx.input.image_aspect * m, d.y * m, 0.0);
-        let length = world.length();
-        let z = depth(length, across.length());
-        // MediaPipe's z (away from the camera positive), bounded by the depth the image
-        // leaves; toward the image's depth as the segment is seen shortened beyond what the
-        // landmarks' noise makes (a quarter of its length deep: 3% shorter) and fully at half
-        // its length (30 degrees out of the image plane), the way that is `valid` (when both
-        // are, MediaPipe's).
-        let mp = world.z.clamp(-z, z);
-        let sure =
-            ((z / length.max(1e-6) - SURE_DEPTH.0) / (SURE_DEPTH.1 - SURE_DEPTH.0)).clamp(0.0, 1.0);
-        if sure <= 0.0 {
-            return to_world(across + Vec3::Z * mp);
-        }
-        let away = valid(to_world(across + Vec3::Z * z));
-        let toward = valid(to_world(across - Vec3::Z * z));
-        let sign = match (away, toward) {
-            (true, false) => 1.0,
-            (false, true) => -1.0,
-            _ => {
-                if world.z >= 0.0 {
-                    1.0
-                } else {
-                    -1.0
-                }
-            }
-        };
-        to_world(across + Vec3::Z * (mp + sure * (sign * z - mp)))
+        let z = depth(world.length(), across.length());
+        to_world(across + Vec3::Z * world.z.clamp(-z, z))
     }
 }
-
-/// A leg segment's depth from the image over its length: below the first, noise (its depth is
-/// MediaPipe's, bounded by the image's); from the second, sure (the image's, the way the
-/// joint's range allows); blended between.
-const SURE_DEPTH: (f32, f32) = (0.25, 0.5);
 
 /// The depth (m) a segment of `length` has when `across` of it is seen in the image.
 fn depth(length: f32, across: f32) -> f32 {
@@ -448,19 +451,10 @@ fn target(
     let w = &pose.world;
     let vector = |v| view.turn * cx.camera.to_avatar(v);
     // Each of the user's segments along its direction with the avatar's length: the knee's
-    // angle and the leg's direction are the user's. The thigh within the hip's extension,
-    // the knee bent forwards (in front of the hip-ankle line).
-    let hips = view.hips;
-    let thigh_dir = view.segment(cx, pose, hip, knee, |v| {
-        let v = hips.conjugate() * v;
-        v.z.atan2(-v.y) >= -crate::legs::HIP_EXTENSION
-    });
-    let forward = hips * Vec3::Z;
-    let shin_dir = view.segment(cx, pose, knee, ankle, |s| {
-        let u = thigh_dir + s;
-        let off = thigh_dir - u * (thigh_dir.dot(u) / u.length_squared().max(1e-9));
-        off.dot(forward) >= -1e-3
-    });
+    // angle and the leg's direction are the user's (the IK bends the knee forwards, the
+    // hinge and the hip's ranges limit it).
+    let thigh_dir = view.segment(cx, pose, hip, knee);
+    let shin_dir = view.segment(cx, pose, knee, ankle);
     let mut dirs = [thigh_dir, shin_dir];
     if cx.options.filter.enabled && view.meters.is_some() && cx.input.pose_image.is_some() {
         filter.apply(&mut dirs, cx.now_ms, cx.dt, &cx.options.filter.one_euro());

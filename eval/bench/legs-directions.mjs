@@ -1,0 +1,115 @@
+#!/usr/bin/env node
+// The bench's leg clips (issue 51): how well each way of reading a thigh's and a shin's
+// direction from MediaPipe's pose places the knee and the ankle, the segment alone (no solve,
+// no filter, no turn), against the truth (motions.mjs legClipPose), on the committed Tasks API
+// recordings (eval/bench/clips/AVATAR-CLIP-tasks.json).
+//
+//   node eval/bench/legs-directions.mjs      # ~10 s; needs npm ci --prefix tests/node (three, three-vrm)
+//
+// Per avatar, segment (0 thigh: the knee's error; 1 shin: the ankle's error from the knee) and
+// clip, the median and 90th percentile (mm) of |the direction - the truth's| times the avatar's
+// segment length, for:
+// * world: MediaPipe's world landmarks (x, -y, -z);
+// * image + bounded depth (handrig since the third session): across and up from the image
+//   landmarks scaled by the torso (world length over image length), MediaPipe's depth bounded
+//   by the depth the image leaves, sqrt(length^2 - seen^2);
+// * image + foreshortening depth (the second session's rule): as above, but from a quarter of
+//   the length deep (the image's foreshortening) toward the image's depth, in full from half, the
+//   way the hip's 30 degrees of extension allows (thigh) or MediaPipe's (shin).
+// and the ratio of each segment's image length to its world length (x1000, median): 1000 when
+// the torso's image scale holds for the legs.
+
+import { readFileSync } from "node:fs";
+import { join } from "node:path";
+import { pathToFileURL } from "node:url";
+import { LEG_AVATARS, REPO, avatarFile, recordingFile } from "./common.mjs";
+import { LEG_CLIPS, LEG_REST_BONES, legClipPose } from "./motions.mjs";
+
+const { loadVrm } = await import(pathToFileURL(join(REPO, "tests", "node", "consumer", "skin-measure.mjs")).href);
+const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+const add = (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+const sc = (a, s) => [a[0] * s, a[1] * s, a[2] * s];
+const len = (a) => Math.hypot(...a);
+const norm = (a) => sc(a, 1 / len(a));
+const pct = (v, p) => [...v].sort((a, b) => a - b)[Math.floor((v.length - 1) * p)];
+const MP = { left: [23, 25, 27], right: [24, 26, 28] };
+const toAvatar = (v) => [v[0], -v[1], -v[2]];
+const METHODS = { world: "world", bounded: "image + bounded depth", foreshortening: "image + foreshortening depth" };
+
+const res = new Map();
+const push = (key, v) => (res.get(key) ?? res.set(key, []).get(key)).push(v);
+for (const avatar of LEG_AVATARS) {
+  const vrm = await loadVrm(avatarFile(avatar));
+  vrm.scene.updateMatrixWorld(true);
+  const rest = {};
+  for (const b of LEG_REST_BONES) {
+    const n = vrm.humanoid.getNormalizedBoneNode(b);
+    if (n) {
+      const v = n.getWorldPosition(n.position.clone());
+      rest[b] = [v.x, v.y, v.z];
+    }
+  }
+  for (const clip of LEG_CLIPS) {
+    const rec = JSON.parse(readFileSync(recordingFile(avatar, clip, "tasks"), "utf8"));
+    const aspect = rec.width / rec.height;
+    rec.frames.forEach((fr, i) => {
+      if (!fr.pose?.worldLandmarks) return;
+      const t = legClipPose(clip, i, rest);
+      const W = fr.pose.worldLandmarks;
+      const I = fr.pose.landmarks;
+      const mid = (p, a, b) => sc(add(p[a], p[b]), 0.5);
+      const chord = (p) => sub(mid(p, 11, 12), mid(p, 23, 24));
+      const ci = chord(I);
+      const m = len(chord(W)) / Math.hypot(ci[0] * aspect, ci[1]);
+      for (const side of ["left", "right"]) {
+        const [hi, ki, ai] = MP[side];
+        const H = add(rest[`${side}UpperLeg`], t.hipsOffset ?? [0, 0, 0]);
+        const K = t.points[`${side}Knee`];
+        const A = t.points[`${side}Ankle`];
+        const segs = [
+          [hi, ki, norm(sub(K, H)), len(sub(rest[`${side}LowerLeg`], rest[`${side}UpperLeg`]))],
+          [ki, ai, norm(sub(A, K)), len(sub(rest[`${side}Foot`], rest[`${side}LowerLeg`]))],
+        ];
+        segs.forEach(([a, b, truth, L], si) => {
+          const w = sub(W[b], W[a]);
+          const wl = len(w);
+          const d = sub(I[b], I[a]);
+          const across = [d[0] * aspect * m, d[1] * m];
+          const al = Math.hypot(...across);
+          const z = Math.sqrt(Math.max(0, wl * wl - al * al));
+          const mp = Math.max(-z, Math.min(z, w[2]));
+          const sure = Math.min(1, Math.max(0, (z / wl - 0.25) / 0.25));
+          const valid = (zz) => si === 1 || Math.atan2(-zz, across[1]) >= -Math.PI / 6;
+          const [away, toward] = [valid(z), valid(-z)];
+          const sign = away && !toward ? 1 : toward && !away ? -1 : w[2] >= 0 ? 1 : -1;
+          const est = {
+            world: w,
+            bounded: [across[0], across[1], mp],
+            foreshortening: [across[0], across[1], mp + sure * (sign * z - mp)],
+          };
+          for (const [k, v] of Object.entries(est)) {
+            const e = 1000 * L * len(sub(norm(toAvatar(v)), truth));
+            push(`${avatar}|${si}|${k}|all`, e);
+            push(`${avatar}|${si}|${k}|${clip.id}`, e);
+          }
+          push(`${avatar}|${si}|ratio|${clip.id}`, (1000 * al) / wl);
+        });
+      }
+    });
+  }
+}
+const clips = ["all", ...LEG_CLIPS.map((c) => c.id)];
+console.log(`| avatar | segment | method | ${clips.join(" | ")} |`);
+console.log(`| --- | --- | --- | ${clips.map(() => "---:").join(" | ")} |`);
+for (const avatar of LEG_AVATARS) {
+  for (const si of [0, 1]) {
+    for (const k of [...Object.keys(METHODS), "ratio"]) {
+      const cells = clips.map((c) => {
+        const v = res.get(`${avatar}|${si}|${k}|${c}`);
+        if (!v?.length) return "-";
+        return k === "ratio" ? pct(v, 0.5).toFixed(0) : `${pct(v, 0.5).toFixed(1)} / ${pct(v, 0.9).toFixed(1)}`;
+      });
+      console.log(`| ${avatar} | ${si ? "shin (ankle from the knee)" : "thigh (knee)"} | ${METHODS[k] ?? "image / world length x1000"} | ${cells.join(" | ")} |`);
+    }
+  }
+}
