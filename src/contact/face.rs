@@ -402,7 +402,8 @@ pub fn pose_tip(
 /// part of a hand.
 #[must_use]
 pub fn camera_anchors(face: &UserFace, camera: CameraMapping) -> [Vec3; ANCHORS] {
-    face.anchors.map(|a| camera.to_avatar(face.frame.to_world(a)))
+    face.anchors
+        .map(|a| camera.to_avatar(face.frame.to_world(a)))
 }
 
 /// [`pose_tip`] with the face's anchors already in camera axes ([`camera_anchors`]).

@@ -1018,7 +1018,9 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
     if !g0.is_finite() {
         return Vec3::ZERO;
     }
-    let u = (b.at(best.1) - a.at(best.0)).try_normalize().unwrap_or(Vec3::Z);
+    let u = (b.at(best.1) - a.at(best.0))
+        .try_normalize()
+        .unwrap_or(Vec3::Z);
     // With the hands moved together by s, a pair's centers are `d - s u` apart: they touch
     // for s in [b - w, b + w], b = d.u, w = sqrt(b^2 - |d|^2 + R^2) (no s when negative).
     // Hands apart now (g0 > 0): the smallest entry at or after 0 (at most g0, where the
@@ -1037,7 +1039,11 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
             let c = (dx * dx + dy * dy + dz * dz) - rr * rr;
             let w = (along * along - c).sqrt();
             // The smaller root without cancellation when b is large and c small.
-            enter[j] = if along > 0.0 { c / (along + w) } else { along - w };
+            enter[j] = if along > 0.0 {
+                c / (along + w)
+            } else {
+                along - w
+            };
             leave[j] = along + w;
         }
         // No real root (NaN: the square root of a negative): no interval.

@@ -304,7 +304,12 @@ impl Skeleton {
     /// of `out` is current (`root`'s parent in particular): the neck and head turned after the
     /// torso was posed (the face stage), without posing the torso, legs and arms again. The
     /// same values as `forward_body` where the rest is current. Allocates nothing.
-    pub fn forward_subtree(&self, root: HumanBone, local: &[Quat; BONE_COUNT], out: &mut WorldPose) {
+    pub fn forward_subtree(
+        &self,
+        root: HumanBone,
+        local: &[Quat; BONE_COUNT],
+        out: &mut WorldPose,
+    ) {
         // Bones come after their parents in `HumanBone::ALL`: one pass from the root, a bone
         // posed when its parent was.
         let mut posed: u64 = 0;
@@ -316,8 +321,8 @@ impl Skeleton {
             if !self.present[i] {
                 continue;
             }
-            let under = i == root.index()
-                || self.parent[i].is_some_and(|p| posed & (1 << p.index()) != 0);
+            let under =
+                i == root.index() || self.parent[i].is_some_and(|p| posed & (1 << p.index()) != 0);
             if under {
                 self.pose_bone(i, local, out);
                 posed |= 1 << i;
@@ -477,7 +482,10 @@ mod tests {
             assert_eq!(w.position[i], whole.position[i], "{b:?}");
             assert_eq!(w.rotation[i], whole.rotation[i], "{b:?}");
         }
-        assert_ne!(w.position[B::LeftEye.index()], s.rest_world(B::LeftEye).unwrap());
+        assert_ne!(
+            w.position[B::LeftEye.index()],
+            s.rest_world(B::LeftEye).unwrap()
+        );
     }
 
     #[test]

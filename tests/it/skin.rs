@@ -205,7 +205,16 @@ fn close_every_pair(lw: Vec3, l: &[(Vec3, f32)], rw: Vec3, r: &[(Vec3, f32)]) ->
         let d = (rw + b) - (lw + a);
         let (along, c) = (d.dot(u), d.length_squared() - rr(ra, rb) * rr(ra, rb));
         let w = (along * along - c).sqrt();
-        (w >= 0.0).then(|| (if along > 0.0 { c / (along + w) } else { along - w }, along + w))
+        (w >= 0.0).then(|| {
+            (
+                if along > 0.0 {
+                    c / (along + w)
+                } else {
+                    along - w
+                },
+                along + w,
+            )
+        })
     });
     let mut s = if g0 > 0.0 { g0 } else { 0.0 };
     for _ in 0..if g0 > 0.0 { 1 } else { 4 } {
@@ -221,7 +230,11 @@ fn close_every_pair(lw: Vec3, l: &[(Vec3, f32)], rw: Vec3, r: &[(Vec3, f32)]) ->
             break;
         }
     }
-    if (u * s).is_finite() { u * s } else { Vec3::ZERO }
+    if (u * s).is_finite() {
+        u * s
+    } else {
+        Vec3::ZERO
+    }
 }
 
 /// The smallest surface gap (at [`skin::CLOSE_RADII`]) between two hands' spheres once the
@@ -236,6 +249,13 @@ fn gap_after(lw: Vec3, l: &[(Vec3, f32)], rw: Vec3, r: &[(Vec3, f32)], d: Vec3) 
         .fold(f32::INFINITY, f32::min)
 }
 
+/// A proptest hand: its balls' centers (x, y, z) and radii.
+fn balls(v: Vec<((f32, f32, f32), f32)>) -> Vec<(Vec3, f32)> {
+    v.into_iter()
+        .map(|((a, b, c), m)| (Vec3::new(a, b, c), m))
+        .collect()
+}
+
 proptest::proptest! {
     /// Whatever the hands (scattered spheres of any size, apart or overlapping), closing
     /// leaves them just touching: no pair overlaps and one pair touches.
@@ -245,8 +265,7 @@ proptest::proptest! {
         r in proptest::collection::vec(((-0.1f32..0.1, -0.1f32..0.1, -0.1f32..0.1), 0.003f32..0.03), 1..=skin::HAND_SPHERES),
         (x, y, z) in (-0.3f32..0.3, -0.3f32..0.3, -0.3f32..0.3),
     ) {
-        let l: Vec<(Vec3, f32)> = l.into_iter().map(|((a, b, c), m)| (Vec3::new(a, b, c), m)).collect();
-        let r: Vec<(Vec3, f32)> = r.into_iter().map(|((a, b, c), m)| (Vec3::new(a, b, c), m)).collect();
+        let (l, r) = (balls(l), balls(r));
         let (lw, rw) = (Vec3::new(0.01, 0.02, -0.03), Vec3::new(x, y, z));
         let d = skin::close(lw, &l, rw, &r);
         let gap = gap_after(lw, &l, rw, &r, d);
@@ -263,8 +282,7 @@ proptest::proptest! {
         r in proptest::collection::vec(((-0.04f32..0.04, -0.04f32..0.04, -0.02f32..0.02), 0.004f32..0.02), 1..=skin::HAND_SPHERES),
         (x, y, z) in (-0.25f32..0.25, -0.1f32..0.1, -0.1f32..0.1),
     ) {
-        let l: Vec<(Vec3, f32)> = l.into_iter().map(|((a, b, c), m)| (Vec3::new(a, b, c), m)).collect();
-        let r: Vec<(Vec3, f32)> = r.into_iter().map(|((a, b, c), m)| (Vec3::new(a, b, c), m)).collect();
+        let (l, r) = (balls(l), balls(r));
         let (lw, rw) = (Vec3::new(0.01, 0.02, -0.03), Vec3::new(x, y, z));
         let (fast, every) = (skin::close(lw, &l, rw, &r), close_every_pair(lw, &l, rw, &r));
         proptest::prop_assert_eq!(fast.to_array().map(f32::to_bits), every.to_array().map(f32::to_bits), "{} vs {}", fast, every);
