@@ -193,8 +193,12 @@ pub struct FaceOptions {
 /// Most eye rotation (degrees) a full `eyeLook*` weight stands for.
 pub const EYE_RANGE_DEG: f32 = 30.0;
 /// How much of `eyeLookDown` is taken off the same eye's blink (MediaPipe's lid closes as the
-/// eye looks down).
-pub const LOOK_DOWN_BLINK: f32 = 0.5;
+/// eye looks down, and its `eyeLookDown` rises on a real blink too: 0.7 on the shared clips' one
+/// blink and on the bench's rendered ones). Chosen on the tuning half (the bench's woman, the
+/// ASL clips `again`, `eat`, `please`, `thanks`): from 0.5 down to 0.2 no false blink appears
+/// there and the woman's blinks come through from 0.3 on (0.1 gives the first false blink);
+/// 0.25 keeps a step from that edge. Figures: docs/measurements/2026-12-06-face.md.
+pub const LOOK_DOWN_BLINK: f32 = 0.25;
 /// The head's One Euro speed coefficient over the weights' (`face.beta`): its speed is in rad/s,
 /// a few a second at most, where a weight moves several units a second. 10 follows the shared
 /// clips' nods within 2.2 degrees of the matrix on their tuning half (1: 5.4; `eval/face.mjs`).
