@@ -311,7 +311,8 @@ impl Skeleton {
         out: &mut WorldPose,
     ) {
         // Bones come after their parents in `HumanBone::ALL`: one pass from the root, a bone
-        // posed when its parent was.
+        // posed when its parent was (one bit a bone).
+        const _: () = assert!(BONE_COUNT <= u64::BITS as usize);
         let mut posed: u64 = 0;
         for bone in HumanBone::ALL[root.index()..]
             .iter()
