@@ -39,10 +39,9 @@
 // method. handrig is fed every frame in order (a rig keeps state between frames).
 
 import { existsSync, readFileSync, writeFileSync } from "node:fs";
-import { createRequire } from "node:module";
 import { join } from "node:path";
-import { pathToFileURL } from "node:url";
 import { parseArgs } from "node:util";
+import { add, angle, cap, cross, dot, fromVrm0, len, loadSolvers, mid, norm, qrot, quatFromEulerXYZ, scale, sub, toAvatar } from "./scoring.mjs";
 import { AVATARS, CLIP_DIR, REPO, avatarFile, recordingFile } from "./common.mjs";
 import { CLIPS, clipPose } from "./motions.mjs";
 
@@ -59,48 +58,11 @@ const started = performance.now();
 // --options JSON: handrig options on top of the defaults for all its rigs (diagnostics; the
 // published table uses the defaults).
 const EXTRA = JSON.parse(o.options);
-const pkgDir = o.pkg ?? join(REPO, "pkg");
-const { HandRig } = await import(pathToFileURL(join(pkgDir, "index.mjs")).href);
-const { restPoseFromVRM, applyToVRM } = await import(pathToFileURL(join(pkgDir, "three-vrm.js")).href);
-const { loadVrm } = await import(pathToFileURL(join(REPO, "tests", "node", "consumer", "skin-measure.mjs")).href);
-let Kalidokit = null;
-if (!o["no-kalidokit"]) {
-  try {
-    Kalidokit = createRequire(join(REPO, "eval", "package.json"))("kalidokit/dist/kalidokit.umd.js");
-  } catch (e) {
-    console.error(`kalidokit not installed (${e.code ?? e.message}): run \`npm ci --prefix eval\` first (or pass --no-kalidokit)`);
-    process.exit(1);
-  }
-}
+const { pkgDir, HandRig, restPoseFromVRM, applyToVRM, loadVrm, Kalidokit } = await loadSolvers({ pkg: o.pkg, noKalidokit: o["no-kalidokit"] });
 
-// ---- vector math -------------------------------------------------------------------------------
-const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-const add = (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
-const scale = (a, s) => [a[0] * s, a[1] * s, a[2] * s];
-const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
-const len = (a) => Math.hypot(a[0], a[1], a[2]);
-const norm = (a) => scale(a, 1 / len(a));
-const angle = (a, b) => (Math.acos(Math.min(1, Math.max(-1, dot(norm(a), norm(b))))) * 180) / Math.PI;
-const mid = (a, b) => scale(add(a, b), 0.5);
-const qrot = (q, v) => {
-  const u = [q[0], q[1], q[2]];
-  const t = scale(cross(u, v), 2);
-  return add(add(v, scale(t, q[3])), cross(u, t));
-};
-// three.js Quaternion.setFromEuler, order "XYZ".
-const quatFromEulerXYZ = ({ x, y, z }) => {
-  const [c1, c2, c3] = [Math.cos(x / 2), Math.cos(y / 2), Math.cos(z / 2)];
-  const [s1, s2, s3] = [Math.sin(x / 2), Math.sin(y / 2), Math.sin(z / 2)];
-  return [s1 * c2 * c3 + c1 * s2 * s3, c1 * s2 * c3 - s1 * c2 * s3, c1 * c2 * s3 + s1 * s2 * c3, c1 * c2 * c3 - s1 * s2 * s3];
-};
-// Kalidokit's rotations target VRM 0.x normalized bones (the model faces -Z); in the VRM 1.0
-// frame (faces +Z) that is a half turn about Y: negate x and z.
-const fromVrm0 = (q) => [-q[0], q[1], -q[2], q[3]];
 
 // ---- the hand and arm model ----------------------------------------------------------------------
 const FINGERS = ["thumb", "index", "middle", "ring", "little"];
-const cap = (s) => s[0].toUpperCase() + s.slice(1);
 const chainOf = (side, f) =>
   f === "thumb" ? ["Metacarpal", "Proximal", "Distal"].map((p) => `${side}Thumb${p}`) : ["Proximal", "Intermediate", "Distal"].map((p) => `${side}${cap(f)}${p}`);
 const JOINT_NAMES = { thumb: ["CMC", "MCP", "IP"], other: ["MCP", "PIP", "DIP"] };
@@ -199,7 +161,6 @@ const armOf = (sh, el, wr, ht) => ({ sh, el, wr, ht });
 
 // MediaPipe pose index of each side's shoulder, elbow, wrist, index, pinky (the subject's side).
 const POSE = { right: [12, 14, 16, 20, 18], left: [11, 13, 15, 19, 17] };
-const toAvatar = ([x, y, z]) => [x, -y, -z];
 
 /**
  * Ideal MediaPipe hand landmarks of the truth's right hand (hand clips): its joints and
