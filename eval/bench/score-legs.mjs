@@ -45,7 +45,7 @@
 import { existsSync, readFileSync, writeFileSync } from "node:fs";
 import { join } from "node:path";
 import { parseArgs } from "node:util";
-import { add, angle, cap, cross, dot, fromVrm0, len, loadSolvers, mid, norm, qrot, quatFromEulerXYZ, scale, sub, toAvatar } from "./scoring.mjs";
+import { PosedHumanoid, add, angle, cap, cross, dot, fromVrm0, len, loadSolvers, mid, norm, qrot, quatFromEulerXYZ, scale, sub, toAvatar } from "./scoring.mjs";
 import { LEG_AVATARS, REPO, avatarFile, recordingFile } from "./common.mjs";
 import { LEG_CLIPS, LEG_REST_BONES, legClipPose } from "./motions.mjs";
 
@@ -65,16 +65,11 @@ const SIDES = ["left", "right"];
 const MP_LEG = { left: [23, 25, 27], right: [24, 26, 28] };
 
 /** FK over a loaded VRM's normalized humanoid (rotations and the hips' position). */
-class Body {
+class Body extends PosedHumanoid {
   constructor(vrm) {
-    this.vrm = vrm;
-    this.h = vrm.humanoid;
-    this.names = Object.keys(this.h.humanBones).filter((n) => this.h.getNormalizedBoneNode(n));
+    super(vrm);
     this.hips = this.h.getNormalizedBoneNode("hips");
     this.hipsRest = this.hips.position.toArray();
-    this.root = this.h.normalizedHumanBonesRoot;
-    this.V = this.hips.position.constructor;
-    this.Q = this.hips.quaternion.constructor;
     this.reset();
     const s = this.positions();
     this.rest = Object.fromEntries(LEG_REST_BONES.filter((b) => s[b]).map((b) => [b, s[b].p]));
@@ -92,11 +87,11 @@ class Body {
     }
   }
   reset() {
-    for (const n of this.names) this.h.getNormalizedBoneNode(n).quaternion.identity();
+    super.reset();
     this.hips.position.fromArray(this.hipsRest);
   }
   set(bones, hipsOffset) {
-    for (const [n, q] of Object.entries(bones)) this.h.getNormalizedBoneNode(n)?.quaternion.set(q[0], q[1], q[2], q[3]);
+    super.set(bones);
     if (hipsOffset) this.hips.position.fromArray(add(this.hipsRest, hipsOffset));
   }
   save() {
@@ -105,19 +100,6 @@ class Body {
   restore(s) {
     for (const [n, q] of Object.entries(s.q)) this.h.getNormalizedBoneNode(n).quaternion.fromArray(q);
     this.hips.position.fromArray(s.hips);
-  }
-  positions() {
-    this.root.updateMatrixWorld(true);
-    const out = {};
-    const v = new this.V();
-    const q = new this.Q();
-    for (const n of this.names) {
-      const node = this.h.getNormalizedBoneNode(n);
-      node.getWorldPosition(v);
-      node.getWorldQuaternion(q);
-      out[n] = { p: [v.x, v.y, v.z], q: [q.x, q.y, q.z, q.w] };
-    }
-    return out;
   }
   /** The legs of the current pose: per side hip joint, knee, ankle, sole points (room, meters); the hips' forward. */
   sample() {

@@ -41,7 +41,7 @@
 import { existsSync, readFileSync, writeFileSync } from "node:fs";
 import { join } from "node:path";
 import { parseArgs } from "node:util";
-import { add, angle, cap, cross, dot, fromVrm0, len, loadSolvers, mid, norm, qrot, quatFromEulerXYZ, scale, sub, toAvatar } from "./scoring.mjs";
+import { PosedHumanoid, add, angle, cap, cross, dot, fromVrm0, len, loadSolvers, mid, norm, qrot, quatFromEulerXYZ, scale, sub, toAvatar } from "./scoring.mjs";
 import { AVATARS, CLIP_DIR, REPO, avatarFile, recordingFile } from "./common.mjs";
 import { CLIPS, clipPose } from "./motions.mjs";
 
@@ -74,35 +74,11 @@ const LM = (f) => {
 const BONES = ["UpperArm", "LowerArm", "Hand"];
 
 /** FK sampler over a loaded VRM's normalized humanoid. */
-class Body {
+class Body extends PosedHumanoid {
   constructor(vrm) {
-    this.vrm = vrm;
-    this.h = vrm.humanoid;
-    this.names = Object.keys(this.h.humanBones).filter((n) => this.h.getNormalizedBoneNode(n));
-    this.root = this.h.normalizedHumanBonesRoot;
-    this.V = this.h.getNormalizedBoneNode("hips").position.constructor;
-    this.Q = this.h.getNormalizedBoneNode("hips").quaternion.constructor;
+    super(vrm);
     this.reset();
     this.rest = this.positions();
-  }
-  reset() {
-    for (const n of this.names) this.h.getNormalizedBoneNode(n).quaternion.identity();
-  }
-  set(bones) {
-    for (const [n, q] of Object.entries(bones)) this.h.getNormalizedBoneNode(n)?.quaternion.set(q[0], q[1], q[2], q[3]);
-  }
-  positions() {
-    this.root.updateMatrixWorld(true);
-    const out = {};
-    const v = new this.V();
-    const q = new this.Q();
-    for (const n of this.names) {
-      const node = this.h.getNormalizedBoneNode(n);
-      node.getWorldPosition(v);
-      node.getWorldQuaternion(q);
-      out[n] = { p: [v.x, v.y, v.z], q: [q.x, q.y, q.z, q.w] };
-    }
-    return out;
   }
   /** The measured skeleton of the current pose (see the header). */
   sample() {

@@ -58,3 +58,38 @@ export const fromVrm0 = (q) => [-q[0], q[1], -q[2], q[3]];
 /** MediaPipe's camera axes (y down, z away) to the avatar's (y up, z toward the camera). */
 export const toAvatar = ([x, y, z]) => [x, -y, -z];
 export const cap = (s) => s[0].toUpperCase() + s.slice(1);
+
+/** Forward kinematics over a loaded VRM's normalized humanoid (three-vrm's bone nodes). */
+export class PosedHumanoid {
+  constructor(vrm) {
+    this.vrm = vrm;
+    this.h = vrm.humanoid;
+    this.names = Object.keys(this.h.humanBones).filter((n) => this.h.getNormalizedBoneNode(n));
+    this.root = this.h.normalizedHumanBonesRoot;
+    // three's classes, from the avatar's own nodes (no second copy of three imported).
+    this.V = this.h.getNormalizedBoneNode("hips").position.constructor;
+    this.Q = this.h.getNormalizedBoneNode("hips").quaternion.constructor;
+  }
+  /** Every bone's rotation back to the rest pose's. */
+  reset() {
+    for (const n of this.names) this.h.getNormalizedBoneNode(n).quaternion.identity();
+  }
+  /** Normalized bone rotations by name, [x, y, z, w]. */
+  set(bones) {
+    for (const [n, q] of Object.entries(bones)) this.h.getNormalizedBoneNode(n)?.quaternion.set(q[0], q[1], q[2], q[3]);
+  }
+  /** Every bone's world position and rotation now: { name: { p, q } }. */
+  positions() {
+    this.root.updateMatrixWorld(true);
+    const out = {};
+    const v = new this.V();
+    const q = new this.Q();
+    for (const n of this.names) {
+      const node = this.h.getNormalizedBoneNode(n);
+      node.getWorldPosition(v);
+      node.getWorldQuaternion(q);
+      out[n] = { p: [v.x, v.y, v.z], q: [q.x, q.y, q.z, q.w] };
+    }
+    return out;
+  }
+}
