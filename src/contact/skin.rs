@@ -730,6 +730,32 @@ impl BodySurface {
         mask
     }
 
+    /// How deep the hand's deepest ball (centers relative to `wrist`, world axes) is inside
+    /// the body, or `floor` if none is deeper. Allocates nothing.
+    #[must_use]
+    pub fn deepest(
+        &self,
+        wrist: Vec3,
+        points: &[(Vec3, f32)],
+        world: &WorldPose,
+        floor: f32,
+    ) -> f32 {
+        let hull = Hull::of(points);
+        let mask = self.near(
+            wrist + hull.center,
+            hull.reach,
+            world,
+            [true; MAP_BONES.len()],
+            floor,
+        );
+        points.iter().fold(floor, |best, (p, margin)| {
+            match self.deepest_rest(wrist + *p, *margin, world, mask, best) {
+                Some((d, ..)) if d > best => d,
+                _ => best,
+            }
+        })
+    }
+
     /// The translation that moves the hand spheres (centers relative to `wrist`, world axes)
     /// out of the body: each sphere in turn pushed straight out
     /// of the map it is deepest in (Gauss-Seidel, three passes).

@@ -11,12 +11,13 @@
 use glam::{Quat, Vec3};
 
 use crate::align;
+use crate::contact::skin::{self, BodySurface};
 use crate::contact::ContactOptions;
 use crate::contact::{
     ContactRate, ContactSolver, HandPoints, SideTarget, Source, UserFace, UserFaces,
 };
 use crate::humanoid::bones::{Finger, Side, BONE_COUNT};
-use crate::humanoid::skeleton::Skeleton;
+use crate::humanoid::skeleton::{Skeleton, WorldPose};
 use crate::input::mediapipe::pose_landmark;
 
 use super::ease::Ease;
@@ -293,11 +294,13 @@ impl Contact {
     /// arms are below).
     pub(super) fn run(&mut self, cx: &Context, ease: &Ease, f: &mut Frame, out: &mut SolveOutput) {
         f.points = [None; 2];
+        f.held = [None; 2];
         if !cx.options.contact.enabled {
             return;
         }
         let (frame, options, skeleton) = (cx.input, cx.options, cx.skeleton);
         let held = self.points(cx, ease, f, out);
+        f.held = held;
         self.rate.begin(cx.dt, options.contact.max_speed);
         let mut targets: [Option<SideTarget>; 2] = core::array::from_fn(|s| match f.plans[s] {
             Plan::Reach { target, .. } => Some(SideTarget {
@@ -399,5 +402,72 @@ impl Contact {
             }
         }
         touch::hold(&mut self.touch, ease.shown(), cx.now_ms, f, out);
+    }
+}
+
+/// A side's hand as self-contact keeps it out of the body: the avatar's skin and the hand's
+/// contact balls as the contact stage placed them (centers relative to the wrist, world axes,
+/// for a hand with world rotation `rotation`: the plan's). For what moves the hand after the
+/// contact stage (the wrist limits in the reach, the turn limit) and must not take it into
+/// the body.
+pub(super) struct HandBody<'a> {
+    pub(super) surface: &'a BodySurface,
+    pub(super) balls: [(Vec3, f32); skin::HAND_SPHERES],
+    pub(super) count: usize,
+    pub(super) rotation: Quat,
+}
+
+impl<'a> HandBody<'a> {
+    /// The side's hand this frame; `None` without a skin, with contact or its push out of the
+    /// body off, or when the arm reaches no target.
+    pub(super) fn of(
+        cx: &Context,
+        contact: &'a ContactSolver,
+        f: &Frame,
+        side: Side,
+    ) -> Option<HandBody<'a>> {
+        let o = &cx.options.contact;
+        let surface = contact.surface().filter(|_| o.enabled && o.colliders)?;
+        let s = side.index();
+        let Plan::Reach {
+            target,
+            hand_rotation,
+            ..
+        } = f.plans[s]
+        else {
+            return None;
+        };
+        // A hand not seen is pushed with 7 of its balls (`skin::hand_spheres`); it is checked
+        // here with all it was last seen with: between those 7 its knuckles sank up to 18 mm.
+        let hand = SideTarget {
+            wrist: target,
+            hand: f.points[s].or(f.held[s]),
+            held: None,
+        };
+        let mut balls = [(Vec3::ZERO, 0.0); skin::HAND_SPHERES];
+        let count = skin::hand_spheres(surface, side, &hand, &mut balls);
+        Some(HandBody {
+            surface,
+            balls,
+            count,
+            rotation: hand_rotation.unwrap_or(Quat::IDENTITY),
+        })
+    }
+
+    /// The balls of the hand turned by `turn` (world) from the plan's rotation.
+    pub(super) fn turned(&self, turn: Quat) -> [(Vec3, f32); skin::HAND_SPHERES] {
+        let mut balls = self.balls;
+        for b in &mut balls[..self.count] {
+            b.0 = turn * b.0;
+        }
+        balls
+    }
+
+    /// The translation that takes the hand, its wrist at `wrist` with world rotation
+    /// `rotation`, out of the body as the contact stage's push does ([`BodySurface::push`]);
+    /// zero for a hand out of it.
+    pub(super) fn push(&self, wrist: Vec3, rotation: Quat, world: &WorldPose) -> Vec3 {
+        let balls = self.turned(rotation * self.rotation.conjugate());
+        self.surface.push(wrist, &balls[..self.count], world)
     }
 }

@@ -118,6 +118,9 @@ pub(super) struct Frame {
     /// The hand's contact points, for a hand placed this frame with contact on (contact,
     /// read by reach).
     pub(super) points: [Option<HandPoints>; 2],
+    /// The contact points of a hand not seen this frame, as last seen and turned to its
+    /// rotation now, with contact on (contact, read by limit: what keeps it out of the body).
+    pub(super) held: [Option<HandPoints>; 2],
     /// Whether the easing or the turn limit changed what each side shows (ease, limit; read
     /// by report).
     pub(super) eased: [bool; 2],
@@ -140,6 +143,7 @@ impl Default for Frame {
             plans: [Plan::Rest; 2],
             fingers_blending: [false; 2],
             points: [None; 2],
+            held: [None; 2],
             eased: [false; 2],
         }
     }

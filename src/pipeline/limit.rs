@@ -17,15 +17,37 @@
 //! and the one before is limited (the dropout easing handles tracking coming and going);
 //! applied after the easing, to what is shown; the IK targets in the output stay as solved.
 //!
+//! **The body stays solid.** Self-contact keeps the solved hand out of the avatar's body, but
+//! an arm shown part of the way from last frame's pose to this one's can pass through it: a
+//! hand that the solve takes from the collar to in front of the chest in one frame swings
+//! through the chest when slowed (on `hungry`, 2-4 frames a clip, up to 87 mm inside on
+//! long-armed avatars). With the avatar's skin and contact on, a slowed hand (its contact
+//! balls, turned with the hand as shown) that is more than [`SINK`] deeper inside the body
+//! than the solve's is shown further along its turn, as little further as keeps it out
+//! (bisection on the fraction; the solve itself is the last resort): the body wins over the
+//! turn speed.
+//!
 //! The helpers below are kept out of line: called from the loop, inlined copies made the wasm
 //! larger (its size budget, `docs/measurements/2026-12-05-size.md`).
 
 use glam::{Quat, Vec3};
 
+use crate::contact::skin;
+use crate::contact::ContactSolver;
 use crate::humanoid::bones::{Side, BONE_COUNT};
 
-use super::frame::Context;
+use super::contact::HandBody;
+use super::frame::{Context, Frame};
 use super::output::SolveOutput;
+
+/// How much deeper (m) than the solved hand a slowed hand may go into the body before the
+/// limit yields: a rounding allowance (the solve leaves its hand balls on the skin, at depth
+/// 0), not a tuned figure.
+const SINK: f32 = 0.001;
+
+/// Halvings of the fraction when the limit yields to the body: the shown turn within 1/256
+/// of what keeps the hand out.
+const YIELD_STEPS: usize = 8;
 
 /// The arm's bones the limit turns: shoulder, upper arm, forearm, hand.
 const ARM: usize = 4;
@@ -95,6 +117,8 @@ impl Limit {
     pub(super) fn run(
         &mut self,
         cx: &Context,
+        contact: &ContactSolver,
+        f: &Frame,
         shown: &mut [Quat; BONE_COUNT],
         out: &mut SolveOutput,
     ) -> [bool; 2] {
@@ -137,6 +161,11 @@ impl Limit {
                 }
                 t *= allowed / turned;
             }
+            if let Some(body) = HandBody::of(cx, contact, f, side) {
+                if let Some(t) = body.yielded(cx, side, last, now, steps, slowed, t, out) {
+                    slowed = turned_by(last, steps, t);
+                }
+            }
             for k in 0..ARM {
                 // In the hemisphere of the solve's (which the easing kept in last frame's).
                 if slowed[k].dot(now[k]) < 0.0 {
@@ -154,5 +183,89 @@ impl Limit {
             limited[s] = true;
         }
         limited
+    }
+}
+
+impl HandBody<'_> {
+    /// The hand's balls and wrist with the arm's locals `arm` (shoulder, upper arm, forearm,
+    /// hand; the driven ones written into `out.local`, the arm posed into `out.world`).
+    fn posed(
+        &self,
+        cx: &Context,
+        side: Side,
+        arm: [Quat; ARM],
+        out: &mut SolveOutput,
+    ) -> (Vec3, [(Vec3, f32); skin::HAND_SPHERES]) {
+        for (k, b) in side.arm().into_iter().enumerate() {
+            if cx.driven[b.index()] {
+                out.local[b.index()] = arm[k];
+            }
+        }
+        cx.skeleton.forward_arm(side, &out.local, &mut out.world);
+        let h = side.arm()[ARM - 1].index();
+        let turn = out.world.rotation[h] * self.rotation.conjugate();
+        (out.world.position[h], self.turned(turn))
+    }
+
+    /// Whether the hand with the arm's locals `arm` is more than `floor` inside the body.
+    fn deeper(
+        &self,
+        cx: &Context,
+        side: Side,
+        arm: [Quat; ARM],
+        floor: f32,
+        out: &mut SolveOutput,
+    ) -> bool {
+        let (wrist, balls) = self.posed(cx, side, arm, out);
+        self.surface
+            .deepest(wrist, &balls[..self.count], &out.world, floor)
+            > floor
+    }
+
+    /// The fraction of the turn from `last` to `now` to show instead of `t` (whose pose is
+    /// `slowed`), when the slowed hand is more than [`SINK`] deeper in the body than the
+    /// solved one: the least (to 1/2^[`YIELD_STEPS`] of the rest) that keeps it within that;
+    /// `None` when the slowed hand is not. Leaves `out.local` at the solve and `out.world`'s
+    /// arm at some pose tried (the report poses the arm again).
+    #[allow(clippy::too_many_arguments)]
+    fn yielded(
+        &self,
+        cx: &Context,
+        side: Side,
+        last: [Quat; ARM],
+        now: [Quat; ARM],
+        steps: [(Vec3, f32); ARM],
+        slowed: [Quat; ARM],
+        t: f32,
+        out: &mut SolveOutput,
+    ) -> Option<f32> {
+        let mut result = None;
+        if self.deeper(cx, side, slowed, SINK, out) {
+            // Held to the solve's own depth (a hand the solve left inside, e.g. out of reach,
+            // is held to that, not to the skin).
+            let (wrist, balls) = self.posed(cx, side, now, out);
+            let floor = self
+                .surface
+                .deepest(wrist, &balls[..self.count], &out.world, 0.0)
+                + SINK;
+            if self.deeper(cx, side, slowed, floor, out) {
+                let (mut lo, mut hi) = (t, 1.0f32);
+                for _ in 0..YIELD_STEPS {
+                    let mid = 0.5 * (lo + hi);
+                    if self.deeper(cx, side, turned_by(last, steps, mid), floor, out) {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                result = Some(hi);
+            }
+        }
+        for (k, b) in side.arm().into_iter().enumerate() {
+            if cx.driven[b.index()] {
+                out.local[b.index()] = now[k];
+            }
+        }
+        result
     }
 }

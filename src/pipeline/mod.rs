@@ -397,7 +397,9 @@ impl Rig {
         let moves_shoulder = Side::BOTH.map(|side| self.reach.arms.moves_shoulder(side));
         let touch_held = Side::BOTH.map(|side| self.contact.touch_held(side));
         let eased = self.ease.run(&cx, moves_shoulder, touch_held, f, out);
-        let slowed = self.limit.run(&cx, self.ease.shown_mut(), out);
+        let slowed = self
+            .limit
+            .run(&cx, self.contact.solver(), f, self.ease.shown_mut(), out);
         f.eased = [0, 1].map(|s| eased[s] || slowed[s]);
         report::Report::run(&cx, &self.hands, &mut self.targets, f.eased, out);
     }

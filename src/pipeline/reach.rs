@@ -117,7 +117,40 @@ impl Reach {
             pole,
             finger,
         };
-        let reach = self.reach(cx, side, &to, out);
+        let mut reach = self.reach(cx, side, &to, out);
+        if let (Some(first), Some(body)) = (
+            reach.wrist,
+            super::contact::HandBody::of(cx, contact, f, side),
+        ) {
+            // The wrist limits turned the hand about its touching point, which can take the
+            // rest of it into the body (a fingertip on the collar, the wrist swung into the
+            // chest): the target moves by the push that takes the hand as reached out, and
+            // the arm reaches again (the same request moved, so that a push fading to nothing
+            // gives the first solve back; a few rounds, as the limits turn the moved hand).
+            let mut limited = first;
+            let mut shift = Vec3::ZERO;
+            for _ in 0..LIFT_ROUNDS {
+                let lift = body.push(limited.target, limited.hand_rotation, &out.world);
+                if lift == Vec3::ZERO {
+                    break;
+                }
+                shift += lift;
+                let again = ArmTarget {
+                    target: to.target + shift,
+                    ..to
+                };
+                let next = self.reach(cx, side, &again, out);
+                limited = next.wrist.unwrap_or(crate::ik::WristLimited {
+                    target: again.target,
+                    hand_rotation: hand_rot,
+                    ..first
+                });
+                reach = crate::ik::ArmReach {
+                    wrist: Some(limited),
+                    ..next
+                };
+            }
+        }
         if let Some(limited) = reach.wrist {
             // The wrist limits turned the hand: report the target and rotation reached.
             let turn = limited.hand_rotation * hand_rot.conjugate();
@@ -190,6 +223,9 @@ impl Reach {
         reach
     }
 }
+
+/// Rounds of pushing a hand the wrist limits turned into the body out and reaching again.
+const LIFT_ROUNDS: usize = 3;
 
 /// Sets the hand's local rotation so its world rotation is `hand_world`, given the arm's
 /// current local rotations.

@@ -4,7 +4,7 @@
 
 use glam::{Quat, Vec3};
 use handrig::contact::skin::{self, BodySurface, MAP_BONES};
-use handrig::humanoid::bones::{HumanBone as B, BONE_COUNT};
+use handrig::humanoid::bones::{Finger, HumanBone as B, BONE_COUNT};
 use handrig::humanoid::skeleton::WorldPose;
 use handrig::SkinMesh;
 use handrig::{Rig, RigOptions, Side, Skeleton};
@@ -759,6 +759,55 @@ fn a_tracked_wrist_deep_in_the_belly_is_pushed_out_without_swinging_the_arm() {
             turn.to_degrees() < 30.0,
             "{avatar}: the arm turns {:.1} degrees at frame {at}",
             turn.to_degrees()
+        );
+    }
+}
+
+#[test]
+fn a_slowed_arm_does_not_pass_through_the_body() {
+    // `hungry`: a curved hand rises to the collar, then slides down the chest; MediaPipe
+    // loses it for a frame on the way (23) and its depth jumps by 40 cm. The turn limit shows
+    // such a turn over several frames, and the arm shown part of the way swung the hand
+    // through the collar (the child's skin measured 47 mm inside).
+    // Now the limit yields where the slowed hand would sink into the body: the shown hand's
+    // joints are never more than 1 cm inside, on any of the generated bodies.
+    let right = Side::Right.index();
+    let hand = Side::Right.hand().index();
+    let frames = recordings::asl("../shared/data/asl/hungry.json");
+    for avatar in ["woman-vrm1", "man-vrm1", "child-vrm1"] {
+        let skel = recordings::vrm(&format!("tests/fixtures/avatars/{avatar}.vrm"));
+        let mut rig = Rig::new(skel, RigOptions::default()).unwrap();
+        let mut out = handrig::SolveOutput::default();
+        let (mut deepest, mut at, mut slowed) = (f32::NEG_INFINITY, 0, 0);
+        for (i, f) in frames.iter().enumerate() {
+            rig.solve(f, &mut out).unwrap();
+            if !out.solved[hand] {
+                continue;
+            }
+            // The hand's joints as shown: the wrist with the palm's half-thickness, the
+            // finger joints with the finger's radius.
+            let surface = rig.contact().surface().expect("a skin");
+            let joints = Finger::ALL
+                .iter()
+                .flat_map(|f| Side::Right.finger(*f))
+                .map(|b| (b.index(), surface.finger_radius[right]))
+                .chain([(hand, surface.palm_half[right])]);
+            for (b, margin) in joints {
+                if let Some((d, _, _)) =
+                    surface.depth(out.world.position[b], margin, &out.world, [true; 6])
+                {
+                    if d > deepest {
+                        (deepest, at) = (d, i);
+                    }
+                }
+            }
+            slowed = rig.turns_limited(Side::Right);
+        }
+        assert!(slowed > 0, "{avatar}: the turn limit never engaged");
+        assert!(
+            deepest < 0.01,
+            "{avatar}: a hand joint {:.1} mm inside at frame {at}",
+            deepest * 1e3
         );
     }
 }
