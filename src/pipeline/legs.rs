@@ -46,6 +46,8 @@ pub(super) struct Legs {
     /// What the planted feet moved the hips across beyond the image's motion (x and z): the
     /// hips follow a planted foot, the image moves them while no foot is planted.
     drift: Vec3,
+    /// How far the planted feet hold the hips above the floor's rule (m, eased).
+    rise: f32,
     root_filter: PointFilters<1>,
     /// Each planted foot's ankle, world (with the offset); the tracked ankle last frame.
     lock: [Option<Vec3>; 2],
@@ -66,6 +68,7 @@ impl Legs {
             offset: Vec3::ZERO,
             reference: None,
             drift: Vec3::ZERO,
+            rise: 0.0,
             root_filter: PointFilters::default(),
             lock: [None; 2],
             last_ankle: [None; 2],
@@ -83,6 +86,7 @@ impl Legs {
         self.offset = Vec3::ZERO;
         self.reference = None;
         self.drift = Vec3::ZERO;
+        self.rise = 0.0;
         self.root_filter.reset();
         self.lock = [None; 2];
         self.last_ankle = [None; 2];
@@ -184,6 +188,12 @@ impl Legs {
         // the leg keeps its tracked shape, the IK below holds the foot on its lock. Re-solving
         // the leg toward a lock the image's hips motion disagrees with bent the knee (the
         // bench's sidestep).
+        // Up and down too: the hips where the planted legs, as tracked, put their ankles on
+        // their locks (the mean of both), never lower than the floor's rule (no sole under the
+        // floor), eased the same. By the floor's rule alone, a foot lifting off handed the
+        // hips' height to the other foot's tracked sole and lowered them under its lock, which
+        // bent the planted knee (the bench's oneleg: the standing knee 4 degrees more bent
+        // than as tracked).
         let (mut sum, mut n) = (Vec3::ZERO, 0.0);
         for (lock, target) in self.lock.iter().zip(&targets) {
             if let (true, Some(lock), Some(t)) = (o.plant, lock, target) {
@@ -191,12 +201,19 @@ impl Legs {
                 n += 1.0;
             }
         }
+        let k = cx.dt.map_or(1.0, |dt| (dt * 1000.0 / FOLLOW_MS).min(1.0));
         if n > 0.0 && across.is_some() {
-            let k = cx.dt.map_or(1.0, |dt| (dt * 1000.0 / FOLLOW_MS).min(1.0));
             let d = Vec3::new(sum.x, 0.0, sum.z) * (k / n);
             offset += d;
             self.drift += d;
         }
+        let up = if n > 0.0 && across.is_some() {
+            (sum.y / n).max(0.0)
+        } else {
+            0.0
+        };
+        self.rise += k * (up - self.rise);
+        offset.y += self.rise;
         let mut relocked = false;
         for side in Side::BOTH {
             let s = side.index();
