@@ -27,6 +27,9 @@ const LIFT_HEIGHT: f32 = 0.05;
 const LIFT_SPEED: f32 = 0.6;
 /// How long (ms) the hips take to follow the planted feet across (a time constant).
 const FOLLOW_MS: f32 = 100.0;
+/// How high (m) above the floor a planted foot's lowest sole may stay (its lock's height
+/// follows the tracked foot's turn within this of the floor).
+const HOVER: f32 = 0.01;
 
 /// The legs stage: per side the leg solver, its presence, the rotations shown last frame and
 /// the blend's anchors; the grounding's state (the avatar's soles, the hips' offset, the
@@ -52,6 +55,8 @@ pub(super) struct Legs {
     /// Each planted foot's ankle, world (with the offset); the tracked ankle last frame.
     lock: [Option<Vec3>; 2],
     last_ankle: [Option<Vec3>; 2],
+    /// Each tracked ankle in the image last frame (x in heights).
+    last_seen_ankle: [Option<Vec3>; 2],
     /// Each leg's thigh and shin directions read from the image (not filtered with the world
     /// landmarks by the observe stage).
     segments: [PointFilters<2>; 2],
@@ -72,6 +77,7 @@ impl Legs {
             root_filter: PointFilters::default(),
             lock: [None; 2],
             last_ankle: [None; 2],
+            last_seen_ankle: [None; 2],
             segments: [PointFilters::default(); 2],
         }
     }
@@ -90,6 +96,7 @@ impl Legs {
         self.root_filter.reset();
         self.lock = [None; 2];
         self.last_ankle = [None; 2];
+        self.last_seen_ankle = [None; 2];
         self.segments = [PointFilters::default(); 2];
     }
 
@@ -173,9 +180,31 @@ impl Legs {
         // leg to reach it, the leg solved again toward it. A tracked ankle moving fast lifts
         // it first.
         let tracked_ankle = targets.map(|t| t.map(|t| t.ankle + offset));
+        // With the image, planting and lifting go by the ankle's speed across the image (at
+        // the user's depth, in the avatar's scale; the image landmarks are not filtered): the
+        // tracked ankle is filtered, lags a landing by 3-5 frames and moves with the leg's
+        // depth as read, so a foot put down was planted late and slid meanwhile (the bench's
+        // woman: 1.53 -> 0.30 mm of sliding per stance frame with the lock's height below).
+        let seen_ankle = Side::BOTH.map(|side| {
+            let image = cx.input.pose_image?;
+            targets[side.index()]?;
+            let [_, _, a, _, _] = leg_landmarks(cx.camera.pose_side_for(side));
+            Some(Vec3::new(
+                image[a].x * cx.input.image_aspect,
+                image[a].y,
+                0.0,
+            ))
+        });
+        let to_meters = pose.and_then(|p| Some(meters_per_height(cx, p)? * self.scale(cx, p)?));
         let mut speed = [f32::INFINITY; 2];
         for s in 0..2 {
-            if let (Some(a), Some(b), Some(dt)) = (tracked_ankle[s], self.last_ankle[s], cx.dt) {
+            if let (Some(a), Some(b), Some(dt), Some(m)) =
+                (seen_ankle[s], self.last_seen_ankle[s], cx.dt, to_meters)
+            {
+                speed[s] = (a - b).length() * m / dt.max(1e-3);
+            } else if let (Some(a), Some(b), Some(dt)) =
+                (tracked_ankle[s], self.last_ankle[s], cx.dt)
+            {
                 speed[s] = (a - b).length() / dt.max(1e-3);
             }
             if speed[s] >= LIFT_SPEED {
@@ -183,6 +212,20 @@ impl Legs {
             }
         }
         self.last_ankle = tracked_ankle;
+        self.last_seen_ankle = seen_ankle;
+        // A planted foot's lock stays within [`HOVER`] of the floor as the tracked foot turns
+        // (its ankle no lower than where the tracked foot's lowest sole meets the floor, nor
+        // more than HOVER above that): a foot planted early, up to PLANT_HEIGHT above the
+        // floor, stayed there while the hips held its lock (the bench's woman: 46 of 480
+        // frames with a standing foot over 2 cm above the floor, 0 with this).
+        for s in 0..2 {
+            if let (Some(lock), Some(a)) = (self.lock[s].as_mut(), tracked_ankle[s]) {
+                if heights[s].is_finite() {
+                    let floor = a.y - heights[s];
+                    lock.y = lock.y.clamp(floor, floor + HOVER);
+                }
+            }
+        }
         // The hips follow the planted feet across (the mean of what each lock asks, eased
         // over [`FOLLOW_MS`]: a foot lifting off hands the hips to the other without a jump):
         // the leg keeps its tracked shape, the IK below holds the foot on its lock. Re-solving
@@ -329,6 +372,17 @@ impl Legs {
             .fold(f32::INFINITY, f32::min)
     }
 
+    /// The user's legs scaled to the avatar's (the first tracked leg's ratio).
+    fn scale(&self, cx: &Context, pose: &PoseObservation) -> Option<f32> {
+        let w = &pose.world;
+        Side::BOTH.into_iter().find_map(|side| {
+            let leg = self.legs[side.index()].as_ref()?;
+            let [h, k, a, _, _] = leg_landmarks(cx.camera.pose_side_for(side));
+            let user = w[h].distance(w[k]) + w[k].distance(w[a]);
+            (user > 1e-3).then(|| leg.length() / user)
+        })
+    }
+
     /// The hips' sideways and forward offset (avatar scale, internal frame) from the hip
     /// midpoint's image position and the camera distance the pose's size gives, relative to
     /// where the root motion started; `None` without image landmarks or a measurable torso.
@@ -336,7 +390,6 @@ impl Legs {
         use crate::input::mediapipe::pose_landmark as pl;
         let image = cx.input.pose_image?;
         let mid = |a: usize, b: usize, p: &[Vec3; 33]| 0.5 * (p[a] + p[b]);
-        let w = &pose.world;
         let hip = mid(pl::LEFT_HIP, pl::RIGHT_HIP, &image);
         let aspect = cx.input.image_aspect;
         let meters = meters_per_height(cx, pose).unwrap_or(f32::NAN);
@@ -347,13 +400,7 @@ impl Legs {
             return None;
         }
         let (at, d0) = *self.reference.get_or_insert((hip, distance));
-        // The user's legs scaled to the avatar's (the first tracked leg's ratio).
-        let scale = Side::BOTH.into_iter().find_map(|side| {
-            let leg = self.legs[side.index()].as_ref()?;
-            let [h, k, a, _, _] = leg_landmarks(cx.camera.pose_side_for(side));
-            let user = w[h].distance(w[k]) + w[k].distance(w[a]);
-            (user > 1e-3).then(|| leg.length() / user)
-        })?;
+        let scale = self.scale(cx, pose)?;
         let x = (hip.x - at.x) * aspect * meters;
         let x = if cx.camera.flips_x() { -x } else { x };
         let mut v = [Vec3::new(x, 0.0, d0 - distance) * scale];
