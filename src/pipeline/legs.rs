@@ -222,7 +222,7 @@ impl Legs {
             if let (Some(lock), Some(a)) = (self.lock[s].as_mut(), tracked_ankle[s]) {
                 if heights[s].is_finite() {
                     let floor = a.y - heights[s];
-                    lock.y = lock.y.clamp(floor, floor + HOVER);
+                    lock.y = lock.y.max(floor).min(floor + HOVER);
                 }
             }
         }
