@@ -16,6 +16,14 @@
 // * image + foreshortening depth (the second session's rule): as above, but from a quarter of
 //   the length deep (the image's foreshortening) toward the image's depth, in full from half, the
 //   way the hip's 30 degrees of extension allows (thigh) or MediaPipe's (shin).
+// * image + the user's own length (fourth session): across and up as above, the depth
+//   sqrt(own^2 - seen^2) from the segment's image length against the user's own, learned per
+//   leg and segment as an upper quantile (Q, 0.9) of its image length in torso image lengths
+//   (RATE, 0.01 per frame), on MediaPipe's side (the thigh: SIGN=hip, the side the hip's 30
+//   degrees of extension allows when only one does);
+// * image + mean of both depths: the bounded depth while the own length reads the segment less
+//   than RAMP's first value of its length deep, the own length's from its second (RAMP=0.3,0.5),
+//   blended between;
 // and the ratio of each segment's image length to its world length (x1000, median): 1000 when
 // the torso's image scale holds for the legs.
 
