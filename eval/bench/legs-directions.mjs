@@ -16,6 +16,14 @@
 // * image + foreshortening depth (the second session's rule): as above, but from a quarter of
 //   the length deep (the image's foreshortening) toward the image's depth, in full from half, the
 //   way the hip's 30 degrees of extension allows (thigh) or MediaPipe's (shin).
+// * image + the user's own length (fourth session): across and up as above, the depth
+//   sqrt(own^2 - seen^2) from the segment's image length against the user's own, learned per
+//   leg and segment as an upper quantile (Q, 0.9) of its image length in torso image lengths
+//   (RATE, 0.01 per frame), on MediaPipe's side (the thigh: SIGN=hip, the side the hip's 30
+//   degrees of extension allows when only one does);
+// * image + mean of both depths: the bounded depth while the own length reads the segment less
+//   than RAMP's first value of its length deep, the own length's from its second (RAMP=0.3,0.5),
+//   blended between;
 // and the ratio of each segment's image length to its world length (x1000, median): 1000 when
 // the torso's image scale holds for the legs.
 
@@ -34,7 +42,13 @@ const norm = (a) => sc(a, 1 / len(a));
 const pct = (v, p) => [...v].sort((a, b) => a - b)[Math.floor((v.length - 1) * p)];
 const MP = { left: [23, 25, 27], right: [24, 26, 28] };
 const toAvatar = (v) => [v[0], -v[1], -v[2]];
-const METHODS = { world: "world", bounded: "image + bounded depth", foreshortening: "image + foreshortening depth" };
+const METHODS = { world: "world", bounded: "image + bounded depth", foreshortening: "image + foreshortening depth", calibrated: "image + the user's own length", mixed: "image + mean of both depths" };
+// The user's own segment length in the image, in torso image lengths, learned causally: an upper
+// quantile (QUANTILE) tracked by stochastic approximation, RATE per frame.
+const QUANTILE = Number(process.env.Q ?? 0.9);
+const RATE = Number(process.env.RATE ?? 0.01);
+const [RA, RB] = (process.env.RAMP ?? "0.3,0.5").split(",").map(Number);
+const RAMP = (f) => Math.min(1, Math.max(0, (f - RA) / (RB - RA)));
 
 const res = new Map();
 const push = (key, v) => (res.get(key) ?? res.set(key, []).get(key)).push(v);
@@ -50,6 +64,7 @@ for (const avatar of LEG_AVATARS) {
     }
   }
   for (const clip of LEG_CLIPS) {
+    const learned = {};
     const rec = JSON.parse(readFileSync(recordingFile(avatar, clip, "tasks"), "utf8"));
     const aspect = rec.width / rec.height;
     rec.frames.forEach((fr, i) => {
@@ -78,14 +93,26 @@ for (const avatar of LEG_AVATARS) {
           const al = Math.hypot(...across);
           const z = Math.sqrt(Math.max(0, wl * wl - al * al));
           const mp = Math.max(-z, Math.min(z, w[2]));
+          // The segment's image length in torso image lengths; its learned upper quantile.
+          const r = al / (m * Math.hypot(ci[0] * aspect, ci[1]));
+          const key = `${side}${si}`;
+          const R = (learned[key] ??= r);
+          learned[key] = R + RATE * (QUANTILE - (r < R ? 1 : 0));
+          const Lc = Math.max(al, R * m * Math.hypot(ci[0] * aspect, ci[1]));
+          const zc = Math.sqrt(Math.max(0, Lc * Lc - al * al));
+          const szMp = w[2] >= 0 ? 1 : -1;
           const sure = Math.min(1, Math.max(0, (z / wl - 0.25) / 0.25));
           const valid = (zz) => si === 1 || Math.atan2(-zz, across[1]) >= -Math.PI / 6;
           const [away, toward] = [valid(z), valid(-z)];
+          const [awayC, towardC] = [valid(zc), valid(-zc)];
+          const sz = process.env.SIGN === "hip" ? (awayC && !towardC ? 1 : towardC && !awayC ? -1 : szMp) : szMp;
           const sign = away && !toward ? 1 : toward && !away ? -1 : w[2] >= 0 ? 1 : -1;
           const est = {
             world: w,
             bounded: [across[0], across[1], mp],
             foreshortening: [across[0], across[1], mp + sure * (sign * z - mp)],
+            calibrated: [across[0], across[1], (si === 0 ? sz : szMp) * zc],
+            mixed: [across[0], across[1], mp + RAMP(zc / Lc) * (sz * zc - mp)],
           };
           for (const [k, v] of Object.entries(est)) {
             const e = 1000 * L * len(sub(norm(toAvatar(v)), truth));

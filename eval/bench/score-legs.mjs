@@ -166,6 +166,7 @@ function bentBackwards(l, forward) {
 }
 
 // ---- one clip ------------------------------------------------------------------------------------
+const TRACE = {};
 function scoreClip(body, restPose, clip, rec, acc, rows) {
   const aspect = rec.width / rec.height;
   const rigs = { handrig: new HandRig(restPose, EXTRA), tracked: new HandRig(restPose, { ...EXTRA, legs: { ...(EXTRA.legs ?? {}), moveHips: false, plant: false } }) };
@@ -186,7 +187,9 @@ function scoreClip(body, restPose, clip, rec, acc, rows) {
     for (const m of ["handrig", "tracked"]) {
       body.reset();
       if (kept[m]) body.restore(kept[m]);
-      applyToVRM(body.vrm, rigs[m].solve({ ...frame, imageAspect: aspect }));
+      const res = rigs[m].solve({ ...frame, imageAspect: aspect });
+      if (m === "handrig") TRACE.res = { off: res.hipsOffset && [...res.hipsOffset], planted: res.feetPlanted && `${+res.feetPlanted.left}${+res.feetPlanted.right}` };
+      applyToVRM(body.vrm, res);
       kept[m] = body.save();
       samples[m] = body.sample();
     }
@@ -259,6 +262,11 @@ function scoreClip(body, restPose, clip, rec, acc, rows) {
       if (float) a.float++;
       if (backwards) a.backwards++;
       Object.assign(r, { under, float, backwards });
+    }
+    if (process.env.LEGS_TRACE) {
+      const r3 = (v) => v.map((x) => (1000 * x).toFixed(0)).join(",");
+      const dist = (x, sd) => (1000 * len(sub(x[sd].ankle, x[sd].hip))).toFixed(0);
+      console.error(`${clip.id} ${i} off ${TRACE.res.off ? r3(TRACE.res.off) : "-"} planted ${TRACE.res.planted} ` + SIDES.map((sd) => `${sd[0]}: d ${dist(truth, sd)}/${dist(samples.handrig, sd)}/${dist(samples.tracked, sd)} k ${row.err.handrig[sd].knee.toFixed(0)}/${row.err.tracked[sd].knee.toFixed(0)} ankleY ${(1000 * truth[sd].ankle[1]).toFixed(0)}/${(1000 * samples.handrig[sd].ankle[1]).toFixed(0)} sole ${(1000 * Math.min(...samples.handrig[sd].soles.map((p) => p[1]))).toFixed(0)}`).join(" "));
     }
     for (const m of SOLVERS) prev[m] = samples[m];
     prev.truth = truth;

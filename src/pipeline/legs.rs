@@ -27,6 +27,9 @@ const LIFT_HEIGHT: f32 = 0.05;
 const LIFT_SPEED: f32 = 0.6;
 /// How long (ms) the hips take to follow the planted feet across (a time constant).
 const FOLLOW_MS: f32 = 100.0;
+/// How high (m) above the floor a planted foot's lowest sole may stay (its lock's height
+/// follows the tracked foot's turn within this of the floor).
+const HOVER: f32 = 0.01;
 
 /// The legs stage: per side the leg solver, its presence, the rotations shown last frame and
 /// the blend's anchors; the grounding's state (the avatar's soles, the hips' offset, the
@@ -46,10 +49,14 @@ pub(super) struct Legs {
     /// What the planted feet moved the hips across beyond the image's motion (x and z): the
     /// hips follow a planted foot, the image moves them while no foot is planted.
     drift: Vec3,
+    /// How far the planted feet hold the hips above the floor's rule (m, eased).
+    rise: f32,
     root_filter: PointFilters<1>,
     /// Each planted foot's ankle, world (with the offset); the tracked ankle last frame.
     lock: [Option<Vec3>; 2],
     last_ankle: [Option<Vec3>; 2],
+    /// Each tracked ankle in the image last frame (x in heights).
+    last_seen_ankle: [Option<Vec3>; 2],
     /// Each leg's thigh and shin directions read from the image (not filtered with the world
     /// landmarks by the observe stage).
     segments: [PointFilters<2>; 2],
@@ -66,9 +73,11 @@ impl Legs {
             offset: Vec3::ZERO,
             reference: None,
             drift: Vec3::ZERO,
+            rise: 0.0,
             root_filter: PointFilters::default(),
             lock: [None; 2],
             last_ankle: [None; 2],
+            last_seen_ankle: [None; 2],
             segments: [PointFilters::default(); 2],
         }
     }
@@ -83,9 +92,11 @@ impl Legs {
         self.offset = Vec3::ZERO;
         self.reference = None;
         self.drift = Vec3::ZERO;
+        self.rise = 0.0;
         self.root_filter.reset();
         self.lock = [None; 2];
         self.last_ankle = [None; 2];
+        self.last_seen_ankle = [None; 2];
         self.segments = [PointFilters::default(); 2];
     }
 
@@ -169,9 +180,31 @@ impl Legs {
         // leg to reach it, the leg solved again toward it. A tracked ankle moving fast lifts
         // it first.
         let tracked_ankle = targets.map(|t| t.map(|t| t.ankle + offset));
+        // With the image, planting and lifting go by the ankle's speed across the image (at
+        // the user's depth, in the avatar's scale; the image landmarks are not filtered): the
+        // tracked ankle is filtered, lags a landing by 3-5 frames and moves with the leg's
+        // depth as read, so a foot put down was planted late and slid meanwhile (the bench's
+        // woman: 1.53 -> 0.30 mm of sliding per stance frame with the lock's height below).
+        let seen_ankle = Side::BOTH.map(|side| {
+            let image = cx.input.pose_image?;
+            targets[side.index()]?;
+            let [_, _, a, _, _] = leg_landmarks(cx.camera.pose_side_for(side));
+            Some(Vec3::new(
+                image[a].x * cx.input.image_aspect,
+                image[a].y,
+                0.0,
+            ))
+        });
+        let to_meters = pose.and_then(|p| Some(meters_per_height(cx, p)? * self.scale(cx, p)?));
         let mut speed = [f32::INFINITY; 2];
         for s in 0..2 {
-            if let (Some(a), Some(b), Some(dt)) = (tracked_ankle[s], self.last_ankle[s], cx.dt) {
+            if let (Some(a), Some(b), Some(dt), Some(m)) =
+                (seen_ankle[s], self.last_seen_ankle[s], cx.dt, to_meters)
+            {
+                speed[s] = (a - b).length() * m / dt.max(1e-3);
+            } else if let (Some(a), Some(b), Some(dt)) =
+                (tracked_ankle[s], self.last_ankle[s], cx.dt)
+            {
                 speed[s] = (a - b).length() / dt.max(1e-3);
             }
             if speed[s] >= LIFT_SPEED {
@@ -179,11 +212,31 @@ impl Legs {
             }
         }
         self.last_ankle = tracked_ankle;
+        self.last_seen_ankle = seen_ankle;
+        // A planted foot's lock stays within [`HOVER`] of the floor as the tracked foot turns
+        // (its ankle no lower than where the tracked foot's lowest sole meets the floor, nor
+        // more than HOVER above that): a foot planted early, up to PLANT_HEIGHT above the
+        // floor, stayed there while the hips held its lock (the bench's woman: 46 of 480
+        // frames with a standing foot over 2 cm above the floor, 0 with this).
+        for s in 0..2 {
+            if let (Some(lock), Some(a)) = (self.lock[s].as_mut(), tracked_ankle[s]) {
+                if heights[s].is_finite() {
+                    let floor = a.y - heights[s];
+                    lock.y = lock.y.max(floor).min(floor + HOVER);
+                }
+            }
+        }
         // The hips follow the planted feet across (the mean of what each lock asks, eased
         // over [`FOLLOW_MS`]: a foot lifting off hands the hips to the other without a jump):
         // the leg keeps its tracked shape, the IK below holds the foot on its lock. Re-solving
         // the leg toward a lock the image's hips motion disagrees with bent the knee (the
         // bench's sidestep).
+        // Up and down too: the hips where the planted legs, as tracked, put their ankles on
+        // their locks (the mean of both), never lower than the floor's rule (no sole under the
+        // floor), eased the same. By the floor's rule alone, a foot lifting off handed the
+        // hips' height to the other foot's tracked sole and lowered them under its lock, which
+        // bent the planted knee (the bench's oneleg: the standing knee 4 degrees more bent
+        // than as tracked).
         let (mut sum, mut n) = (Vec3::ZERO, 0.0);
         for (lock, target) in self.lock.iter().zip(&targets) {
             if let (true, Some(lock), Some(t)) = (o.plant, lock, target) {
@@ -191,12 +244,19 @@ impl Legs {
                 n += 1.0;
             }
         }
+        let k = cx.dt.map_or(1.0, |dt| (dt * 1000.0 / FOLLOW_MS).min(1.0));
         if n > 0.0 && across.is_some() {
-            let k = cx.dt.map_or(1.0, |dt| (dt * 1000.0 / FOLLOW_MS).min(1.0));
             let d = Vec3::new(sum.x, 0.0, sum.z) * (k / n);
             offset += d;
             self.drift += d;
         }
+        let up = if n > 0.0 && across.is_some() {
+            (sum.y / n).max(0.0)
+        } else {
+            0.0
+        };
+        self.rise += k * (up - self.rise);
+        offset.y += self.rise;
         let mut relocked = false;
         for side in Side::BOTH {
             let s = side.index();
@@ -312,6 +372,17 @@ impl Legs {
             .fold(f32::INFINITY, f32::min)
     }
 
+    /// The user's legs scaled to the avatar's (the first tracked leg's ratio).
+    fn scale(&self, cx: &Context, pose: &PoseObservation) -> Option<f32> {
+        let w = &pose.world;
+        Side::BOTH.into_iter().find_map(|side| {
+            let leg = self.legs[side.index()].as_ref()?;
+            let [h, k, a, _, _] = leg_landmarks(cx.camera.pose_side_for(side));
+            let user = w[h].distance(w[k]) + w[k].distance(w[a]);
+            (user > 1e-3).then(|| leg.length() / user)
+        })
+    }
+
     /// The hips' sideways and forward offset (avatar scale, internal frame) from the hip
     /// midpoint's image position and the camera distance the pose's size gives, relative to
     /// where the root motion started; `None` without image landmarks or a measurable torso.
@@ -319,7 +390,6 @@ impl Legs {
         use crate::input::mediapipe::pose_landmark as pl;
         let image = cx.input.pose_image?;
         let mid = |a: usize, b: usize, p: &[Vec3; 33]| 0.5 * (p[a] + p[b]);
-        let w = &pose.world;
         let hip = mid(pl::LEFT_HIP, pl::RIGHT_HIP, &image);
         let aspect = cx.input.image_aspect;
         let meters = meters_per_height(cx, pose).unwrap_or(f32::NAN);
@@ -330,13 +400,7 @@ impl Legs {
             return None;
         }
         let (at, d0) = *self.reference.get_or_insert((hip, distance));
-        // The user's legs scaled to the avatar's (the first tracked leg's ratio).
-        let scale = Side::BOTH.into_iter().find_map(|side| {
-            let leg = self.legs[side.index()].as_ref()?;
-            let [h, k, a, _, _] = leg_landmarks(cx.camera.pose_side_for(side));
-            let user = w[h].distance(w[k]) + w[k].distance(w[a]);
-            (user > 1e-3).then(|| leg.length() / user)
-        })?;
+        let scale = self.scale(cx, pose)?;
         let x = (hip.x - at.x) * aspect * meters;
         let x = if cx.camera.flips_x() { -x } else { x };
         let mut v = [Vec3::new(x, 0.0, d0 - distance) * scale];
