@@ -207,6 +207,13 @@ pub const HEAD_BETA: f32 = 10.0;
 pub const BLINK_OPEN: f32 = 0.2;
 /// See [`BLINK_OPEN`].
 pub const BLINK_CLOSED: f32 = 0.6;
+/// Bins of the neutral face's histograms (each weight over 0..1: 1/64 wide, the median read
+/// within its bin). The median, not the mean, of the calibration frames: a blink in them (the
+/// bench's first two blinks fall within its 2 s) raised the mean `eyeBlink` and `eyeLookDown`,
+/// and every later blink read lower; lower quantiles (0.1-0.4) gave false blinks on the tuning
+/// half's ASL clips (6-17 of 237 frames at 0.1-0.3), the median none. Figures:
+/// docs/measurements/2026-12-06-face.md.
+pub const NEUTRAL_BINS: usize = 64;
 /// The mouth's gain: `aa` is the calibrated `jawOpen` times this.
 pub const MOUTH_GAIN: f32 = 1.6;
 
@@ -253,9 +260,11 @@ fn filter_all(
 pub struct Face {
     euro: [Euro; SHAPES],
     head: crate::filter::OneEuroQuat,
-    neutral_sum: [f32; SHAPES],
-    neutral_frames: u32,
-    /// The neutral face: `neutral_sum` over `neutral_frames`, capped at 0.5 (updated with them).
+    /// Each weight's calibration frames, counted in [`NEUTRAL_BINS`] bins over 0..1.
+    neutral_hist: [[u16; NEUTRAL_BINS]; SHAPES],
+    neutral_frames: u16,
+    /// The neutral face: each weight's median over the calibration frames, capped at 0.5
+    /// (updated with them).
     neutral: [f32; SHAPES],
     calibration_start: Option<f64>,
     /// Last frame time with a face (ms).
@@ -275,7 +284,7 @@ impl Default for Face {
         Face {
             euro: [Euro::default(); SHAPES],
             head: crate::filter::OneEuroQuat::default(),
-            neutral_sum: [0.0; SHAPES],
+            neutral_hist: [[0; NEUTRAL_BINS]; SHAPES],
             neutral_frames: 0,
             neutral: [0.0; SHAPES],
             calibration_start: None,
@@ -336,7 +345,7 @@ fn from_mesh(p: &[Vec3; MESH_POINTS], aspect: f32, out: &mut [f32; SHAPES]) {
 impl Face {
     /// Starts the neutral face's calibration again from the next face frame.
     pub fn calibrate(&mut self) {
-        self.neutral_sum = [0.0; SHAPES];
+        self.neutral_hist = [[0; NEUTRAL_BINS]; SHAPES];
         self.neutral_frames = 0;
         self.calibration_start = None;
     }
@@ -354,14 +363,14 @@ impl Face {
 
     /// Forgets the history but the neutral face.
     pub fn restart(&mut self) {
-        let (sum, n, neutral, start) = (
-            self.neutral_sum,
+        let (hist, n, neutral, start) = (
+            self.neutral_hist,
             self.neutral_frames,
             self.neutral,
             self.calibration_start,
         );
         *self = Face::default();
-        self.neutral_sum = sum;
+        self.neutral_hist = hist;
         self.neutral_frames = n;
         self.neutral = neutral;
         self.calibration_start = start;
@@ -393,15 +402,19 @@ impl Face {
                 raw.swap(a as usize, b as usize);
             }
         }
-        // The neutral face: the mean of the first `calibration_time` seconds of face frames.
+        // The neutral face: each weight's median over the first `calibration_time` seconds of
+        // face frames (a blink or a smile within them does not move it, as it moved a mean).
         let start = *self.calibration_start.get_or_insert(now_ms);
-        if now_ms - start <= f64::from(o.calibration_time) * 1000.0 || self.neutral_frames == 0 {
-            for (s, r) in self.neutral_sum.iter_mut().zip(&raw) {
-                *s += r;
-            }
+        if (now_ms - start <= f64::from(o.calibration_time) * 1000.0 || self.neutral_frames == 0)
+            && self.neutral_frames < u16::MAX
+        {
             self.neutral_frames += 1;
-            let n = self.neutral_frames as f32;
-            self.neutral = self.neutral_sum.map(|s| (s / n).min(0.5));
+            let half = 0.5 * f32::from(self.neutral_frames);
+            for ((h, &r), n) in self.neutral_hist.iter_mut().zip(&raw).zip(&mut self.neutral) {
+                // `raw` is within 0..1 (NaN casts to bin 0).
+                h[((r * NEUTRAL_BINS as f32) as usize).min(NEUTRAL_BINS - 1)] += 1;
+                *n = quantile(h, half).min(0.5);
+            }
         }
         let neutral = self.neutral;
         let cal = |k: usize, x: f32| clamp01((x - neutral[k]) / (1.0 - neutral[k]));
@@ -484,6 +497,20 @@ impl Face {
             )
         });
     }
+}
+
+/// The value below which `count` of a histogram's samples lie ([`NEUTRAL_BINS`] bins over 0..1,
+/// the samples spread evenly within their bin).
+fn quantile(h: &[u16; NEUTRAL_BINS], count: f32) -> f32 {
+    let mut below = 0.0;
+    for (b, &c) in h.iter().enumerate() {
+        let c = f32::from(c);
+        if c > 0.0 && below + c >= count {
+            return (b as f32 + (count - below) / c) / NEUTRAL_BINS as f32;
+        }
+        below += c;
+    }
+    1.0
 }
 
 /// Scales `x` down so it sums to at most 1.
