@@ -208,11 +208,14 @@ pub const BLINK_OPEN: f32 = 0.2;
 /// See [`BLINK_OPEN`].
 pub const BLINK_CLOSED: f32 = 0.6;
 /// Bins of the neutral face's histograms (each weight over 0..1: 1/64 wide, the median read
-/// within its bin). The median, not the mean, of the calibration frames: a blink in them (the
-/// bench's first two blinks fall within its 2 s) raised the mean `eyeBlink` and `eyeLookDown`,
-/// and every later blink read lower; lower quantiles (0.1-0.4) gave false blinks on the tuning
-/// half's ASL clips (6-17 of 237 frames at 0.1-0.3), the median none. Figures:
-/// docs/measurements/2026-12-06-face.md.
+/// within its bin). An expression only raises a weight above the user's rest, and the neutral
+/// face is the smaller of each weight's mean and median over the calibration frames: the
+/// median is not moved by a blink (or any expression) that fills less than half of them (the
+/// bench's first two blinks fall within its 2 s and raised the mean `eyeBlink` and
+/// `eyeLookDown`: every later blink read lower), the mean dilutes one that fills more (an open
+/// mouth early in the window took the median to it). Lower quantiles (0.1-0.4) gave false
+/// blinks on the tuning half's ASL clips (6-17 of 237 frames at 0.1-0.3), the median none.
+/// Figures: docs/measurements/2026-12-06-face.md.
 pub const NEUTRAL_BINS: usize = 64;
 /// The mouth's gain: `aa` is the calibrated `jawOpen` times this.
 pub const MOUTH_GAIN: f32 = 1.6;
@@ -260,11 +263,12 @@ fn filter_all(
 pub struct Face {
     euro: [Euro; SHAPES],
     head: crate::filter::OneEuroQuat,
-    /// Each weight's calibration frames, counted in [`NEUTRAL_BINS`] bins over 0..1.
+    /// Each weight's calibration frames, summed and counted in [`NEUTRAL_BINS`] bins over 0..1.
+    neutral_sum: [f32; SHAPES],
     neutral_hist: [[u16; NEUTRAL_BINS]; SHAPES],
     neutral_frames: u16,
-    /// The neutral face: each weight's median over the calibration frames, capped at 0.5
-    /// (updated with them).
+    /// The neutral face: each weight's mean or median over the calibration frames, the
+    /// smaller, capped at 0.5 (updated with them).
     neutral: [f32; SHAPES],
     calibration_start: Option<f64>,
     /// Last frame time with a face (ms).
@@ -284,6 +288,7 @@ impl Default for Face {
         Face {
             euro: [Euro::default(); SHAPES],
             head: crate::filter::OneEuroQuat::default(),
+            neutral_sum: [0.0; SHAPES],
             neutral_hist: [[0; NEUTRAL_BINS]; SHAPES],
             neutral_frames: 0,
             neutral: [0.0; SHAPES],
@@ -345,6 +350,7 @@ fn from_mesh(p: &[Vec3; MESH_POINTS], aspect: f32, out: &mut [f32; SHAPES]) {
 impl Face {
     /// Starts the neutral face's calibration again from the next face frame.
     pub fn calibrate(&mut self) {
+        self.neutral_sum = [0.0; SHAPES];
         self.neutral_hist = [[0; NEUTRAL_BINS]; SHAPES];
         self.neutral_frames = 0;
         self.calibration_start = None;
@@ -363,13 +369,15 @@ impl Face {
 
     /// Forgets the history but the neutral face.
     pub fn restart(&mut self) {
-        let (hist, n, neutral, start) = (
+        let (sum, hist, n, neutral, start) = (
+            self.neutral_sum,
             self.neutral_hist,
             self.neutral_frames,
             self.neutral,
             self.calibration_start,
         );
         *self = Face::default();
+        self.neutral_sum = sum;
         self.neutral_hist = hist;
         self.neutral_frames = n;
         self.neutral = neutral;
@@ -402,18 +410,25 @@ impl Face {
                 raw.swap(a as usize, b as usize);
             }
         }
-        // The neutral face: each weight's median over the first `calibration_time` seconds of
-        // face frames (a blink or a smile within them does not move it, as it moved a mean).
+        // The neutral face: each weight's mean or median over the first `calibration_time`
+        // seconds of face frames, the smaller (see NEUTRAL_BINS).
         let start = *self.calibration_start.get_or_insert(now_ms);
         if (now_ms - start <= f64::from(o.calibration_time) * 1000.0 || self.neutral_frames == 0)
             && self.neutral_frames < u16::MAX
         {
             self.neutral_frames += 1;
-            let half = 0.5 * f32::from(self.neutral_frames);
-            for ((h, &r), n) in self.neutral_hist.iter_mut().zip(&raw).zip(&mut self.neutral) {
+            let frames = f32::from(self.neutral_frames);
+            for (((h, s), &r), n) in self
+                .neutral_hist
+                .iter_mut()
+                .zip(&mut self.neutral_sum)
+                .zip(&raw)
+                .zip(&mut self.neutral)
+            {
+                *s += r;
                 // `raw` is within 0..1 (NaN casts to bin 0).
                 h[((r * NEUTRAL_BINS as f32) as usize).min(NEUTRAL_BINS - 1)] += 1;
-                *n = quantile(h, half).min(0.5);
+                *n = quantile(h, 0.5 * frames).min(*s / frames).min(0.5);
             }
         }
         let neutral = self.neutral;
