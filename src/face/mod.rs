@@ -207,14 +207,17 @@ pub const HEAD_BETA: f32 = 10.0;
 pub const BLINK_OPEN: f32 = 0.2;
 /// See [`BLINK_OPEN`].
 pub const BLINK_CLOSED: f32 = 0.6;
-/// Bins of the neutral face's histograms (each weight over 0..1: 1/64 wide, the median read
-/// within its bin). An expression only raises a weight above the user's rest, and the neutral
-/// face is the smaller of each weight's mean and median over the calibration frames: the
-/// median is not moved by a blink (or any expression) that fills less than half of them (the
-/// bench's first two blinks fall within its 2 s and raised the mean `eyeBlink` and
-/// `eyeLookDown`: every later blink read lower), the mean dilutes one that fills more (an open
-/// mouth early in the window took the median to it). Lower quantiles (0.1-0.4) gave false
-/// blinks on the tuning half's ASL clips (6-17 of 237 frames at 0.1-0.3), the median none.
+/// Bins of the neutral face's histograms (each weight over 0..1, 1/64 wide; a bin keeps its
+/// frames' count and sum). The neutral face is each weight's interquartile mean over the
+/// calibration frames (the mean of the middle half): a blink (or any expression) in less than
+/// a quarter of them does not move it, where it moved the mean (the bench's first two blinks
+/// fall within its 2 s and raised the mean `eyeBlink` and `eyeLookDown`: every later blink read
+/// lower), and one that fills more of them moves it gradually, frame by frame (the median
+/// jumped to an open mouth once it filled half the window so far). Chosen on the tuning half
+/// (the bench's woman, the ASL clips again, eat, please, thanks) among the median, the smaller
+/// of mean and median and trimmed means: the same blink on the woman (closed frames 0.44 ->
+/// 0.50-0.51 for all), the widest margin to a false blink on the ASL clips (the largest blink
+/// on their open frames 0.34; the median's 0.41, lower quantiles up to 0.57 with 1-17 false).
 /// Figures: docs/measurements/2026-12-06-face.md.
 pub const NEUTRAL_BINS: usize = 64;
 /// The mouth's gain: `aa` is the calibrated `jawOpen` times this.
@@ -263,12 +266,13 @@ fn filter_all(
 pub struct Face {
     euro: [Euro; SHAPES],
     head: crate::filter::OneEuroQuat,
-    /// Each weight's calibration frames, summed and counted in [`NEUTRAL_BINS`] bins over 0..1.
-    neutral_sum: [f32; SHAPES],
+    /// Each weight's calibration frames in [`NEUTRAL_BINS`] bins over 0..1: how many, and
+    /// their sum.
     neutral_hist: [[u16; NEUTRAL_BINS]; SHAPES],
+    neutral_sum: [[f32; NEUTRAL_BINS]; SHAPES],
     neutral_frames: u16,
-    /// The neutral face: each weight's mean or median over the calibration frames, the
-    /// smaller, capped at 0.5 (updated with them).
+    /// The neutral face: each weight's interquartile mean over the calibration frames, capped
+    /// at 0.5 (updated with them).
     neutral: [f32; SHAPES],
     calibration_start: Option<f64>,
     /// Last frame time with a face (ms).
@@ -288,8 +292,8 @@ impl Default for Face {
         Face {
             euro: [Euro::default(); SHAPES],
             head: crate::filter::OneEuroQuat::default(),
-            neutral_sum: [0.0; SHAPES],
             neutral_hist: [[0; NEUTRAL_BINS]; SHAPES],
+            neutral_sum: [[0.0; NEUTRAL_BINS]; SHAPES],
             neutral_frames: 0,
             neutral: [0.0; SHAPES],
             calibration_start: None,
@@ -350,8 +354,8 @@ fn from_mesh(p: &[Vec3; MESH_POINTS], aspect: f32, out: &mut [f32; SHAPES]) {
 impl Face {
     /// Starts the neutral face's calibration again from the next face frame.
     pub fn calibrate(&mut self) {
-        self.neutral_sum = [0.0; SHAPES];
         self.neutral_hist = [[0; NEUTRAL_BINS]; SHAPES];
+        self.neutral_sum = [[0.0; NEUTRAL_BINS]; SHAPES];
         self.neutral_frames = 0;
         self.calibration_start = None;
     }
@@ -410,8 +414,8 @@ impl Face {
                 raw.swap(a as usize, b as usize);
             }
         }
-        // The neutral face: each weight's mean or median over the first `calibration_time`
-        // seconds of face frames, the smaller (see NEUTRAL_BINS).
+        // The neutral face: each weight's interquartile mean over the first `calibration_time`
+        // seconds of face frames (see NEUTRAL_BINS).
         let start = *self.calibration_start.get_or_insert(now_ms);
         if (now_ms - start <= f64::from(o.calibration_time) * 1000.0 || self.neutral_frames == 0)
             && self.neutral_frames < u16::MAX
@@ -425,10 +429,11 @@ impl Face {
                 .zip(&raw)
                 .zip(&mut self.neutral)
             {
-                *s += r;
                 // `raw` is within 0..1 (NaN casts to bin 0).
-                h[((r * NEUTRAL_BINS as f32) as usize).min(NEUTRAL_BINS - 1)] += 1;
-                *n = quantile(h, 0.5 * frames).min(*s / frames).min(0.5);
+                let bin = ((r * NEUTRAL_BINS as f32) as usize).min(NEUTRAL_BINS - 1);
+                h[bin] += 1;
+                s[bin] += r;
+                *n = interquartile_mean(h, s, frames).min(0.5);
             }
         }
         let neutral = self.neutral;
@@ -514,18 +519,31 @@ impl Face {
     }
 }
 
-/// The value below which `count` of a histogram's samples lie ([`NEUTRAL_BINS`] bins over 0..1,
-/// the samples spread evenly within their bin).
-fn quantile(h: &[u16; NEUTRAL_BINS], count: f32) -> f32 {
+/// The mean of the middle half of `frames` samples binned in order (`count` in each bin, their
+/// `sum`): the bins wholly inside it by their sums, the two it cuts by their share of the
+/// bin's mean.
+fn interquartile_mean(
+    count: &[u16; NEUTRAL_BINS],
+    sum: &[f32; NEUTRAL_BINS],
+    frames: f32,
+) -> f32 {
+    let (from, to) = (0.25 * frames, 0.75 * frames);
     let mut below = 0.0;
-    for (b, &c) in h.iter().enumerate() {
+    let mut total = 0.0;
+    for (&c, &s) in count.iter().zip(sum) {
         let c = f32::from(c);
-        if c > 0.0 && below + c >= count {
-            return (b as f32 + (count - below) / c) / NEUTRAL_BINS as f32;
+        let inside = to.min(below + c) - from.max(below);
+        if inside >= c {
+            total += s;
+        } else if inside > 0.0 {
+            total += inside * s / c;
         }
         below += c;
+        if below >= to {
+            break;
+        }
     }
-    1.0
+    total / (to - from)
 }
 
 /// Scales `x` down so it sums to at most 1.
