@@ -182,7 +182,7 @@ pub struct FaceOptions {
     pub beta: f32,
     /// Shortest time (s) a closed eye takes to open.
     pub blink_open_time: f32,
-    /// Seconds of face frames averaged into the neutral face.
+    /// Seconds of face frames averaged into the neutral face (but for outliers: [`NEUTRAL_OUTLIER`]).
     pub calibration_time: f32,
     /// The neck's share of the head's turn (the head takes the rest).
     pub neck_share: f32,
@@ -207,19 +207,18 @@ pub const HEAD_BETA: f32 = 10.0;
 pub const BLINK_OPEN: f32 = 0.2;
 /// See [`BLINK_OPEN`].
 pub const BLINK_CLOSED: f32 = 0.6;
-/// Bins of the neutral face's histograms (each weight over 0..1, 1/64 wide; a bin keeps its
-/// frames' count and sum). The neutral face is each weight's interquartile mean over the
-/// calibration frames (the mean of the middle half): a blink (or any expression) in less than
-/// a quarter of them does not move it, where it moved the mean (the bench's first two blinks
-/// fall within its 2 s and raised the mean `eyeBlink` and `eyeLookDown`: every later blink read
-/// lower), and one that fills more of them moves it gradually, frame by frame (the median
-/// jumped to an open mouth once it filled half the window so far). Chosen on the tuning half
-/// (the bench's woman, the ASL clips again, eat, please, thanks) among the median, the smaller
-/// of mean and median and trimmed means: the same blink on the woman (closed frames 0.44 ->
-/// 0.50-0.51 for all), the widest margin to a false blink on the ASL clips (the largest blink
-/// on their open frames 0.34; the median's 0.41, lower quantiles up to 0.57 with 1-17 false).
-/// Figures: docs/measurements/2026-12-06-face.md.
-pub const NEUTRAL_BINS: usize = 64;
+/// A calibration frame whose weight is more than this above that weight's mean so far is left
+/// out of its neutral value: an expression only raises a weight above the user's rest, and a
+/// blink within the calibration (the bench's first two blinks fall within its 2 s; a user
+/// blinks every 3-4 s) raised the mean `eyeBlink` and `eyeLookDown`, so every later blink read
+/// lower. Frames within it are averaged as before (the neutral moves as smoothly). Chosen on
+/// the tuning half (the bench's woman, the ASL clips again, eat, please, thanks): 0.3 to 0.5
+/// leave no false blink on the ASL clips (0.25: 4 of 237 frames, 0.1: 6); 0.35 keeps the
+/// largest blink on their open frames at the mean's 0.32 and raises the woman's closed frames'
+/// blink 0.44 -> 0.50 (the median: the same blink but 0.41 on open frames; an interquartile
+/// mean or the median also moved a still face's weights up to 0.24 a frame while an expression
+/// filled the calibration). Figures: docs/measurements/2026-12-06-face.md.
+pub const NEUTRAL_OUTLIER: f32 = 0.35;
 /// The mouth's gain: `aa` is the calibrated `jawOpen` times this.
 pub const MOUTH_GAIN: f32 = 1.6;
 
@@ -266,13 +265,11 @@ fn filter_all(
 pub struct Face {
     euro: [Euro; SHAPES],
     head: crate::filter::OneEuroQuat,
-    /// Each weight's calibration frames in [`NEUTRAL_BINS`] bins over 0..1: how many, and
-    /// their sum.
-    neutral_hist: [[u16; NEUTRAL_BINS]; SHAPES],
-    neutral_sum: [[f32; NEUTRAL_BINS]; SHAPES],
-    neutral_frames: u16,
-    /// The neutral face: each weight's interquartile mean over the calibration frames, capped
-    /// at 0.5 (updated with them).
+    /// Each weight's calibration frames taken into its neutral value: their sum and count.
+    neutral_sum: [f32; SHAPES],
+    neutral_count: [f32; SHAPES],
+    neutral_frames: u32,
+    /// The neutral face: `neutral_sum` over `neutral_count`, capped at 0.5 (updated with them).
     neutral: [f32; SHAPES],
     calibration_start: Option<f64>,
     /// Last frame time with a face (ms).
@@ -292,8 +289,8 @@ impl Default for Face {
         Face {
             euro: [Euro::default(); SHAPES],
             head: crate::filter::OneEuroQuat::default(),
-            neutral_hist: [[0; NEUTRAL_BINS]; SHAPES],
-            neutral_sum: [[0.0; NEUTRAL_BINS]; SHAPES],
+            neutral_sum: [0.0; SHAPES],
+            neutral_count: [0.0; SHAPES],
             neutral_frames: 0,
             neutral: [0.0; SHAPES],
             calibration_start: None,
@@ -354,8 +351,8 @@ fn from_mesh(p: &[Vec3; MESH_POINTS], aspect: f32, out: &mut [f32; SHAPES]) {
 impl Face {
     /// Starts the neutral face's calibration again from the next face frame.
     pub fn calibrate(&mut self) {
-        self.neutral_hist = [[0; NEUTRAL_BINS]; SHAPES];
-        self.neutral_sum = [[0.0; NEUTRAL_BINS]; SHAPES];
+        self.neutral_sum = [0.0; SHAPES];
+        self.neutral_count = [0.0; SHAPES];
         self.neutral_frames = 0;
         self.calibration_start = None;
     }
@@ -373,16 +370,16 @@ impl Face {
 
     /// Forgets the history but the neutral face.
     pub fn restart(&mut self) {
-        let (sum, hist, n, neutral, start) = (
+        let (sum, count, n, neutral, start) = (
             self.neutral_sum,
-            self.neutral_hist,
+            self.neutral_count,
             self.neutral_frames,
             self.neutral,
             self.calibration_start,
         );
         *self = Face::default();
         self.neutral_sum = sum;
-        self.neutral_hist = hist;
+        self.neutral_count = count;
         self.neutral_frames = n;
         self.neutral = neutral;
         self.calibration_start = start;
@@ -414,26 +411,24 @@ impl Face {
                 raw.swap(a as usize, b as usize);
             }
         }
-        // The neutral face: each weight's interquartile mean over the first `calibration_time`
-        // seconds of face frames (see NEUTRAL_BINS).
+        // The neutral face: each weight's mean over the first `calibration_time` seconds of
+        // face frames, but for frames more than NEUTRAL_OUTLIER above the mean so far (a blink).
         let start = *self.calibration_start.get_or_insert(now_ms);
-        if (now_ms - start <= f64::from(o.calibration_time) * 1000.0 || self.neutral_frames == 0)
-            && self.neutral_frames < u16::MAX
-        {
-            self.neutral_frames += 1;
-            let frames = f32::from(self.neutral_frames);
-            for (((h, s), &r), n) in self
-                .neutral_hist
+        if now_ms - start <= f64::from(o.calibration_time) * 1000.0 || self.neutral_frames == 0 {
+            let first = self.neutral_frames == 0;
+            self.neutral_frames = self.neutral_frames.saturating_add(1);
+            for (((s, c), &r), n) in self
+                .neutral_sum
                 .iter_mut()
-                .zip(&mut self.neutral_sum)
+                .zip(&mut self.neutral_count)
                 .zip(&raw)
                 .zip(&mut self.neutral)
             {
-                // `raw` is within 0..1 (NaN casts to bin 0).
-                let bin = ((r * NEUTRAL_BINS as f32) as usize).min(NEUTRAL_BINS - 1);
-                h[bin] += 1;
-                s[bin] += r;
-                *n = interquartile_mean(h, s, frames).min(0.5);
+                if first || r <= *s / *c + NEUTRAL_OUTLIER {
+                    *s += r;
+                    *c += 1.0;
+                }
+                *n = (*s / *c).min(0.5);
             }
         }
         let neutral = self.neutral;
@@ -517,33 +512,6 @@ impl Face {
             )
         });
     }
-}
-
-/// The mean of the middle half of `frames` samples binned in order (`count` in each bin, their
-/// `sum`): the bins wholly inside it by their sums, the two it cuts by their share of the
-/// bin's mean.
-fn interquartile_mean(
-    count: &[u16; NEUTRAL_BINS],
-    sum: &[f32; NEUTRAL_BINS],
-    frames: f32,
-) -> f32 {
-    let (from, to) = (0.25 * frames, 0.75 * frames);
-    let mut below = 0.0;
-    let mut total = 0.0;
-    for (&c, &s) in count.iter().zip(sum) {
-        let c = f32::from(c);
-        let inside = to.min(below + c) - from.max(below);
-        if inside >= c {
-            total += s;
-        } else if inside > 0.0 {
-            total += inside * s / c;
-        }
-        below += c;
-        if below >= to {
-            break;
-        }
-    }
-    total / (to - from)
 }
 
 /// Scales `x` down so it sums to at most 1.
