@@ -182,7 +182,8 @@ pub struct FaceOptions {
     pub beta: f32,
     /// Shortest time (s) a closed eye takes to open.
     pub blink_open_time: f32,
-    /// Seconds of face frames averaged into the neutral face (but for outliers: [`NEUTRAL_OUTLIER`]).
+    /// Seconds of face frames averaged into the neutral face (outliers left out:
+    /// [`NEUTRAL_OUTLIER`]).
     pub calibration_time: f32,
     /// The neck's share of the head's turn (the head takes the rest).
     pub neck_share: f32,
@@ -215,9 +216,10 @@ pub const BLINK_CLOSED: f32 = 0.6;
 /// the tuning half (the bench's woman, the ASL clips again, eat, please, thanks): 0.3 to 0.5
 /// leave no false blink on the ASL clips (0.25: 4 of 237 frames, 0.1: 6); 0.35 keeps the
 /// largest blink on their open frames at the mean's 0.32 and raises the woman's closed frames'
-/// blink 0.44 -> 0.50 (the median: the same blink but 0.41 on open frames; an interquartile
-/// mean or the median also moved a still face's weights up to 0.24 a frame while an expression
-/// filled the calibration). Figures: docs/measurements/2026-12-06-face.md.
+/// blink 0.44 -> 0.50. The median gave the same blink but 0.41 on open frames, and jumped
+/// (a still face's weights up to 0.23-0.32 in a frame) while an expression filled half the
+/// calibration so far; an interquartile mean moved them twice as fast as the mean. Figures:
+/// docs/measurements/2026-12-06-face.md.
 pub const NEUTRAL_OUTLIER: f32 = 0.35;
 /// The mouth's gain: `aa` is the calibrated `jawOpen` times this.
 pub const MOUTH_GAIN: f32 = 1.6;

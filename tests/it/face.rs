@@ -196,8 +196,10 @@ fn a_blink_while_calibrating_does_not_raise_the_neutral_face() {
             r.solve(&frame(t, w, None), &mut out).unwrap();
         }
         // After the calibration: open, then a blink as MediaPipe scores the bench's man's.
-        r.solve(&frame(2100.0, eyes(0.05, 0.2), None), &mut out).unwrap();
-        r.solve(&frame(2133.0, eyes(0.5, 0.66), None), &mut out).unwrap();
+        r.solve(&frame(2100.0, eyes(0.05, 0.2), None), &mut out)
+            .unwrap();
+        r.solve(&frame(2133.0, eyes(0.5, 0.66), None), &mut out)
+            .unwrap();
         preset(&out, "blink")
     };
     let (clean, blinked) = (blinks_after(false), blinks_after(true));
