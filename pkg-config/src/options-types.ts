@@ -158,7 +158,7 @@ export interface HandRigOptions {
         beta?: number | undefined;
         /** Shortest time (s) a closed eye takes to open (a blink closes at once). (number in 0..1, default `0.1`.) */
         blinkOpenTime?: number | undefined;
-        /** Seconds of the first face frames averaged into the neutral face (again after rig.calibrateFace()). (number in 0..60, default `2`.) */
+        /** Seconds of the first face frames averaged into the neutral face, a frame far above the average so far (a blink) left out (again after rig.calibrateFace()). (number in 0..60, default `2`.) */
         calibrationTime?: number | undefined;
         /** The neck's share of the head's turn from the face (the head bone takes the rest). (number in 0..1, default `0.3`.) */
         neckShare?: number | undefined;

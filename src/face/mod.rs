@@ -182,7 +182,8 @@ pub struct FaceOptions {
     pub beta: f32,
     /// Shortest time (s) a closed eye takes to open.
     pub blink_open_time: f32,
-    /// Seconds of face frames averaged into the neutral face.
+    /// Seconds of face frames averaged into the neutral face (outliers left out:
+    /// [`NEUTRAL_OUTLIER`]).
     pub calibration_time: f32,
     /// The neck's share of the head's turn (the head takes the rest).
     pub neck_share: f32,
@@ -207,6 +208,19 @@ pub const HEAD_BETA: f32 = 10.0;
 pub const BLINK_OPEN: f32 = 0.2;
 /// See [`BLINK_OPEN`].
 pub const BLINK_CLOSED: f32 = 0.6;
+/// A calibration frame whose weight is more than this above that weight's mean so far is left
+/// out of its neutral value: an expression only raises a weight above the user's rest, and a
+/// blink within the calibration (the bench's first two blinks fall within its 2 s; a user
+/// blinks every 3-4 s) raised the mean `eyeBlink` and `eyeLookDown`, so every later blink read
+/// lower. Frames within it are averaged as before (the neutral moves as smoothly). Chosen on
+/// the tuning half (the bench's woman, the ASL clips again, eat, please, thanks): 0.3 to 0.5
+/// leave no false blink on the ASL clips (0.25: 4 of 237 frames, 0.1: 6); 0.35 keeps the
+/// largest blink on their open frames at the mean's 0.32 and raises the woman's closed frames'
+/// blink 0.44 -> 0.50. The median gave the same blink but 0.41 on open frames, and jumped
+/// (a still face's weights up to 0.23-0.32 in a frame) while an expression filled half the
+/// calibration so far; an interquartile mean moved them twice as fast as the mean. Figures:
+/// docs/measurements/2026-12-06-face.md.
+pub const NEUTRAL_OUTLIER: f32 = 0.35;
 /// The mouth's gain: `aa` is the calibrated `jawOpen` times this.
 pub const MOUTH_GAIN: f32 = 1.6;
 
@@ -253,9 +267,11 @@ fn filter_all(
 pub struct Face {
     euro: [Euro; SHAPES],
     head: crate::filter::OneEuroQuat,
+    /// Each weight's calibration frames taken into its neutral value: their sum and count.
     neutral_sum: [f32; SHAPES],
+    neutral_count: [f32; SHAPES],
     neutral_frames: u32,
-    /// The neutral face: `neutral_sum` over `neutral_frames`, capped at 0.5 (updated with them).
+    /// The neutral face: `neutral_sum` over `neutral_count`, capped at 0.5 (updated with them).
     neutral: [f32; SHAPES],
     calibration_start: Option<f64>,
     /// Last frame time with a face (ms).
@@ -276,6 +292,7 @@ impl Default for Face {
             euro: [Euro::default(); SHAPES],
             head: crate::filter::OneEuroQuat::default(),
             neutral_sum: [0.0; SHAPES],
+            neutral_count: [0.0; SHAPES],
             neutral_frames: 0,
             neutral: [0.0; SHAPES],
             calibration_start: None,
@@ -337,6 +354,7 @@ impl Face {
     /// Starts the neutral face's calibration again from the next face frame.
     pub fn calibrate(&mut self) {
         self.neutral_sum = [0.0; SHAPES];
+        self.neutral_count = [0.0; SHAPES];
         self.neutral_frames = 0;
         self.calibration_start = None;
     }
@@ -354,14 +372,16 @@ impl Face {
 
     /// Forgets the history but the neutral face.
     pub fn restart(&mut self) {
-        let (sum, n, neutral, start) = (
+        let (sum, count, n, neutral, start) = (
             self.neutral_sum,
+            self.neutral_count,
             self.neutral_frames,
             self.neutral,
             self.calibration_start,
         );
         *self = Face::default();
         self.neutral_sum = sum;
+        self.neutral_count = count;
         self.neutral_frames = n;
         self.neutral = neutral;
         self.calibration_start = start;
@@ -393,15 +413,25 @@ impl Face {
                 raw.swap(a as usize, b as usize);
             }
         }
-        // The neutral face: the mean of the first `calibration_time` seconds of face frames.
+        // The neutral face: each weight's mean over the first `calibration_time` seconds of
+        // face frames, but for frames more than NEUTRAL_OUTLIER above the mean so far (a blink).
         let start = *self.calibration_start.get_or_insert(now_ms);
         if now_ms - start <= f64::from(o.calibration_time) * 1000.0 || self.neutral_frames == 0 {
-            for (s, r) in self.neutral_sum.iter_mut().zip(&raw) {
-                *s += r;
+            let first = self.neutral_frames == 0;
+            self.neutral_frames = self.neutral_frames.saturating_add(1);
+            for (((s, c), &r), n) in self
+                .neutral_sum
+                .iter_mut()
+                .zip(&mut self.neutral_count)
+                .zip(&raw)
+                .zip(&mut self.neutral)
+            {
+                if first || r <= *s / *c + NEUTRAL_OUTLIER {
+                    *s += r;
+                    *c += 1.0;
+                }
+                *n = (*s / *c).min(0.5);
             }
-            self.neutral_frames += 1;
-            let n = self.neutral_frames as f32;
-            self.neutral = self.neutral_sum.map(|s| (s / n).min(0.5));
         }
         let neutral = self.neutral;
         let cal = |k: usize, x: f32| clamp01((x - neutral[k]) / (1.0 - neutral[k]));

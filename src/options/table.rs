@@ -329,7 +329,7 @@ pub static OPTIONS: &[OptionSpec] = &[
     number!("face.blinkOpenTime", face.blink_open_time, 0.0, 1.0, 0.01, 0.1,
         "Shortest time (s) a closed eye takes to open (a blink closes at once)."),
     number!("face.calibrationTime", face.calibration_time, 0.0, 60.0, 0.5, 2.0,
-        "Seconds of the first face frames averaged into the neutral face (again after rig.calibrateFace())."),
+        "Seconds of the first face frames averaged into the neutral face, a frame far above the average so far (a blink) left out (again after rig.calibrateFace())."),
     number!("face.neckShare", face.neck_share, 0.0, 1.0, 0.05, 0.3,
         "The neck's share of the head's turn from the face (the head bone takes the rest)."),
     flag!("face.head", face.head, true,

@@ -168,6 +168,49 @@ fn a_blink_closes_at_once_opens_limited_and_looking_down_is_not_one() {
 }
 
 #[test]
+fn a_blink_while_calibrating_does_not_raise_the_neutral_face() {
+    // The neutral face is calibrated over the first 2 s (the default): a user who blinks in
+    // them (two blinks of 5 frames at 30 fps, 170 ms each) must see later blinks as one who did
+    // not. With the mean as the neutral, the blinks raised it (`eyeBlink` 0.05 -> 0.15).
+    let blinks_after = |blink_while_calibrating: bool| {
+        let mut r = rig(RigOptions::default());
+        let mut out = SolveOutput::default();
+        let eyes = |blink: f32, down: f32| {
+            let mut w = [0.0; SHAPES];
+            for n in ["eyeBlinkLeft", "eyeBlinkRight"] {
+                w[shape(n)] = blink;
+            }
+            for n in ["eyeLookDownLeft", "eyeLookDownRight"] {
+                w[shape(n)] = down;
+            }
+            w
+        };
+        for i in 0..60 {
+            let t = f64::from(i) * 1000.0 / 30.0;
+            let shut = blink_while_calibrating && (i % 30) >= 15 && (i % 30) < 20;
+            let w = if shut {
+                eyes(0.65, 0.7)
+            } else {
+                eyes(0.04 + 0.002 * (i % 10) as f32, 0.2)
+            };
+            r.solve(&frame(t, w, None), &mut out).unwrap();
+        }
+        // After the calibration: open, then a blink as MediaPipe scores the bench's man's.
+        r.solve(&frame(2100.0, eyes(0.05, 0.2), None), &mut out)
+            .unwrap();
+        r.solve(&frame(2133.0, eyes(0.5, 0.66), None), &mut out)
+            .unwrap();
+        preset(&out, "blink")
+    };
+    let (clean, blinked) = (blinks_after(false), blinks_after(true));
+    assert!(clean > 0.2, "the later blink shows: {clean}");
+    assert!(
+        (clean - blinked).abs() < 0.02,
+        "the later blink {blinked} with blinks while calibrating, {clean} without"
+    );
+}
+
+#[test]
 fn the_head_follows_the_matrix_mirror_aware_and_only_with_a_face() {
     let yaw = Quat::from_rotation_y(0.4) * Quat::from_rotation_x(-0.2);
     for mirror in [false, true] {
