@@ -119,7 +119,8 @@ pub(super) struct Frame {
     /// read by reach).
     pub(super) points: [Option<HandPoints>; 2],
     /// The contact points of a hand not seen this frame, as last seen and turned to its
-    /// rotation now, with contact on (contact, read by limit: what keeps it out of the body).
+    /// rotation now, with contact on (contact, read by reach and limit: what keeps it out of
+    /// the body).
     pub(super) held: [Option<HandPoints>; 2],
     /// Whether the easing or the turn limit changed what each side shows (ease, limit; read
     /// by report).

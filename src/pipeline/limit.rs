@@ -41,9 +41,9 @@ use super::frame::{Context, Frame};
 use super::output::SolveOutput;
 
 /// How much deeper (m) than the solved hand a slowed hand may go into the body before the
-/// limit yields: a rounding allowance (the solve leaves its hand balls on the skin, at depth
-/// 0), not a tuned figure.
-const SINK: f32 = 0.001;
+/// limit yields, and the least push the reach acts on after the wrist limits: a rounding
+/// allowance (the solve leaves its hand balls on the skin, at depth 0), not a tuned figure.
+pub(super) const SINK: f32 = 0.001;
 
 /// Halvings of the fraction when the limit yields to the body: the shown turn within 1/256
 /// of what keeps the hand out.
@@ -207,19 +207,24 @@ impl HandBody<'_> {
         (out.world.position[h], self.turned(turn))
     }
 
-    /// Whether the hand with the arm's locals `arm` is more than `floor` inside the body.
-    fn deeper(
+    /// How deep the hand with the arm's locals `arm` is inside the body (0 when out).
+    fn depth(&self, cx: &Context, side: Side, arm: [Quat; ARM], out: &mut SolveOutput) -> f32 {
+        self.deeper_than(cx, side, arm, 0.0, out)
+    }
+
+    /// How deep the hand with the arm's locals `arm` is inside the body, or `floor` if not
+    /// deeper than that.
+    fn deeper_than(
         &self,
         cx: &Context,
         side: Side,
         arm: [Quat; ARM],
         floor: f32,
         out: &mut SolveOutput,
-    ) -> bool {
+    ) -> f32 {
         let (wrist, balls) = self.posed(cx, side, arm, out);
         self.surface
             .deepest(wrist, &balls[..self.count], &out.world, floor)
-            > floor
     }
 
     /// The fraction of the turn from `last` to `now` to show instead of `t` (whose pose is
@@ -240,19 +245,17 @@ impl HandBody<'_> {
         out: &mut SolveOutput,
     ) -> Option<f32> {
         let mut result = None;
-        if self.deeper(cx, side, slowed, SINK, out) {
+        let sunk = self.depth(cx, side, slowed, out);
+        if sunk > SINK {
             // Held to the solve's own depth (a hand the solve left inside, e.g. out of reach,
             // is held to that, not to the skin).
-            let (wrist, balls) = self.posed(cx, side, now, out);
-            let floor = self
-                .surface
-                .deepest(wrist, &balls[..self.count], &out.world, 0.0)
-                + SINK;
-            if self.deeper(cx, side, slowed, floor, out) {
+            let floor = self.depth(cx, side, now, out) + SINK;
+            if sunk > floor {
                 let (mut lo, mut hi) = (t, 1.0f32);
                 for _ in 0..YIELD_STEPS {
                     let mid = 0.5 * (lo + hi);
-                    if self.deeper(cx, side, turned_by(last, steps, mid), floor, out) {
+                    let arm = turned_by(last, steps, mid);
+                    if self.deeper_than(cx, side, arm, floor, out) > floor {
                         lo = mid;
                     } else {
                         hi = mid;

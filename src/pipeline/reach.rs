@@ -133,8 +133,8 @@ impl Reach {
                 let lift = body.push(limited.target, limited.hand_rotation, &out.world);
                 // Under a millimeter is left (the turn limit's allowance): reaching again is
                 // not free of history (the arm solver's warm start and twist branch), and a
-                // tenth of a millimeter turned the primitive figure's hanging arm 3 cm in.
-                if lift.length() <= LIFT_MIN {
+                // 0.4 mm push turned the primitive figure's hanging arm 33 mm in on `hungry`.
+                if lift.length() <= super::limit::SINK {
                     break;
                 }
                 shift += lift;
@@ -229,9 +229,6 @@ impl Reach {
 
 /// Rounds of pushing a hand the wrist limits turned into the body out and reaching again.
 const LIFT_ROUNDS: usize = 3;
-
-/// The least push (m) that [`LIFT_ROUNDS`] act on: as `limit::SINK`, a rounding allowance.
-const LIFT_MIN: f32 = 0.001;
 
 /// Sets the hand's local rotation so its world rotation is `hand_world`, given the arm's
 /// current local rotations.
