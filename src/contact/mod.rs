@@ -415,13 +415,22 @@ impl ContactSolver {
                 let touch = report
                     .as_ref()
                     .map_or(0.0, |r| r.weight.max(r.chest_weight).max(r.hand_weight));
-                let clear = CLEARANCE * crate::math::clamp(1.0 - touch, 0.0, 1.0);
+                let fade = crate::math::clamp(1.0 - touch, 0.0, 1.0);
                 let own = &spheres[side.index()][..count[side.index()]];
                 let mut push = surface.push(t.wrist, own, world);
-                if clear > 0.0 {
+                if fade > 0.0 {
+                    // Each ball grown by the clearance and by how far the hand's skin reaches
+                    // past balls of its kind (a palm ball has the palm's half-thickness).
+                    let s = side.index();
+                    let [palm_excess, finger_excess] = surface.hand_excess[s];
                     let mut balls = [(Vec3::ZERO, 0.0); skin::HAND_SPHERES];
                     for (b, (p, m)) in balls.iter_mut().zip(own) {
-                        *b = (*p, m + clear);
+                        let excess = if *m == surface.palm_half[s] {
+                            palm_excess
+                        } else {
+                            finger_excess
+                        };
+                        *b = (*p, m + (CLEARANCE + excess) * fade);
                     }
                     push += surface.lift_out(t.wrist + push, &balls[..own.len()], world);
                 }

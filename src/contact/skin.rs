@@ -377,6 +377,15 @@ pub struct BodySurface {
     pub finger_radius: [f32; 2],
     /// Palm half-thickness (m), per side.
     pub palm_half: [f32; 2],
+    /// How far (m) the hand's skin reaches past its contact balls, per side `[left, right]`
+    /// and per kind of ball `[palm, finger]` (those with the palm's half-thickness, those
+    /// with the finger radius): with the avatar at rest, the most any hand vertex lies outside
+    /// the ball nearest it, among the vertices nearest a ball of that kind. The balls follow
+    /// the bones and the hand's thickness, not its outline: a box hand's corners (the figure
+    /// of primitives': 22 mm past its wrist ball) or a human palm's edge (15-24 mm) reach
+    /// past them, and a hand held [`super::CLEARANCE`] clear of the body by its balls alone
+    /// came within 2 cm of it.
+    pub hand_excess: [[f32; 2]; 2],
     /// Head samples relative to the head bone (rest, internal frame), kept for placing the
     /// face anchors at setup.
     head_samples: Vec<Vec3>,
@@ -480,10 +489,21 @@ impl BodySurface {
                 palm_half[side.index()] = p;
             }
         }
+        let hand_excess = Side::BOTH.map(|side| {
+            let s = side.index();
+            hand_excess(
+                skeleton,
+                side,
+                &hand_vertices[s],
+                finger_radius[s],
+                palm_half[s],
+            )
+        });
         Some(BodySurface {
             maps,
             finger_radius,
             palm_half,
+            hand_excess,
             head_samples,
             samples,
         })
@@ -631,6 +651,72 @@ fn hand_thickness(
     let f = median(&mut finger)?;
     let p = median(&mut palm).unwrap_or(1.6 * f);
     (f > 1e-4 && p > 1e-4).then_some((f, p))
+}
+
+/// [`BodySurface::hand_excess`] of one side: the hand's balls placed on the rest skeleton as
+/// [`hand_spheres`] places them (the hand joint, the palm's center between it and the
+/// proximal joints, and each finger's first joint with the palm's half-thickness `palm`; the
+/// finger's other joints and its tip, continued from its last bone as [`hand_thickness`]
+/// continues it, with the finger radius `finger`), then per kind of ball the most any hand
+/// vertex lies outside the ball nearest it (0 when all are inside, or without the hand joint).
+fn hand_excess(
+    skeleton: &Skeleton,
+    side: Side,
+    vertices: &[(Vec3, HumanBone)],
+    finger: f32,
+    palm: f32,
+) -> [f32; 2] {
+    let Some(hand) = skeleton.rest_world(side.hand()) else {
+        return [0.0; 2];
+    };
+    // (center, radius, a palm ball): at most the hand joint, the palm's center and four a
+    // finger, as many as HAND_SPHERES.
+    let mut balls = [(hand, palm, true); HAND_SPHERES];
+    let mut n = 1;
+    let (mut sum, mut count) = (hand, 1.0);
+    for f in [Finger::Index, Finger::Middle, Finger::Ring, Finger::Little] {
+        if let Some(p) = skeleton.rest_world(side.finger(f)[0]) {
+            sum += p;
+            count += 1.0;
+        }
+    }
+    if count > 1.0 {
+        balls[n] = (sum / count, palm, true);
+        n += 1;
+    }
+    for f in Finger::ALL {
+        let mut last = [None, None];
+        for (k, b) in side.finger(f).iter().enumerate() {
+            if let Some(p) = skeleton.rest_world(*b) {
+                balls[n] = (p, if k == 0 { palm } else { finger }, k == 0);
+                n += 1;
+                last = [last[1], Some(p)];
+            }
+        }
+        if let [Some(a), Some(b)] = last {
+            balls[n] = (b + (b - a) * 0.8, finger, false);
+            n += 1;
+        }
+    }
+    let balls = &balls[..n];
+    let mut excess = [0.0f32; 2];
+    for (v, _) in vertices {
+        let nearest = balls
+            .iter()
+            .fold((f32::INFINITY, true), |best, (c, r, is_palm)| {
+                let d = (*v - *c).length() - r;
+                if d < best.0 {
+                    (d, *is_palm)
+                } else {
+                    best
+                }
+            });
+        if nearest.0.is_finite() {
+            let k = usize::from(!nearest.1);
+            excess[k] = excess[k].max(nearest.0);
+        }
+    }
+    excess
 }
 
 /// Most contact spheres of a hand: wrist, palm center, three joints and a tip per finger.
