@@ -123,9 +123,11 @@ function opening(v, tris, eye, flip) {
     const z = r / Math.sqrt(1 + tx * tx + ty * ty);
     return [z * tx, z * ty, z];
   };
-  // Whether skin lies straight ahead of the ball's point (th, ph).
-  const covered = (th, ph) => {
-    const [x, y, z] = ball(th, ph);
+  // How far ahead (z) the skin lies straight ahead of the ball's point (th, ph), at most: -Infinity
+  // where none does.
+  const front = (th, ph) => {
+    const [x, y] = ball(th, ph);
+    let best = -Infinity;
     for (const { p, x0, x1, y0, y1 } of near) {
       if (x < x0 || x > x1 || y < y0 || y > y1) continue;
       const [a, b, d] = p;
@@ -134,9 +136,16 @@ function opening(v, tris, eye, flip) {
       const u = ((x - a[0]) * (d[1] - a[1]) - (d[0] - a[0]) * (y - a[1])) / det;
       const w = ((b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1])) / det;
       if (u < 0 || w < 0 || u + w > 1) continue;
-      if (a[2] + u * (b[2] - a[2]) + w * (d[2] - a[2]) > z) return true;
+      best = Math.max(best, a[2] + u * (b[2] - a[2]) + w * (d[2] - a[2]));
     }
-    return false;
+    return best;
+  };
+  const covered = (th, ph) => front(th, ph) > ball(th, ph)[2];
+  // The radius (in the eye's) of the skin straight ahead of the ball's point (th, ph).
+  const skinRadius = (th, ph) => {
+    const [x, y] = ball(th, ph);
+    const z = front(th, ph);
+    return z > -Infinity ? Math.hypot(x, y, z) / r : 1;
   };
   // The edge between a seen elevation and a covered one, by bisection.
   const edge = (th, seen, hidden) => {
@@ -151,6 +160,9 @@ function opening(v, tris, eye, flip) {
   const th0 = -1.5;
   const up = new Float64Array(n).fill(NaN);
   const lo = new Float64Array(n).fill(NaN);
+  // The lower lid's front just under its margin (radius, in the eye's): a closing upper lid
+  // that lands behind it leaves the lower lid's rim showing (lit from above: a pale line).
+  const loFront = new Float64Array(n).fill(1);
   for (let k = 0; k < n; k++) {
     const th = th0 + k * OPEN_STEP;
     // The longest run of seen elevations in this column.
@@ -165,6 +177,7 @@ function opening(v, tris, eye, flip) {
     if (!best) continue;
     up[k] = edge(th, best.hi, best.hi + OPEN_STEP);
     lo[k] = edge(th, best.lo, best.lo - OPEN_STEP);
+    loFront[k] = Math.max(skinRadius(th, lo[k] - 0.05), skinRadius(th, lo[k] - 0.1));
   }
   // The opening is the run of open azimuths around the widest one; beyond its corners the lids
   // meet at the corner's elevation (the gap closes to 0 over one step).
@@ -180,8 +193,9 @@ function opening(v, tris, eye, flip) {
     if (k >= k0 && k <= k1) continue;
     const e = k < k0 ? k0 : k1;
     up[k] = lo[k] = (up[e] + lo[e]) / 2;
+    loFront[k] = loFront[e];
   }
-  return { th0, up, lo, gapMax, corners: [th0 + (k0 - 1) * OPEN_STEP, th0 + (k1 + 1) * OPEN_STEP] };
+  return { th0, up, lo, loFront, gapMax, corners: [th0 + (k0 - 1) * OPEN_STEP, th0 + (k1 + 1) * OPEN_STEP] };
 }
 
 /** The margins at an azimuth, interpolated; `fade` goes to 0 toward the corners. */
@@ -192,7 +206,8 @@ function marginAt(open, theta) {
   const up = open.up[k] + t * (open.up[k + 1] - open.up[k]);
   const lo = open.lo[k] + t * (open.lo[k + 1] - open.lo[k]);
   const gap = up - lo;
-  return { up, lo, gap, fade: smoothstep(0, 0.5 * open.gapMax, gap) };
+  const loFront = open.loFront[k] + t * (open.loFront[k + 1] - open.loFront[k]);
+  return { up, lo, gap, loFront, fade: smoothstep(0, 0.5 * open.gapMax, gap) };
 }
 
 /**
@@ -203,6 +218,8 @@ function marginAt(open, theta) {
  * of it below the first, none above the second).
  */
 const SQUINT_LID = { closeAt: 0.4, over: 0, lidR: 0, pull: [0, 0] };
+// How far (eyeball radii) behind the lower lid's front a closed upper lid's margin may lie.
+const LID_CREASE = 0.03;
 const BLINK_LID = { closeAt: -0.1, over: 0.05, lidR: 1.08, pull: [0.2, 0.35] };
 
 /**
@@ -243,7 +260,14 @@ function lids(f, p, upper, lower, yaw = 0, how = SQUINT_LID) {
       const pull = upper * (1 - smoothstep(lidPull[0], lidPull[1], phi - m.up)) * radial * m.fade;
       const r = length(turned);
       const R = lidR * eye.r;
+      // Nor far behind the lower lid's front, which it comes down onto: where that lies further
+      // out than the upper lid's margin (a thick lower lid), the lid's skin comes out to a
+      // crease's depth (LID_CREASE) behind it, else the lower lid's rim, facing up, shows along
+      // the closed eye as a pale band. The lid's inside (within the eyeball's radius) stays
+      // where the turn puts it.
+      const out = (m.loFront - LID_CREASE) * eye.r;
       if (r > R && pull > 0) turned = scale(turned, (r - pull * (r - R)) / r);
+      else if (r >= eye.r && r < out && pull > 0) turned = scale(turned, (r + pull * (out - r)) / r);
     }
   }
   if (yaw) {
