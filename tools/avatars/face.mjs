@@ -220,7 +220,7 @@ function marginAt(open, theta) {
 const SQUINT_LID = { closeAt: 0.4, over: 0, lidR: 0, pull: [0, 0] };
 // How far (eyeball radii) behind the lower lid's front a closed upper lid's margin may lie.
 const LID_CREASE = 0.03;
-const BLINK_LID = { closeAt: -0.1, over: 0.05, lidR: 1.08, pull: [0.2, 0.35] };
+const BLINK_LID = { closeAt: -0.2, over: 0.05, lidR: 1.08, pull: [0.2, 0.35] };
 
 /**
  * The lids of the eye on the avatar's left moved: the upper lid turned about the eye's
