@@ -220,6 +220,9 @@ function marginAt(open, theta) {
 const SQUINT_LID = { closeAt: 0.4, over: 0, lidR: 0, pull: [0, 0] };
 // How far (eyeball radii) behind the lower lid's front a closed upper lid's margin may lie.
 const LID_CREASE = 0.03;
+// The blink's line 20% of the opening below the lower lid's margin (the lower lid moves down to
+// it), the upper lid 5% past: chosen on the woman (FaceLandmarker's score of her closed eyes;
+// docs/measurements/2026-12-06-face.md, sixth session).
 const BLINK_LID = { closeAt: -0.2, over: 0.05, lidR: 1.08, pull: [0.2, 0.35] };
 
 /**
@@ -324,8 +327,8 @@ function cornerWeight(f, p, r = 0.017) {
  * Right-side shapes are the left ones mirrored (x -> -x).
  */
 const LEFT = {
-  // A blink: the upper lid comes down over the ball to the lower lid's margin and a little
-  // past it (the lower lid barely moves), its fold unfolding onto a sphere over the eyeball
+  // A blink: the upper lid comes down over the ball to just below the lower lid's margin (the
+  // lower lid moves down a little to meet it), its fold unfolding onto a sphere over the eyeball
   // (see `lids`). Closing 40% up the opening with both lids (the squint's line) read as a
   // squint to FaceLandmarker (docs/measurements/2026-12-06-face.md).
   eyeBlink: (f, p) => lids(f, p, 1, 1, 0, BLINK_LID),
