@@ -8,6 +8,7 @@
 //   - blink recall: frames where the truth closes an eye (weight >= 0.8) and the solver's blink
 //     for that eye is at least 0.5; false blinks: frames with both eyes open in the truth (2
 //     frames or more from any closing) where either eye's blink is at least 0.5;
+//     the same split into frames with both eyes closed (a blink) and one (a wink);
 //   - the wink's side: on one-eye closed frames, the other eye stays under 0.5;
 //   - aa on open-mouth frames (truth aa >= 0.8: mean, share >= 0.3) and on closed-mouth ones
 //     (no mouth expression within 2 frames: share <= 0.1);
@@ -162,6 +163,13 @@ function runOnce(avatar, clip) {
       frame.faceLandmarks = [f.landmarks.map(([x, y, z]) => ({ x, y, z }))];
       frame.faceBlendshapes = [{ categories: f.blendshapes.map(([categoryName, score], index) => ({ index, score, categoryName, displayName: "" })) }];
       frame.facialTransformationMatrixes = [{ rows: 4, columns: 4, data: f.matrix }];
+    } else {
+      // No face found: a FaceLandmarkerResult's empty lists, as an app passes them (a frame
+      // without the fields would be a frame of an app with no face tracker: the rig looks for
+      // face fields only every 30th frame until it has seen them).
+      frame.faceLandmarks = [];
+      frame.faceBlendshapes = [];
+      frame.facialTransformationMatrixes = [];
     }
     const r = rig.solve(frame);
     const e = r.expressions;
@@ -208,7 +216,7 @@ const mean = (xs) => (xs.length ? xs.reduce((a, b) => a + b, 0) / xs.length : Na
 const share = (xs, pred) => (xs.length ? xs.filter(pred).length / xs.length : NaN);
 
 function score(list, who) {
-  const acc = { frames: 0, tracked: 0, closed: [], otherEye: [], open: [], shut: [], yaw: [], pitch: [], yawRest: [], pitchRest: [], look: [], still: [], falseBlink: [] };
+  const acc = { frames: 0, tracked: 0, closed: [], closedBoth: [], closedWink: [], otherEye: [], open: [], shut: [], yaw: [], pitch: [], yawRest: [], pitchRest: [], look: [], still: [], falseBlink: [] };
   for (const avatar of list) {
     // The avatar's rest face as the solver reads it (mean head angles over face-still after its
     // first 10 frames): the rendered face at rest is not MediaPipe's canonical face at rest.
@@ -248,7 +256,11 @@ function score(list, who) {
         for (const [eye, other, te, to] of [[L, R, r.truth.left, r.truth.right], [R, L, r.truth.right, r.truth.left]]) {
           if (te >= 0.8) {
             acc.closed.push(eye);
-            if (to === 0) acc.otherEye.push(other);
+            if (to >= 0.8) acc.closedBoth.push(eye);
+            if (to === 0) {
+              acc.otherEye.push(other);
+              acc.closedWink.push(eye);
+            }
           }
         }
         if (!near(k, 2, (t) => t.left > 0 || t.right > 0)) acc.falseBlink.push(Math.max(L, R));
@@ -271,6 +283,10 @@ function score(list, who) {
     tracked: acc.tracked,
     blinkRecall: share(acc.closed, (b) => b >= 0.5),
     closedFrames: acc.closed.length,
+    blinkBothRecall: share(acc.closedBoth, (b) => b >= 0.5),
+    closedBothFrames: acc.closedBoth.length,
+    winkRecall: share(acc.closedWink, (b) => b >= 0.5),
+    winkClosedFrames: acc.closedWink.length,
     winkOtherOpen: share(acc.otherEye, (b) => b < 0.5),
     winkFrames: acc.otherEye.length,
     falseBlinks: share(acc.falseBlink, (b) => b >= 0.5),
@@ -310,6 +326,8 @@ const f = (v, d = 2) => (Number.isNaN(v) ? "n/a" : v.toFixed(d));
 const rows = [
   ["frames / with a face", (s) => `${s.frames} / ${s.tracked}`],
   ["blink recall (closed-eye frames, per eye)", (s) => `${f(s.blinkRecall)} (${s.closedFrames})`],
+  ["of which both eyes closed (a blink)", (s) => `${f(s.blinkBothRecall)} (${s.closedBothFrames})`],
+  ["of which one eye closed (a wink)", (s) => `${f(s.winkRecall)} (${s.winkClosedFrames})`],
   ["wink: the other eye stays open", (s) => `${f(s.winkOtherOpen)} (${s.winkFrames})`],
   ["false blinks (share of open-eye frames)", (s) => `${f(s.falseBlinks, 3)} (${s.openEyeFrames})`],
   ["aa on open-mouth frames: mean / share >= 0.3", (s) => `${f(s.aaOpenMean)} / ${f(s.aaOpenAtLeast03)} (${s.openFrames})`],

@@ -65,6 +65,13 @@ function run(clip) {
       frame.faceLandmarks = [f.landmarks.map(([x, y, z]) => ({ x, y, z }))];
       frame.faceBlendshapes = [{ categories: f.blendshapes.map(([categoryName, score], index) => ({ index, score, categoryName, displayName: "" })) }];
       frame.facialTransformationMatrixes = [{ rows: 4, columns: 4, data: f.matrix }];
+    } else {
+      // No face found: a FaceLandmarkerResult's empty lists, as an app passes them (a frame
+      // without the fields would be a frame of an app with no face tracker: the rig looks for
+      // face fields only every 30th frame until it has seen them).
+      frame.faceLandmarks = [];
+      frame.faceBlendshapes = [];
+      frame.facialTransformationMatrixes = [];
     }
     const r = rig.solve(frame);
     const e = r.expressions;

@@ -67,7 +67,7 @@ const LOWER_LIP = 455;
 const BASE_EYE_SEP = 0.0616;
 
 /** The face's measures from the body's rest positions (`v(i)`: vertex i, mesh frame). */
-function measure(v, groups, bodyCount) {
+function measure(v, groups, tris) {
   const eye = (name) => {
     const ids = [];
     for (const [a, b] of groups[name]) for (let i = a; i <= b; i++) ids.push(i);
@@ -92,38 +92,122 @@ function measure(v, groups, bodyCount) {
     mouthHalf: 0.0245 * s,
     pivot: [0, mouth[1] + 0.02 * s, L.c[2] - 0.075 * s],
   };
-  f.lidL = lidMargins(v, groups, "l", L);
-  // The right eye's margins measured mirrored, in the left eye's frame (see shapeOf).
-  f.lidR = lidMargins(v, groups, "r", { ...R, c: mirror(R.c) }, mirror);
+  f.lidL = opening(v, tris, L, (p) => p);
+  // The right eye's opening measured mirrored, in the left eye's frame (see shapeOf).
+  f.lidR = opening(v, tris, { ...R, c: mirror(R.c) }, mirror);
   return f;
 }
 
-// Eyelid margins: the elevations phi = atan2(y, z) about the eye's centre of MakeHuman's upper
-// and lower lid joint cubes (which sit on the lid margins, straight ahead of the eye), narrowing
-// as an ellipse in the azimuth theta = atan2(x, z) to nothing at the eye's corners (LID_CORNER
-// either side of straight ahead; the almond of the base mesh's opening).
-const LID_CORNER = 1.0;
-function lidMargins(v, groups, side, eye, flip = (p) => p) {
-  const mean = (name) => {
-    let c = [0, 0, 0];
-    let n = 0;
-    for (const [a, b] of groups[name]) for (let i = a; i <= b; i++) (c = add(c, flip(v(i)))), n++;
-    return scale(c, 1 / n);
+// The eye's opening, as seen from straight ahead: per azimuth theta = atan2(x, z) about the
+// eye's centre, the elevations phi = atan2(y, z) of the highest and lowest points of the eyeball
+// (the sphere of the eye's mean radius) that a ray straight ahead (+Z) from them leaves without
+// crossing the skin: the lid margins, measured on the body's own triangles at every azimuth, so
+// that the corners are where this body's opening ends (inner and outer corner at their own
+// elevations), not where a model of the opening puts them.
+const OPEN_STEP = 0.01; // radians between the measured azimuths (and the elevations first tried)
+function opening(v, tris, eye, flip) {
+  const { c, r } = eye;
+  // The triangles in front of the eye's centre, near it (relative to the centre, mirrored for
+  // the right eye), with their extent across.
+  const near = [];
+  for (const t of tris) {
+    const p = t.map((i) => sub(flip(v(i)), c));
+    if (p.every((q) => length(q) > 2.6 * r || q[2] < -0.3 * r)) continue;
+    const xs = p.map((q) => q[0]);
+    const ys = p.map((q) => q[1]);
+    near.push({ p, x0: Math.min(...xs), x1: Math.max(...xs), y0: Math.min(...ys), y1: Math.max(...ys) });
+  }
+  const ball = (th, ph) => {
+    const tx = Math.tan(th);
+    const ty = Math.tan(ph);
+    const z = r / Math.sqrt(1 + tx * tx + ty * ty);
+    return [z * tx, z * ty, z];
   };
-  const elev = (p) => {
-    const q = sub(p, eye.c);
-    return Math.atan2(q[1], q[2]);
+  // How far ahead (z) the skin lies straight ahead of the ball's point (th, ph), at most: -Infinity
+  // where none does.
+  const front = (th, ph) => {
+    const [x, y] = ball(th, ph);
+    let best = -Infinity;
+    for (const { p, x0, x1, y0, y1 } of near) {
+      if (x < x0 || x > x1 || y < y0 || y > y1) continue;
+      const [a, b, d] = p;
+      const det = (b[0] - a[0]) * (d[1] - a[1]) - (d[0] - a[0]) * (b[1] - a[1]);
+      if (det === 0) continue;
+      const u = ((x - a[0]) * (d[1] - a[1]) - (d[0] - a[0]) * (y - a[1])) / det;
+      const w = ((b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1])) / det;
+      if (u < 0 || w < 0 || u + w > 1) continue;
+      best = Math.max(best, a[2] + u * (b[2] - a[2]) + w * (d[2] - a[2]));
+    }
+    return best;
   };
-  return { up: elev(mean(`joint-${side}-upperlid`)), lo: elev(mean(`joint-${side}-lowerlid`)) };
+  const covered = (th, ph) => front(th, ph) > ball(th, ph)[2];
+  // The radius (in the eye's) of the skin straight ahead of the ball's point (th, ph).
+  const skinRadius = (th, ph) => {
+    const [x, y] = ball(th, ph);
+    const z = front(th, ph);
+    return z > -Infinity ? Math.hypot(x, y, z) / r : 1;
+  };
+  // The edge between a seen elevation and a covered one, by bisection.
+  const edge = (th, seen, hidden) => {
+    for (let k = 0; k < 20; k++) {
+      const m = (seen + hidden) / 2;
+      if (covered(th, m)) hidden = m;
+      else seen = m;
+    }
+    return seen;
+  };
+  const n = Math.round(3 / OPEN_STEP) + 1;
+  const th0 = -1.5;
+  const up = new Float64Array(n).fill(NaN);
+  const lo = new Float64Array(n).fill(NaN);
+  // The lower lid's front just under its margin (radius, in the eye's): a closing upper lid
+  // that lands behind it leaves the lower lid's rim showing (lit from above: a pale line).
+  const loFront = new Float64Array(n).fill(1);
+  for (let k = 0; k < n; k++) {
+    const th = th0 + k * OPEN_STEP;
+    // The longest run of seen elevations in this column.
+    let best = null;
+    let run = null;
+    for (let ph = -1.2; ph <= 1.2 + 1e-9; ph += OPEN_STEP) {
+      if (!covered(th, ph)) {
+        run = run ? { ...run, hi: ph, count: run.count + 1 } : { lo: ph, hi: ph, count: 1 };
+        if (!best || run.count > best.count) best = run;
+      } else run = null;
+    }
+    if (!best) continue;
+    up[k] = edge(th, best.hi, best.hi + OPEN_STEP);
+    lo[k] = edge(th, best.lo, best.lo - OPEN_STEP);
+    loFront[k] = Math.max(skinRadius(th, lo[k] - 0.05), skinRadius(th, lo[k] - 0.1));
+  }
+  // The opening is the run of open azimuths around the widest one; beyond its corners the lids
+  // meet at the corner's elevation (the gap closes to 0 over one step).
+  let widest = -1;
+  for (let k = 0; k < n; k++) if (up[k] - lo[k] > (widest < 0 ? 0 : up[widest] - lo[widest])) widest = k;
+  if (widest < 0) throw new Error("the eye's opening: no part of the eyeball is seen from the front");
+  let k0 = widest;
+  let k1 = widest;
+  while (k0 > 0 && up[k0 - 1] > lo[k0 - 1]) k0--;
+  while (k1 < n - 1 && up[k1 + 1] > lo[k1 + 1]) k1++;
+  const gapMax = up[widest] - lo[widest];
+  for (let k = 0; k < n; k++) {
+    if (k >= k0 && k <= k1) continue;
+    const e = k < k0 ? k0 : k1;
+    up[k] = lo[k] = (up[e] + lo[e]) / 2;
+    loFront[k] = loFront[e];
+  }
+  return { th0, up, lo, loFront, gapMax, corners: [th0 + (k0 - 1) * OPEN_STEP, th0 + (k1 + 1) * OPEN_STEP] };
 }
 
-/** The margins at an azimuth: the ellipse through the cubes' elevations, closed at the corners. */
-function marginAt(lid, theta) {
-  const c = Math.sqrt(Math.max(0, 1 - (theta / LID_CORNER) ** 2));
-  const mid = (lid.up + lid.lo) / 2;
-  const up = mid + (lid.up - mid) * c;
-  const lo = mid + (lid.lo - mid) * c;
-  return { up, lo, gap: up - lo, fade: c > 0 ? 1 : 0 };
+/** The margins at an azimuth, interpolated; `fade` goes to 0 toward the corners. */
+function marginAt(open, theta) {
+  const x = Math.min(Math.max((theta - open.th0) / OPEN_STEP, 0), open.up.length - 1);
+  const k = Math.min(Math.floor(x), open.up.length - 2);
+  const t = x - k;
+  const up = open.up[k] + t * (open.up[k + 1] - open.up[k]);
+  const lo = open.lo[k] + t * (open.lo[k + 1] - open.lo[k]);
+  const gap = up - lo;
+  const loFront = open.loFront[k] + t * (open.loFront[k + 1] - open.loFront[k]);
+  return { up, lo, gap, loFront, fade: smoothstep(0, 0.5 * open.gapMax, gap) };
 }
 
 /**
@@ -134,7 +218,12 @@ function marginAt(lid, theta) {
  * of it below the first, none above the second).
  */
 const SQUINT_LID = { closeAt: 0.4, over: 0, lidR: 0, pull: [0, 0] };
-const BLINK_LID = { closeAt: -0.1, over: 0.05, lidR: 1.08, pull: [0.2, 0.35] };
+// How far (eyeball radii) behind the lower lid's front a closed upper lid's margin may lie.
+const LID_CREASE = 0.03;
+// The blink's line 20% of the opening below the lower lid's margin (the lower lid moves down to
+// it), the upper lid 5% past: chosen on the woman (FaceLandmarker's score of her closed eyes;
+// docs/measurements/2026-12-06-face.md, sixth session).
+const BLINK_LID = { closeAt: -0.2, over: 0.05, lidR: 1.08, pull: [0.2, 0.35] };
 
 /**
  * The lids of the eye on the avatar's left moved: the upper lid turned about the eye's
@@ -160,10 +249,10 @@ function lids(f, p, upper, lower, yaw = 0, how = SQUINT_LID) {
     let a = 0;
     if (phi >= mid) {
       const target = upper >= 0 ? upper * (close - over * m.gap - m.up) : -upper * m.gap * 0.5;
-      a = target * (1 - smoothstep(0, 0.55, phi - m.up)) * radial * m.fade;
+      a = target * (1 - smoothstep(0, 0.55, phi - m.up)) * radial;
     } else {
       const target = lower >= 0 ? lower * (close - m.lo) : lower * m.gap * 0.3;
-      a = target * (1 - smoothstep(0, 0.45, m.lo - phi)) * radial * m.fade;
+      a = target * (1 - smoothstep(0, 0.45, m.lo - phi)) * radial;
     }
     turned = rotX(q, -a);
     // The closing upper lid lies on a sphere over the eyeball (`lidR` of its radius): the skin of
@@ -174,7 +263,14 @@ function lids(f, p, upper, lower, yaw = 0, how = SQUINT_LID) {
       const pull = upper * (1 - smoothstep(lidPull[0], lidPull[1], phi - m.up)) * radial * m.fade;
       const r = length(turned);
       const R = lidR * eye.r;
+      // Nor far behind the lower lid's front, which it comes down onto: where that lies further
+      // out than the upper lid's margin (a thick lower lid), the lid's skin comes out to a
+      // crease's depth (LID_CREASE) behind it, else the lower lid's rim, facing up, shows along
+      // the closed eye as a pale band. The lid's inside (within the eyeball's radius) stays
+      // where the turn puts it.
+      const out = (m.loFront - LID_CREASE) * eye.r;
       if (r > R && pull > 0) turned = scale(turned, (r - pull * (r - R)) / r);
+      else if (r >= eye.r && r < out && pull > 0) turned = scale(turned, (r + pull * (out - r)) / r);
     }
   }
   if (yaw) {
@@ -231,8 +327,8 @@ function cornerWeight(f, p, r = 0.017) {
  * Right-side shapes are the left ones mirrored (x -> -x).
  */
 const LEFT = {
-  // A blink: the upper lid comes down over the ball to the lower lid's margin and a little
-  // past it (the lower lid barely moves), its fold unfolding onto a sphere over the eyeball
+  // A blink: the upper lid comes down over the ball to just below the lower lid's margin (the
+  // lower lid moves down a little to meet it), its fold unfolding onto a sphere over the eyeball
   // (see `lids`). Closing 40% up the opening with both lids (the squint's line) read as a
   // squint to FaceLandmarker (docs/measurements/2026-12-06-face.md).
   eyeBlink: (f, p) => lids(f, p, 1, 1, 0, BLINK_LID),
@@ -387,10 +483,12 @@ function shapeOf(name) {
  * mesh's `groups`, the `kept` vertices in file order. Returns the morph targets (`name`,
  * sparse `indices` into the kept vertices, Float32 `deltas`), in ARKit order.
  */
-export function faceTargets(positions, groups, kept) {
+export function faceTargets(positions, groups, kept, bodyFaces) {
   const v = (i) => [positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]];
   const bodyCount = groups.body[0][1] + 1;
-  const f = measure(v, groups, bodyCount);
+  const tris = [];
+  for (const q of bodyFaces) for (let k = 1; k + 1 < q.length; k++) tris.push([q[0], q[k], q[k + 1]]);
+  const f = measure(v, groups, tris);
   const targets = [];
   for (const name of ARKIT) {
     const shape = shapeOf(name);

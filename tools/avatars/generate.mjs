@@ -585,7 +585,7 @@ function generateBody(src, data, body, formats = ["vrm1", "vrm0", "mixamo", "unr
   const aPosed = bodyInPose(src, prep, prep.aPose);
   // The face (issue 50): morph targets from the rest shape (the head is the same in both
   // poses), vertex colours.
-  const { targets, measures } = faceTargets(prep.positions, src.groups, src.kept);
+  const { targets, measures } = faceTargets(prep.positions, src.groups, src.kept, src.faces.get("body"));
   const face = { targets, colors: faceColours(prep.positions, src.groups, src.kept, prep.weights, prep.skeleton, measures) };
   const out = {};
   if (formats.includes("vrm1")) out[`${body.id}-vrm1.vrm`] = assemble(src, prep, tPosed, {

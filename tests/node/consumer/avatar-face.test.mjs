@@ -48,6 +48,73 @@ function faceFrame(weights) {
   };
 }
 
+/**
+ * The points of the eyeballs' front halves (sampled on their triangles) that no skin lies
+ * straight ahead of (+Z, VRM 1.0's forward), with the body's morph targets at `weights`: what a
+ * camera before the face sees of the eyes.
+ */
+function seenEyePoints(vrm, weights) {
+  const skin = bodyMesh(vrm);
+  let eyes = null;
+  vrm.scene.traverse((o) => {
+    if (o.isSkinnedMesh && o.material.name === "eyes") eyes = o;
+  });
+  const g = skin.geometry;
+  const pos = g.attributes.position;
+  const targets = Object.entries(weights).map(([n, w]) => [g.morphAttributes.position[skin.morphTargetDictionary[n]], w]);
+  const at = (v) => {
+    const p = [pos.getX(v), pos.getY(v), pos.getZ(v)];
+    for (const [d, w] of targets) {
+      p[0] += w * d.getX(v);
+      p[1] += w * d.getY(v);
+      p[2] += w * d.getZ(v);
+    }
+    return p;
+  };
+  const centres = ["leftEye", "rightEye"].map((b) => vrm.humanoid.getRawBoneNode(b).getWorldPosition(new (vrm.scene.position.constructor)()));
+  const nearEyes = (p) => centres.some((c) => Math.hypot(p[0] - c.x, p[1] - c.y) < 0.04 && p[2] > c.z - 0.01);
+  const tris = [];
+  for (let k = 0; k < g.index.count; k += 3) {
+    const t = [at(g.index.getX(k)), at(g.index.getX(k + 1)), at(g.index.getX(k + 2))];
+    if (t.some(nearEyes)) tris.push(t);
+  }
+  // Covered: the skin nearest the camera straight ahead of the point shows its outside (a
+  // triangle seen from behind is the inside of the lids or the socket: a gap).
+  const covered = ([x, y, z]) => {
+    let best = z;
+    let outside = false;
+    for (const [a, b, c] of tris) {
+      const det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+      if (det === 0) continue;
+      const u = ((x - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (y - a[1])) / det;
+      const w = ((b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1])) / det;
+      const zt = a[2] + u * (b[2] - a[2]) + w * (c[2] - a[2]);
+      if (u < 0 || w < 0 || u + w > 1 || zt <= best) continue;
+      best = zt;
+      outside = det > 0; // counter-clockwise seen from +Z: its front face
+    }
+    return outside;
+  };
+  const ep = eyes.geometry.attributes.position;
+  const ei = eyes.geometry.index;
+  const eye = (v) => [ep.getX(v), ep.getY(v), ep.getZ(v)];
+  let seen = 0;
+  let front = 0;
+  const N = 6;
+  for (let k = 0; k < ei.count; k += 3) {
+    const [a, b, c] = [eye(ei.getX(k)), eye(ei.getX(k + 1)), eye(ei.getX(k + 2))];
+    for (let i = 0; i <= N; i++) {
+      for (let j = 0; i + j <= N; j++) {
+        const p = [0, 1, 2].map((q) => a[q] + (i / N) * (b[q] - a[q]) + (j / N) * (c[q] - a[q]));
+        if (!centres.some((ct) => p[2] > ct.z && Math.hypot(p[0] - ct.x, p[1] - ct.y, p[2] - ct.z) < 0.03)) continue;
+        front++;
+        if (!covered(p)) seen++;
+      }
+    }
+  }
+  return { seen, front };
+}
+
 describe("the generated avatars' face (issue 50)", () => {
   it("every human VRM (1.0 and 0.x) has the 13 presets and the 52 ARKit expressions, each bound to morph targets", async () => {
     assert.equal(vrms.length, 6);
@@ -115,6 +182,19 @@ describe("the generated avatars' face (issue 50)", () => {
       assert.ok(chin < -0.01, `${name}: jawOpen drops the chin ${chin.toFixed(4)} m`);
       assert.ok(jaw.every(([p]) => p[1] < eye.y), `${name}: jawOpen moves nothing at the eyes' height`);
     }
+  });
+
+  it("a blink closes the whole eye on every human: from straight ahead no point of either eyeball shows, nor the lids' or the socket's inside, corners included", async () => {
+    const gaps = [];
+    for (const name of ["woman-vrm1.vrm", "man-vrm1.vrm", "child-vrm1.vrm"]) {
+      const vrm = await loadVRM(vrms.find((f) => path.basename(f) === name));
+      const open = seenEyePoints(vrm, {});
+      // Open, a good part of each eye's front shows (the opening).
+      assert.ok(open.seen > 0.15 * open.front, `${name}: open eyes show ${open.seen} of ${open.front} points`);
+      const closed = seenEyePoints(vrm, { eyeBlinkLeft: 1, eyeBlinkRight: 1 });
+      if (closed.seen) gaps.push(`${name}: ${closed.seen} of ${closed.front} eyeball points show through the closed lids or see their inside`);
+    }
+    assert.deepEqual(gaps, []);
   });
 
   it("the eyes have a dark iris and pupil on a light sclera, and the look-at turns them", async () => {
