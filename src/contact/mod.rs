@@ -389,7 +389,7 @@ impl ContactSolver {
             if let ([Some(l), Some(r)], Some(apart)) = (&mut *targets, faces.hands_apart) {
                 let w = o.weight * (1.0 - chest::smooth(0.3, 0.5, apart));
                 if w > 0.0 {
-                    let shift = skin::close(
+                    let (shift, pair) = skin::close_meeting(
                         l.wrist,
                         &spheres[0][..count[0]],
                         r.wrist,
@@ -397,8 +397,23 @@ impl ContactSolver {
                     );
                     l.wrist += 0.5 * w * shift;
                     r.wrist -= 0.5 * w * shift;
-                    for rep in reports.iter_mut().flatten() {
-                        rep.hand_weight = rep.hand_weight.max(w);
+                    // Where they meet (between the pair that set the line, as far along it as
+                    // their radii; relative to each wrist as moved): the point the wrist limits
+                    // turn each hand about (`pipeline::reach`). Without it they turned the
+                    // hands about the aligned fingertips and took them apart again (`again`:
+                    // 3 cm between the skins of clapping hands; 0-3 mm without the limits).
+                    let meet = pair.map(|(i, j)| {
+                        let ((a, ra), (b, rb)) = (spheres[0][i], spheres[1][j]);
+                        let (a, b) = (l.wrist + a, r.wrist + b);
+                        a.lerp(b, ra / (ra + rb))
+                    });
+                    for (rep, wrist) in reports.iter_mut().zip([l.wrist, r.wrist]) {
+                        if let Some(rep) = rep {
+                            rep.hand_weight = rep.hand_weight.max(w);
+                            if rep.hand_meet.is_none() {
+                                rep.hand_meet = meet.map(|m| m - wrist);
+                            }
+                        }
                     }
                 }
             }

@@ -1108,6 +1108,19 @@ impl Balls {
 /// without a search. Zero when either hand has no spheres.
 #[must_use]
 pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> Vec3 {
+    close_meeting(left, l, right, r).0
+}
+
+/// [`close`], and the pair of spheres nearest each other now (an index into `l`, one into
+/// `r`), which sets the line the hands move along: where the hands meet. `None` with [`close`]'s
+/// zero for hands without spheres.
+#[must_use]
+pub fn close_meeting(
+    left: Vec3,
+    l: &[(Vec3, f32)],
+    right: Vec3,
+    r: &[(Vec3, f32)],
+) -> (Vec3, Option<(usize, usize)>) {
     // At most HAND_SPHERES balls a hand (more are not looked at).
     let (a, b) = (Balls::of(left, l), Balls::of(right, r));
     let n = b.n;
@@ -1128,7 +1141,7 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
         }
     }
     if !g0.is_finite() {
-        return Vec3::ZERO;
+        return (Vec3::ZERO, None);
     }
     let u = (b.at(best.1) - a.at(best.0))
         .try_normalize()
@@ -1195,8 +1208,8 @@ pub fn close(left: Vec3, l: &[(Vec3, f32)], right: Vec3, r: &[(Vec3, f32)]) -> V
     };
     let total = u * s;
     if total.is_finite() {
-        total
+        (total, Some(best))
     } else {
-        Vec3::ZERO
+        (Vec3::ZERO, None)
     }
 }
