@@ -266,7 +266,7 @@ function scoreClip(body, restPose, clip, rec, acc, rows) {
     if (process.env.LEGS_TRACE) {
       const r3 = (v) => v.map((x) => (1000 * x).toFixed(0)).join(",");
       const dist = (x, sd) => (1000 * len(sub(x[sd].ankle, x[sd].hip))).toFixed(0);
-      console.error(`${clip.id} ${i} off ${TRACE.res.off ? r3(TRACE.res.off) : "-"} planted ${TRACE.res.planted} ` + SIDES.map((sd) => `${sd[0]}: d ${dist(truth, sd)}/${dist(samples.handrig, sd)}/${dist(samples.tracked, sd)} k ${row.err.handrig[sd].knee.toFixed(0)}/${row.err.tracked[sd].knee.toFixed(0)} ankleY ${(1000 * truth[sd].ankle[1]).toFixed(0)}/${(1000 * samples.handrig[sd].ankle[1]).toFixed(0)} sole ${(1000 * Math.min(...samples.handrig[sd].soles.map((p) => p[1]))).toFixed(0)}`).join(" "));
+      console.error(`${clip.id} ${i} off ${TRACE.res.off ? r3(TRACE.res.off) : "-"} planted ${TRACE.res.planted} ` + SIDES.map((sd) => `${sd[0]}: d ${dist(truth, sd)}/${dist(samples.handrig, sd)}/${dist(samples.tracked, sd)} k ${row.err.handrig[sd].knee.toFixed(0)}/${row.err.tracked[sd].knee.toFixed(0)} ankleY ${(1000 * truth[sd].ankle[1]).toFixed(0)}/${(1000 * samples.handrig[sd].ankle[1]).toFixed(0)} sole ${(1000 * Math.min(...samples.handrig[sd].soles.map((p) => p[1]))).toFixed(0)} dA ${r3(sub(sub(samples.handrig[sd].ankle, samples.handrig[sd].hip), sub(samples.tracked[sd].ankle, samples.tracked[sd].hip)))}`).join(" "));
     }
     for (const m of SOLVERS) prev[m] = samples[m];
     prev.truth = truth;

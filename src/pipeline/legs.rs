@@ -30,6 +30,10 @@ const FOLLOW_MS: f32 = 100.0;
 /// How high (m) above the floor a planted foot's lowest sole may stay (its lock's height
 /// follows the tracked foot's turn within this of the floor).
 const HOVER: f32 = 0.01;
+/// How fast two planted feet's locks slide toward their tracked ankles by what the hips
+/// cannot take (a time constant, ms, and the largest speed, m/s).
+const SLIDE_MS: f32 = 300.0;
+const SLIDE_SPEED: f32 = 0.05;
 
 /// The legs stage: per side the leg solver, its presence, the rotations shown last frame and
 /// the blend's anchors; the grounding's state (the avatar's soles, the hips' offset, the
@@ -249,6 +253,24 @@ impl Legs {
             let d = Vec3::new(sum.x, 0.0, sum.z) * (k / n);
             offset += d;
             self.drift += d;
+        }
+        // Two planted feet whose locks lie further apart (or closer, or turned) than the
+        // tracked feet cannot both be met by moving the hips: the re-solve below would turn
+        // each leg toward its lock. Each lock slides toward its tracked ankle by the part the
+        // hips leave (what it asks less the mean of both), at most SLIDE_SPEED.
+        if n > 1.0 && across.is_some() && cx.dt.is_some() {
+            let dt = cx.dt.unwrap_or(0.0);
+            // The mean of what the locks ask after the hips' move above.
+            let mean = Vec3::new(sum.x, 0.0, sum.z) * ((1.0 - k) / n);
+            for (lock, target) in self.lock.iter_mut().zip(&targets) {
+                if let (Some(lock), Some(t)) = (lock.as_mut(), target) {
+                    let ask = *lock - t.ankle - offset;
+                    let e = Vec3::new(ask.x, 0.0, ask.z) - mean;
+                    let step = (e.length() * (dt * 1000.0 / SLIDE_MS).min(1.0))
+                        .min(SLIDE_SPEED * dt);
+                    *lock -= e.normalize_or_zero() * step;
+                }
+            }
         }
         let up = if n > 0.0 && across.is_some() {
             (sum.y / n).max(0.0)
