@@ -55,6 +55,11 @@ pub(super) struct Legs {
     drift: Vec3,
     /// How far the planted feet hold the hips above the floor's rule (m, eased).
     rise: f32,
+    /// The planted feet the hips followed last frame, and what of their ask the hips have
+    /// yet to take (a change of planted feet is eased over FOLLOW_MS, the tracked feet's
+    /// motion under the same planted feet is followed at once).
+    following: [bool; 2],
+    carry: Vec3,
     root_filter: PointFilters<1>,
     /// Each planted foot's ankle, world (with the offset); the tracked ankle last frame.
     lock: [Option<Vec3>; 2],
@@ -78,6 +83,8 @@ impl Legs {
             reference: None,
             drift: Vec3::ZERO,
             rise: 0.0,
+            following: [false; 2],
+            carry: Vec3::ZERO,
             root_filter: PointFilters::default(),
             lock: [None; 2],
             last_ankle: [None; 2],
@@ -97,6 +104,8 @@ impl Legs {
         self.reference = None;
         self.drift = Vec3::ZERO;
         self.rise = 0.0;
+        self.following = [false; 2];
+        self.carry = Vec3::ZERO;
         self.root_filter.reset();
         self.lock = [None; 2];
         self.last_ankle = [None; 2];
@@ -249,11 +258,18 @@ impl Legs {
             }
         }
         let k = cx.dt.map_or(1.0, |dt| (dt * 1000.0 / FOLLOW_MS).min(1.0));
+        let set = [0, 1].map(|s| o.plant && self.lock[s].is_some() && targets[s].is_some());
         if n > 0.0 && across.is_some() {
-            let d = Vec3::new(sum.x, 0.0, sum.z) * (k / n);
+            let ask = Vec3::new(sum.x, 0.0, sum.z) / n;
+            if set != self.following {
+                self.carry = ask;
+            }
+            let d = ask - (1.0 - k) * self.carry;
+            self.carry *= 1.0 - k;
             offset += d;
             self.drift += d;
         }
+        self.following = set;
         // Two planted feet whose locks lie further apart (or closer, or turned) than the
         // tracked feet cannot both be met by moving the hips: the re-solve below would turn
         // each leg toward its lock. Each lock slides toward its tracked ankle by the part the
