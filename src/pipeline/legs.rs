@@ -34,6 +34,7 @@ const HOVER: f32 = 0.01;
 /// cannot take (a time constant, ms, and the largest speed, m/s).
 const SLIDE_MS: f32 = 300.0;
 const SLIDE_SPEED: f32 = 0.05;
+const SLIDE_FREE: f32 = 0.01;
 
 /// The legs stage: per side the leg solver, its presence, the rotations shown last frame and
 /// the blend's anchors; the grounding's state (the avatar's soles, the hips' offset, the
@@ -282,7 +283,7 @@ impl Legs {
                 if let (Some(lock), Some(t)) = (lock.as_mut(), target) {
                     let ask = *lock - t.ankle - offset;
                     let e = Vec3::new(ask.x, 0.0, ask.z) - mean;
-                    let step = (e.length() * (dt * 1000.0 / SLIDE_MS).min(1.0))
+                    let step = ((e.length() - SLIDE_FREE).max(0.0) * (dt * 1000.0 / SLIDE_MS).min(1.0))
                         .min(SLIDE_SPEED * dt);
                     *lock -= e.normalize_or_zero() * step;
                 }
