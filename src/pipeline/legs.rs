@@ -251,10 +251,11 @@ impl Legs {
         // hips' height to the other foot's tracked sole and lowered them under its lock, which
         // bent the planted knee (the bench's oneleg: the standing knee 4 degrees more bent
         // than as tracked).
-        let (mut sum, mut n) = (Vec3::ZERO, 0.0);
+        let (mut sum, mut n, mut low) = (Vec3::ZERO, 0.0, f32::INFINITY);
         for (lock, target) in self.lock.iter().zip(&targets) {
             if let (true, Some(lock), Some(t)) = (o.plant, lock, target) {
                 sum += lock - t.ankle - offset;
+                low = low.min(lock.y - t.ankle.y - offset.y);
                 n += 1.0;
             }
         }
@@ -290,7 +291,7 @@ impl Legs {
             }
         }
         let up = if n > 0.0 && across.is_some() {
-            (sum.y / n).max(0.0)
+            low.max(0.0)
         } else {
             0.0
         };
