@@ -61,6 +61,8 @@ pub(super) struct Legs {
     /// motion under the same planted feet is followed at once).
     following: [bool; 2],
     carry: Vec3,
+    /// Each tracked ankle last frame, the hips at rest (how far it moved from the hips).
+    last_reach: [Option<Vec3>; 2],
     root_filter: PointFilters<1>,
     /// Each planted foot's ankle, world (with the offset); the tracked ankle last frame.
     lock: [Option<Vec3>; 2],
@@ -86,6 +88,7 @@ impl Legs {
             rise: 0.0,
             following: [false; 2],
             carry: Vec3::ZERO,
+            last_reach: [None; 2],
             root_filter: PointFilters::default(),
             lock: [None; 2],
             last_ankle: [None; 2],
@@ -107,6 +110,7 @@ impl Legs {
         self.rise = 0.0;
         self.following = [false; 2];
         self.carry = Vec3::ZERO;
+        self.last_reach = [None; 2];
         self.root_filter.reset();
         self.lock = [None; 2];
         self.last_ankle = [None; 2];
@@ -276,20 +280,37 @@ impl Legs {
         // tracked feet cannot both be met by moving the hips: the re-solve below would turn
         // each leg toward its lock. Each lock slides toward its tracked ankle by the part the
         // hips leave (what it asks less the mean of both), at most SLIDE_SPEED.
-        if n > 1.0 && across.is_some() && cx.dt.is_some() {
+        let down = heights.iter().all(|h| *h < PLANT_HEIGHT);
+        if n > 1.0 && down && across.is_some() && cx.dt.is_some() {
             let dt = cx.dt.unwrap_or(0.0);
             // The mean of what the locks ask after the hips' move above.
             let mean = Vec3::new(sum.x, 0.0, sum.z) * ((1.0 - k) / n);
-            for (lock, target) in self.lock.iter_mut().zip(&targets) {
+            // The feet share the slide as their tracked ankles move from the hips: a foot
+            // that starts to lift takes it, the foot that stays does not.
+            let moved = [0, 1].map(|s| match (targets[s], self.last_reach[s]) {
+                (Some(t), Some(last)) => (t.ankle - last).length(),
+                _ => 0.0,
+            });
+            let total = moved[0] + moved[1];
+            let share = |s: usize| {
+                if total > 0.0 {
+                    2.0 * moved[s] / total
+                } else {
+                    1.0
+                }
+            };
+            for (s, (lock, target)) in self.lock.iter_mut().zip(&targets).enumerate() {
                 if let (Some(lock), Some(t)) = (lock.as_mut(), target) {
                     let ask = *lock - t.ankle - offset;
                     let e = Vec3::new(ask.x, 0.0, ask.z) - mean;
-                    let step = ((e.length() - SLIDE_FREE).max(0.0) * (dt * 1000.0 / SLIDE_MS).min(1.0))
-                        .min(SLIDE_SPEED * dt);
-                    *lock -= e.normalize_or_zero() * step;
+                    let step = (e.length() - SLIDE_FREE).max(0.0)
+                        * share(s)
+                        * (dt * 1000.0 / SLIDE_MS).min(1.0);
+                    *lock -= e.normalize_or_zero() * step.min(SLIDE_SPEED * dt);
                 }
             }
         }
+        self.last_reach = targets.map(|t| t.map(|t| t.ankle));
         let up = if n > 0.0 && across.is_some() {
             low.max(0.0)
         } else {
