@@ -339,9 +339,7 @@ impl Legs {
             for side in Side::BOTH {
                 let s = side.index();
                 if let (Some(lock), Some(mut t)) = (self.lock[s], targets[s]) {
-                    let tracked = t.ankle.distance(t.hip);
-                    let reach = lock - offset - t.hip;
-                    t.ankle = t.hip + reach * (tracked / reach.length().max(1e-6)).min(1.0);
+                    t.ankle = lock - offset;
                     self.pose_leg(cx, side, Some(t), &blends, out);
                 }
             }
