@@ -283,8 +283,8 @@ impl Legs {
         let down = heights.iter().all(|h| *h < PLANT_HEIGHT);
         if n > 1.0 && down && across.is_some() && cx.dt.is_some() {
             let dt = cx.dt.unwrap_or(0.0);
-            // The mean of what the locks ask after the hips' move above.
-            let mean = Vec3::new(sum.x, 0.0, sum.z) * ((1.0 - k) / n);
+            // The mean of what the locks ask after the hips' move above: what they carry.
+            let mean = self.carry;
             // The feet share the slide as their tracked ankles move from the hips: a foot
             // that starts to lift takes it, the foot that stays does not.
             let moved = [0, 1].map(|s| match (targets[s], self.last_reach[s]) {
