@@ -283,8 +283,12 @@ impl Legs {
         let down = heights.iter().all(|h| *h < PLANT_HEIGHT);
         if n > 1.0 && down && across.is_some() && cx.dt.is_some() {
             let dt = cx.dt.unwrap_or(0.0);
-            // The mean of what the locks ask after the hips' move above: what they carry.
-            let mean = self.carry;
+            // What the locks ask less the part of their mean the hips did not take this
+            // frame: their differential, and part of the frame's common tracked motion (which
+            // the hips took at once). (The differential alone, `self.carry`, slid the
+            // synthetic test's standing foot 2.1 mm while the other rose: the hips follow the
+            // rising foot's ask at once and the standing leg cannot reach.)
+            let mean = Vec3::new(sum.x, 0.0, sum.z) * ((1.0 - k) / n);
             // The feet share the slide as their tracked ankles move from the hips: a foot
             // that starts to lift takes it, the foot that stays does not.
             let moved = [0, 1].map(|s| match (targets[s], self.last_reach[s]) {
