@@ -148,11 +148,11 @@ const mean = (v) => (v.length ? v.reduce((a, b) => a + b, 0) / v.length : NaN);
 const METHODS = ["handrig", "tracked", "kalidokit", "mediapipe"].filter((m) => m !== "kalidokit" || Kalidokit);
 const LABEL = { handrig: "handrig (defaults)", tracked: "handrig, as tracked", kalidokit: "Kalidokit 1.1.5", mediapipe: "MediaPipe raw" };
 const SOLVERS = METHODS.filter((m) => m !== "mediapipe");
-const newAcc = () => Object.fromEntries(METHODS.map((m) => [m, { knee: [], ankle: [], kneeRoom: [], ankleRoom: [], kneeAngle: [], slide: [], under: 0, float: 0, backwards: 0, frames: 0 }]));
+const newAcc = () => Object.fromEntries(METHODS.map((m) => [m, { knee: [], ankle: [], kneeRoom: [], ankleRoom: [], kneeAngle: [], slide: [], hipsRoom: [], travel: 0, truthTravel: 0, under: 0, float: 0, backwards: 0, frames: 0 }]));
 function merge(into, acc) {
   for (const m of METHODS) {
-    for (const k of ["knee", "ankle", "kneeRoom", "ankleRoom", "kneeAngle", "slide"]) into[m][k].push(...acc[m][k]);
-    for (const k of ["under", "float", "backwards", "frames"]) into[m][k] += acc[m][k];
+    for (const k of ["knee", "ankle", "kneeRoom", "ankleRoom", "kneeAngle", "slide", "hipsRoom"]) into[m][k].push(...acc[m][k]);
+    for (const k of ["under", "float", "backwards", "frames", "travel", "truthTravel"]) into[m][k] += acc[m][k];
   }
 }
 const kneeAngleOf = (l) => angle(sub(l.knee, l.hip), sub(l.ankle, l.knee));
@@ -230,6 +230,17 @@ function scoreClip(body, restPose, clip, rec, acc, rows) {
       let under = false;
       let float = false;
       let backwards = false;
+      if (m !== "mediapipe") {
+        // The hips (the hip joints' midpoint) in the room, and their travel across (x and z)
+        // since the last frame, the method's and the truth's.
+        const hips = (x) => mid(x.left.hip, x.right.hip);
+        a.hipsRoom.push(1000 * len(sub(hips(samples[m]), hips(truth))));
+        if (prev[m] && prev.truth) {
+          const across = (v) => 1000 * Math.hypot(v[0], v[2]);
+          a.travel += across(sub(hips(samples[m]), hips(prev[m])));
+          a.truthTravel += across(sub(hips(truth), hips(prev.truth)));
+        }
+      }
       for (const side of SIDES) {
         const l = samples[m][side];
         const tl = truth[side];
@@ -266,7 +277,7 @@ function scoreClip(body, restPose, clip, rec, acc, rows) {
     if (process.env.LEGS_TRACE) {
       const r3 = (v) => v.map((x) => (1000 * x).toFixed(0)).join(",");
       const dist = (x, sd) => (1000 * len(sub(x[sd].ankle, x[sd].hip))).toFixed(0);
-      console.error(`${clip.id} ${i} off ${TRACE.res.off ? r3(TRACE.res.off) : "-"} planted ${TRACE.res.planted} ` + SIDES.map((sd) => `${sd[0]}: d ${dist(truth, sd)}/${dist(samples.handrig, sd)}/${dist(samples.tracked, sd)} k ${row.err.handrig[sd].knee.toFixed(0)}/${row.err.tracked[sd].knee.toFixed(0)} ankleY ${(1000 * truth[sd].ankle[1]).toFixed(0)}/${(1000 * samples.handrig[sd].ankle[1]).toFixed(0)} sole ${(1000 * Math.min(...samples.handrig[sd].soles.map((p) => p[1]))).toFixed(0)}`).join(" "));
+      console.error(`${clip.id} ${i} toff ${r3(t.hipsOffset)} off ${TRACE.res.off ? r3(TRACE.res.off) : "-"} planted ${TRACE.res.planted} ` + SIDES.map((sd) => `${sd[0]}: d ${dist(truth, sd)}/${dist(samples.handrig, sd)}/${dist(samples.tracked, sd)} k ${row.err.handrig[sd].knee.toFixed(0)}/${row.err.tracked[sd].knee.toFixed(0)} ankleY ${(1000 * truth[sd].ankle[1]).toFixed(0)}/${(1000 * samples.handrig[sd].ankle[1]).toFixed(0)} sole ${(1000 * Math.min(...samples.handrig[sd].soles.map((p) => p[1]))).toFixed(0)} dA ${r3(sub(sub(samples.handrig[sd].ankle, samples.handrig[sd].hip), sub(samples.tracked[sd].ankle, samples.tracked[sd].hip)))} dK ${r3(sub(sub(samples.handrig[sd].knee, samples.handrig[sd].hip), sub(samples.tracked[sd].knee, samples.tracked[sd].hip)))} tK ${r3(sub(sub(samples.tracked[sd].knee, samples.tracked[sd].hip), sub(truth[sd].knee, truth[sd].hip)))}`).join(" "));
     }
     for (const m of SOLVERS) prev[m] = samples[m];
     prev.truth = truth;
@@ -319,6 +330,8 @@ const FIGURES = [
   ["knee angle (deg)", (a) => mp(a.kneeAngle)],
   ["knee in the room (mm)", (a, m) => (m === "mediapipe" ? "-" : mp(a.kneeRoom))],
   ["ankle in the room (mm)", (a, m) => (m === "mediapipe" ? "-" : mp(a.ankleRoom))],
+  ["hips in the room (mm)", (a, m) => (m === "mediapipe" ? "-" : mp(a.hipsRoom))],
+  ["hips' travel across, mm (the truth's)", (a, m) => (m === "mediapipe" ? "-" : `${a.travel.toFixed(0)} (${a.truthTravel.toFixed(0)})`)],
   ["sliding, mm per stance frame (mean / p95 / max)", (a, m) => (m === "mediapipe" ? "-" : `${f2(mean(a.slide))} / ${f1(percentile(a.slide, 95))} / ${f1(Math.max(...a.slide))}`)],
   ["frames with a sole > 2 cm under the floor", (a, m) => (m === "mediapipe" ? "-" : `${a.under} of ${a.frames}`)],
   ["frames with a standing foot > 2 cm above the floor", (a, m) => (m === "mediapipe" ? "-" : `${a.float} of ${a.frames}`)],

@@ -30,6 +30,11 @@ const FOLLOW_MS: f32 = 100.0;
 /// How high (m) above the floor a planted foot's lowest sole may stay (its lock's height
 /// follows the tracked foot's turn within this of the floor).
 const HOVER: f32 = 0.01;
+/// How fast two planted feet's locks slide toward their tracked ankles by what the hips
+/// cannot take (a time constant, ms, and the largest speed, m/s).
+const SLIDE_MS: f32 = 300.0;
+const SLIDE_SPEED: f32 = 0.05;
+const SLIDE_FREE: f32 = 0.01;
 
 /// The legs stage: per side the leg solver, its presence, the rotations shown last frame and
 /// the blend's anchors; the grounding's state (the avatar's soles, the hips' offset, the
@@ -51,6 +56,13 @@ pub(super) struct Legs {
     drift: Vec3,
     /// How far the planted feet hold the hips above the floor's rule (m, eased).
     rise: f32,
+    /// The planted feet the hips followed last frame, and what of their ask the hips have
+    /// yet to take (a change of planted feet is eased over FOLLOW_MS, the tracked feet's
+    /// motion under the same planted feet is followed at once).
+    following: [bool; 2],
+    carry: Vec3,
+    /// Each tracked ankle last frame, the hips at rest (how far it moved from the hips).
+    last_reach: [Option<Vec3>; 2],
     root_filter: PointFilters<1>,
     /// Each planted foot's ankle, world (with the offset); the tracked ankle last frame.
     lock: [Option<Vec3>; 2],
@@ -74,6 +86,9 @@ impl Legs {
             reference: None,
             drift: Vec3::ZERO,
             rise: 0.0,
+            following: [false; 2],
+            carry: Vec3::ZERO,
+            last_reach: [None; 2],
             root_filter: PointFilters::default(),
             lock: [None; 2],
             last_ankle: [None; 2],
@@ -93,6 +108,9 @@ impl Legs {
         self.reference = None;
         self.drift = Vec3::ZERO;
         self.rise = 0.0;
+        self.following = [false; 2];
+        self.carry = Vec3::ZERO;
+        self.last_reach = [None; 2];
         self.root_filter.reset();
         self.lock = [None; 2];
         self.last_ankle = [None; 2];
@@ -237,21 +255,68 @@ impl Legs {
         // hips' height to the other foot's tracked sole and lowered them under its lock, which
         // bent the planted knee (the bench's oneleg: the standing knee 4 degrees more bent
         // than as tracked).
-        let (mut sum, mut n) = (Vec3::ZERO, 0.0);
+        let (mut sum, mut n, mut low) = (Vec3::ZERO, 0.0, f32::INFINITY);
         for (lock, target) in self.lock.iter().zip(&targets) {
             if let (true, Some(lock), Some(t)) = (o.plant, lock, target) {
                 sum += lock - t.ankle - offset;
+                low = low.min(lock.y - t.ankle.y - offset.y);
                 n += 1.0;
             }
         }
         let k = cx.dt.map_or(1.0, |dt| (dt * 1000.0 / FOLLOW_MS).min(1.0));
+        let set = [0, 1].map(|s| o.plant && self.lock[s].is_some() && targets[s].is_some());
         if n > 0.0 && across.is_some() {
-            let d = Vec3::new(sum.x, 0.0, sum.z) * (k / n);
+            let ask = Vec3::new(sum.x, 0.0, sum.z) / n;
+            if set != self.following {
+                self.carry = ask;
+            }
+            let d = ask - (1.0 - k) * self.carry;
+            self.carry *= 1.0 - k;
             offset += d;
             self.drift += d;
         }
+        self.following = set;
+        // Two planted feet whose locks lie further apart (or closer, or turned) than the
+        // tracked feet cannot both be met by moving the hips: the re-solve below would turn
+        // each leg toward its lock. Each lock slides toward its tracked ankle by the part the
+        // hips leave (what it asks less the mean of both), at most SLIDE_SPEED.
+        let down = heights.iter().all(|h| *h < PLANT_HEIGHT);
+        if n > 1.0 && down && across.is_some() && cx.dt.is_some() {
+            let dt = cx.dt.unwrap_or(0.0);
+            // What the locks ask less the part of their mean the hips did not take this
+            // frame: their differential, and part of the frame's common tracked motion (which
+            // the hips took at once). (The differential alone, `self.carry`, slid the
+            // synthetic test's standing foot 2.1 mm while the other rose: the hips follow the
+            // rising foot's ask at once and the standing leg cannot reach.)
+            let mean = Vec3::new(sum.x, 0.0, sum.z) * ((1.0 - k) / n);
+            // The feet share the slide as their tracked ankles move from the hips: a foot
+            // that starts to lift takes it, the foot that stays does not.
+            let moved = [0, 1].map(|s| match (targets[s], self.last_reach[s]) {
+                (Some(t), Some(last)) => (t.ankle - last).length(),
+                _ => 0.0,
+            });
+            let total = moved[0] + moved[1];
+            let share = |s: usize| {
+                if total > 0.0 {
+                    2.0 * moved[s] / total
+                } else {
+                    1.0
+                }
+            };
+            for (s, (lock, target)) in self.lock.iter_mut().zip(&targets).enumerate() {
+                if let (Some(lock), Some(t)) = (lock.as_mut(), target) {
+                    let ask = *lock - t.ankle - offset;
+                    let e = Vec3::new(ask.x, 0.0, ask.z) - mean;
+                    let step = (e.length() - SLIDE_FREE).max(0.0)
+                        * share(s)
+                        * (dt * 1000.0 / SLIDE_MS).min(1.0);
+                    *lock -= e.normalize_or_zero() * step.min(SLIDE_SPEED * dt);
+                }
+            }
+        }
+        self.last_reach = targets.map(|t| t.map(|t| t.ankle));
         let up = if n > 0.0 && across.is_some() {
-            (sum.y / n).max(0.0)
+            low.max(0.0)
         } else {
             0.0
         };
