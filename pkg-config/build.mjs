@@ -57,16 +57,18 @@ const WASM_NAME = "handrig_bg.wasm";
 // The SIMD build's file, beside it.
 const WASM_SIMD_NAME = "handrig_simd_bg.wasm";
 
-// Size budget of the shipped .wasm, gzipped: 270 KiB. 250 KiB from issue 24 (serde and
+// Size budget of the shipped .wasm, gzipped: 271 KiB. 250 KiB from issue 24 (serde and
 // serde-wasm-bindgen read the options, rest poses and the .vrm's JSON at setup: 148.4 KiB
 // before, 205 KiB with them); 265 KiB from milestone 4 (the face, issue 50: +4.8 KiB; the legs,
 // feet and hips, issue 51: +8.2 KiB; contact's faster skin queries and the chest cue for any
 // hand shape, issue 52: +2.4 KiB; 247.1 -> 262.3 KiB, 2.7 KiB of headroom kept); 268 KiB at
 // the third session (legs read against the image +2.0 KB, contact's clearance, chest hold and
 // faster landing +1.5 KB: 265.8 KiB); 270 KiB at the fifth (the body kept solid after the
-// solve +0.9 KB, the legs' planted hips +0.7 KB: 269.1 KiB; docs/measurements/2026-12-05-size.md).
+// solve +0.9 KB, the legs' planted hips +0.7 KB: 269.1 KiB); 271 KiB at the sixth (the hand's
+// outline in contact's clearance +0.5 KB, the legs' locks that slide to the tracking +0.5 KB:
+// 270.5 KiB; docs/measurements/2026-12-05-size.md).
 // Printed with every build; tests/node guards it.
-const WASM_GZIP_BUDGET = 270 * 1024;
+const WASM_GZIP_BUDGET = 271 * 1024;
 
 // Code generation for both WebAssembly builds: LLVM unrolls loops up to a cost of 125 instead
 // of its -O3 default (300). Fully unrolled loops over bones, fingers and sides made the
