@@ -846,6 +846,40 @@ fn closest_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
     a + ab * (vb * denom) + ac * (vc * denom)
 }
 
+/// An avatar's skin at rest, each vertex moved rigidly with its dominant bone (exact for the
+/// rigidly skinned figures, within a blend's share of the hands' joints elsewhere).
+struct RigidSkin {
+    skin: SkinMesh,
+    rest: Vec<Vec3>,
+}
+
+impl RigidSkin {
+    fn of(skel: &Skeleton) -> Self {
+        RigidSkin {
+            skin: skel.skin().expect("a skin").clone(),
+            rest: B::ALL
+                .iter()
+                .map(|b| skel.rest_world(*b).unwrap_or(Vec3::ZERO))
+                .collect(),
+        }
+    }
+
+    /// Vertex `i` with the avatar posed as `world`.
+    fn posed(&self, world: &WorldPose, i: usize) -> Vec3 {
+        let b = self.skin.bones[i].index();
+        world.position[b] + world.rotation[b] * (self.skin.positions[i] - self.rest[b])
+    }
+
+    /// The vertices of `side`'s hand and fingers.
+    fn hand(&self, side: Side) -> Vec<usize> {
+        let of_hand =
+            |b: B| b == side.hand() || Finger::ALL.iter().any(|f| side.finger(*f).contains(&b));
+        (0..self.skin.positions.len())
+            .filter(|&i| of_hand(self.skin.bones[i]))
+            .collect()
+    }
+}
+
 #[test]
 fn a_hand_touching_nothing_keeps_its_skin_clear_of_the_torso() {
     // The figure of primitives' hands are boxes whose corners reach 22 mm past the contact
@@ -857,11 +891,8 @@ fn a_hand_touching_nothing_keeps_its_skin_clear_of_the_torso() {
     // the torso's in at least 95% of them. The figure is skinned rigidly, so each vertex moves
     // with its dominant bone.
     let skel = recordings::vrm("tests/fixtures/avatars/figures/primitive-vrm1.vrm");
-    let skin = skel.skin().expect("a skin").clone();
-    let rest: Vec<Vec3> = B::ALL
-        .iter()
-        .map(|b| skel.rest_world(*b).unwrap_or(Vec3::ZERO))
-        .collect();
+    let body = RigidSkin::of(&skel);
+    let skin = &body.skin;
     let torso = [
         B::Spine,
         B::Chest,
@@ -876,19 +907,14 @@ fn a_hand_touching_nothing_keeps_its_skin_clear_of_the_torso() {
         .filter(|t| t.iter().all(|&i| torso.contains(&skin.bones[i])))
         .collect();
     assert!(torso_triangles.len() > 10, "the figure's torso has a skin");
-    let hand_of = |side: Side, b: B| {
-        b == side.hand() || Finger::ALL.iter().any(|f| side.finger(*f).contains(&b))
-    };
+    let hands = [body.hand(Side::Left), body.hand(Side::Right)];
     let mut out = handrig::SolveOutput::default();
     let (mut untouched, mut near, mut nearest) = (0, 0, f32::INFINITY);
     for clip in ["again", "eat", "please", "sister"] {
         let mut rig = Rig::new(skel.clone(), RigOptions::default()).unwrap();
         for f in &recordings::asl(&format!("../shared/data/asl/{clip}.json")) {
             rig.solve(f, &mut out).unwrap();
-            let posed = |i: usize| {
-                let b = skin.bones[i].index();
-                out.world.position[b] + out.world.rotation[b] * (skin.positions[i] - rest[b])
-            };
+            let posed = |i: usize| body.posed(&out.world, i);
             for side in Side::BOTH {
                 let Some(r) = out.contact[side.index()] else {
                     continue;
@@ -901,10 +927,7 @@ fn a_hand_touching_nothing_keeps_its_skin_clear_of_the_torso() {
                     continue;
                 }
                 untouched += 1;
-                let hand: Vec<Vec3> = (0..skin.positions.len())
-                    .filter(|&i| hand_of(side, skin.bones[i]))
-                    .map(posed)
-                    .collect();
+                let hand: Vec<Vec3> = hands[side.index()].iter().map(|&i| posed(i)).collect();
                 let gap = torso_triangles
                     .iter()
                     .flat_map(|t| {
@@ -944,20 +967,8 @@ fn clapping_hands_stay_together_when_the_wrist_limits_turn_them() {
     // vertex: the skin's 10 mm on the frames the measure finds farthest, plus the spacing of
     // the vertices).
     let skel = recordings::vrm("tests/fixtures/avatars/woman-vrm1.vrm");
-    let skin = skel.skin().expect("a skin").clone();
-    let rest: Vec<Vec3> = B::ALL
-        .iter()
-        .map(|b| skel.rest_world(*b).unwrap_or(Vec3::ZERO))
-        .collect();
-    let hand_of = |side: Side, b: B| {
-        b == side.hand() || Finger::ALL.iter().any(|f| side.finger(*f).contains(&b))
-    };
-    let vertices = |side: Side| -> Vec<usize> {
-        (0..skin.positions.len())
-            .filter(|&i| hand_of(side, skin.bones[i]))
-            .collect()
-    };
-    let (left, right) = (vertices(Side::Left), vertices(Side::Right));
+    let body = RigidSkin::of(&skel);
+    let (left, right) = (body.hand(Side::Left), body.hand(Side::Right));
     let mut rig = Rig::new(skel.clone(), RigOptions::default()).unwrap();
     let mut out = handrig::SolveOutput::default();
     let (mut together, mut apart) = (0, Vec::new());
@@ -970,10 +981,7 @@ fn clapping_hands_stay_together_when_the_wrist_limits_turn_them() {
         if blend(Side::Left) < 1.0 || blend(Side::Right) < 1.0 {
             continue;
         }
-        let posed = |i: usize| {
-            let b = skin.bones[i].index();
-            out.world.position[b] + out.world.rotation[b] * (skin.positions[i] - rest[b])
-        };
+        let posed = |i: usize| body.posed(&out.world, i);
         let r: Vec<Vec3> = right.iter().map(|&i| posed(i)).collect();
         let gap = left
             .iter()
