@@ -167,8 +167,11 @@ fn a_hand_back_after_a_drop_is_aligned_in_that_frame() {
             rig.solve(f, &mut out).unwrap();
             for side in Side::BOTH {
                 let slowed = rig.turns_limited(side) > before[side.index()];
+                // A hand touching the other turns about where they meet, not its fingertip
+                // (the wrist limits' pivot in contact): its fingertip is not aligned by design.
+                let touching = out.contact[side.index()].is_some_and(|c| c.hand_weight > 0.0);
                 let (k, a) = (i % DROP_EVERY, out.alignment[side.index()]);
-                if let (Some(a), false, true) = (a, slowed, i > 5) {
+                if let (Some(a), false, true) = (a, slowed || touching, i > 5) {
                     if k == 6 {
                         errors.push(1e3 * a.error);
                     }
@@ -181,13 +184,17 @@ fn a_hand_back_after_a_drop_is_aligned_in_that_frame() {
     }
     let errors = stats::sorted(errors);
     assert!(errors.len() >= 30, "{} returns", errors.len());
-    // 0.00 mm median, 0.27 p90 (the rest: contact and unreachable targets); with the
-    // fingers aligned as solved while they blend in, 0.75 and 10.7; with the hand bone
-    // blending in too, 3.9 and 30.
+    // 0.00 mm median, 0.0001 p90 (0.27 with the hands touching each other counted, before
+    // they turned about where they meet: 5.7 after); with the fingers aligned as solved while
+    // they blend in, 0.75 and 10.7; with the hand bone blending in too, 3.9 and 30.
     let median = stats::percentile(&errors, 50.0);
     assert!(median < 0.1, "fingertip {median} mm off (median)");
     let p90 = stats::percentile(&errors, 90.0);
-    assert!(p90 < 2.0, "fingertip {p90} mm off (p90)");
+    assert!(
+        p90 < 2.0,
+        "fingertip {p90} mm off (p90), {} returns",
+        errors.len()
+    );
     // Over the whole fade-in: 0.00 median, 3.3 p90 (12.1 with the fingers aligned as solved).
     let fading = stats::sorted(fading);
     let p90 = stats::percentile(&fading, 90.0);
