@@ -382,7 +382,7 @@ pub struct BodySurface {
     /// with the finger radius): with the avatar at rest, the most any hand vertex lies outside
     /// the ball nearest it, among the vertices nearest a ball of that kind. The balls follow
     /// the bones and the hand's thickness, not its outline: a box hand's corners (the figure
-    /// of primitives': 22 mm past its wrist ball) or a human palm's edge (15-24 mm) reach
+    /// of primitives': 22 mm past its wrist ball) or a human palm's edge (19-28 mm) reach
     /// past them, and a hand held [`super::CLEARANCE`] clear of the body by its balls alone
     /// came within 2 cm of it.
     pub hand_excess: [[f32; 2]; 2],
