@@ -147,10 +147,19 @@ test("holistic mode: the signer's right hand drives the avatar's right hand, and
   const followed = log.filter((l, i) => l.right === "solved" && l.inputCurlRight != null && log[i - 1]?.right === "solved");
   const rInput = pearson(followed.map((l) => l.inputCurlRight), followed.map((l) => l.curlRight));
   console.log(`# holistic fingers: avatar vs its input hand, r = ${rInput.toFixed(2)} over ${followed.length} frames`);
-  // (Once, in a clean-clone CI run on 2026-12-06, r = 0.17 over 12 frames; 0.91 and 0.99 in the
-  // runs around it: the pairs are printed on failure to find out why.)
+  // The correlation is printed, not asserted: over the narrow range of bends live Holistic
+  // gives (about 50-65 degrees) two frames off decide it. Twice in clean-clone CI runs on
+  // 2026-12-06 it came out 0.17 (12 frames) and 0.32 (9 frames: 53->53 55->56 54->56 62->65
+  // 57->40 60->59 52->53 54->55 56->71, seven of nine within 3 degrees), 0.91 and 0.99 in the
+  // runs around them. Asserted instead: the avatar's bend is within 8 degrees of its input on
+  // at least two thirds of the frames (with the range check above, a hand that ignored its
+  // input, or one stuck in a pose, fails it).
   const pairsText = followed.map((l) => `${l.inputCurlRight.toFixed(0)}->${l.curlRight.toFixed(0)}`).join(" ");
-  assert.ok(followed.length >= 8 && rInput > 0.4, `the avatar's finger bend follows its input: r = ${rInput.toFixed(2)} over ${followed.length} frames (input->avatar degrees: ${pairsText})`);
+  const close = followed.filter((l) => Math.abs(l.curlRight - l.inputCurlRight) <= 8).length;
+  assert.ok(
+    followed.length >= 8 && close >= (2 / 3) * followed.length,
+    `the avatar's finger bend follows its input: ${close} of ${followed.length} frames within 8 degrees, r = ${rInput.toFixed(2)} (input->avatar degrees: ${pairsText})`,
+  );
 });
 
 test("holistic mode: the arm follows the pose: the right hand rises to the face in `eat` and comes back down", async () => {
