@@ -435,7 +435,9 @@ impl ContactSolver {
                 let mut push = surface.push(t.wrist, own, world);
                 if fade > 0.0 {
                     // Each ball grown by the clearance and by how far the hand's skin reaches
-                    // past balls of its kind (a palm ball has the palm's half-thickness).
+                    // past balls of its kind (a palm ball has the palm's half-thickness; on a
+                    // hand whose two radii are equal every ball takes the palm's excess, the
+                    // larger so far on every avatar measured).
                     let s = side.index();
                     let [palm_excess, finger_excess] = surface.hand_excess[s];
                     let mut balls = [(Vec3::ZERO, 0.0); skin::HAND_SPHERES];

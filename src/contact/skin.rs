@@ -653,12 +653,13 @@ fn hand_thickness(
     (f > 1e-4 && p > 1e-4).then_some((f, p))
 }
 
-/// [`BodySurface::hand_excess`] of one side: the hand's balls placed on the rest skeleton as
-/// [`hand_spheres`] places them (the hand joint, the palm's center between it and the
-/// proximal joints, and each finger's first joint with the palm's half-thickness `palm`; the
-/// finger's other joints and its tip, continued from its last bone as [`hand_thickness`]
-/// continues it, with the finger radius `finger`), then per kind of ball the most any hand
-/// vertex lies outside the ball nearest it (0 when all are inside, or without the hand joint).
+/// [`BodySurface::hand_excess`] of one side: the hand's balls placed on the rest skeleton
+/// much as [`hand_spheres`] places them at run time (the hand joint, the palm's center between
+/// it and the proximal joints, and each finger's first joint with the palm's half-thickness
+/// `palm`; the finger's other joints with the finger radius `finger`, and its tip, which run
+/// time takes from the alignment's fingertip, here continued from its last bone as
+/// [`hand_thickness`] continues it), then per kind of ball the most any hand vertex lies
+/// outside the ball nearest it (0 when all are inside, or without the hand joint).
 fn hand_excess(
     skeleton: &Skeleton,
     side: Side,
