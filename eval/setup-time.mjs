@@ -3,13 +3,16 @@
 // each), then `rig.free()`. With two builds, they are timed in turns (A then B each round) so
 // that the shared machine's load slows both alike. The figure is the median over rounds, ms.
 //
-//   node eval/setup-time.mjs --a DIR [--b DIR] [--rounds N]   (DIR: a built package, e.g. pkg/)
+//   node eval/setup-time.mjs --a DIR [--b DIR] [--rounds N] [--avatar FILE ...]
+//
+// DIR: a built package, e.g. pkg/; --avatar (repeatable): time these files instead, e.g. the
+// 108k-triangle copy of the woman that `node eval/dense-avatar.mjs` writes.
 //
 // Used for issue 26 (the skin read from the file): before (a build without it) and after.
 
 import { readFileSync, readdirSync } from "node:fs";
 import { createRequire } from "node:module";
-import { dirname, resolve } from "node:path";
+import { basename, dirname, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
 
 const here = dirname(fileURLToPath(import.meta.url));
@@ -27,10 +30,11 @@ const builds = [["A", arg("--a")], ["B", arg("--b")]]
   .map(([label, d]) => ({ label, dir: d, HandRig: require(resolve(d)).HandRig }));
 const rounds = Number(arg("--rounds", 15));
 const dir = resolve(here, "..", "tests", "fixtures", "avatars");
-const files = readdirSync(dir)
-  .filter((f) => /\.(vrm|glb)$/.test(f))
-  .sort()
-  .map((f) => ({ name: f, bytes: new Uint8Array(readFileSync(resolve(dir, f))) }));
+const chosen = process.argv.flatMap((a, i) => (process.argv[i - 1] === "--avatar" ? [resolve(a)] : []));
+const files = (chosen.length ? chosen : readdirSync(dir).filter((f) => /\.(vrm|glb)$/.test(f)).sort().map((f) => resolve(dir, f))).map((f) => ({
+  name: basename(f),
+  bytes: new Uint8Array(readFileSync(f)),
+}));
 
 const make = (HandRig, f) => (f.name.endsWith(".vrm") ? HandRig.fromVrm(f.bytes) : HandRig.fromGltf(f.bytes));
 const times = new Map();

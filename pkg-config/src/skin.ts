@@ -71,7 +71,46 @@ export function skinOfScene(
   const triangles: number[] = [];
   let kept = 0;
   let offset = 0;
+  // A mesh over the vertices of the last one read (the primitives of one glTF mesh sharing
+  // their accessors: three's GLTFLoader makes one attribute per accessor) has that mesh's
+  // vertices, counted once, as `HandRig.fromVrm` does.
+  const read: { m: SkinnedMeshLike; offset: number }[] = [];
+  const sameVertices = (m: SkinnedMeshLike, o: SkinnedMeshLike): boolean => {
+    const [a, b] = [m.geometry.attributes, o.geometry.attributes];
+    if (a.position !== b.position || a.skinIndex !== b.skinIndex || a.skinWeight !== b.skinWeight) return false;
+    const same = (x: ArrayLike<unknown> | undefined, y: ArrayLike<unknown> | undefined) =>
+      x === y || (!!x && !!y && x.length === y.length && Array.prototype.every.call(x, (v, i) => v === y[i]));
+    const [ib, ob] = [m.skeleton.boneInverses, o.skeleton.boneInverses];
+    return (
+      same(m.bindMatrix.elements, o.bindMatrix.elements) &&
+      same(m.skeleton.bones, o.skeleton.bones) &&
+      (ib === ob || (!!ib && !!ob && ib.length === ob.length && Array.prototype.every.call(ib, (x: { elements: ArrayLike<number> }, i) => same(x.elements, ob[i]!.elements))))
+    );
+  };
   for (const m of meshes) {
+    const a = m.geometry.attributes;
+    const previous = read[read.length - 1];
+    const earlier = previous && sameVertices(m, previous.m) ? previous : undefined;
+    const index = m.geometry.index?.array;
+    const count = index ? index.length : a.position.count;
+    const base = earlier ? earlier.offset : offset;
+    if (!earlier) {
+      read.push({ m, offset });
+      readVertices(m);
+      offset += a.position.count;
+    }
+    for (let t = 0; t + 2 < count; t += 3) {
+      const v0 = keep[base + (index ? index[t]! : t)]!;
+      const v1 = keep[base + (index ? index[t + 1]! : t + 1)]!;
+      const v2 = keep[base + (index ? index[t + 2]! : t + 2)]!;
+      if (v0 >= 0 && v1 >= 0 && v2 >= 0) triangles.push(v0, v1, v2);
+    }
+  }
+  if (kept === 0) return undefined;
+  return { positions: positions.slice(0, 3 * kept), bones: bones.slice(0, kept), triangles: Uint32Array.from(triangles) };
+
+  // Appends mesh `m`'s vertices (from `offset` in `keep`).
+  function readVertices(m: SkinnedMeshLike): void {
     const a = m.geometry.attributes;
     const si = a.skinIndex!;
     const sw = a.skinWeight!;
@@ -125,18 +164,7 @@ export function skinOfScene(
       bones[kept] = bone;
       keep[offset + i] = kept++;
     }
-    const index = m.geometry.index?.array;
-    const count = index ? index.length : a.position.count;
-    for (let t = 0; t + 2 < count; t += 3) {
-      const v0 = keep[offset + (index ? index[t]! : t)]!;
-      const v1 = keep[offset + (index ? index[t + 1]! : t + 1)]!;
-      const v2 = keep[offset + (index ? index[t + 2]! : t + 2)]!;
-      if (v0 >= 0 && v1 >= 0 && v2 >= 0) triangles.push(v0, v1, v2);
-    }
-    offset += a.position.count;
   }
-  if (kept === 0) return undefined;
-  return { positions: positions.slice(0, 3 * kept), bones: bones.slice(0, kept), triangles: Uint32Array.from(triangles) };
 }
 
 /** `a * b`, column-major 4x4 (also used by `handrig/three`). */

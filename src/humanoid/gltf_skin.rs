@@ -25,7 +25,7 @@
 
 use glam::Vec3;
 
-use super::accessors::{uint, MeshData, Primitive, F32, U16, U32, U8};
+use super::accessors::{uint, Elements, MeshData, Primitive, F32, U16, U32, U8};
 use super::bones::HumanBone;
 use super::document::MAX_DEPTH;
 use super::document::{Affine, Document};
@@ -59,6 +59,7 @@ pub(crate) fn read(doc: &Document, bin: &[u8], binding: &[(HumanBone, usize)]) -
     let mut joints_of_skin: Vec<Option<Option<Joints>>> = Vec::new();
     joints_of_skin.resize_with(data.skins.0.len(), || None);
     let mut out = SkinMesh::default();
+    let mut last: Last = (NONE, Vec::new());
     for node in &doc.nodes {
         let (Some(mesh), Some(skin)) = (uint(node.get("mesh")), uint(node.get("skin"))) else {
             continue;
@@ -75,7 +76,7 @@ pub(crate) fn read(doc: &Document, bin: &[u8], binding: &[(HumanBone, usize)]) -
             continue;
         };
         for p in &mesh.primitives {
-            read_primitive(data, bin, p, joints, &mut out);
+            read_primitive(data, bin, p, (skin, joints), &mut last, &mut out);
         }
     }
     out
@@ -137,9 +138,25 @@ fn skin_joints(
     Some(Joints { matrices, bones })
 }
 
-/// Appends one primitive's kept vertices and triangles to `out`, or nothing when it cannot be
-/// read whole.
-fn read_primitive(data: &MeshData, bin: &[u8], p: &Primitive, joints: &Joints, out: &mut SkinMesh) {
+/// The last primitive's vertices: their accessors `(POSITION, JOINTS_0, WEIGHTS_0, skin)` and
+/// each one's index in the skin (-1: left out). The primitives of a mesh often share one vertex
+/// buffer (the generated avatars' body and eyes; UniVRM writes a mesh's submeshes so), and a
+/// vertex is one point of the skin however many primitives use it.
+type Last = ((usize, usize, usize, usize), Vec<i64>);
+
+/// No primitive's accessors.
+const NONE: (usize, usize, usize, usize) = (usize::MAX, usize::MAX, usize::MAX, usize::MAX);
+
+/// Appends one primitive's kept vertices and triangles to `out` (its vertices only when they
+/// are not the last primitive's, `last`), or nothing when it cannot be read whole.
+fn read_primitive(
+    data: &MeshData,
+    bin: &[u8],
+    p: &Primitive,
+    (skin, joints): (usize, &Joints),
+    last: &mut Last,
+    out: &mut SkinMesh,
+) {
     if p.mode != Some(4) {
         return;
     }
@@ -176,30 +193,76 @@ fn read_primitive(data: &MeshData, bin: &[u8], p: &Primitive, joints: &Joints, o
     }
     let corners = indices.as_ref().map_or(count, |e| e.count);
     let base = out.positions.len();
-    if base + count > MAX_VERTICES || out.triangles.len() + corners / 3 > MAX_TRIANGLES {
+    let key = (
+        p.position.unwrap_or(usize::MAX),
+        p.joints.unwrap_or(usize::MAX),
+        p.weights.unwrap_or(usize::MAX),
+        skin,
+    );
+    let known = last.0 == key;
+    if base + if known { 0 } else { count } > MAX_VERTICES
+        || out.triangles.len() + corners / 3 > MAX_TRIANGLES
+    {
         return;
     }
+    if !known {
+        last.0 = NONE;
+        if read_vertices(&pos, &ji, &wi, joints, out, &mut last.1).is_none() {
+            out.truncate_to(base);
+            return;
+        }
+    }
+    let keep = &last.1;
+    let tri_base = out.triangles.len();
+    let corner = |t: usize| -> Option<i64> {
+        let i = match &indices {
+            Some(e) => e.index(t)? as usize,
+            None => t,
+        };
+        keep.get(i).copied()
+    };
+    for t in (0..corners / 3).map(|t| 3 * t) {
+        let (Some(a), Some(b), Some(c)) = (corner(t), corner(t + 1), corner(t + 2)) else {
+            // An index beyond the vertices: the primitive is left out (and its vertices, if
+            // they were its own).
+            out.triangles.truncate(tri_base);
+            out.truncate_to(base);
+            return;
+        };
+        if a >= 0 && b >= 0 && c >= 0 {
+            out.triangles.push([a as u32, b as u32, c as u32]);
+        }
+    }
+    last.0 = key;
+}
+
+/// Appends a primitive's vertices to `out` and each one's index there (-1: left out) to `keep`
+/// (emptied first); `None` when one cannot be read (the caller takes back what was appended).
+fn read_vertices(
+    pos: &Elements,
+    ji: &Elements,
+    wi: &Elements,
+    joints: &Joints,
+    out: &mut SkinMesh,
+    keep: &mut Vec<i64>,
+) -> Option<()> {
+    let count = pos.count;
     // Every vertex first (a primitive is all or nothing): its index in `out`, or -1.
-    let mut keep: Vec<i64> = Vec::with_capacity(count);
+    keep.clear();
+    keep.reserve(count);
     for i in 0..count {
         let mut w = [0.0f32; 4];
         let mut j = [0usize; 4];
         for k in 0..4 {
-            let (Some(wk), Some(jk)) = (wi.get(i, k), ji.get(i, k)) else {
-                out.truncate_to(base);
-                return;
-            };
-            w[k] = wk;
-            j[k] = jk as usize;
+            w[k] = wi.get(i, k)?;
+            j[k] = ji.get(i, k)? as usize;
         }
         if w.iter().any(|x| !x.is_finite() || *x < 0.0) {
-            out.truncate_to(base);
-            return;
+            return None;
         }
         // A weighted joint beyond the skin's joints: the primitive is broken.
         if (0..4).any(|k| w[k] > 0.0 && j[k] >= joints.matrices.len()) {
-            out.truncate_to(base);
-            return;
+            return None;
         }
         // The dominant joint: the first of the largest weight (restPoseFromVRM's choice).
         let mut best = 0;
@@ -218,20 +281,14 @@ fn read_primitive(data: &MeshData, bin: &[u8], p: &Primitive, joints: &Joints, o
             keep.push(-1);
             continue;
         };
-        let (Some(x), Some(y), Some(z)) = (pos.get(i, 0), pos.get(i, 1), pos.get(i, 2)) else {
-            out.truncate_to(base);
-            return;
-        };
+        let (x, y, z) = (pos.get(i, 0)?, pos.get(i, 1)?, pos.get(i, 2)?);
         let v = [f64::from(x), f64::from(y), f64::from(z)];
         let mut p = [0.0f64; 3];
         for k in 0..4 {
             if w[k] == 0.0 {
                 continue;
             }
-            let Some(m) = joints.matrices.get(j[k]) else {
-                out.truncate_to(base);
-                return;
-            };
+            let m = joints.matrices.get(j[k])?;
             let q = m.apply_point(v);
             for c in 0..3 {
                 p[c] += f64::from(w[k]) * q[c];
@@ -246,25 +303,7 @@ fn read_primitive(data: &MeshData, bin: &[u8], p: &Primitive, joints: &Joints, o
         out.positions.push(p);
         out.bones.push(bone);
     }
-    let tri_base = out.triangles.len();
-    let corner = |t: usize| -> Option<i64> {
-        let i = match &indices {
-            Some(e) => e.index(t)? as usize,
-            None => t,
-        };
-        keep.get(i).copied()
-    };
-    for t in (0..corners / 3).map(|t| 3 * t) {
-        let (Some(a), Some(b), Some(c)) = (corner(t), corner(t + 1), corner(t + 2)) else {
-            // An index beyond the vertices.
-            out.triangles.truncate(tri_base);
-            out.truncate_to(base);
-            return;
-        };
-        if a >= 0 && b >= 0 && c >= 0 {
-            out.triangles.push([a as u32, b as u32, c as u32]);
-        }
-    }
+    Some(())
 }
 
 trait Truncate {

@@ -128,27 +128,36 @@ fn expected(name: &str, bytes: &[u8]) -> SkinMesh {
         .iter()
         .map(index)
         .collect::<Vec<_>>();
+    // Primitives over the same accessors share their vertices (each vertex once).
+    type Read = ((usize, usize, usize), u32, Vec<Option<u32>>);
+    let mut read: Vec<Read> = Vec::new();
     for p in json["meshes"][index(&node["mesh"])]["primitives"]
         .as_array()
         .unwrap()
     {
         let at = |k: &str| index(&p["attributes"][k]);
         let pos = read_accessor(&json, &bin, at("POSITION"));
-        let ji = read_accessor(&json, &bin, at("JOINTS_0"));
-        let wi = read_accessor(&json, &bin, at("WEIGHTS_0"));
-        let base = out.positions.len() as u32;
-        let mut keep = Vec::new();
-        for ((v, j), w) in pos.iter().zip(&ji).zip(&wi) {
-            let best = (0..4).fold(0, |b, k| if w[k] > w[b] { k } else { b });
-            match humanoid(joints[j[best] as usize]) {
-                Some(bone) => {
-                    keep.push(Some(out.positions.len() as u32 - base));
-                    out.positions.push(Vec3::new(v[0], v[1], v[2]));
-                    out.bones.push(bone);
+        let key = (at("POSITION"), at("JOINTS_0"), at("WEIGHTS_0"));
+        if !read.iter().any(|(k, ..)| *k == key) {
+            let ji = read_accessor(&json, &bin, at("JOINTS_0"));
+            let wi = read_accessor(&json, &bin, at("WEIGHTS_0"));
+            let base = out.positions.len() as u32;
+            let mut keep = Vec::new();
+            for ((v, j), w) in pos.iter().zip(&ji).zip(&wi) {
+                let best = (0..4).fold(0, |b, k| if w[k] > w[b] { k } else { b });
+                match humanoid(joints[j[best] as usize]) {
+                    Some(bone) => {
+                        keep.push(Some(out.positions.len() as u32 - base));
+                        out.positions.push(Vec3::new(v[0], v[1], v[2]));
+                        out.bones.push(bone);
+                    }
+                    None => keep.push(None),
                 }
-                None => keep.push(None),
             }
+            read.push((key, base, keep));
         }
+        let (_, base, keep) = read.iter().find(|(k, ..)| *k == key).unwrap();
+        let (base, keep) = (*base, keep.clone());
         let corners: Vec<usize> = match p.get("indices") {
             Some(i) => read_accessor(&json, &bin, index(i))
                 .iter()
@@ -192,9 +201,9 @@ fn generated_avatars_skin_is_the_stored_mesh_with_its_bones() {
             let bytes = avatar(&name);
             let got = skin_in_model_frame(&load(&name, &bytes));
             let want = expected(&name, &bytes);
-            // Two primitives (body, eyes) over one vertex buffer: 2 x 13,524 vertices, and
-            // every vertex has a humanoid bone (the rig's root joint carries no weight).
-            assert_eq!(got.positions.len(), 2 * 13_524, "{name}");
+            // Two primitives (body, eyes) over one vertex buffer: 13,524 vertices read once,
+            // and every vertex has a humanoid bone (the rig's root joint carries no weight).
+            assert_eq!(got.positions.len(), 13_524, "{name}");
             let gap = largest_gap(&got, &want, &name);
             assert!(gap < 2e-6, "{name}: a vertex {gap} m from the stored one");
             assert!(got.bones == want.bones, "{name}: bones differ");
@@ -334,11 +343,8 @@ fn re_encoded_attributes_read_the_same() {
         .filter(|&i| got.bones[i] != reference.bones[i])
         .count();
     assert_eq!(differ, 0, "vertices whose bone changed");
-    let first: Vec<_> = reference
-        .triangles
-        .iter()
-        .filter(|t| t[0] < n as u32)
-        .collect();
+    // The reference's first triangles are primitive 0's (both primitives share its n vertices).
+    let first: Vec<_> = reference.triangles[..m / 3].iter().collect();
     assert_eq!(
         got.triangles[..first.len()].iter().collect::<Vec<_>>(),
         first
@@ -415,10 +421,10 @@ fn broken(edit: impl FnOnce(&mut Value, &mut Vec<u8>)) -> Vec<u8> {
 fn broken_primitives_are_skipped_and_the_rig_still_loads() {
     let whole = skin_in_model_frame(&load("woman-vrm1.vrm", &avatar("woman-vrm1.vrm")));
     let n = 13_524;
-    // The two primitives (body, eyes) share one vertex buffer: one of them read is the first
-    // half of the whole skin; the triangles tell which.
+    // The two primitives (body, eyes) share one vertex buffer, read once: with either one
+    // read, the vertices are the whole skin's; the triangles tell which.
     let one_primitive =
-        |s: &SkinMesh| s.positions[..] == whole.positions[..n] && s.bones[..] == whole.bones[..n];
+        |s: &SkinMesh| s.positions[..] == whole.positions[..] && s.bones[..] == whole.bones[..];
     type Edit = Box<dyn Fn(&mut Value, &mut Vec<u8>)>;
     let body_broken: Vec<(&str, Edit)> = vec![
         (
@@ -493,7 +499,7 @@ fn broken_primitives_are_skipped_and_the_rig_still_loads() {
         ),
     ];
     for (what, edit) in body_broken {
-        // The body's primitive broken: only the eyes' (a whole copy of the vertices) stays.
+        // The body's primitive broken: only the eyes' (over all the vertices) stays.
         let s = load("woman-vrm1.vrm", &broken(&*edit));
         let skin = skin_in_model_frame(&s);
         assert!(
@@ -550,9 +556,9 @@ fn broken_primitives_are_skipped_and_the_rig_still_loads() {
         assert!(s.skin().is_none(), "{what}: a skin was read");
         Rig::new(s, RigOptions::default()).unwrap_or_else(|e| panic!("{what}: {e}"));
     }
-    // The whole file: both primitives over the same vertices.
-    assert_eq!(whole.positions.len(), 2 * n);
-    assert!(whole.positions[..n] == whole.positions[n..]);
+    // The whole file: both primitives over the same vertices, each vertex once.
+    assert_eq!(whole.positions.len(), n);
+    assert_eq!(whole.triangles.len(), 26_756 + 280);
 }
 
 /// One random edit of the skin's JSON: a field of an accessor, buffer view, primitive or skin
