@@ -489,7 +489,8 @@ impl Face {
         // A lid lowered by looking down is not a blink: each eye's calibrated blink less a
         // share of its calibrated look-down.
         let b = [0, 1].map(|e| {
-            cal(BLINK + e, raw[BLINK + e]) - LOOK_DOWN_BLINK * cal(LOOK_DOWN + e, raw[LOOK_DOWN + e])
+            cal(BLINK + e, raw[BLINK + e])
+                - LOOK_DOWN_BLINK * cal(LOOK_DOWN + e, raw[LOOK_DOWN + e])
         });
         // Both eyes together, up to the user's closed level (learned from the frames read as
         // closed, from a prior, floored).
