@@ -12,6 +12,8 @@
 //   - the wink's side: on one-eye closed frames, the other eye stays under 0.5;
 //   - aa on open-mouth frames (truth aa >= 0.8: mean, share >= 0.3) and on closed-mouth ones
 //     (no mouth expression within 2 frames: share <= 0.1);
+//   - head yaw and pitch against the transformation matrix's (issue 50's criterion, as
+//     eval/face.mjs measures it on the ASL clips: what the solver makes of MediaPipe's head);
 //   - head yaw and pitch against the rendered truth (neck x head, degrees: mean, 95th percentile,
 //     largest), every frame; raw, and from the solver's reading of the avatar's still face (the
 //     rendered face at rest is not MediaPipe's canonical face at rest: a constant offset);
@@ -143,6 +145,12 @@ function yawPitch([x, y, z, w]) {
   const fz = 1 - 2 * (x * x + y * y);
   return [Math.atan2(fx, fz) * DEG, Math.atan2(-fy, Math.hypot(fx, fz)) * DEG];
 }
+/** The matrix's head direction as yaw, pitch (the avatar frame, un-mirrored), as eval/face.mjs. */
+function matrixYawPitch(m) {
+  const n = Math.hypot(m[8], m[9], m[10]);
+  const fx = m[8] / n, fy = m[9] / n, fz = m[10] / n;
+  return [Math.atan2(fx, fz) * DEG, Math.atan2(-fy, Math.hypot(fx, fz)) * DEG];
+}
 const PRESETS = ["happy", "angry", "sad", "relaxed", "surprised", "aa", "ih", "ou", "ee", "oh", "blink", "blinkLeft", "blinkRight"];
 
 const runs = new Map();
@@ -176,6 +184,7 @@ function runOnce(avatar, clip) {
     const hk = f.landmarks ? Face.solve(frame.faceLandmarks[0], { runtime: "mediapipe", imageSize: { width: rec.width, height: rec.height }, smoothBlink: false }) : null;
     return {
       tracked: !!f.landmarks,
+      matrix: f.matrix ? matrixYawPitch(f.matrix) : null,
       truth: {
         left: Math.max(t.blink ?? 0, t.blinkLeft ?? 0),
         right: Math.max(t.blink ?? 0, t.blinkRight ?? 0),
@@ -216,7 +225,7 @@ const mean = (xs) => (xs.length ? xs.reduce((a, b) => a + b, 0) / xs.length : Na
 const share = (xs, pred) => (xs.length ? xs.filter(pred).length / xs.length : NaN);
 
 function score(list, who) {
-  const acc = { frames: 0, tracked: 0, closed: [], closedBoth: [], closedWink: [], otherEye: [], open: [], shut: [], yaw: [], pitch: [], yawRest: [], pitchRest: [], look: [], still: [], falseBlink: [] };
+  const acc = { frames: 0, tracked: 0, closed: [], closedBoth: [], closedWink: [], otherEye: [], open: [], shut: [], yaw: [], pitch: [], yawM: [], pitchM: [], yawRest: [], pitchRest: [], look: [], still: [], falseBlink: [] };
   for (const avatar of list) {
     // The avatar's rest face as the solver reads it (mean head angles over face-still after its
     // first 10 frames): the rendered face at rest is not MediaPipe's canonical face at rest.
@@ -233,6 +242,15 @@ function score(list, who) {
         return agree <= 0 ? 1 : -1;
       };
       const sy = flip((s) => s.head[0]);
+      // Against the matrix: each sign as the one that agrees with it (handrig's as they come).
+      const flipM = (c) => {
+        if (who === "handrig") return 1;
+        let agree = 0;
+        for (const r of res) if (r[who] && r.matrix) agree += Math.abs(r[who].head[c] - r.matrix[c]) - Math.abs(-r[who].head[c] - r.matrix[c]);
+        return agree <= 0 ? 1 : -1;
+      };
+      const smy = flipM(0);
+      const smp = flipM(1);
       const sp = flip((s) => s.head[1]);
       const sl = flip((s) => s.look);
       // Kalidokit's eye sides: swapped if that matches the truth better.
@@ -268,6 +286,10 @@ function score(list, who) {
         else if (!near(k, 2, (t) => t.mouth > 0)) acc.shut.push(s.aa);
         acc.yaw.push(Math.abs(sy * s.head[0] - r.truth.head[0]));
         acc.pitch.push(Math.abs(sp * s.head[1] - r.truth.head[1]));
+        if (r.matrix) {
+          acc.yawM.push(Math.abs(smy * s.head[0] - r.matrix[0]));
+          acc.pitchM.push(Math.abs(smp * s.head[1] - r.matrix[1]));
+        }
         acc.yawRest.push(Math.abs(sy * (s.head[0] - rest[0]) - r.truth.head[0]));
         acc.pitchRest.push(Math.abs(sp * (s.head[1] - rest[1]) - r.truth.head[1]));
         if (Math.abs(r.truth.look) >= 20) acc.look.push(Math.sign(sl * s.look) === Math.sign(r.truth.look) ? 1 : 0);
@@ -302,6 +324,10 @@ function score(list, who) {
     pitchErrMean: mean(acc.pitch),
     pitchErrP95: pct(acc.pitch, 0.95),
     pitchErrMax: Math.max(...acc.pitch),
+    yawMatrixMean: mean(acc.yawM),
+    yawMatrixMax: Math.max(...acc.yawM),
+    pitchMatrixMean: mean(acc.pitchM),
+    pitchMatrixMax: Math.max(...acc.pitchM),
     yawRestMean: mean(acc.yawRest),
     yawRestP95: pct(acc.yawRest, 0.95),
     yawRestMax: Math.max(...acc.yawRest),
@@ -332,6 +358,8 @@ const rows = [
   ["false blinks (share of open-eye frames)", (s) => `${f(s.falseBlinks, 3)} (${s.openEyeFrames})`],
   ["aa on open-mouth frames: mean / share >= 0.3", (s) => `${f(s.aaOpenMean)} / ${f(s.aaOpenAtLeast03)} (${s.openFrames})`],
   ["aa on closed-mouth frames: share <= 0.1", (s) => `${f(s.aaShutAtMost01)} (${s.shutFrames})`],
+  ["head yaw vs matrix (deg): mean / max", (s) => `${f(s.yawMatrixMean, 1)} / ${f(s.yawMatrixMax, 1)}`],
+  ["head pitch vs matrix (deg): mean / max", (s) => `${f(s.pitchMatrixMean, 1)} / ${f(s.pitchMatrixMax, 1)}`],
   ["head yaw vs truth (deg): mean / p95 / max", (s) => `${f(s.yawErrMean, 1)} / ${f(s.yawErrP95, 1)} / ${f(s.yawErrMax, 1)}`],
   ["head pitch vs truth (deg): mean / p95 / max", (s) => `${f(s.pitchErrMean, 1)} / ${f(s.pitchErrP95, 1)} / ${f(s.pitchErrMax, 1)}`],
   ["head yaw vs truth, from the rest reading (deg): mean / p95 / max", (s) => `${f(s.yawRestMean, 1)} / ${f(s.yawRestP95, 1)} / ${f(s.yawRestMax, 1)}`],

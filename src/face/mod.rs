@@ -208,6 +208,35 @@ pub const HEAD_BETA: f32 = 10.0;
 pub const BLINK_OPEN: f32 = 0.2;
 /// See [`BLINK_OPEN`].
 pub const BLINK_CLOSED: f32 = 0.6;
+/// Both eyes together: the smaller of the two eyes' corrected blinks below this is open, above
+/// the user's closed level closed (linear between; each eye shows the larger of this and its
+/// own ramp). Both lids rising together is a blink's own sign: on the ASL clips' open frames
+/// the smaller eye reads at most 0.17-0.18 (signers looking down lower one lid more than the
+/// other), where one eye alone reaches 0.30-0.33, so both eyes can close on less than one
+/// eye; the bench's hooded man closes both at 0.32-0.39, under the one-eye ramp's 0.4.
+pub const BOTH_OPEN: f32 = 0.15;
+/// The user's closed level for both eyes before any blink is seen (see [`BOTH_OPEN`]): each
+/// frame both eyes read as closed (at least half) adds its reading to a mean that starts at
+/// this, weighted as [`BOTH_PRIOR_FRAMES`] frames, so the ramp ends at what this user's closed
+/// eyes score (a hooded eye, glasses or a camera from below score them lower). Chosen on the
+/// tuning half with [`BOTH_OPEN`]: the ramp's middle (0.30) halfway between the ASL clips'
+/// largest open reading (0.17) and the bench woman's smallest closed one (0.43).
+pub const BOTH_CLOSED: f32 = 0.45;
+/// How many frames [`BOTH_CLOSED`] counts for in the user's closed level.
+pub const BOTH_PRIOR_FRAMES: f32 = 10.0;
+/// The lowest closed level learned (see [`BOTH_CLOSED`]): both eyes read as half closed from
+/// 0.25 at least, 0.08 above the ASL tuning clips' largest open reading, however a user's
+/// blinks score (a user who never closes their eyes is not taught to).
+pub const BOTH_CLOSED_FLOOR: f32 = 0.35;
+/// A wink: one eye's corrected blink this much above the other's is open, [`WINK_CLOSED`]
+/// closed (each eye shows the larger of this and its own ramp). MediaPipe scores one closed
+/// eye lower than both closed (0.2-0.45 on the bench's rendered winks where a blink scores
+/// 0.5-0.78), with the other eye at 0. Chosen on the tuning half: the most of the bench woman's
+/// wink frames (10 of 22; 5 with the one-eye ramp alone) with the ASL clips' other frames no
+/// closer to a blink than 0.4 (`thanks`: one lid 0.37 above the other, looking down).
+pub const WINK_OPEN: f32 = 0.25;
+/// See [`WINK_OPEN`].
+pub const WINK_CLOSED: f32 = 0.55;
 /// A calibration frame whose weight is more than this above that weight's mean so far is left
 /// out of its neutral value: an expression only raises a weight above the user's rest, and a
 /// blink within the calibration (the bench's first two blinks fall within its 2 s; a user
@@ -273,6 +302,10 @@ pub struct Face {
     neutral_frames: u32,
     /// The neutral face: `neutral_sum` over `neutral_count`, capped at 0.5 (updated with them).
     neutral: [f32; SHAPES],
+    /// The frames both eyes read as closed: the sum of their readings and their count (the
+    /// user's closed level, [`BOTH_CLOSED`]).
+    closed_sum: f32,
+    closed_count: f32,
     calibration_start: Option<f64>,
     /// Last frame time with a face (ms).
     seen_ms: Option<f64>,
@@ -295,6 +328,8 @@ impl Default for Face {
             neutral_count: [0.0; SHAPES],
             neutral_frames: 0,
             neutral: [0.0; SHAPES],
+            closed_sum: 0.0,
+            closed_count: 0.0,
             calibration_start: None,
             seen_ms: None,
             arkit: [0.0; SHAPES],
@@ -357,6 +392,8 @@ impl Face {
         self.neutral_count = [0.0; SHAPES];
         self.neutral_frames = 0;
         self.calibration_start = None;
+        self.closed_sum = 0.0;
+        self.closed_count = 0.0;
     }
 
     /// A frame without a face: the next face restarts the filters.
@@ -370,7 +407,7 @@ impl Face {
         self.seen_ms.is_some()
     }
 
-    /// Forgets the history but the neutral face.
+    /// Forgets the history but the neutral face and the closed eyes' level.
     pub fn restart(&mut self) {
         let (sum, count, n, neutral, start) = (
             self.neutral_sum,
@@ -379,7 +416,9 @@ impl Face {
             self.neutral,
             self.calibration_start,
         );
+        let closed = (self.closed_sum, self.closed_count);
         *self = Face::default();
+        (self.closed_sum, self.closed_count) = closed;
         self.neutral_sum = sum;
         self.neutral_count = count;
         self.neutral_frames = n;
@@ -447,17 +486,32 @@ impl Face {
             self.presets[10] + self.presets[11],
             self.presets[10] + self.presets[12],
         ];
+        // A lid lowered by looking down is not a blink: each eye's calibrated blink less a
+        // share of its calibrated look-down.
+        let b = [0, 1].map(|e| {
+            cal(BLINK + e, raw[BLINK + e])
+                - LOOK_DOWN_BLINK * cal(LOOK_DOWN + e, raw[LOOK_DOWN + e])
+        });
+        // Both eyes together, up to the user's closed level (learned from the frames read as
+        // closed, from a prior, floored).
+        let both = b[0].min(b[1]);
+        let level = ((BOTH_CLOSED * BOTH_PRIOR_FRAMES + self.closed_sum)
+            / (BOTH_PRIOR_FRAMES + self.closed_count))
+            .max(BOTH_CLOSED_FLOOR);
+        let together = clamp01((both - BOTH_OPEN) / (level - BOTH_OPEN));
+        if together >= 0.5 {
+            self.closed_sum += both;
+            self.closed_count += 1.0;
+        }
         let mut blinks = [0.0; 2];
         for e in 0..2 {
             let k = BLINK + e;
             self.arkit[k] = limit(raw[k], self.arkit[k]);
-            // A lid lowered by looking down is not a blink; then open below BLINK_OPEN,
-            // closed above BLINK_CLOSED.
-            let b = cal(k, raw[k]) - LOOK_DOWN_BLINK * cal(LOOK_DOWN + e, raw[LOOK_DOWN + e]);
-            blinks[e] = limit(
-                clamp01((b - BLINK_OPEN) / (BLINK_CLOSED - BLINK_OPEN)),
-                shown_blinks[e],
-            );
+            // Each eye: its own ramp (BLINK_OPEN..BLINK_CLOSED), both eyes' and a wink's
+            // (above the other eye), the largest.
+            let own = clamp01((b[e] - BLINK_OPEN) / (BLINK_CLOSED - BLINK_OPEN));
+            let wink = clamp01((b[e] - b[1 - e] - WINK_OPEN) / (WINK_CLOSED - WINK_OPEN));
+            blinks[e] = limit(own.max(together).max(wink), shown_blinks[e]);
         }
         let filtered = filter_all(&mut self.euro, &raw, dt, o);
         for k in (0..SHAPES).filter(|k| *k != BLINK && *k != BLINK + 1) {

@@ -171,7 +171,9 @@ fn a_blink_closes_at_once_opens_limited_and_looking_down_is_not_one() {
 fn a_blink_while_calibrating_does_not_raise_the_neutral_face() {
     // The neutral face is calibrated over the first 2 s (the default): a user who blinks in
     // them (two blinks of 5 frames at 30 fps, 170 ms each) must see later blinks as one who did
-    // not. With the mean as the neutral, the blinks raised it (`eyeBlink` 0.05 -> 0.15).
+    // not. With the mean as the neutral, the blinks raised it (`eyeBlink` 0.05 -> 0.15). The
+    // user who did not blinks as often in the next 2 s, so that both rigs have learned the
+    // same closed level (`BOTH_CLOSED`) from two blinks.
     let blinks_after = |blink_while_calibrating: bool| {
         let mut r = rig(RigOptions::default());
         let mut out = SolveOutput::default();
@@ -185,9 +187,10 @@ fn a_blink_while_calibrating_does_not_raise_the_neutral_face() {
             }
             w
         };
-        for i in 0..60 {
+        for i in 0..120 {
             let t = f64::from(i) * 1000.0 / 30.0;
-            let shut = blink_while_calibrating && (i % 30) >= 15 && (i % 30) < 20;
+            let blinking = (i % 30) >= 15 && (i % 30) < 20;
+            let shut = blinking && (i < 60) == blink_while_calibrating;
             let w = if shut {
                 eyes(0.65, 0.7)
             } else {
@@ -195,10 +198,10 @@ fn a_blink_while_calibrating_does_not_raise_the_neutral_face() {
             };
             r.solve(&frame(t, w, None), &mut out).unwrap();
         }
-        // After the calibration: open, then a blink as MediaPipe scores the bench's man's.
-        r.solve(&frame(2100.0, eyes(0.05, 0.2), None), &mut out)
+        // Then open, then a blink as MediaPipe scores the bench's man's.
+        r.solve(&frame(4100.0, eyes(0.05, 0.2), None), &mut out)
             .unwrap();
-        r.solve(&frame(2133.0, eyes(0.5, 0.66), None), &mut out)
+        r.solve(&frame(4133.0, eyes(0.5, 0.66), None), &mut out)
             .unwrap();
         preset(&out, "blink")
     };
@@ -314,4 +317,65 @@ fn a_row_major_matrix_and_bad_scores_are_named() {
     // The rig stays usable.
     r.solve(&frame(33.0, [0.0; SHAPES], None), &mut out)
         .unwrap();
+}
+
+#[test]
+fn both_eyes_close_on_less_than_one_and_learn_the_users_closed_level() {
+    // The bench's hooded man: open eyes `eyeBlink` 0.03 (`eyeLookDown` 0.07), closed eyes 0.55
+    // with `eyeLookDown` 0.68, which one eye's ramp reads as 0.43 of a blink.
+    let mut r = rig(RigOptions::default());
+    let mut out = SolveOutput::default();
+    let eyes = |left: f32, right: f32, down: f32| {
+        let mut w = [0.0; SHAPES];
+        w[shape("eyeBlinkLeft")] = left;
+        w[shape("eyeBlinkRight")] = right;
+        for n in ["eyeLookDownLeft", "eyeLookDownRight"] {
+            w[shape(n)] = down;
+        }
+        w
+    };
+    let mut t = 0.0;
+    let mut step = |w: [f32; SHAPES], out: &mut SolveOutput| {
+        r.solve(&frame(t, w, None), out).unwrap();
+        t += 1000.0 / 30.0;
+    };
+    for _ in 0..70 {
+        step(eyes(0.03, 0.03, 0.07), &mut out);
+    }
+    let mut blink = |out: &mut SolveOutput| {
+        step(eyes(0.55, 0.55, 0.68), out);
+        let closed = preset(out, "blink");
+        for _ in 0..4 {
+            step(eyes(0.55, 0.55, 0.68), out);
+        }
+        for _ in 0..20 {
+            step(eyes(0.03, 0.03, 0.07), out);
+        }
+        assert_eq!(preset(out, "blink"), 0.0, "open again");
+        closed
+    };
+    let first = blink(&mut out);
+    assert!(first >= 0.5, "both eyes closed: {first}");
+    let mut later = first;
+    for _ in 0..3 {
+        later = blink(&mut out);
+    }
+    assert!(
+        later > first + 0.05,
+        "closer once this user's blinks are learned: {first} -> {later}"
+    );
+    // One eye alone at the same score is no blink (a wink: that eye alone).
+    step(eyes(0.55, 0.03, 0.68), &mut out);
+    assert!(preset(&out, "blink") == 0.0 && preset(&out, "blinkRight") == 0.0);
+    for _ in 0..10 {
+        step(eyes(0.03, 0.03, 0.07), &mut out);
+    }
+    // A wink as the bench's woman's scores: one eye 0.45, the other open.
+    step(eyes(0.45, 0.02, 0.4), &mut out);
+    assert!(
+        preset(&out, "blinkLeft") >= 0.5 && preset(&out, "blink") == 0.0,
+        "a wink: blinkLeft {}, blink {}",
+        preset(&out, "blinkLeft"),
+        preset(&out, "blink")
+    );
 }

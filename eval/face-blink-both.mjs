@@ -1,0 +1,233 @@
+#!/usr/bin/env node
+// The face's both-eyes blink and wink (issue 50, seventh session) by a replica of src/face's
+// blink arithmetic over the FaceLandmarker recordings (eval/face-bench/*.json: the face bench;
+// eval/face/*.json: the ASL clips), without building the package. Per eye, the corrected blink
+// b = cal(eyeBlink) - LOOK_DOWN_BLINK x cal(eyeLookDown) (cal: over the neutral face, the mean
+// of the first 2 s without frames NEUTRAL_OUTLIER above it); each eye shows the largest of
+//   - its own ramp, BLINK_OPEN..BLINK_CLOSED (main's blink);
+//   - both eyes': min(bL, bR) over BOTH_OPEN..the user's closed level (the mean of the frames
+//     it reads as closed, starting at BOTH_CLOSED weighted as BOTH_PRIOR_FRAMES frames, at
+//     least BOTH_CLOSED_FLOOR; or fixed at BOTH_CLOSED);
+//   - a wink's: b - b_other over WINK_OPEN..WINK_CLOSED;
+// then the opening limited to 0.1 s. It follows src/face/mod.rs by hand: check a setting
+// against the package (node eval/face-bench.mjs, node eval/face.mjs) before trusting it.
+//
+// Prints, on the tuning half (the bench's woman; ASL again, eat, please, thanks) or with
+// --report on the report half (the bench's man and child; ASL brother, hungry, sister):
+//   1. the corrected blinks' ranges: both eyes closed (the smaller eye), a wink's closed eye and
+//      the other, open frames (the larger eye, the smaller, the difference);
+//   2. the variants: both-eyes closed frames caught (per avatar, their mean blink), wink frames
+//      caught, false blinks, the largest move on still stretches; the ASL clips' labelled blink,
+//      false blinks and the largest blink on other frames;
+//   3. --grid: the wink's ramp.
+//
+//   node eval/face-blink-both.mjs [--report] [--grid]
+
+import { readFileSync } from "node:fs";
+import { join } from "node:path";
+import { parseArgs } from "node:util";
+import { REPO } from "./bench/common.mjs";
+import { FACE_CLIPS, faceFrame } from "./bench/face-motions.mjs";
+
+const { values: o } = parseArgs({ options: { report: { type: "boolean" }, grid: { type: "boolean" } } });
+const BENCH = o.report ? ["man", "child"] : ["woman"];
+const ASL = o.report ? ["brother", "hungry", "sister"] : ["again", "eat", "please", "thanks"];
+const labels = JSON.parse(readFileSync(join(REPO, "eval", "labels", "face.json"), "utf8"));
+const clamp01 = (x) => Math.min(1, Math.max(0, x));
+const BLINK = 8;
+const LOOK_DOWN = 10;
+// src/face/mod.rs
+const LOOK_DOWN_BLINK = 0.25;
+const NEUTRAL_OUTLIER = 0.35;
+const CALIBRATION_MS = 2000;
+
+/** Each face frame's corrected blinks [left, right] (the avatar's sides: un-mirrored input), or null. */
+function series(frames) {
+  let start = null;
+  let sum = null;
+  let n = null;
+  return frames.map((f) => {
+    if (!f.blendshapes) return null;
+    const raw = f.blendshapes.slice(1).map(([, x]) => clamp01(x));
+    start ??= f.timeMs;
+    if (f.timeMs - start <= CALIBRATION_MS || !sum) {
+      if (!sum) {
+        sum = raw.slice();
+        n = raw.map(() => 1);
+      } else {
+        for (let k = 0; k < raw.length; k++) {
+          if (raw[k] <= sum[k] / n[k] + NEUTRAL_OUTLIER) {
+            sum[k] += raw[k];
+            n[k]++;
+          }
+        }
+      }
+    }
+    const cal = (k) => {
+      const neutral = Math.min(0.5, sum[k] / n[k]);
+      return clamp01((raw[k] - neutral) / (1 - neutral));
+    };
+    return { t: f.timeMs, b: [0, 1].map((e) => cal(BLINK + e) - LOOK_DOWN_BLINK * cal(LOOK_DOWN + e)) };
+  });
+}
+
+const bench = BENCH.flatMap((avatar) =>
+  FACE_CLIPS.map((clip) => {
+    const rec = JSON.parse(readFileSync(join(REPO, "eval", "face-bench", `${avatar}-${clip.id}.json`), "utf8"));
+    const truth = rec.frames.map((_, i) => {
+      const t = faceFrame(clip, i).expressions;
+      return [Math.max(t.blink ?? 0, t.blinkLeft ?? 0), Math.max(t.blink ?? 0, t.blinkRight ?? 0)];
+    });
+    return { avatar, clip: clip.id, s: series(rec.frames), truth };
+  }),
+);
+const asl = ASL.map((c) => ({
+  clip: c,
+  s: series(JSON.parse(readFileSync(join(REPO, "eval", "face", `${c}.json`), "utf8")).frames),
+  closed: new Set(labels[c].eyesClosed),
+}));
+
+/** Each frame's shown blink per eye under variant v (null without a face). */
+function solve(s, v) {
+  let prev = [0, 0];
+  let last = null;
+  let sum = 0;
+  let count = 0;
+  return s.map((x) => {
+    if (!x) {
+      last = null;
+      return null;
+    }
+    const step = last === null ? null : (x.t - last) / 100;
+    last = x.t;
+    let y = [0, 1].map((e) => clamp01((x.b[e] - 0.2) / 0.4));
+    if (v.both) {
+      const m = Math.min(...x.b);
+      const level = v.both.adapt ? Math.max(v.both.floor, (v.both.closed * v.both.prior + sum) / (v.both.prior + count)) : v.both.closed;
+      const together = clamp01((m - v.both.open) / (level - v.both.open));
+      if (v.both.adapt && together >= 0.5) {
+        sum += m;
+        count++;
+      }
+      y = y.map((z) => Math.max(z, together));
+    }
+    if (v.wink) y = y.map((z, e) => Math.max(z, clamp01((x.b[e] - x.b[1 - e] - v.wink.open) / (v.wink.closed - v.wink.open))));
+    prev = y.map((z, e) => (step !== null && z < prev[e] ? Math.max(z, prev[e] - step) : z));
+    return prev;
+  });
+}
+
+const range = (xs) => (xs.length ? `${Math.min(...xs).toFixed(2)}..${Math.max(...xs).toFixed(2)}` : "n/a");
+const near = (truth, k) => truth.slice(Math.max(0, k - 2), k + 3).some(([l, r]) => l > 0 || r > 0);
+
+function readings() {
+  console.log("| | both closed: smaller eye | wink: closed eye / other | open: larger eye / smaller / difference |\n| --- | --- | --- | --- |");
+  for (const avatar of BENCH) {
+    const both = [], wink = [], other = [], big = [], small = [], diff = [];
+    for (const c of bench.filter((c) => c.avatar === avatar)) {
+      c.s.forEach((x, k) => {
+        if (!x) return;
+        const [l, r] = c.truth[k];
+        if (l >= 0.8 && r >= 0.8) both.push(Math.min(...x.b));
+        for (const [e, te, to] of [[0, l, r], [1, r, l]]) {
+          if (te >= 0.8 && to === 0) {
+            wink.push(x.b[e]);
+            other.push(x.b[1 - e]);
+          }
+        }
+        if (!near(c.truth, k)) {
+          big.push(Math.max(...x.b));
+          small.push(Math.min(...x.b));
+          diff.push(Math.abs(x.b[0] - x.b[1]));
+        }
+      });
+    }
+    console.log(`| bench ${avatar} | ${range(both)} | ${range(wink)} / ${range(other)} | ${range(big)} / ${range(small)} / ${range(diff)} |`);
+  }
+  for (const c of asl) {
+    const big = [], small = [], diff = [], closed = [];
+    c.s.forEach((x, k) => {
+      if (!x) return;
+      if (c.closed.has(k)) closed.push(x.b.map((b) => b.toFixed(2)).join(" / "));
+      else if (!c.closed.has(k - 1) && !c.closed.has(k + 1)) {
+        big.push(Math.max(...x.b));
+        small.push(Math.min(...x.b));
+        diff.push(Math.abs(x.b[0] - x.b[1]));
+      }
+    });
+    console.log(`| ASL ${c.clip}${closed.length ? ` (labelled blink: ${closed.join(", ")})` : ""} | | | ${range(big)} / ${range(small)} / ${range(diff)} |`);
+  }
+}
+
+function row(label, v) {
+  const per = {};
+  let wink = 0, winkN = 0, fb = 0, open = 0;
+  const still = [];
+  for (const c of bench) {
+    const out = solve(c.s, v);
+    const p = (per[c.avatar] ??= { hit: 0, n: 0, sum: 0 });
+    out.forEach((y, k) => {
+      if (!y) return;
+      const [l, r] = c.truth[k];
+      for (const [e, te, to] of [[0, l, r], [1, r, l]]) {
+        if (te >= 0.8 && to >= 0.8) {
+          p.n++;
+          p.sum += y[e];
+          if (y[e] >= 0.5) p.hit++;
+        }
+        if (te >= 0.8 && to === 0) {
+          winkN++;
+          if (y[e] >= 0.5) wink++;
+        }
+      }
+      if (!near(c.truth, k)) {
+        open++;
+        if (Math.max(...y) >= 0.5) fb++;
+      }
+      let held = k >= 6;
+      for (let j = k - 6; held && j < k; j++) if (c.truth[j][0] !== c.truth[k][0] || c.truth[j][1] !== c.truth[k][1]) held = false;
+      if (held && out[k - 1]) still.push(Math.max(Math.abs(y[0] - out[k - 1][0]), Math.abs(y[1] - out[k - 1][1])));
+    });
+  }
+  const a = { hit: 0, n: 0, other: 0, fb: 0, largest: 0 };
+  for (const c of asl) {
+    solve(c.s, v).forEach((y, k) => {
+      if (!y) return;
+      const b = Math.max(...y);
+      if (c.closed.has(k)) {
+        a.n++;
+        if (b >= 0.5) a.hit++;
+      } else if (!c.closed.has(k - 1) && !c.closed.has(k + 1)) {
+        a.other++;
+        a.largest = Math.max(a.largest, b);
+        if (b >= 0.5) a.fb++;
+      }
+    });
+  }
+  const both = Object.entries(per).map(([av, p]) => `${av} ${p.hit} / ${p.n} (${(p.sum / p.n).toFixed(2)})`).join(", ");
+  return `| ${label} | ${both} | ${wink} / ${winkN} | ${fb} / ${open} | ${Math.max(...still).toFixed(3)} | ${a.n ? `${a.hit} / ${a.n}` : "n/a"} | ${a.fb} / ${a.other} | ${a.largest.toFixed(2)} |`;
+}
+const HEAD = "| bench: both eyes closed, frames caught (mean blink) | bench: wink frames caught | bench: false blinks | bench: still stretches' largest move | ASL: labelled blink caught | ASL: false blinks | ASL: largest blink on other frames |";
+
+const MERGED = { both: { open: 0.15, closed: 0.45, prior: 10, floor: 0.35, adapt: true }, wink: { open: 0.25, closed: 0.55 } };
+console.log(`${o.report ? "report" : "tune"} half: bench ${BENCH.join(", ")}; ASL ${ASL.join(", ")}\n`);
+readings();
+console.log(`\n| variant ${HEAD}\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |`);
+const variants = [
+  ["main: each eye's ramp 0.2..0.6", {}],
+  ["+ both eyes, fixed 0.1..0.5", { both: { open: 0.1, closed: 0.5 } }],
+  ["+ both eyes, fixed 0.15..0.45", { both: { open: 0.15, closed: 0.45 } }],
+  ["+ both eyes, 0.15..the user's level (prior 0.45, 10 frames, floor 0.35)", { both: MERGED.both }],
+  ["+ both eyes, 0.1..the user's level (prior 0.5, 10 frames, floor 0.35)", { both: { ...MERGED.both, open: 0.1, closed: 0.5 } }],
+  ["+ both eyes, prior 5 frames", { both: { ...MERGED.both, prior: 5 } }],
+  ["+ both eyes, floor 0.3", { both: { ...MERGED.both, floor: 0.3 } }],
+  ["+ a wink 0.25..0.55 alone", { wink: MERGED.wink }],
+  ["**the user's level and the wink (merged)**", MERGED],
+];
+for (const [label, v] of variants) console.log(row(label, v));
+if (o.grid) {
+  console.log(`\n| wink ramp (with both eyes as merged) ${HEAD}\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |`);
+  for (const open of [0.15, 0.2, 0.25, 0.3]) {
+    for (const closed of [0.4, 0.45, 0.5, 0.55, 0.6, 0.7]) if (closed > open + 0.1) console.log(row(`${open}..${closed}`, { ...MERGED, wink: { open, closed } }));
+  }
+}
