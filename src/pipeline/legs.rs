@@ -35,6 +35,12 @@ const HOVER: f32 = 0.01;
 const SLIDE_MS: f32 = 300.0;
 const SLIDE_SPEED: f32 = 0.05;
 const SLIDE_FREE: f32 = 0.01;
+/// The thigh's own length in the image (in torso lengths) is learned as this upper quantile
+/// of its image length, at this rate (torso lengths per second), on frames where MediaPipe's
+/// world landmarks put the thigh within `OWN_FLAT` (the sine of 15 degrees) of the image plane.
+const OWN_QUANTILE: f32 = 0.9;
+const OWN_RATE: f32 = 0.3;
+const OWN_FLAT: f32 = 0.26;
 
 /// The legs stage: per side the leg solver, its presence, the rotations shown last frame and
 /// the blend's anchors; the grounding's state (the avatar's soles, the hips' offset, the
@@ -72,6 +78,8 @@ pub(super) struct Legs {
     /// Each leg's thigh and shin directions read from the image (not filtered with the world
     /// landmarks by the observe stage).
     segments: [PointFilters<2>; 2],
+    /// Each thigh's own length in the image, in torso lengths (learned; see [`View::segment`]).
+    own: [Option<f32>; 2],
 }
 
 impl Legs {
@@ -94,6 +102,7 @@ impl Legs {
             last_ankle: [None; 2],
             last_seen_ankle: [None; 2],
             segments: [PointFilters::default(); 2],
+            own: [None; 2],
         }
     }
 
@@ -116,6 +125,7 @@ impl Legs {
         self.last_ankle = [None; 2];
         self.last_seen_ankle = [None; 2];
         self.segments = [PointFilters::default(); 2];
+        self.own = [None; 2];
     }
 
     /// Each leg's bones into `out.local` (solved, held, easing or at rest), the legs' world
@@ -140,7 +150,8 @@ impl Legs {
                         meters: meters_per_height(cx, p),
                     };
                     let filter = &mut self.segments[side.index()];
-                    target(cx, &view, p, side, leg.lengths(), out, filter)
+                    let own = &mut self.own[side.index()];
+                    target(cx, &view, p, side, leg.lengths(), out, filter, own)
                 });
             }
         }
@@ -496,6 +507,14 @@ fn pelvis_turn(cx: &Context, pose: &PoseObservation, hips: Quat) -> Quat {
     Quat::from_rotation_y(yaw(hips * Vec3::X) - user)
 }
 
+/// The torso's world length (m): shoulder midpoint to hip midpoint.
+fn torso_length(pose: &PoseObservation) -> f32 {
+    use crate::input::mediapipe::pose_landmark as pl;
+    let w = &pose.world;
+    (0.5 * (w[pl::LEFT_SHOULDER] + w[pl::RIGHT_SHOULDER] - w[pl::LEFT_HIP] - w[pl::RIGHT_HIP]))
+        .length()
+}
+
 /// Meters per image height at the user's depth: the torso's world length (shoulder midpoint
 /// to hip midpoint) over its image length (x in widths, y in heights); `None` without image
 /// landmarks or a measurable torso.
@@ -531,7 +550,14 @@ impl View {
     /// 19 cm forward). On the bench, MediaPipe's bounded depth put the knee 15-30 mm from the
     /// truth (median, thigh alone) where the foreshortening's put it 34-82 mm
     /// (docs/measurements/2026-12-06-legs-bench.md, third session).
-    fn segment(&self, cx: &Context, pose: &PoseObservation, a: usize, b: usize) -> Vec3 {
+    fn segment(
+        &self,
+        cx: &Context,
+        pose: &PoseObservation,
+        a: usize,
+        b: usize,
+        own: Option<&mut Option<f32>>,
+    ) -> Vec3 {
         let world = pose.world[b] - pose.world[a];
         let to_world = |v: Vec3| self.turn * cx.camera.to_avatar(v);
         let (Some(image), Some(m)) = (cx.input.pose_image, self.meters) else {
@@ -539,7 +565,21 @@ impl View {
         };
         let d = image[b] - image[a];
         let across = Vec3::new(d.x * cx.input.image_aspect * m, d.y * m, 0.0);
-        let z = depth(world.length(), across.length());
+        let (seen, mut length) = (across.length(), world.length());
+        // EXPERIMENT: the bound against the user's own length in the image.
+        if let Some(own) = own {
+            let torso = torso_length(pose);
+            let r = seen / torso;
+            if world.z.abs() < OWN_FLAT * length && r.is_finite() {
+                let q = own.get_or_insert(r);
+                let below = if r < *q { 1.0 } else { 0.0 };
+                *q += OWN_RATE * cx.dt.unwrap_or(0.0) * (OWN_QUANTILE - below);
+            }
+            if let Some(q) = own {
+                length = *q * torso;
+            }
+        }
+        let z = depth(length, seen);
         to_world(across + Vec3::Z * world.z.clamp(-z, z))
     }
 }
@@ -560,6 +600,7 @@ fn target(
     lengths: (f32, f32),
     out: &SolveOutput,
     filter: &mut PointFilters<2>,
+    own: &mut Option<f32>,
 ) -> Option<LegTarget> {
     let [hip, knee, ankle, heel, toe] = leg_landmarks(cx.camera.pose_side_for(side));
     let min = cx.options.legs.min_visibility;
@@ -582,8 +623,8 @@ fn target(
     // Each of the user's segments along its direction with the avatar's length: the knee's
     // angle and the leg's direction are the user's (the IK bends the knee forwards, the
     // hinge and the hip's ranges limit it).
-    let thigh_dir = view.segment(cx, pose, hip, knee);
-    let shin_dir = view.segment(cx, pose, knee, ankle);
+    let thigh_dir = view.segment(cx, pose, hip, knee, Some(own));
+    let shin_dir = view.segment(cx, pose, knee, ankle, None);
     let mut dirs = [thigh_dir, shin_dir];
     if cx.options.filter.enabled && view.meters.is_some() && cx.input.pose_image.is_some() {
         filter.apply(&mut dirs, cx.now_ms, cx.dt, &cx.options.filter.one_euro());
