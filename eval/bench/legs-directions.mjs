@@ -67,6 +67,7 @@ for (const avatar of LEG_AVATARS) {
   }
   for (const clip of LEG_CLIPS) {
     const learned = {};
+    let thighWl = 0;
     const gated = {};
     const rec = JSON.parse(readFileSync(recordingFile(avatar, clip, "tasks"), "utf8"));
     const aspect = rec.width / rec.height;
@@ -127,7 +128,10 @@ for (const avatar of LEG_AVATARS) {
             // MediaPipe's depth, bounded by the depth the image leaves against the user's own
             // length (the learned quantile) rather than against the torso's image scale.
             ownbound: (() => {
-              const G = gated[key];
+              // SHIN=thigh: the shin's own length is the thigh's learned one times MediaPipe's
+              // shin-to-thigh world length ratio (the shin is not learned alone).
+              const G = si === 1 && process.env.SHIN === "thigh" ? (gated[`${side}0`] === undefined ? undefined : (gated[`${side}0`] * wl) / thighWl) : gated[key];
+              if (si === 0) thighWl = wl;
               const own = G === undefined ? wl : G * m * Math.hypot(ci[0] * aspect, ci[1]);
               const c = Math.min(1, al / own);
               const th = Math.min(Math.abs(Math.asin(Math.max(-1, Math.min(1, w[2] / wl)))), Math.acos(c));

@@ -225,7 +225,10 @@ impl Legs {
             ))
         });
         let to_meters = pose.and_then(|p| Some(meters_per_height(cx, p)? * self.scale(cx, p)?));
-        let mut speed = [f32::INFINITY; 2];
+        // On the session's first frame no speed is known: a foot on the floor is planted
+        // (else it moved, unlocked, while the next frame measured it: the bench's woman, 3-8
+        // mm of sliding on the first frames of every clip).
+        let mut speed = [if cx.dt.is_none() { 0.0 } else { f32::INFINITY }; 2];
         for s in 0..2 {
             if let (Some(a), Some(b), Some(dt), Some(m)) =
                 (seen_ankle[s], self.last_seen_ankle[s], cx.dt, to_meters)
