@@ -35,9 +35,10 @@ const HOVER: f32 = 0.01;
 const SLIDE_MS: f32 = 300.0;
 const SLIDE_SPEED: f32 = 0.05;
 const SLIDE_FREE: f32 = 0.01;
-/// The thigh's own length in the image (in torso lengths) is learned as this upper quantile
-/// of its image length, at this rate (torso lengths per second), on frames where MediaPipe's
-/// world landmarks put the thigh within `OWN_FLAT` (the sine of 15 degrees) of the image plane.
+/// The user's own thigh length in the image (in torso lengths) is learned as this upper
+/// quantile of its image length, at this rate (torso lengths per second), on the frames where
+/// MediaPipe's world landmarks put the thigh within 15 degrees of the image plane (`OWN_FLAT`,
+/// about the sine of 15 degrees: a thigh they put deeper may be foreshortened for real).
 const OWN_QUANTILE: f32 = 0.9;
 const OWN_RATE: f32 = 0.3;
 const OWN_FLAT: f32 = 0.26;
@@ -75,11 +76,17 @@ pub(super) struct Legs {
     last_ankle: [Option<Vec3>; 2],
     /// Each tracked ankle in the image last frame (x in heights).
     last_seen_ankle: [Option<Vec3>; 2],
-    /// Each leg's thigh and shin directions read from the image (not filtered with the world
-    /// landmarks by the observe stage).
-    segments: [PointFilters<2>; 2],
-    /// Each thigh's own length in the image, in torso lengths (learned; see [`View::segment`]).
-    own: [Option<f32>; 2],
+    /// How each leg is read from the image.
+    reading: [Reading; 2],
+}
+
+/// How one leg is read from the image: its thigh and shin directions' filters (the image
+/// landmarks are not filtered with the world landmarks by the observe stage) and the user's
+/// own thigh length in the image, in torso lengths (learned, [`target`]).
+#[derive(Clone, Copy, Debug, Default)]
+struct Reading {
+    filter: PointFilters<2>,
+    thigh: Option<f32>,
 }
 
 impl Legs {
@@ -101,8 +108,7 @@ impl Legs {
             lock: [None; 2],
             last_ankle: [None; 2],
             last_seen_ankle: [None; 2],
-            segments: [PointFilters::default(); 2],
-            own: [None; 2],
+            reading: [Reading::default(); 2],
         }
     }
 
@@ -124,8 +130,7 @@ impl Legs {
         self.lock = [None; 2];
         self.last_ankle = [None; 2];
         self.last_seen_ankle = [None; 2];
-        self.segments = [PointFilters::default(); 2];
-        self.own = [None; 2];
+        self.reading = [Reading::default(); 2];
     }
 
     /// Each leg's bones into `out.local` (solved, held, easing or at rest), the legs' world
@@ -149,9 +154,8 @@ impl Legs {
                         turn: pelvis_turn(cx, p, hips),
                         meters: meters_per_height(cx, p),
                     };
-                    let filter = &mut self.segments[side.index()];
-                    let own = &mut self.own[side.index()];
-                    target(cx, &view, p, side, leg.lengths(), out, filter, own)
+                    let reading = &mut self.reading[side.index()];
+                    target(cx, &view, p, side, leg.lengths(), out, reading)
                 });
             }
         }
@@ -553,13 +557,18 @@ impl View {
     /// 19 cm forward). On the bench, MediaPipe's bounded depth put the knee 15-30 mm from the
     /// truth (median, thigh alone) where the foreshortening's put it 34-82 mm
     /// (docs/measurements/2026-12-06-legs-bench.md, third session).
+    ///
+    /// `own`: the user's own length of the segment in the image (m, at the torso's scale),
+    /// which then bounds the depth in place of its world length: MediaPipe's depth of a
+    /// standing thigh is 10-20 degrees and the torso's scale reads it a few percent short, so
+    /// the bound let it through (sixth session).
     fn segment(
         &self,
         cx: &Context,
         pose: &PoseObservation,
         a: usize,
         b: usize,
-        own: Option<&mut Option<f32>>,
+        own: Option<f32>,
     ) -> Vec3 {
         let world = pose.world[b] - pose.world[a];
         let to_world = |v: Vec3| self.turn * cx.camera.to_avatar(v);
@@ -568,21 +577,7 @@ impl View {
         };
         let d = image[b] - image[a];
         let across = Vec3::new(d.x * cx.input.image_aspect * m, d.y * m, 0.0);
-        let (seen, mut length) = (across.length(), world.length());
-        // EXPERIMENT: the bound against the user's own length in the image.
-        if let Some(own) = own {
-            let torso = torso_length(pose);
-            let r = seen / torso;
-            if world.z.abs() < OWN_FLAT * length && r.is_finite() {
-                let q = own.get_or_insert(r);
-                let below = if r < *q { 1.0 } else { 0.0 };
-                *q += OWN_RATE * cx.dt.unwrap_or(0.0) * (OWN_QUANTILE - below);
-            }
-            if let Some(q) = own {
-                length = *q * torso;
-            }
-        }
-        let z = depth(length, seen);
+        let z = depth(own.unwrap_or(world.length()), across.length());
         to_world(across + Vec3::Z * world.z.clamp(-z, z))
     }
 }
@@ -602,8 +597,7 @@ fn target(
     side: Side,
     lengths: (f32, f32),
     out: &SolveOutput,
-    filter: &mut PointFilters<2>,
-    own: &mut Option<f32>,
+    reading: &mut Reading,
 ) -> Option<LegTarget> {
     let [hip, knee, ankle, heel, toe] = leg_landmarks(cx.camera.pose_side_for(side));
     let min = cx.options.legs.min_visibility;
@@ -626,11 +620,28 @@ fn target(
     // Each of the user's segments along its direction with the avatar's length: the knee's
     // angle and the leg's direction are the user's (the IK bends the knee forwards, the
     // hinge and the hip's ranges limit it).
-    let thigh_dir = view.segment(cx, pose, hip, knee, Some(own));
+    // The user's own thigh length in the image, learned as an upper quantile of its image
+    // length while MediaPipe's world landmarks show the thigh near the image plane (a leg
+    // never seen so keeps the bound by its world length). The shin's is not learned: at a
+    // shin's 10-25 degrees of MediaPipe depth a bent leg's shin cannot be told from a
+    // straight one (sixth session).
+    let torso = torso_length(pose);
+    if let (Some(image), Some(m)) = (cx.input.pose_image, view.meters) {
+        let thigh = w[knee] - w[hip];
+        let d = image[knee] - image[hip];
+        let r = (d.x * cx.input.image_aspect).hypot(d.y) * m / torso;
+        if thigh.z.abs() < OWN_FLAT * thigh.length() && r.is_finite() {
+            let q = reading.thigh.get_or_insert(r);
+            let below = if r < *q { 1.0 } else { 0.0 };
+            *q += OWN_RATE * cx.dt.unwrap_or(0.0) * (OWN_QUANTILE - below);
+        }
+    }
+    let thigh_dir = view.segment(cx, pose, hip, knee, reading.thigh.map(|q| q * torso));
     let shin_dir = view.segment(cx, pose, knee, ankle, None);
     let mut dirs = [thigh_dir, shin_dir];
     if cx.options.filter.enabled && view.meters.is_some() && cx.input.pose_image.is_some() {
-        filter.apply(&mut dirs, cx.now_ms, cx.dt, &cx.options.filter.one_euro());
+        let o = cx.options.filter.one_euro();
+        reading.filter.apply(&mut dirs, cx.now_ms, cx.dt, &o);
     }
     let (thigh, shin) = lengths;
     let knee_at = at_hip + thigh * dirs[0].try_normalize()?;
