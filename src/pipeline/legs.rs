@@ -37,11 +37,13 @@ const SLIDE_SPEED: f32 = 0.05;
 const SLIDE_FREE: f32 = 0.01;
 /// The user's own thigh length in the image (in torso lengths) is learned as this upper
 /// quantile of its image length, at this rate (torso lengths per second), on the frames where
-/// MediaPipe's world landmarks put the thigh within 15 degrees of the image plane (`OWN_FLAT`,
-/// about the sine of 15 degrees: a thigh they put deeper may be foreshortened for real).
+/// MediaPipe's world landmarks put the thigh within 5 degrees of the image plane (`OWN_FLAT`,
+/// about the sine of 5 degrees: the image length is then the thigh's own within 0.4%; a thigh
+/// they put deeper may be foreshortened for real, as the synthetic landmarks' standing thighs,
+/// 6-14 degrees forward, are).
 const OWN_QUANTILE: f32 = 0.9;
 const OWN_RATE: f32 = 0.3;
-const OWN_FLAT: f32 = 0.26;
+const OWN_FLAT: f32 = 0.087;
 
 /// The legs stage: per side the leg solver, its presence, the rotations shown last frame and
 /// the blend's anchors; the grounding's state (the avatar's soles, the hips' offset, the
@@ -621,8 +623,8 @@ fn target(
     // angle and the leg's direction are the user's (the IK bends the knee forwards, the
     // hinge and the hip's ranges limit it).
     // The user's own thigh length in the image, learned as an upper quantile of its image
-    // length while MediaPipe's world landmarks show the thigh near the image plane (a leg
-    // never seen so keeps the bound by its world length). The shin's is not learned: at a
+    // length while MediaPipe's world landmarks show the thigh in the image plane (a leg never
+    // seen so keeps the bound by its world length). The shin's is not learned: at a
     // shin's 10-25 degrees of MediaPipe depth a bent leg's shin cannot be told from a
     // straight one (sixth session).
     let torso = torso_length(pose);
