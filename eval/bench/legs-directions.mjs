@@ -28,7 +28,7 @@
 //   since then): MediaPipe's depth as in "bounded", but the bound is the depth the image leaves
 //   against the user's own segment length in the image (the upper quantile above, learned only
 //   on frames where the world landmarks put the segment within GATE degrees of the image
-//   plane, 15; before any such frame, the world length); SHIN=thigh gives the shin the thigh's
+//   plane, 5; before any such frame, the world length); SHIN=thigh gives the shin the thigh's
 //   learned length times MediaPipe's shin-to-thigh world length ratio instead of its own;
 // and the ratio of each segment's image length to its world length (x1000, median): 1000 when
 // the torso's image scale holds for the legs.
@@ -54,7 +54,7 @@ const METHODS = { world: "world", bounded: "image + bounded depth", foreshorteni
 const QUANTILE = Number(process.env.Q ?? 0.9);
 const RATE = Number(process.env.RATE ?? 0.01);
 const [RA, RB] = (process.env.RAMP ?? "0.3,0.5").split(",").map(Number);
-const GATE = Number(process.env.GATE ?? 15);
+const GATE = Number(process.env.GATE ?? 5);
 const RAMP = (f) => Math.min(1, Math.max(0, (f - RA) / (RB - RA)));
 
 const res = new Map();
