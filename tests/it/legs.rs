@@ -429,7 +429,10 @@ fn a_foot_on_the_floor_is_planted_from_the_first_frame() {
                     first[side.index()] = ankle;
                 }
                 let moved = (ankle - first[side.index()]).length();
-                assert!(moved < 0.002, "frame {i}, {side:?}: the ankle moved {moved} m");
+                assert!(
+                    moved < 0.002,
+                    "frame {i}, {side:?}: the ankle moved {moved} m"
+                );
             }
         }
     }
@@ -483,7 +486,10 @@ fn a_thigh_is_bounded_by_its_own_length_in_the_image() {
                 // The learned length sits within the learner's step above what is seen (0.3
                 // torso lengths a second, about 1% of a thigh at 30 fps: 8 degrees of bound).
                 if i == 39 {
-                    assert!(forward.abs() < 8.0, "{side:?}: standing thigh {forward} deg");
+                    assert!(
+                        forward.abs() < 8.0,
+                        "{side:?}: standing thigh {forward} deg"
+                    );
                 }
                 // 0.30 of 0.40 seen: up to 41 degrees deep; MediaPipe's 40.
                 if i == 59 {
