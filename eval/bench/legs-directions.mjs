@@ -24,6 +24,12 @@
 // * image + mean of both depths: the bounded depth while the own length reads the segment less
 //   than RAMP's first value of its length deep, the own length's from its second (RAMP=0.3,0.5),
 //   blended between;
+// * image + MediaPipe's depth bounded by the user's own length (sixth session; handrig's thigh
+//   since then): MediaPipe's depth as in "bounded", but the bound is the depth the image leaves
+//   against the user's own segment length in the image (the upper quantile above, learned only
+//   on frames where the world landmarks put the segment within GATE degrees of the image
+//   plane, 5; before any such frame, the world length); SHIN=thigh gives the shin the thigh's
+//   learned length times MediaPipe's shin-to-thigh world length ratio instead of its own;
 // and the ratio of each segment's image length to its world length (x1000, median): 1000 when
 // the torso's image scale holds for the legs.
 
@@ -42,12 +48,13 @@ const norm = (a) => sc(a, 1 / len(a));
 const pct = (v, p) => [...v].sort((a, b) => a - b)[Math.floor((v.length - 1) * p)];
 const MP = { left: [23, 25, 27], right: [24, 26, 28] };
 const toAvatar = (v) => [v[0], -v[1], -v[2]];
-const METHODS = { world: "world", bounded: "image + bounded depth", foreshortening: "image + foreshortening depth", calibrated: "image + the user's own length", mixed: "image + mean of both depths" };
+const METHODS = { world: "world", bounded: "image + bounded depth", foreshortening: "image + foreshortening depth", calibrated: "image + the user's own length", mixed: "image + mean of both depths", ownbound: "image + MediaPipe's depth bounded by the user's own length" };
 // The user's own segment length in the image, in torso image lengths, learned causally: an upper
 // quantile (QUANTILE) tracked by stochastic approximation, RATE per frame.
 const QUANTILE = Number(process.env.Q ?? 0.9);
 const RATE = Number(process.env.RATE ?? 0.01);
 const [RA, RB] = (process.env.RAMP ?? "0.3,0.5").split(",").map(Number);
+const GATE = Number(process.env.GATE ?? 5);
 const RAMP = (f) => Math.min(1, Math.max(0, (f - RA) / (RB - RA)));
 
 const res = new Map();
@@ -65,6 +72,8 @@ for (const avatar of LEG_AVATARS) {
   }
   for (const clip of LEG_CLIPS) {
     const learned = {};
+    let thighWl = 0;
+    const gated = {};
     const rec = JSON.parse(readFileSync(recordingFile(avatar, clip, "tasks"), "utf8"));
     const aspect = rec.width / rec.height;
     rec.frames.forEach((fr, i) => {
@@ -98,6 +107,14 @@ for (const avatar of LEG_AVATARS) {
           const key = `${side}${si}`;
           const R = (learned[key] ??= r);
           learned[key] = R + RATE * (QUANTILE - (r < R ? 1 : 0));
+          // The gated own length: learned only on frames MediaPipe's world landmarks show the
+          // segment within GATE degrees of the image plane (a leg never seen straight keeps
+          // the torso-scaled bound).
+          const flat = Math.abs(w[2]) / wl < Math.sin((GATE * Math.PI) / 180);
+          if (flat) {
+            const G = (gated[key] ??= r);
+            gated[key] = G + RATE * (QUANTILE - (r < G ? 1 : 0));
+          }
           const Lc = Math.max(al, R * m * Math.hypot(ci[0] * aspect, ci[1]));
           const zc = Math.sqrt(Math.max(0, Lc * Lc - al * al));
           const szMp = w[2] >= 0 ? 1 : -1;
@@ -113,6 +130,19 @@ for (const avatar of LEG_AVATARS) {
             foreshortening: [across[0], across[1], mp + sure * (sign * z - mp)],
             calibrated: [across[0], across[1], (si === 0 ? sz : szMp) * zc],
             mixed: [across[0], across[1], mp + RAMP(zc / Lc) * (sz * zc - mp)],
+            // MediaPipe's depth, bounded by the depth the image leaves against the user's own
+            // length (the learned quantile) rather than against the torso's image scale.
+            ownbound: (() => {
+              // SHIN=thigh: the shin's own length is the thigh's learned one times MediaPipe's
+              // shin-to-thigh world length ratio (the shin is not learned alone).
+              const G = si === 1 && process.env.SHIN === "thigh" ? (gated[`${side}0`] === undefined ? undefined : (gated[`${side}0`] * wl) / thighWl) : gated[key];
+              if (si === 0) thighWl = wl;
+              const own = G === undefined ? wl : G * m * Math.hypot(ci[0] * aspect, ci[1]);
+              const c = Math.min(1, al / own);
+              const th = Math.min(Math.abs(Math.asin(Math.max(-1, Math.min(1, w[2] / wl)))), Math.acos(c));
+              const u = al > 0 ? [across[0] / al, across[1] / al] : [0, -1];
+              return [u[0] * Math.cos(th), u[1] * Math.cos(th), Math.sign(w[2]) * Math.sin(th)];
+            })(),
           };
           for (const [k, v] of Object.entries(est)) {
             const e = 1000 * L * len(sub(norm(toAvatar(v)), truth));

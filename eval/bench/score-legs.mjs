@@ -251,6 +251,12 @@ function scoreClip(body, restPose, clip, rec, acc, rows) {
         a.ankle.push(ea);
         a.kneeAngle.push(eAngle);
         r[side] = { knee: ek, ankle: ea, kneeAngle: eAngle };
+        if (o.json) {
+          // Per frame, for the diagnostics: the knee's and ankle's error vectors (mm, from the hip,
+          // world axes) and the truth's ankle height (mm) and knee angle (deg).
+          const v = (x) => x.map((c) => Math.round(1000 * c));
+          Object.assign(r[side], { kv: v(sub(sub(l.knee, l.hip), sub(tl.knee, tl.hip))), av: v(sub(sub(l.ankle, l.hip), sub(tl.ankle, tl.hip))), tAnkleY: Math.round(1000 * tl.ankle[1]), tAngle: Math.round(kneeAngleOf(tl)) });
+        }
         if (m === "mediapipe") continue;
         a.kneeRoom.push(1000 * len(sub(l.knee, tl.knee)));
         a.ankleRoom.push(1000 * len(sub(l.ankle, tl.ankle)));

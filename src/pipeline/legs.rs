@@ -35,6 +35,15 @@ const HOVER: f32 = 0.01;
 const SLIDE_MS: f32 = 300.0;
 const SLIDE_SPEED: f32 = 0.05;
 const SLIDE_FREE: f32 = 0.01;
+/// The user's own thigh length in the image (in torso lengths) is learned as this upper
+/// quantile of its image length, at this rate (torso lengths per second), on the frames where
+/// MediaPipe's world landmarks put the thigh within 5 degrees of the image plane (`OWN_FLAT`,
+/// about the sine of 5 degrees: the image length is then the thigh's own within 0.4%; a thigh
+/// they put deeper may be foreshortened for real, as the synthetic landmarks' standing thighs,
+/// 6-14 degrees forward, are).
+const OWN_QUANTILE: f32 = 0.9;
+const OWN_RATE: f32 = 0.3;
+const OWN_FLAT: f32 = 0.087;
 
 /// The legs stage: per side the leg solver, its presence, the rotations shown last frame and
 /// the blend's anchors; the grounding's state (the avatar's soles, the hips' offset, the
@@ -69,9 +78,17 @@ pub(super) struct Legs {
     last_ankle: [Option<Vec3>; 2],
     /// Each tracked ankle in the image last frame (x in heights).
     last_seen_ankle: [Option<Vec3>; 2],
-    /// Each leg's thigh and shin directions read from the image (not filtered with the world
-    /// landmarks by the observe stage).
-    segments: [PointFilters<2>; 2],
+    /// How each leg is read from the image.
+    reading: [Reading; 2],
+}
+
+/// How one leg is read from the image: its thigh and shin directions' filters (the image
+/// landmarks are not filtered with the world landmarks by the observe stage) and the user's
+/// own thigh length in the image, in torso lengths (learned, [`target`]).
+#[derive(Clone, Copy, Debug, Default)]
+struct Reading {
+    filter: PointFilters<2>,
+    thigh: Option<f32>,
 }
 
 impl Legs {
@@ -93,7 +110,7 @@ impl Legs {
             lock: [None; 2],
             last_ankle: [None; 2],
             last_seen_ankle: [None; 2],
-            segments: [PointFilters::default(); 2],
+            reading: [Reading::default(); 2],
         }
     }
 
@@ -115,7 +132,7 @@ impl Legs {
         self.lock = [None; 2];
         self.last_ankle = [None; 2];
         self.last_seen_ankle = [None; 2];
-        self.segments = [PointFilters::default(); 2];
+        self.reading = [Reading::default(); 2];
     }
 
     /// Each leg's bones into `out.local` (solved, held, easing or at rest), the legs' world
@@ -139,8 +156,8 @@ impl Legs {
                         turn: pelvis_turn(cx, p, hips),
                         meters: meters_per_height(cx, p),
                     };
-                    let filter = &mut self.segments[side.index()];
-                    target(cx, &view, p, side, leg.lengths(), out, filter)
+                    let reading = &mut self.reading[side.index()];
+                    target(cx, &view, p, side, leg.lengths(), out, reading)
                 });
             }
         }
@@ -214,7 +231,10 @@ impl Legs {
             ))
         });
         let to_meters = pose.and_then(|p| Some(meters_per_height(cx, p)? * self.scale(cx, p)?));
-        let mut speed = [f32::INFINITY; 2];
+        // On the session's first frame no speed is known: a foot on the floor is planted
+        // (else it moved, unlocked, while the next frame measured it: the bench's woman, 3-8
+        // mm of sliding on the first frames of every clip).
+        let mut speed = [if cx.dt.is_none() { 0.0 } else { f32::INFINITY }; 2];
         for s in 0..2 {
             if let (Some(a), Some(b), Some(dt), Some(m)) =
                 (seen_ankle[s], self.last_seen_ankle[s], cx.dt, to_meters)
@@ -496,6 +516,14 @@ fn pelvis_turn(cx: &Context, pose: &PoseObservation, hips: Quat) -> Quat {
     Quat::from_rotation_y(yaw(hips * Vec3::X) - user)
 }
 
+/// The torso's world length (m): shoulder midpoint to hip midpoint.
+fn torso_length(pose: &PoseObservation) -> f32 {
+    use crate::input::mediapipe::pose_landmark as pl;
+    let w = &pose.world;
+    (0.5 * (w[pl::LEFT_SHOULDER] + w[pl::RIGHT_SHOULDER] - w[pl::LEFT_HIP] - w[pl::RIGHT_HIP]))
+        .length()
+}
+
 /// Meters per image height at the user's depth: the torso's world length (shoulder midpoint
 /// to hip midpoint) over its image length (x in widths, y in heights); `None` without image
 /// landmarks or a measurable torso.
@@ -531,7 +559,19 @@ impl View {
     /// 19 cm forward). On the bench, MediaPipe's bounded depth put the knee 15-30 mm from the
     /// truth (median, thigh alone) where the foreshortening's put it 34-82 mm
     /// (docs/measurements/2026-12-06-legs-bench.md, third session).
-    fn segment(&self, cx: &Context, pose: &PoseObservation, a: usize, b: usize) -> Vec3 {
+    ///
+    /// `own`: the user's own length of the segment in the image (m, at the torso's scale),
+    /// which then bounds the depth in place of its world length: MediaPipe's depth of a
+    /// standing thigh is 10-20 degrees and the torso's scale reads it a few percent short, so
+    /// the bound let it through (sixth session).
+    fn segment(
+        &self,
+        cx: &Context,
+        pose: &PoseObservation,
+        a: usize,
+        b: usize,
+        own: Option<f32>,
+    ) -> Vec3 {
         let world = pose.world[b] - pose.world[a];
         let to_world = |v: Vec3| self.turn * cx.camera.to_avatar(v);
         let (Some(image), Some(m)) = (cx.input.pose_image, self.meters) else {
@@ -539,7 +579,7 @@ impl View {
         };
         let d = image[b] - image[a];
         let across = Vec3::new(d.x * cx.input.image_aspect * m, d.y * m, 0.0);
-        let z = depth(world.length(), across.length());
+        let z = depth(own.unwrap_or(world.length()), across.length());
         to_world(across + Vec3::Z * world.z.clamp(-z, z))
     }
 }
@@ -559,7 +599,7 @@ fn target(
     side: Side,
     lengths: (f32, f32),
     out: &SolveOutput,
-    filter: &mut PointFilters<2>,
+    reading: &mut Reading,
 ) -> Option<LegTarget> {
     let [hip, knee, ankle, heel, toe] = leg_landmarks(cx.camera.pose_side_for(side));
     let min = cx.options.legs.min_visibility;
@@ -582,11 +622,28 @@ fn target(
     // Each of the user's segments along its direction with the avatar's length: the knee's
     // angle and the leg's direction are the user's (the IK bends the knee forwards, the
     // hinge and the hip's ranges limit it).
-    let thigh_dir = view.segment(cx, pose, hip, knee);
-    let shin_dir = view.segment(cx, pose, knee, ankle);
+    // The user's own thigh length in the image, learned as an upper quantile of its image
+    // length while MediaPipe's world landmarks show the thigh in the image plane (a leg never
+    // seen so keeps the bound by its world length). The shin's is not learned: at a
+    // shin's 10-25 degrees of MediaPipe depth a bent leg's shin cannot be told from a
+    // straight one (sixth session).
+    let torso = torso_length(pose);
+    if let (Some(image), Some(m)) = (cx.input.pose_image, view.meters) {
+        let thigh = w[knee] - w[hip];
+        let d = image[knee] - image[hip];
+        let r = (d.x * cx.input.image_aspect).hypot(d.y) * m / torso;
+        if thigh.z.abs() < OWN_FLAT * thigh.length() && r.is_finite() {
+            let q = reading.thigh.get_or_insert(r);
+            let below = if r < *q { 1.0 } else { 0.0 };
+            *q += OWN_RATE * cx.dt.unwrap_or(0.0) * (OWN_QUANTILE - below);
+        }
+    }
+    let thigh_dir = view.segment(cx, pose, hip, knee, reading.thigh.map(|q| q * torso));
+    let shin_dir = view.segment(cx, pose, knee, ankle, None);
     let mut dirs = [thigh_dir, shin_dir];
     if cx.options.filter.enabled && view.meters.is_some() && cx.input.pose_image.is_some() {
-        filter.apply(&mut dirs, cx.now_ms, cx.dt, &cx.options.filter.one_euro());
+        let o = cx.options.filter.one_euro();
+        reading.filter.apply(&mut dirs, cx.now_ms, cx.dt, &o);
     }
     let (thigh, shin) = lengths;
     let knee_at = at_hip + thigh * dirs[0].try_normalize()?;
