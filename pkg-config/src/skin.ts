@@ -74,7 +74,7 @@ export function skinOfScene(
   // A mesh over the vertices of the last one read (the primitives of one glTF mesh sharing
   // their accessors: three's GLTFLoader makes one attribute per accessor) has that mesh's
   // vertices, counted once, as `HandRig.fromVrm` does.
-  const read: { m: SkinnedMeshLike; offset: number }[] = [];
+  let previous: { m: SkinnedMeshLike; offset: number } | undefined;
   const sameVertices = (m: SkinnedMeshLike, o: SkinnedMeshLike): boolean => {
     const [a, b] = [m.geometry.attributes, o.geometry.attributes];
     if (a.position !== b.position || a.skinIndex !== b.skinIndex || a.skinWeight !== b.skinWeight) return false;
@@ -89,13 +89,12 @@ export function skinOfScene(
   };
   for (const m of meshes) {
     const a = m.geometry.attributes;
-    const previous = read[read.length - 1];
     const earlier = previous && sameVertices(m, previous.m) ? previous : undefined;
     const index = m.geometry.index?.array;
     const count = index ? index.length : a.position.count;
     const base = earlier ? earlier.offset : offset;
     if (!earlier) {
-      read.push({ m, offset });
+      previous = { m, offset };
       readVertices(m);
       offset += a.position.count;
     }

@@ -78,6 +78,8 @@ describe("the skin read from the file (issue 26)", () => {
         const moved = anchorGap(bare, fromFile);
         assert.equal(bare.skin, null, "a rig without a skin says so");
         assert.ok(fromFile.skin && fromFile.skin.samples > 10000, "what the skin taught is reported");
+        // The body and the eyes share one vertex buffer: both paths read each vertex once.
+        assert.equal(fromThree.skin.samples, fromFile.skin.samples, "the same skin samples");
         for (const r of [...fromFile.skin.fingerRadius, ...fromFile.skin.palmHalfThickness]) {
           assert.ok(r > 0.003 && r < 0.03, `${name}: hand thickness ${r} m`);
         }
