@@ -165,6 +165,10 @@ pub fn read_asl(path: &Path) -> Result<Vec<FrameInput>, String> {
             let hands = hands_of(f, i)?;
             let mut frame = frame_of(&hands[..hands.len().min(MAX_HANDS)]);
             frame.time_ms = f["timeMs"].as_f64().unwrap_or(i as f64 * 1000.0 / 30.0);
+            // Hands-only recordings (the hand video) have no pose: the frame is hands alone.
+            if f.get("pose").is_none_or(Value::is_null) {
+                return Ok(frame);
+            }
             let world = f["pose"]["worldLandmarks"]
                 .as_array()
                 .filter(|a| a.len() == POSE_LANDMARKS)
