@@ -162,10 +162,29 @@ const [full, noContact, flat, noLegs, noLegsFlat, scoped, scopedFlat, kdFull] = 
   ["Kalidokit Pose.solve + Hand.solve per hand", (i) => (sink += kalidokitSolve(Kalidokit, kalidokitFull[i]))],
 ]);
 
-// Hands only, interleaved likewise.
+// Hands only, interleaved likewise: the object API, the flat path (frames packed once, as
+// above), and both in Kalidokit's scope.
 const handRig = HandRig.fromVrm(robot);
-const [hands, kdHand] = timeTogether(handFrames.length, [
+const handPacked = handFrames.map((f) => {
+  packer.solve(f);
+  return Float32Array.from(packer.input);
+});
+const handFlatRig = HandRig.fromVrm(robot);
+const handScopeRig = HandRig.fromVrm(robot, KALIDOKIT_SCOPE);
+const handScopeFlatRig = HandRig.fromVrm(robot, KALIDOKIT_SCOPE);
+const handFlatCall = (r) => {
+  const { input, output } = r;
+  return (i) => {
+    input.set(handPacked[i]);
+    r.solveFlat(handFrames[i].timeMs);
+    sink += output[0];
+  };
+};
+const [hands, handsFlat, handsScoped, handsScopedFlat, kdHand] = timeTogether(handFrames.length, [
   ["handrig object API: one hand", (i) => (sink += handRig.solve(handFrames[i]).timeMs)],
+  ["handrig flat path: one hand", handFlatCall(handFlatRig)],
+  ["handrig object API: one hand, Kalidokit's scope", (i) => (sink += handScopeRig.solve(handFrames[i]).timeMs)],
+  ["handrig flat path: one hand, Kalidokit's scope", handFlatCall(handScopeFlatRig)],
   ["Kalidokit Hand.solve", (i) => (sink += Kalidokit.Hand.solve(kalidokitHands[i], "Right") ? 1 : 0)],
 ]);
 
@@ -215,7 +234,7 @@ for (let p = 0; p < passes; p++) {
   manyBest = Math.min(manyBest, Number(process.hrtime.bigint() - t0) / 1e6);
 }
 const rigsPerMs = (rigs.length * aslFrames.length) / manyBest;
-for (const r of [rig, noContactRig, noLegsRig, noLegsFlatRig, packer, flatRig, scopeRig, scopeFlatRig, handRig, many, ...rigs]) r.free();
+for (const r of [rig, noContactRig, noLegsRig, noLegsFlatRig, packer, flatRig, scopeRig, scopeFlatRig, handRig, handFlatRig, handScopeRig, handScopeFlatRig, many, ...rigs]) r.free();
 
 const rows = [
   { ...full, vs: kdFull },
@@ -228,6 +247,9 @@ const rows = [
   ...variants.map((v) => ({ ...v, vs: kdFull })),
   { ...kdFull, vs: kdFull },
   { ...hands, vs: kdHand },
+  { ...handsFlat, vs: kdHand },
+  { ...handsScoped, vs: kdHand },
+  { ...handsScopedFlat, vs: kdHand },
   { ...kdHand, vs: kdHand },
 ];
 if (json) {
