@@ -27,7 +27,7 @@ NODE_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NODE_DIRS))
 .PHONY: help setup setup-system setup-rust setup-node pkg pkg-dev \
         test test-rust test-wasm test-node test-www test-docs docs demo eval bench record-check avatars clean \
         bench-truth bench-render bench-track bench-tasks bench-score fuzz soak \
-        eval-face eval-face-bench eval-bench-legs bench-score-legs
+        eval-face eval-face-bench eval-bench-legs bench-score-legs eval-bench-contact
 
 help:
 	@echo "make demo       build the package (pkg/) and serve the demo on 127.0.0.1"
@@ -49,6 +49,7 @@ help:
 	@echo "make bench-score  solve the recordings with handrig and Kalidokit, compare with the truth (prints the tables)"
 	@echo "make eval-bench-legs  the bench's leg clips (issue 51): render, track (Tasks API), score handrig and Kalidokit's legs (15 min)"
 	@echo "make bench-score-legs score the leg clips' recordings only (eval/bench/score-legs.mjs)"
+	@echo "make eval-bench-contact  the bench's contact clips (issue 52): a hand on and before the chest, rendered, tracked, solved (10 min)"
 	@echo "make avatars    regenerate the human avatars in tests/fixtures/avatars/ from ../shared/data/makehuman (tools/avatars/)"
 	@echo "make record-check  record the shared videos with tools/record-video.mjs and compare with the shared recordings"
 	@echo "make fuzz       issue 49's fuzzers at full length: 100,000 cases per surface (glTF readers; MotionRecorder, worker, CLI)"
@@ -197,6 +198,16 @@ eval-bench-legs: pkg eval/node_modules/.package-lock.json tests/node/node_module
 
 bench-score-legs: pkg eval/node_modules/.package-lock.json tests/node/node_modules/.package-lock.json
 	node eval/bench/score-legs.mjs
+
+# The bench's contact clips (issue 52): the right hand held on the chest and 18 cm before it (a flat
+# palm, a curved hand, a fist, a curved hand at the collar) rendered on the woman (tune), the man and
+# the child (report), tracked by the Tasks API, solved by handrig on the rendered avatar with its skin,
+# contact on and off (docs/measurements/2026-12-06-contact-any-avatar.md). The clips are committed,
+# their recordings are not.
+eval-bench-contact: pkg eval/node_modules/.package-lock.json tests/node/node_modules/.package-lock.json
+	node eval/bench/render.mjs --contact
+	node eval/bench/tasks.mjs --contact
+	node eval/bench/chest-cue.mjs
 
 # The face on real faces (issue 50): FaceLandmarker recorded on the shared ASL clips (not
 # committed, ~1 MB a clip; recorded once), handrig and Kalidokit scored against the labels of

@@ -11,6 +11,8 @@ export const CLIP_DIR = join(HERE, "clips");
 export const AVATARS = ["woman", "child"];
 /** The leg clips' avatars (issue 51): tuned on the woman, reported on the others. */
 export const LEG_AVATARS = ["woman", "man", "child", "primitive"];
+/** The contact clips' avatars (issue 52): the angles were found on the woman (tune); man and child report. */
+export const CONTACT_AVATARS = ["woman", "man", "child"];
 /** An avatar's file under tests/fixtures/avatars: NAME-vrm1.vrm, the stylized figures in figures/. */
 export const avatarPath = (a) => (["primitive", "voxel"].includes(a) ? `figures/${a}-vrm1.vrm` : `${a}-vrm1.vrm`);
 export const avatarFile = (a) => join(REPO, "tests", "fixtures", "avatars", avatarPath(a));

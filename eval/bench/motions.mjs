@@ -84,6 +84,8 @@ const SHAPES = {
   vee: shape({ index: [0, 0, 0, 12], middle: [0, 0, 0, -8], ring: [85, 95, 55, 0], little: [85, 95, 55, 0], thumb: [10, 45, 40, 35] }),
   ily: shape({ index: [0, 0, 0, 5], middle: [85, 95, 55, 0], ring: [88, 98, 55, 0], little: [0, 0, 0, -15], thumb: [0, -10, 0, 0] }),
   yShape: shape({ index: [85, 95, 55, 0], middle: [88, 98, 55, 0], ring: [88, 98, 55, 0], little: [0, 0, 0, -15], thumb: [0, -10, 0, 0] }),
+  // A C shape (hungry's curved hand): every finger bent at each joint, the thumb across from them.
+  curved: shape({ index: [35, 45, 25, 0], middle: [38, 48, 25, 0], ring: [40, 50, 25, -2], little: [42, 52, 28, -5], thumb: [5, 35, 15, 15] }),
   flatO: shape({ index: [55, 40, 20, 0], middle: [55, 40, 20, 0], ring: [55, 40, 20, 0], little: [55, 40, 20, 0], thumb: [10, 45, 25, 20] }),
 };
 
@@ -499,9 +501,70 @@ export function legClipPose(clip, i, rest) {
 export const LEG_REST_BONES = ["hips", "leftUpperLeg", "rightUpperLeg", "leftLowerLeg", "rightLowerLeg", "leftFoot", "rightFoot", "leftToes", "rightToes"];
 
 export const LEG_CLIPS = LEG_CLIPS_DEF;
-/** Any clip, arm or leg. */
+
+// ---- contact clips (issue 52) ---------------------------------------------------------------------
+// The right hand brought onto the chest and held, then taken 18 cm straight out before it and
+// held, in four hand shapes: a flat palm, a curved (C) hand and a fist on the middle of the chest,
+// and the curved hand at the collar (`hungry`'s first frames). One clip per avatar (`avatar`:
+// rendered on that one only), its angles found for that avatar's body by a search over the arm's
+// angles against its skin (three-vrm, CPU skinning): the palm turned to the body (its normal at
+// least 0.9 of the way into it: the back of the hand to the camera), the hand's skin 3 mm off the
+// chest with nothing inside, at 57% of the way from the upper chest bone up to the shoulder joints (the
+// collar: at the shoulder joints' height), a little to the body's right of its middle; the hand
+// before the chest at the same height and side, 180 mm off, the palm still turned to the body,
+// in the same shape. The truth's own skin gap is measured per frame by eval/bench/chest-cue.mjs. What it
+// is for: the chest cue's readings (src/contact/chest.rs) against a hand known to touch or not,
+// whatever its shape.
+const C = ([down, flex, hadd, rot, elbow, pro, wrist, dev], shape) => ({
+  right: { upperArm: { down, flex, hadd, rot }, lowerArm: { flex: elbow, pro }, hand: { flex: wrist, dev }, shape },
+});
+const TOUCH_POSES = {
+  woman: {
+    onFlat: [81, 7, 33, -8, 107, -8, 29, 20], offFlat: [73, 39, 25, -8, 75, -40, 37, -28],
+    onCurved: [77, 7, 33, -8, 107, -10, 28, 20], offCurved: [77, 39, 25, 0, 71, -45, 36, -30],
+    onFist: [73, 7, 33, -8, 107, -16, 29, 20], offFist: [65, 44, 33, -8, 66, -58, 29, -30],
+    onCollar: [85, 15, 33, -8, 126, -25, 21, -9], offCollar: [71, 43, 21, -8, 85, -58, 26, -23],
+  },
+  man: {
+    onFlat: [73, 7, 41, -8, 107, -4, 29, 14], offFlat: [66, 23, 33, 0, 91, -45, 37, -28],
+    onCurved: [65, 7, 41, -8, 107, -15, 39, 16], offCurved: [62, 19, 33, 0, 91, -48, 27, -16],
+    onFist: [73, 7, 41, -8, 107, -4, 28, 14], offFist: [59, 31, 34, -16, 74, -50, 28, 8],
+    onCollar: [85, 7, 33, -8, 128, -22, 29, -6], offCollar: [77, 32, 26, -8, 87, -58, 29, 2],
+  },
+  child: {
+    onFlat: [79, 3, 33, -8, 111, -4, 29, 20], offFlat: [79, 39, 25, 0, 67, -37, 41, -14],
+    onCurved: [79, 3, 33, -8, 111, -10, 29, 20], offCurved: [71, 43, 29, -8, 67, -50, 29, -11],
+    onFist: [79, 3, 33, -8, 111, -22, 29, 16], offFist: [71, 42, 25, -9, 63, -47, 37, -13],
+    onCollar: [87, 7, 33, -8, 130, -23, 17, 1], offCollar: [85, 44, 9, -8, 79, -58, 30, -19],
+  },
+};
+const touchClip = (avatar) => {
+  const p = TOUCH_POSES[avatar];
+  const [onF, offF] = [C(p.onFlat, "open"), C(p.offFlat, "open")];
+  const [onC, offC] = [C(p.onCurved, "curved"), C(p.offCurved, "curved")];
+  const [onX, offX] = [C(p.onFist, "fist"), C(p.offFist, "fist")];
+  const [onL, offL] = [C(p.onCollar, "curved"), C(p.offCollar, "curved")];
+  return {
+    id: `touch-${avatar}`, kind: "body", avatar, frames: 230,
+    // [first frame, last frame, on / off, shape] of each hold, for the scoring.
+    holds: [[30, 42, "on", "flat"], [57, 62, "off", "flat"], [82, 94, "on", "curved"], [109, 114, "off", "curved"],
+      [134, 146, "on", "fist"], [161, 166, "off", "fist"], [186, 198, "on", "collar"], [213, 218, "off", "collar"]],
+    keys: [
+      [0, {}],
+      [15, offF], [30, onF], [42, onF], [57, offF], [62, offF],
+      [72, offC], [82, onC], [94, onC], [109, offC], [114, offC],
+      [124, offX], [134, onX], [146, onX], [161, offX], [166, offX],
+      [176, offL], [186, onL], [198, onL], [213, offL], [218, offL],
+      [229, {}],
+    ],
+  };
+};
+const CONTACT_CLIPS_DEF = Object.keys(TOUCH_POSES).map(touchClip);
+export const CONTACT_CLIPS = CONTACT_CLIPS_DEF;
+const ALL_CLIPS = [...CLIPS_DEF, ...LEG_CLIPS_DEF, ...CONTACT_CLIPS_DEF];
+/** Any clip: arm, leg or contact. */
 export const anyClipById = (id) => {
-  const c = [...CLIPS_DEF, ...LEG_CLIPS_DEF].find((x) => x.id === id);
-  if (!c) throw new Error(`no clip "${id}" (have ${[...CLIPS_DEF, ...LEG_CLIPS_DEF].map((x) => x.id).join(", ")})`);
+  const c = ALL_CLIPS.find((x) => x.id === id);
+  if (!c) throw new Error(`no clip "${id}" (have ${ALL_CLIPS.map((x) => x.id).join(", ")})`);
   return c;
 };

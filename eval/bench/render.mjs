@@ -8,8 +8,10 @@
 //
 //   node eval/bench/render.mjs [--avatars woman,child] [--clips reach,fist,...] [--png DIR] [--no-video]
 //   node eval/bench/render.mjs --legs [--avatars woman,man,child,primitive] [--clips walk,squat,...]
+//   node eval/bench/render.mjs --contact [--avatars woman,man,child]
 //
-// --legs renders the leg clips (LEG_CLIPS: whole body, hips moving) on LEG_AVATARS instead.
+// --legs renders the leg clips (LEG_CLIPS: whole body, hips moving) on LEG_AVATARS instead;
+// --contact the contact clips (CONTACT_CLIPS: a hand on and before the chest) on CONTACT_AVATARS.
 //
 // --png DIR also writes every frame as DIR/AVATAR-CLIP-NNN.png (through ffmpeg), --no-video
 // renders and hashes only (frames.json is updated either way).
@@ -22,9 +24,9 @@ import { tmpdir } from "node:os";
 import { extname, join, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
 import { parseArgs } from "node:util";
-import { CLIPS, FPS, LEG_CLIPS } from "./motions.mjs";
+import { CLIPS, CONTACT_CLIPS, FPS, LEG_CLIPS } from "./motions.mjs";
 
-import { AVATARS, CLIP_DIR, HERE, LEG_AVATARS, REPO, avatarPath, videoFile } from "./common.mjs";
+import { AVATARS, CLIP_DIR, CONTACT_AVATARS, HERE, LEG_AVATARS, REPO, avatarPath, videoFile } from "./common.mjs";
 
 export const WIDTH = 640;
 export const HEIGHT = 480;
@@ -119,10 +121,10 @@ function ffmpeg(args) {
 
 async function main() {
   const { values: o } = parseArgs({
-    options: { avatars: { type: "string" }, clips: { type: "string" }, png: { type: "string" }, "no-video": { type: "boolean" }, legs: { type: "boolean" } },
+    options: { avatars: { type: "string" }, clips: { type: "string" }, png: { type: "string" }, "no-video": { type: "boolean" }, legs: { type: "boolean" }, contact: { type: "boolean" } },
   });
-  const avatars = (o.avatars ?? (o.legs ? LEG_AVATARS : AVATARS).join(",")).split(",");
-  const all = o.legs ? LEG_CLIPS : CLIPS;
+  const avatars = (o.avatars ?? (o.legs ? LEG_AVATARS : o.contact ? CONTACT_AVATARS : AVATARS).join(",")).split(",");
+  const all = o.legs ? LEG_CLIPS : o.contact ? CONTACT_CLIPS : CLIPS;
   const clips = o.clips ? o.clips.split(",").map((id) => all.find((c) => c.id === id) ?? (() => { throw new Error(`no clip ${id}`); })()) : all;
   mkdirSync(CLIP_DIR, { recursive: true });
   const hashFile = join(CLIP_DIR, "frames.json");
@@ -133,6 +135,7 @@ async function main() {
     for (const avatar of avatars) {
       await r.load(avatar);
       for (const clip of clips) {
+        if (clip.avatar && clip.avatar !== avatar) continue; // a contact clip is its avatar's own
         const name = `${avatar}-${clip.id}`;
         const cam = await r.clip(clip.id);
         const sinks = [];

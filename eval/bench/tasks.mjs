@@ -7,6 +7,7 @@
 //
 //   node eval/bench/tasks.mjs [--avatars woman,child] [--clips reach,fist,...]
 //   node eval/bench/tasks.mjs --legs [--avatars woman,man,child,primitive] [--clips walk,...]
+//   node eval/bench/tasks.mjs --contact [--avatars woman,man,child]
 //
 // --legs tracks the leg clips (whole body) with the PoseLandmarker alone (no hands: they are a
 // few pixels wide at that framing, and the leg scores do not use them).
@@ -15,15 +16,15 @@ import { execFileSync } from "node:child_process";
 import { basename, join } from "node:path";
 import { readFileSync, writeFileSync } from "node:fs";
 import { parseArgs } from "node:util";
-import { AVATARS, LEG_AVATARS, REPO, recordingFile, videoFile } from "./common.mjs";
-import { CLIPS, FPS, LEG_CLIPS } from "./motions.mjs";
+import { AVATARS, CONTACT_AVATARS, LEG_AVATARS, REPO, recordingFile, videoFile } from "./common.mjs";
+import { CLIPS, CONTACT_CLIPS, FPS, LEG_CLIPS } from "./motions.mjs";
 import { HEIGHT, WIDTH, openBenchPage } from "./render.mjs";
 
 const tasksFile = (avatar, clip) => recordingFile(avatar, clip, "tasks");
 
-const { values: o } = parseArgs({ options: { avatars: { type: "string" }, clips: { type: "string" }, legs: { type: "boolean" } } });
-const avatars = (o.avatars ?? (o.legs ? LEG_AVATARS : AVATARS).join(",")).split(",");
-const all = o.legs ? LEG_CLIPS : CLIPS;
+const { values: o } = parseArgs({ options: { avatars: { type: "string" }, clips: { type: "string" }, legs: { type: "boolean" }, contact: { type: "boolean" } } });
+const avatars = (o.avatars ?? (o.legs ? LEG_AVATARS : o.contact ? CONTACT_AVATARS : AVATARS).join(",")).split(",");
+const all = o.legs ? LEG_CLIPS : o.contact ? CONTACT_CLIPS : CLIPS;
 const clips = o.clips ? all.filter((c) => o.clips.split(",").includes(c.id)) : all;
 const version = JSON.parse(readFileSync(join(REPO, "www", "node_modules", "@mediapipe", "tasks-vision", "package.json"), "utf8")).version;
 const t0 = Date.now();
@@ -31,6 +32,7 @@ const { page, errors, close } = await openBenchPage("tasks-page.html");
 try {
   for (const avatar of avatars) {
     for (const clip of clips) {
+      if (clip.avatar && clip.avatar !== avatar) continue; // a contact clip is its avatar's own
       const video = videoFile(avatar, clip);
       const raw = execFileSync("ffmpeg", ["-v", "error", "-i", video, "-f", "rawvideo", "-pix_fmt", "rgba", "-"], { maxBuffer: 1 << 30 });
       const size = WIDTH * HEIGHT * 4;
