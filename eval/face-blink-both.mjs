@@ -29,7 +29,7 @@ import { parseArgs } from "node:util";
 import { REPO } from "./bench/common.mjs";
 import { FACE_CLIPS, faceFrame } from "./bench/face-motions.mjs";
 
-const { values: o } = parseArgs({ options: { report: { type: "boolean" }, grid: { type: "boolean" } } });
+const { values: o } = parseArgs({ options: { report: { type: "boolean" }, grid: { type: "boolean" }, noise: { type: "boolean" } } });
 const BENCH = o.report ? ["man", "child"] : ["woman"];
 const ASL = o.report ? ["brother", "hungry", "sister"] : ["again", "eat", "please", "thanks"];
 const labels = JSON.parse(readFileSync(join(REPO, "eval", "labels", "face.json"), "utf8"));
@@ -100,18 +100,22 @@ function solve(s, v) {
     }
     const step = last === null ? null : (x.t - last) / 100;
     last = x.t;
-    let y = [0, 1].map((e) => clamp01((x.b[e] - 0.2) / 0.4));
+    // Hysteresis: an eye shown at least half closed reads v.hold higher (and, with v.sym, one
+    // shown less than half closed v.hold lower).
+    const hold = [0, 1].map((e) => (!v.hold || step === null ? 0 : prev[e] >= 0.5 ? v.hold : v.sym ? -v.hold : 0));
+    let y = [0, 1].map((e) => clamp01((x.b[e] + hold[e] - 0.2) / 0.4));
     if (v.both) {
-      const m = Math.min(...x.b);
+      const m0 = Math.min(...x.b);
       const level = v.both.adapt ? Math.max(v.both.floor, (v.both.closed * v.both.prior + sum) / (v.both.prior + count)) : v.both.closed;
-      const together = clamp01((m - v.both.open) / (level - v.both.open));
-      if (v.both.adapt && together >= 0.5) {
-        sum += m;
+      const ramp = (m) => clamp01((m - v.both.open) / (level - v.both.open));
+      if (v.both.adapt && ramp(m0) >= 0.5) {
+        sum += m0;
         count++;
       }
-      y = y.map((z) => Math.max(z, together));
+      y = y.map((z, e) => Math.max(z, ramp(m0 + hold[e])));
     }
-    if (v.wink) y = y.map((z, e) => Math.max(z, clamp01((x.b[e] - x.b[1 - e] - v.wink.open) / (v.wink.closed - v.wink.open))));
+    if (v.wink) y = y.map((z, e) => Math.max(z, clamp01((x.b[e] + hold[e] - x.b[1 - e] - v.wink.open) / (v.wink.closed - v.wink.open))));
+    if (v.margin) y = y.map((z) => clamp01((z - v.margin) / (1 - 2 * v.margin)));
     prev = y.map((z, e) => (step !== null && z < prev[e] ? Math.max(z, prev[e] - step) : z));
     return prev;
   });
@@ -159,6 +163,27 @@ function readings() {
   }
 }
 
+/** How far the readings move per frame where the truth is held: open eyes (6 frames unchanged), both eyes closed (closed the frame before too). */
+function noise() {
+  const pct = (xs, p) => xs.slice().sort((a, b) => a - b)[Math.min(xs.length - 1, Math.floor(p * xs.length))];
+  console.log("\n| the readings' move per frame: open (held 6 frames), both closed (closed the frame before) | n | p50 | p95 | max |\n| --- | ---: | ---: | ---: | ---: |");
+  for (const avatar of BENCH) {
+    const open = [], closed = [];
+    for (const c of bench.filter((c) => c.avatar === avatar)) {
+      c.s.forEach((x, k) => {
+        if (!x || !c.s[k - 1]) return;
+        const [l, r] = c.truth[k];
+        if (l >= 0.8 && r >= 0.8 && Math.min(...c.truth[k - 1]) >= 0.8) closed.push(Math.abs(Math.min(...x.b) - Math.min(...c.s[k - 1].b)));
+        let held = k >= 6;
+        for (let j = k - 6; held && j < k; j++) if (c.truth[j][0] !== c.truth[k][0] || c.truth[j][1] !== c.truth[k][1]) held = false;
+        if (!held) return;
+        if (l === 0 && r === 0) for (const e of [0, 1]) open.push(Math.abs(x.b[e] - c.s[k - 1].b[e]));
+      });
+    }
+    for (const [n, xs] of [["open, each eye", open], ["both closed, the smaller eye", closed]]) if (xs.length) console.log(`| ${avatar}: ${n} | ${xs.length} | ${pct(xs, 0.5).toFixed(3)} | ${pct(xs, 0.95).toFixed(3)} | ${Math.max(...xs).toFixed(3)} |`);
+  }
+}
+
 function row(label, v) {
   const per = {};
   let wink = 0, winkN = 0, fb = 0, open = 0;
@@ -187,6 +212,7 @@ function row(label, v) {
       let held = k >= 6;
       for (let j = k - 6; held && j < k; j++) if (c.truth[j][0] !== c.truth[k][0] || c.truth[j][1] !== c.truth[k][1]) held = false;
       if (held && out[k - 1]) still.push(Math.max(Math.abs(y[0] - out[k - 1][0]), Math.abs(y[1] - out[k - 1][1])));
+      if (process.env.FACE7 && held && out[k - 1] && Math.max(Math.abs(y[0] - out[k - 1][0]), Math.abs(y[1] - out[k - 1][1])) > 0.015) console.log(label, c.avatar, c.clip, k, y, out[k - 1]);
     });
   }
   const a = { hit: 0, n: 0, other: 0, fb: 0, largest: 0 };
@@ -212,6 +238,7 @@ const HEAD = "| bench: both eyes closed, frames caught (mean blink) | bench: win
 const MERGED = { both: { open: 0.15, closed: 0.45, prior: 10, floor: 0.35, adapt: true }, wink: { open: 0.25, closed: 0.55 } };
 console.log(`${o.report ? "report" : "tune"} half: bench ${BENCH.join(", ")}; ASL ${ASL.join(", ")}\n`);
 readings();
+if (o.noise) noise();
 console.log(`\n| variant ${HEAD}\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |`);
 const variants = [
   ["main: each eye's ramp 0.2..0.6", {}],
@@ -223,6 +250,9 @@ const variants = [
   ["+ both eyes, floor 0.3", { both: { ...MERGED.both, floor: 0.3 } }],
   ["+ a wink 0.25..0.55 alone", { wink: MERGED.wink }],
   ["**the user's level and the wink (merged)**", MERGED],
+  ...[0.05, 0.1, 0.15].map((m) => [`merged + a margin ${m} at both ends`, { ...MERGED, margin: m }]),
+  ...[0.02, 0.03, 0.035, 0.04, 0.05, 0.08].map((h) => [`merged + hysteresis ${h} when closed`, { ...MERGED, hold: h }]),
+  ...[0.02, 0.03, 0.04, 0.05, 0.08].map((h) => [`merged + hysteresis ${h} both ways`, { ...MERGED, hold: h, sym: true }]),
 ];
 for (const [label, v] of variants) console.log(row(label, v));
 if (o.grid) {

@@ -237,6 +237,14 @@ pub const BOTH_CLOSED_FLOOR: f32 = 0.35;
 pub const WINK_OPEN: f32 = 0.25;
 /// See [`WINK_OPEN`].
 pub const WINK_CLOSED: f32 = 0.55;
+/// Hysteresis: an eye shown at least half closed the frame before reads this much higher in
+/// its three ramps, so a held blink does not follow its reading's noise over the ramp's top
+/// (the bench man's closed eyes read 0.32-0.39 under his learned level's 0.39: shown
+/// 0.85-1.0 and moving 0.06 a frame). A blink still closes at the ramps' middle and opens
+/// limited. The largest move of a held reading from one frame to the next on the tuning half
+/// (the bench woman's still stretches: 0.035 open, 0.020 closed; `eval/face-blink-both.mjs
+/// --noise`), so a closed eye keeps closed through a frame's noise.
+pub const BLINK_HOLD: f32 = 0.035;
 /// A calibration frame whose weight is more than this above that weight's mean so far is left
 /// out of its neutral value: an expression only raises a weight above the user's rest, and a
 /// blink within the calibration (the bench's first two blinks fall within its 2 s; a user
@@ -498,8 +506,7 @@ impl Face {
         let level = ((BOTH_CLOSED * BOTH_PRIOR_FRAMES + self.closed_sum)
             / (BOTH_PRIOR_FRAMES + self.closed_count))
             .max(BOTH_CLOSED_FLOOR);
-        let together = clamp01((both - BOTH_OPEN) / (level - BOTH_OPEN));
-        if together >= 0.5 {
+        if (both - BOTH_OPEN) / (level - BOTH_OPEN) >= 0.5 {
             self.closed_sum += both;
             self.closed_count += 1.0;
         }
@@ -508,9 +515,15 @@ impl Face {
             let k = BLINK + e;
             self.arkit[k] = limit(raw[k], self.arkit[k]);
             // Each eye: its own ramp (BLINK_OPEN..BLINK_CLOSED), both eyes' and a wink's
-            // (above the other eye), the largest.
-            let own = clamp01((b[e] - BLINK_OPEN) / (BLINK_CLOSED - BLINK_OPEN));
-            let wink = clamp01((b[e] - b[1 - e] - WINK_OPEN) / (WINK_CLOSED - WINK_OPEN));
+            // (above the other eye), the largest; read BLINK_HOLD higher while shown closed.
+            let hold = if open_step.is_some() && shown_blinks[e] >= 0.5 {
+                BLINK_HOLD
+            } else {
+                0.0
+            };
+            let own = clamp01((b[e] + hold - BLINK_OPEN) / (BLINK_CLOSED - BLINK_OPEN));
+            let together = clamp01((both + hold - BOTH_OPEN) / (level - BOTH_OPEN));
+            let wink = clamp01((b[e] + hold - b[1 - e] - WINK_OPEN) / (WINK_CLOSED - WINK_OPEN));
             blinks[e] = limit(own.max(together).max(wink), shown_blinks[e]);
         }
         let filtered = filter_all(&mut self.euro, &raw, dt, o);

@@ -379,3 +379,61 @@ fn both_eyes_close_on_less_than_one_and_learn_the_users_closed_level() {
         preset(&out, "blink")
     );
 }
+
+#[test]
+fn a_held_blink_does_not_follow_its_readings_noise() {
+    // The bench's hooded man again (see above): once his closed level is learned, a held blink
+    // whose reading wanders by a frame's noise (`eyeBlink` 0.54-0.56) stays shown closed
+    // (`BLINK_HOLD`), and still closes at once and opens limited.
+    let mut r = rig(RigOptions::default());
+    let mut out = SolveOutput::default();
+    let eyes = |b: f32, down: f32| {
+        let mut w = [0.0; SHAPES];
+        w[shape("eyeBlinkLeft")] = b;
+        w[shape("eyeBlinkRight")] = b;
+        for n in ["eyeLookDownLeft", "eyeLookDownRight"] {
+            w[shape(n)] = down;
+        }
+        w
+    };
+    let mut t = 0.0;
+    let mut step = |w: [f32; SHAPES], out: &mut SolveOutput| {
+        r.solve(&frame(t, w, None), out).unwrap();
+        t += 1000.0 / 30.0;
+        preset(out, "blink")
+    };
+    for _ in 0..70 {
+        step(eyes(0.03, 0.07), &mut out);
+    }
+    for _ in 0..4 {
+        for _ in 0..5 {
+            step(eyes(0.55, 0.68), &mut out);
+        }
+        for _ in 0..20 {
+            step(eyes(0.03, 0.07), &mut out);
+        }
+    }
+    let first = step(eyes(0.55, 0.68), &mut out);
+    assert!(first >= 0.8, "closes at once: {first}");
+    // The hold from its second frame (the first reads without the hold).
+    let mut shown = step(eyes(0.55, 0.68), &mut out);
+    let mut largest: f32 = 0.0;
+    for b in [0.54, 0.56, 0.55, 0.54, 0.56, 0.55, 0.54, 0.56] {
+        let now = step(eyes(b, 0.68), &mut out);
+        largest = largest.max((now - shown).abs());
+        shown = now;
+    }
+    assert!(
+        largest <= 0.02,
+        "a held blink moves {largest} a frame (shown {shown})"
+    );
+    let opening = step(eyes(0.03, 0.07), &mut out);
+    assert!(
+        opening > 0.5 && opening < shown,
+        "opens limited: {shown} -> {opening}"
+    );
+    for _ in 0..3 {
+        step(eyes(0.03, 0.07), &mut out);
+    }
+    assert_eq!(preset(&out, "blink"), 0.0, "open again");
+}
