@@ -437,3 +437,54 @@ fn a_held_blink_does_not_follow_its_readings_noise() {
     }
     assert_eq!(preset(&out, "blink"), 0.0, "open again");
 }
+
+#[test]
+fn a_long_squint_does_not_teach_the_closed_level() {
+    // Both eyes held half shut for 30 s (a squint, a long laugh: both eyes read 0.36, which the
+    // both-eyes ramp shows as 0.7 closed) are no blinks: the user's closed level learns only
+    // from closures that ended within a blink's length (`BLINK_LEARN_MS`). Learned from them,
+    // it would sink to its floor (0.35), and a later look-down whose smaller eye reads 0.27
+    // would show as a blink (0.6).
+    let mut r = rig(RigOptions::default());
+    let mut out = SolveOutput::default();
+    let eyes = |b: f32, down: f32| {
+        let mut w = [0.0; SHAPES];
+        w[shape("eyeBlinkLeft")] = b;
+        w[shape("eyeBlinkRight")] = b;
+        for n in ["eyeLookDownLeft", "eyeLookDownRight"] {
+            w[shape(n)] = down;
+        }
+        w
+    };
+    let mut t = 0.0;
+    let mut step = |w: [f32; SHAPES], out: &mut SolveOutput| {
+        r.solve(&frame(t, w, None), out).unwrap();
+        t += 1000.0 / 30.0;
+        preset(out, "blink")
+    };
+    for _ in 0..70 {
+        step(eyes(0.03, 0.07), &mut out);
+    }
+    let mut look_down = |out: &mut SolveOutput| {
+        let mut most: f32 = 0.0;
+        for _ in 0..10 {
+            most = most.max(step(eyes(0.43, 0.6), out));
+        }
+        for _ in 0..10 {
+            step(eyes(0.03, 0.07), out);
+        }
+        most
+    };
+    let before = look_down(&mut out);
+    assert!(before < 0.5, "looking down is no blink: {before}");
+    let mut squint: f32 = 1.0;
+    for _ in 0..900 {
+        squint = squint.min(step(eyes(0.379, 0.07), &mut out));
+    }
+    assert!(squint > 0.5, "the squint shows half shut: {squint}");
+    for _ in 0..10 {
+        step(eyes(0.03, 0.07), &mut out);
+    }
+    let after = look_down(&mut out);
+    assert!(after < 0.5, "looking down after a long squint: {after}");
+}
