@@ -237,6 +237,11 @@ pub const BOTH_CLOSED_FLOOR: f32 = 0.35;
 pub const WINK_OPEN: f32 = 0.25;
 /// See [`WINK_OPEN`].
 pub const WINK_CLOSED: f32 = 0.55;
+/// The longest closure of both eyes whose readings teach the user's closed level
+/// ([`BOTH_CLOSED`]), counted from its first closed frame to its first open one: a blink lasts
+/// 100-400 ms (the bench's longest, 0.4 s), where a squint or a laugh holds both eyes half shut
+/// for seconds and would sink the level to its floor (`eval/face-blink-both.mjs --squint`).
+pub const BLINK_LEARN_MS: f64 = 500.0;
 /// Hysteresis: an eye shown at least half closed the frame before reads this much higher in
 /// its three ramps, so a held blink does not follow its reading's noise over the ramp's top
 /// (the bench man's closed eyes read 0.32-0.39 under his learned level's 0.39: shown
@@ -314,6 +319,11 @@ pub struct Face {
     /// user's closed level, [`BOTH_CLOSED`]).
     closed_sum: f32,
     closed_count: f32,
+    /// The closure of both eyes under way: its readings' sum and count, its first frame (ms);
+    /// added to the closed level when it ends within [`BLINK_LEARN_MS`].
+    run_sum: f32,
+    run_count: f32,
+    run_start: f64,
     calibration_start: Option<f64>,
     /// Last frame time with a face (ms).
     seen_ms: Option<f64>,
@@ -338,6 +348,9 @@ impl Default for Face {
             neutral: [0.0; SHAPES],
             closed_sum: 0.0,
             closed_count: 0.0,
+            run_sum: 0.0,
+            run_count: 0.0,
+            run_start: 0.0,
             calibration_start: None,
             seen_ms: None,
             arkit: [0.0; SHAPES],
@@ -402,6 +415,8 @@ impl Face {
         self.calibration_start = None;
         self.closed_sum = 0.0;
         self.closed_count = 0.0;
+        self.run_sum = 0.0;
+        self.run_count = 0.0;
     }
 
     /// A frame without a face: the next face restarts the filters.
@@ -501,14 +516,24 @@ impl Face {
                 - LOOK_DOWN_BLINK * cal(LOOK_DOWN + e, raw[LOOK_DOWN + e])
         });
         // Both eyes together, up to the user's closed level (learned from the frames read as
-        // closed, from a prior, floored).
+        // closed in closures as short as a blink, from a prior, floored).
         let both = b[0].min(b[1]);
         let level = ((BOTH_CLOSED * BOTH_PRIOR_FRAMES + self.closed_sum)
             / (BOTH_PRIOR_FRAMES + self.closed_count))
             .max(BOTH_CLOSED_FLOOR);
         if (both - BOTH_OPEN) / (level - BOTH_OPEN) >= 0.5 {
-            self.closed_sum += both;
-            self.closed_count += 1.0;
+            if self.run_count == 0.0 {
+                self.run_start = now_ms;
+            }
+            self.run_sum += both;
+            self.run_count += 1.0;
+        } else {
+            if now_ms - self.run_start <= BLINK_LEARN_MS {
+                self.closed_sum += self.run_sum;
+                self.closed_count += self.run_count;
+            }
+            self.run_sum = 0.0;
+            self.run_count = 0.0;
         }
         let mut blinks = [0.0; 2];
         for e in 0..2 {

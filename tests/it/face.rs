@@ -465,7 +465,8 @@ fn a_long_squint_does_not_teach_the_closed_level() {
     for _ in 0..70 {
         step(eyes(0.03, 0.07), &mut out);
     }
-    let mut look_down = |out: &mut SolveOutput| {
+    type Step<'a> = dyn FnMut([f32; SHAPES], &mut SolveOutput) -> f32 + 'a;
+    let look_down = |step: &mut Step, out: &mut SolveOutput| {
         let mut most: f32 = 0.0;
         for _ in 0..10 {
             most = most.max(step(eyes(0.43, 0.6), out));
@@ -475,7 +476,7 @@ fn a_long_squint_does_not_teach_the_closed_level() {
         }
         most
     };
-    let before = look_down(&mut out);
+    let before = look_down(&mut step, &mut out);
     assert!(before < 0.5, "looking down is no blink: {before}");
     let mut squint: f32 = 1.0;
     for _ in 0..900 {
@@ -485,6 +486,6 @@ fn a_long_squint_does_not_teach_the_closed_level() {
     for _ in 0..10 {
         step(eyes(0.03, 0.07), &mut out);
     }
-    let after = look_down(&mut out);
+    let after = look_down(&mut step, &mut out);
     assert!(after < 0.5, "looking down after a long squint: {after}");
 }
