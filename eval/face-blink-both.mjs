@@ -9,7 +9,9 @@
 //     it reads as closed, starting at BOTH_CLOSED weighted as BOTH_PRIOR_FRAMES frames, at
 //     least BOTH_CLOSED_FLOOR; or fixed at BOTH_CLOSED);
 //   - a wink's: b - b_other over WINK_OPEN..WINK_CLOSED;
-// then the opening limited to 0.1 s. It follows src/face/mod.rs by hand: check a setting
+// an eye shown at least half closed the frame before reading BLINK_HOLD higher in all three
+// (eighth session; rows with hold: h, or a margin m at both ends of the shown weight, were the
+// candidates); then the opening limited to 0.1 s. It follows src/face/mod.rs by hand: check a setting
 // against the package (node eval/face-bench.mjs, node eval/face.mjs) before trusting it.
 //
 // Prints, on the tuning half (the bench's woman; ASL again, eat, please, thanks) or with
@@ -19,9 +21,14 @@
 //   2. the variants: both-eyes closed frames caught (per avatar, their mean blink), wink frames
 //      caught, false blinks, the largest move on still stretches; the ASL clips' labelled blink,
 //      false blinks and the largest blink on other frames;
-//   3. --grid: the wink's ramp.
+//   3. --grid: the wink's ramp;
+//   4. --noise: how far the readings move per frame on held frames (open, both closed);
+//   5. --squint: both eyes held at a squint's reading for 1-30 s before every clip: the user's
+//      closed level after it, the both-eyes ramp's largest on the ASL clips' other frames, and
+//      the same with the level learned only from closures that ended within 0.5 s;
+//   --calibration SECONDS: the neutral face over the clips' first seconds (2 by default).
 //
-//   node eval/face-blink-both.mjs [--report] [--grid]
+//   node eval/face-blink-both.mjs [--report] [--grid] [--noise] [--squint] [--calibration S]
 
 import { readFileSync } from "node:fs";
 import { join } from "node:path";
@@ -29,7 +36,7 @@ import { parseArgs } from "node:util";
 import { REPO } from "./bench/common.mjs";
 import { FACE_CLIPS, faceFrame } from "./bench/face-motions.mjs";
 
-const { values: o } = parseArgs({ options: { report: { type: "boolean" }, grid: { type: "boolean" } } });
+const { values: o } = parseArgs({ options: { report: { type: "boolean" }, grid: { type: "boolean" }, noise: { type: "boolean" }, squint: { type: "boolean" }, calibration: { type: "string" } } });
 const BENCH = o.report ? ["man", "child"] : ["woman"];
 const ASL = o.report ? ["brother", "hungry", "sister"] : ["again", "eat", "please", "thanks"];
 const labels = JSON.parse(readFileSync(join(REPO, "eval", "labels", "face.json"), "utf8"));
@@ -39,7 +46,7 @@ const LOOK_DOWN = 10;
 // src/face/mod.rs
 const LOOK_DOWN_BLINK = 0.25;
 const NEUTRAL_OUTLIER = 0.35;
-const CALIBRATION_MS = 2000;
+const CALIBRATION_MS = o.calibration ? Number(o.calibration) * 1000 : 2000; // --calibration SECONDS: the neutral face over the clips' first seconds
 
 /** Each face frame's corrected blinks [left, right] (the avatar's sides: un-mirrored input), or null. */
 function series(frames) {
@@ -88,11 +95,23 @@ const asl = ASL.map((c) => ({
 }));
 
 /** Each frame's shown blink per eye under variant v (null without a face). */
-function solve(s, v) {
+function solve(s0, v) {
+  // v.squint: { r, seconds } both eyes held at the reading r for that long (then 10 open frames)
+  // before the clip, whose outputs alone are returned.
+  const first = s0.find(Boolean);
+  const dt = 1000 / 30;
+  const n = v.squint && first ? Math.round(v.squint.seconds * 30) : 0;
+  const pre = Array.from({ length: n ? n + 10 : 0 }, (_, i) => ({ t: first.t - (n + 10 - i) * dt, b: i < n ? [v.squint.r, v.squint.r] : [0, 0] }));
+  const s = pre.concat(s0);
   let prev = [0, 0];
   let last = null;
   let sum = 0;
   let count = 0;
+  // v.both.maxRun (ms): a closure's readings count toward the user's level only once it has
+  // ended within that long (a blink's length), not while it lasts.
+  let runSum = 0;
+  let runCount = 0;
+  let runMs = 0;
   return s.map((x) => {
     if (!x) {
       last = null;
@@ -100,21 +119,42 @@ function solve(s, v) {
     }
     const step = last === null ? null : (x.t - last) / 100;
     last = x.t;
-    let y = [0, 1].map((e) => clamp01((x.b[e] - 0.2) / 0.4));
+    // Hysteresis: an eye shown at least half closed reads v.hold higher (and, with v.sym, one
+    // shown less than half closed v.hold lower).
+    const hold = [0, 1].map((e) => (!v.hold || step === null ? 0 : prev[e] >= 0.5 ? v.hold : v.sym ? -v.hold : 0));
+    let y = [0, 1].map((e) => clamp01((x.b[e] + hold[e] - 0.2) / 0.4));
     if (v.both) {
-      const m = Math.min(...x.b);
+      const m0 = Math.min(...x.b);
       const level = v.both.adapt ? Math.max(v.both.floor, (v.both.closed * v.both.prior + sum) / (v.both.prior + count)) : v.both.closed;
-      const together = clamp01((m - v.both.open) / (level - v.both.open));
-      if (v.both.adapt && together >= 0.5) {
-        sum += m;
+      const ramp = (m) => clamp01((m - v.both.open) / (level - v.both.open));
+      if (v.both.adapt && !v.both.maxRun && ramp(m0) >= 0.5) {
+        sum += m0;
         count++;
       }
-      y = y.map((z) => Math.max(z, together));
+      if (v.both.adapt && v.both.maxRun) {
+        if (ramp(m0) >= 0.5) {
+          runSum += m0;
+          runCount++;
+          runMs += step === null ? 0 : step * 100;
+        } else {
+          if (runCount && runMs <= v.both.maxRun) {
+            sum += runSum;
+            count += runCount;
+          }
+          runSum = runCount = runMs = 0;
+        }
+      }
+      y = y.map((z, e) => Math.max(z, ramp(m0 + hold[e])));
+      if (v.trace) {
+        v.trace.level = level;
+        v.trace.together = ramp(m0);
+      }
     }
-    if (v.wink) y = y.map((z, e) => Math.max(z, clamp01((x.b[e] - x.b[1 - e] - v.wink.open) / (v.wink.closed - v.wink.open))));
+    if (v.wink) y = y.map((z, e) => Math.max(z, clamp01((x.b[e] + hold[e] - x.b[1 - e] - v.wink.open) / (v.wink.closed - v.wink.open))));
+    if (v.margin) y = y.map((z) => clamp01((z - v.margin) / (1 - 2 * v.margin)));
     prev = y.map((z, e) => (step !== null && z < prev[e] ? Math.max(z, prev[e] - step) : z));
-    return prev;
-  });
+    return v.trace ? Object.assign(prev.slice(), { together: v.trace.together, level: v.trace.level }) : prev;
+  }).slice(pre.length);
 }
 
 const range = (xs) => (xs.length ? `${Math.min(...xs).toFixed(2)}..${Math.max(...xs).toFixed(2)}` : "n/a");
@@ -156,6 +196,27 @@ function readings() {
       }
     });
     console.log(`| ASL ${c.clip}${closed.length ? ` (labelled blink: ${closed.join(", ")})` : ""} | | | ${range(big)} / ${range(small)} / ${range(diff)} |`);
+  }
+}
+
+/** How far the readings move per frame where the truth is held: open eyes (6 frames unchanged), both eyes closed (closed the frame before too). */
+function noise() {
+  const pct = (xs, p) => xs.slice().sort((a, b) => a - b)[Math.min(xs.length - 1, Math.floor(p * xs.length))];
+  console.log("\n| the readings' move per frame: open (held 6 frames), both closed (closed the frame before) | n | p50 | p95 | max |\n| --- | ---: | ---: | ---: | ---: |");
+  for (const avatar of BENCH) {
+    const open = [], closed = [];
+    for (const c of bench.filter((c) => c.avatar === avatar)) {
+      c.s.forEach((x, k) => {
+        if (!x || !c.s[k - 1]) return;
+        const [l, r] = c.truth[k];
+        if (l >= 0.8 && r >= 0.8 && Math.min(...c.truth[k - 1]) >= 0.8) closed.push(Math.abs(Math.min(...x.b) - Math.min(...c.s[k - 1].b)));
+        let held = k >= 6;
+        for (let j = k - 6; held && j < k; j++) if (c.truth[j][0] !== c.truth[k][0] || c.truth[j][1] !== c.truth[k][1]) held = false;
+        if (!held) return;
+        if (l === 0 && r === 0) for (const e of [0, 1]) open.push(Math.abs(x.b[e] - c.s[k - 1].b[e]));
+      });
+    }
+    for (const [n, xs] of [["open, each eye", open], ["both closed, the smaller eye", closed]]) if (xs.length) console.log(`| ${avatar}: ${n} | ${xs.length} | ${pct(xs, 0.5).toFixed(3)} | ${pct(xs, 0.95).toFixed(3)} | ${Math.max(...xs).toFixed(3)} |`);
   }
 }
 
@@ -212,6 +273,7 @@ const HEAD = "| bench: both eyes closed, frames caught (mean blink) | bench: win
 const MERGED = { both: { open: 0.15, closed: 0.45, prior: 10, floor: 0.35, adapt: true }, wink: { open: 0.25, closed: 0.55 } };
 console.log(`${o.report ? "report" : "tune"} half: bench ${BENCH.join(", ")}; ASL ${ASL.join(", ")}\n`);
 readings();
+if (o.noise) noise();
 console.log(`\n| variant ${HEAD}\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |`);
 const variants = [
   ["main: each eye's ramp 0.2..0.6", {}],
@@ -223,8 +285,34 @@ const variants = [
   ["+ both eyes, floor 0.3", { both: { ...MERGED.both, floor: 0.3 } }],
   ["+ a wink 0.25..0.55 alone", { wink: MERGED.wink }],
   ["**the user's level and the wink (merged)**", MERGED],
+  ...[0.05, 0.1, 0.15].map((m) => [`merged + a margin ${m} at both ends`, { ...MERGED, margin: m }]),
+  ...[0.02, 0.03, 0.035, 0.04, 0.05, 0.08].map((h) => [`merged + hysteresis ${h} when closed${h === 0.035 ? " (kept: BLINK_HOLD)" : ""}`, { ...MERGED, hold: h }]),
+  ...[0.02, 0.03, 0.04, 0.05, 0.08].map((h) => [`merged + hysteresis ${h} both ways`, { ...MERGED, hold: h, sym: true }]),
 ];
 for (const [label, v] of variants) console.log(row(label, v));
+const HELD = { ...MERGED, hold: 0.035 };
+/** After a squint: the user's level at the clips' first frame; ASL: both eyes' ramp's largest on other frames, frames it shows at least half closed. */
+function squintRow(label, v) {
+  let level = 0, both = 0, fb = 0, n = 0;
+  for (const c of asl) {
+    const out = solve(c.s, { ...v, trace: {} });
+    level = out.find(Boolean).level;
+    out.forEach((y, k) => {
+      if (!y || c.closed.has(k) || c.closed.has(k - 1) || c.closed.has(k + 1)) return;
+      n++;
+      both = Math.max(both, y.together);
+      if (y.together >= 0.5) fb++;
+    });
+  }
+  return `${row(label, v)} ${level.toFixed(3)} | ${both.toFixed(2)} | ${fb} / ${n} |`;
+}
+if (o.squint) {
+  console.log(`\n| both eyes held at a squint reading before the clips (then 10 open frames) ${HEAD} the user's level after | ASL: both eyes' ramp, largest on other frames | ASL: both eyes' ramp >= 0.5 |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |`);
+  for (const [label, b] of [["merged (+ BLINK_HOLD)", HELD.both], ["learning from closures that ended within 0.5 s", { ...HELD.both, maxRun: 500 }]]) {
+    console.log(squintRow(`${label}, no squint`, { ...HELD, both: b }));
+    for (const r of [0.25, 0.3, 0.35]) for (const seconds of [1, 5, 30]) console.log(squintRow(`${label}, ${seconds} s at ${r}`, { ...HELD, both: b, squint: { r, seconds } }));
+  }
+}
 if (o.grid) {
   console.log(`\n| wink ramp (with both eyes as merged) ${HEAD}\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |`);
   for (const open of [0.15, 0.2, 0.25, 0.3]) {

@@ -237,6 +237,19 @@ pub const BOTH_CLOSED_FLOOR: f32 = 0.35;
 pub const WINK_OPEN: f32 = 0.25;
 /// See [`WINK_OPEN`].
 pub const WINK_CLOSED: f32 = 0.55;
+/// The longest closure of both eyes whose readings teach the user's closed level
+/// ([`BOTH_CLOSED`]), counted from its first closed frame to its first open one: a blink lasts
+/// 100-400 ms (the bench's longest, 0.4 s), where a squint or a laugh holds both eyes half shut
+/// for seconds and would sink the level to its floor (`eval/face-blink-both.mjs --squint`).
+pub const BLINK_LEARN_MS: f64 = 500.0;
+/// Hysteresis: an eye shown at least half closed the frame before reads this much higher in
+/// its three ramps, so a held blink does not follow its reading's noise over the ramp's top
+/// (the bench man's closed eyes read 0.32-0.39 under his learned level's 0.39: shown
+/// 0.85-1.0 and moving 0.06 a frame). A blink still closes at the ramps' middle and opens
+/// limited. The largest move of a held reading from one frame to the next on the tuning half
+/// (the bench woman's still stretches: 0.035 open, 0.020 closed; `eval/face-blink-both.mjs
+/// --noise`), so a closed eye keeps closed through a frame's noise.
+pub const BLINK_HOLD: f32 = 0.035;
 /// A calibration frame whose weight is more than this above that weight's mean so far is left
 /// out of its neutral value: an expression only raises a weight above the user's rest, and a
 /// blink within the calibration (the bench's first two blinks fall within its 2 s; a user
@@ -306,6 +319,11 @@ pub struct Face {
     /// user's closed level, [`BOTH_CLOSED`]).
     closed_sum: f32,
     closed_count: f32,
+    /// The closure of both eyes under way: its readings' sum and count, its first frame (ms);
+    /// added to the closed level when it ends within [`BLINK_LEARN_MS`].
+    run_sum: f32,
+    run_count: f32,
+    run_start: f64,
     calibration_start: Option<f64>,
     /// Last frame time with a face (ms).
     seen_ms: Option<f64>,
@@ -330,6 +348,9 @@ impl Default for Face {
             neutral: [0.0; SHAPES],
             closed_sum: 0.0,
             closed_count: 0.0,
+            run_sum: 0.0,
+            run_count: 0.0,
+            run_start: 0.0,
             calibration_start: None,
             seen_ms: None,
             arkit: [0.0; SHAPES],
@@ -394,6 +415,8 @@ impl Face {
         self.calibration_start = None;
         self.closed_sum = 0.0;
         self.closed_count = 0.0;
+        self.run_sum = 0.0;
+        self.run_count = 0.0;
     }
 
     /// A frame without a face: the next face restarts the filters.
@@ -493,24 +516,39 @@ impl Face {
                 - LOOK_DOWN_BLINK * cal(LOOK_DOWN + e, raw[LOOK_DOWN + e])
         });
         // Both eyes together, up to the user's closed level (learned from the frames read as
-        // closed, from a prior, floored).
+        // closed in closures as short as a blink, from a prior, floored).
         let both = b[0].min(b[1]);
         let level = ((BOTH_CLOSED * BOTH_PRIOR_FRAMES + self.closed_sum)
             / (BOTH_PRIOR_FRAMES + self.closed_count))
             .max(BOTH_CLOSED_FLOOR);
-        let together = clamp01((both - BOTH_OPEN) / (level - BOTH_OPEN));
-        if together >= 0.5 {
-            self.closed_sum += both;
-            self.closed_count += 1.0;
+        if (both - BOTH_OPEN) / (level - BOTH_OPEN) >= 0.5 {
+            if self.run_count == 0.0 {
+                self.run_start = now_ms;
+            }
+            self.run_sum += both;
+            self.run_count += 1.0;
+        } else {
+            if now_ms - self.run_start <= BLINK_LEARN_MS {
+                self.closed_sum += self.run_sum;
+                self.closed_count += self.run_count;
+            }
+            self.run_sum = 0.0;
+            self.run_count = 0.0;
         }
         let mut blinks = [0.0; 2];
         for e in 0..2 {
             let k = BLINK + e;
             self.arkit[k] = limit(raw[k], self.arkit[k]);
             // Each eye: its own ramp (BLINK_OPEN..BLINK_CLOSED), both eyes' and a wink's
-            // (above the other eye), the largest.
-            let own = clamp01((b[e] - BLINK_OPEN) / (BLINK_CLOSED - BLINK_OPEN));
-            let wink = clamp01((b[e] - b[1 - e] - WINK_OPEN) / (WINK_CLOSED - WINK_OPEN));
+            // (above the other eye), the largest; read BLINK_HOLD higher while shown closed.
+            let hold = if open_step.is_some() && shown_blinks[e] >= 0.5 {
+                BLINK_HOLD
+            } else {
+                0.0
+            };
+            let own = clamp01((b[e] + hold - BLINK_OPEN) / (BLINK_CLOSED - BLINK_OPEN));
+            let together = clamp01((both + hold - BOTH_OPEN) / (level - BOTH_OPEN));
+            let wink = clamp01((b[e] + hold - b[1 - e] - WINK_OPEN) / (WINK_CLOSED - WINK_OPEN));
             blinks[e] = limit(own.max(together).max(wink), shown_blinks[e]);
         }
         let filtered = filter_all(&mut self.euro, &raw, dt, o);

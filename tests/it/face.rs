@@ -379,3 +379,113 @@ fn both_eyes_close_on_less_than_one_and_learn_the_users_closed_level() {
         preset(&out, "blink")
     );
 }
+
+#[test]
+fn a_held_blink_does_not_follow_its_readings_noise() {
+    // The bench's hooded man again (see above): once his closed level is learned, a held blink
+    // whose reading wanders by a frame's noise (`eyeBlink` 0.54-0.56) stays shown closed
+    // (`BLINK_HOLD`), and still closes at once and opens limited.
+    let mut r = rig(RigOptions::default());
+    let mut out = SolveOutput::default();
+    let eyes = |b: f32, down: f32| {
+        let mut w = [0.0; SHAPES];
+        w[shape("eyeBlinkLeft")] = b;
+        w[shape("eyeBlinkRight")] = b;
+        for n in ["eyeLookDownLeft", "eyeLookDownRight"] {
+            w[shape(n)] = down;
+        }
+        w
+    };
+    let mut t = 0.0;
+    let mut step = |w: [f32; SHAPES], out: &mut SolveOutput| {
+        r.solve(&frame(t, w, None), out).unwrap();
+        t += 1000.0 / 30.0;
+        preset(out, "blink")
+    };
+    for _ in 0..70 {
+        step(eyes(0.03, 0.07), &mut out);
+    }
+    for _ in 0..4 {
+        for _ in 0..5 {
+            step(eyes(0.55, 0.68), &mut out);
+        }
+        for _ in 0..20 {
+            step(eyes(0.03, 0.07), &mut out);
+        }
+    }
+    let first = step(eyes(0.55, 0.68), &mut out);
+    assert!(first >= 0.8, "closes at once: {first}");
+    // The hold from its second frame (the first reads without the hold).
+    let mut shown = step(eyes(0.55, 0.68), &mut out);
+    let mut largest: f32 = 0.0;
+    for b in [0.54, 0.56, 0.55, 0.54, 0.56, 0.55, 0.54, 0.56] {
+        let now = step(eyes(b, 0.68), &mut out);
+        largest = largest.max((now - shown).abs());
+        shown = now;
+    }
+    assert!(
+        largest <= 0.02,
+        "a held blink moves {largest} a frame (shown {shown})"
+    );
+    let opening = step(eyes(0.03, 0.07), &mut out);
+    assert!(
+        opening > 0.5 && opening < shown,
+        "opens limited: {shown} -> {opening}"
+    );
+    for _ in 0..3 {
+        step(eyes(0.03, 0.07), &mut out);
+    }
+    assert_eq!(preset(&out, "blink"), 0.0, "open again");
+}
+
+#[test]
+fn a_long_squint_does_not_teach_the_closed_level() {
+    // Both eyes held half shut for 30 s (a squint, a long laugh: both eyes read 0.36, which the
+    // both-eyes ramp shows as 0.7 closed) are no blinks: the user's closed level learns only
+    // from closures that ended within a blink's length (`BLINK_LEARN_MS`). Learned from them,
+    // it would sink to its floor (0.35), and a later look-down whose smaller eye reads 0.27
+    // would show as a blink (0.6).
+    let mut r = rig(RigOptions::default());
+    let mut out = SolveOutput::default();
+    let eyes = |b: f32, down: f32| {
+        let mut w = [0.0; SHAPES];
+        w[shape("eyeBlinkLeft")] = b;
+        w[shape("eyeBlinkRight")] = b;
+        for n in ["eyeLookDownLeft", "eyeLookDownRight"] {
+            w[shape(n)] = down;
+        }
+        w
+    };
+    let mut t = 0.0;
+    let mut step = |w: [f32; SHAPES], out: &mut SolveOutput| {
+        r.solve(&frame(t, w, None), out).unwrap();
+        t += 1000.0 / 30.0;
+        preset(out, "blink")
+    };
+    for _ in 0..70 {
+        step(eyes(0.03, 0.07), &mut out);
+    }
+    type Step<'a> = dyn FnMut([f32; SHAPES], &mut SolveOutput) -> f32 + 'a;
+    let look_down = |step: &mut Step, out: &mut SolveOutput| {
+        let mut most: f32 = 0.0;
+        for _ in 0..10 {
+            most = most.max(step(eyes(0.43, 0.6), out));
+        }
+        for _ in 0..10 {
+            step(eyes(0.03, 0.07), out);
+        }
+        most
+    };
+    let before = look_down(&mut step, &mut out);
+    assert!(before < 0.5, "looking down is no blink: {before}");
+    let mut squint: f32 = 1.0;
+    for _ in 0..900 {
+        squint = squint.min(step(eyes(0.379, 0.07), &mut out));
+    }
+    assert!(squint > 0.5, "the squint shows half shut: {squint}");
+    for _ in 0..10 {
+        step(eyes(0.03, 0.07), &mut out);
+    }
+    let after = look_down(&mut step, &mut out);
+    assert!(after < 0.5, "looking down after a long squint: {after}");
+}
