@@ -371,8 +371,8 @@ impl Legs {
                     // Toward the lock, but no longer than the tracked leg by more than GIVE.
                     let to = lock - offset - t.hip;
                     let reach = to.length();
-                    let length = reach - (reach - (t.ankle - t.hip).length()).max(0.0).min(GIVE);
-                    t.ankle = t.hip + to.normalize_or_zero() * length;
+                    let short = (reach - (t.ankle - t.hip).length()).max(0.0).min(GIVE);
+                    t.ankle = lock - offset - to * (short / reach.max(1e-6));
                     self.pose_leg(cx, side, Some(t), &blends, out);
                 }
             }
