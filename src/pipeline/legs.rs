@@ -49,8 +49,6 @@ const GIVE: f32 = 0.004;
 const OWN_QUANTILE: f32 = 0.9;
 const OWN_RATE: f32 = 0.3;
 const OWN_FLAT: f32 = 0.087;
-/// The cosines of a knee bend read straight and of one read as it is (12 and 24 degrees).
-const STRAIGHT_COS: [f32; 2] = [0.97815, 0.91355];
 
 /// The legs stage: per side the leg solver, its presence, the rotations shown last frame and
 /// the blend's anchors; the grounding's state (the avatar's soles, the hips' offset, the
@@ -656,16 +654,6 @@ fn target(
         let o = cx.options.filter.one_euro();
         reading.filter.apply(&mut dirs, cx.now_ms, cx.dt, &o);
     }
-    // A knee bent less than STRAIGHT is read straight, one bent STRAIGHT to twice that eased
-    // back to its own bend: MediaPipe's depth puts a standing shin 10-25 degrees back from
-    // the thigh (seventh session).
-    let c = dirs[0].normalize_or_zero().dot(dirs[1].normalize_or_zero());
-    let k = ((c - STRAIGHT_COS[1]) / (STRAIGHT_COS[0] - STRAIGHT_COS[1]))
-        .max(0.0)
-        .min(1.0);
-    dirs[1] = dirs[1]
-        .normalize_or_zero()
-        .lerp(dirs[0].normalize_or_zero(), k);
     let (thigh, shin) = lengths;
     let knee_at = at_hip + thigh * dirs[0].try_normalize()?;
     let ankle_at = knee_at + shin * dirs[1].try_normalize()?;
