@@ -38,10 +38,7 @@ const SLIDE_FREE: f32 = 0.01;
 /// How far (m) a planted leg's re-solve may fall short of its lock rather than stretch past
 /// the tracked leg's hip-to-ankle length: a near-straight leg stretched by a few millimetres
 /// is straight, its knee thrown back onto the hip-ankle line (the bench's woman: knee 24.9 ->
-/// 21.8 mm with 4 mm; 1 mm 22.3, 2 mm 22.0, 8 mm 21.6; seventh session). The shortfall is
-/// eased over FOLLOW_MS: followed at once, the tracked length's noise moved the foot (the
-/// synthetic landmarks' walk in place, 1.91 -> 2.05 mm of sliding per standing frame; eased
-/// 1.95, the woman's knee 22.3).
+/// 21.8 mm with 4 mm; 1 mm 22.3, 2 mm 22.0, 8 mm 21.6; seventh session).
 const GIVE: f32 = 0.004;
 /// The user's own thigh length in the image (in torso lengths) is learned as this upper
 /// quantile of its image length, at this rate (torso lengths per second), on the frames where
@@ -80,8 +77,6 @@ pub(super) struct Legs {
     carry: Vec3,
     /// Each tracked ankle last frame, the hips at rest (how far it moved from the hips).
     last_reach: [Option<Vec3>; 2],
-    /// How far (m) each planted leg falls short of its lock (eased, at most GIVE).
-    short: [f32; 2],
     root_filter: PointFilters<1>,
     /// Each planted foot's ankle, world (with the offset); the tracked ankle last frame.
     lock: [Option<Vec3>; 2],
@@ -116,7 +111,6 @@ impl Legs {
             following: [false; 2],
             carry: Vec3::ZERO,
             last_reach: [None; 2],
-            short: [0.0; 2],
             root_filter: PointFilters::default(),
             lock: [None; 2],
             last_ankle: [None; 2],
@@ -139,7 +133,6 @@ impl Legs {
         self.following = [false; 2];
         self.carry = Vec3::ZERO;
         self.last_reach = [None; 2];
-        self.short = [0.0; 2];
         self.root_filter.reset();
         self.lock = [None; 2];
         self.last_ankle = [None; 2];
@@ -379,8 +372,7 @@ impl Legs {
                     let to = lock - offset - t.hip;
                     let reach = to.length();
                     let short = (reach - (t.ankle - t.hip).length()).max(0.0).min(GIVE);
-                    self.short[s] += k * (short - self.short[s]);
-                    t.ankle = lock - offset - to * (self.short[s] / reach.max(1e-6));
+                    t.ankle = lock - offset - to * (short / reach.max(1e-6));
                     self.pose_leg(cx, side, Some(t), &blends, out);
                 }
             }
@@ -418,9 +410,6 @@ impl Legs {
             self.lock[s] =
                 (o.plant && planted && targets[s].is_some()).then(|| self.lock[s].unwrap_or(ankle));
             out.planted[s] = self.lock[s].is_some();
-            if !out.planted[s] {
-                self.short[s] = 0.0;
-            }
         }
         self.offset = offset;
         out.hips_offset = offset;
