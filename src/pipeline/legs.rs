@@ -368,7 +368,7 @@ impl Legs {
             for side in Side::BOTH {
                 let s = side.index();
                 if let (Some(lock), Some(mut t)) = (self.lock[s], targets[s]) {
-                    // Toward the lock, but no longer than the tracked leg by more than GIVE.
+                    // Toward the lock, but not stretched past the tracked leg: up to GIVE short.
                     let to = lock - offset - t.hip;
                     let reach = to.length();
                     let short = (reach - (t.ankle - t.hip).length()).max(0.0).min(GIVE);
