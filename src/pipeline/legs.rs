@@ -35,11 +35,6 @@ const HOVER: f32 = 0.01;
 const SLIDE_MS: f32 = 300.0;
 const SLIDE_SPEED: f32 = 0.05;
 const SLIDE_FREE: f32 = 0.01;
-/// How far (m) a planted leg's re-solve may fall short of its lock rather than stretch past
-/// the tracked leg's hip-to-ankle length: a near-straight leg stretched by a few millimetres
-/// is straight, its knee thrown back onto the hip-ankle line (the bench's woman: knee 24.9 ->
-/// 21.8 mm with 4 mm; 1 mm 22.3, 2 mm 22.0, 8 mm 21.6; seventh session).
-const GIVE: f32 = 0.004;
 /// The user's own thigh length in the image (in torso lengths) is learned as this upper
 /// quantile of its image length, at this rate (torso lengths per second), on the frames where
 /// MediaPipe's world landmarks put the thigh within 5 degrees of the image plane (`OWN_FLAT`,
@@ -368,11 +363,7 @@ impl Legs {
             for side in Side::BOTH {
                 let s = side.index();
                 if let (Some(lock), Some(mut t)) = (self.lock[s], targets[s]) {
-                    // Toward the lock, but not stretched past the tracked leg: up to GIVE short.
-                    let to = lock - offset - t.hip;
-                    let reach = to.length();
-                    let short = (reach - (t.ankle - t.hip).length()).max(0.0).min(GIVE);
-                    t.ankle = lock - offset - to * (short / reach.max(1e-6));
+                    t.ankle = lock - offset;
                     self.pose_leg(cx, side, Some(t), &blends, out);
                 }
             }
