@@ -1172,9 +1172,12 @@ pub fn close_meeting(
             };
             leave[j] = along + w;
         }
-        // No real root (NaN: the square root of a negative): no interval.
+        // No real root (NaN: the square root of a negative): no interval. Hands apart now
+        // only look at entries at or after 0, overlapping ones at intervals starting below
+        // the run (which starts at 0 and only goes down): the rest are never looked at.
+        let below = if g0 > 0.0 { f32::INFINITY } else { 0.0 };
         for j in 0..n {
-            if !leave[j].is_nan() {
+            if !leave[j].is_nan() && enter[j] < below {
                 spans[m] = (enter[j], leave[j]);
                 m += 1;
             }
