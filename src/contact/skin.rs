@@ -266,9 +266,12 @@ impl RadialMap {
         // are calls in the `.wasm`).
         let v = sec - 0.5;
         let v = if v < 0.0 { v + SECTORS as f32 } else { v };
-        let j0 = (v as usize) % SECTORS;
-        let j1 = (j0 + 1) % SECTORS;
-        let fv = v - (v as usize) as f32;
+        // v is in [0, SECTORS - 0.5] (NaN casts to 0): the bound only spares the index check
+        // (a remainder was a multiply and shifts a lookup).
+        let whole = v as usize;
+        let j0 = whole.min(SECTORS - 1);
+        let j1 = if j0 + 1 == SECTORS { 0 } else { j0 + 1 };
+        let fv = v - whole as f32;
         let at = |i: usize, j: usize| self.radius[i * SECTORS + j];
         let a = at(i0, j0) + (at(i0, j1) - at(i0, j0)) * fv;
         let b = at(i1, j0) + (at(i1, j1) - at(i1, j0)) * fv;
