@@ -146,6 +146,16 @@ pub const MAX_COLLIDER_RADIUS: f32 = 2.0;
 /// 1 cm row, half a 7.5 degree sector). Set from the measure's definition, not tuned.
 pub const CLEARANCE: f32 = 0.025;
 
+/// The share of a full chest landing below which none is made: the chest blend (the cue
+/// held, times what the face blend leaves) is mapped from `[CHEST_FLOOR, 1]` onto `[0, 1]`,
+/// so it stays continuous and still reaches full weight. A landing on the chest is the
+/// costliest query of a frame (about 45k instructions on the skinned woman, twice a face
+/// landing: the hand carried across the torso and settled there), and on frames of hands at
+/// the face it was made for blends of a few thousandths (6 of the 12 hand-frames with a chest
+/// blend in `eval/frames/hands-near-face.json` were under 0.05: a hand's shift of a
+/// millimeter or less). Chosen for cost, not tuned on the contact figures.
+pub const CHEST_FLOOR: f32 = 0.05;
+
 /// What contact did for one side this frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactReport {
@@ -362,7 +372,7 @@ impl ContactSolver {
             {
                 let (w, u, v) = chest::weight(torso, cue, cues[1 - side.index()].as_ref());
                 let w = rate.hold_chest(side.index(), Some(w));
-                let w = o.weight * w * (1.0 - face);
+                let w = o.weight * (w * (1.0 - face) - CHEST_FLOOR).max(0.0) / (1.0 - CHEST_FLOOR);
                 if w > 0.0 {
                     if let Some(shift) =
                         self.chest_shift(faces.camera, world, t.wrist, hand, points, [u, v])

@@ -266,9 +266,12 @@ impl RadialMap {
         // are calls in the `.wasm`).
         let v = sec - 0.5;
         let v = if v < 0.0 { v + SECTORS as f32 } else { v };
-        let j0 = (v as usize) % SECTORS;
-        let j1 = (j0 + 1) % SECTORS;
-        let fv = v - (v as usize) as f32;
+        // v is in [0, SECTORS - 0.5] (NaN casts to 0): the bound only spares the index check
+        // (a remainder was a multiply and shifts a lookup).
+        let whole = v as usize;
+        let j0 = whole.min(SECTORS - 1);
+        let j1 = if j0 + 1 == SECTORS { 0 } else { j0 + 1 };
+        let fv = v - whole as f32;
         let at = |i: usize, j: usize| self.radius[i * SECTORS + j];
         let a = at(i0, j0) + (at(i0, j1) - at(i0, j0)) * fv;
         let b = at(i1, j0) + (at(i1, j1) - at(i1, j0)) * fv;
@@ -1172,9 +1175,12 @@ pub fn close_meeting(
             };
             leave[j] = along + w;
         }
-        // No real root (NaN: the square root of a negative): no interval.
+        // No real root (NaN: the square root of a negative): no interval. Hands apart now
+        // only look at entries at or after 0, overlapping ones at intervals starting below
+        // the run (which starts at 0 and only goes down): the rest are never looked at.
+        let below = if g0 > 0.0 { f32::INFINITY } else { 0.0 };
         for j in 0..n {
-            if !leave[j].is_nan() {
+            if !leave[j].is_nan() && enter[j] < below {
                 spans[m] = (enter[j], leave[j]);
                 m += 1;
             }
