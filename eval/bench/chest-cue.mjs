@@ -22,7 +22,7 @@ import path from "node:path";
 import { parseArgs } from "node:util";
 import { pathToFileURL } from "node:url";
 import { CONTACT_AVATARS, REPO, avatarFile, recordingFile } from "./common.mjs";
-import { CONTACT_CLIPS, clipPose } from "./motions.mjs";
+import { CONTACT_CLIPS, clipPose, setNormalizedPose } from "./motions.mjs";
 
 const { values: o } = parseArgs({ options: { pkg: { type: "string" }, avatars: { type: "string" }, options: { type: "string" } } });
 const pkg = path.resolve(o.pkg ?? path.join(REPO, "pkg"));
@@ -89,13 +89,7 @@ for (const avatar of avatars) {
   const truth = [];
   for (let i = 0; i < clip.frames; i++) {
     const q = clipPose(clip, i);
-    for (const name of Object.keys(vrm.humanoid.humanBones)) {
-      const node = vrm.humanoid.getNormalizedBoneNode(name);
-      if (!node) continue;
-      const r = q[name];
-      if (r) node.quaternion.set(r[0], r[1], r[2], r[3]);
-      else node.quaternion.identity();
-    }
+    setNormalizedPose(vrm, q);
     vrm.update(0);
     vrm.scene.updateMatrixWorld(true);
     body.update();

@@ -249,6 +249,20 @@ export function clipPose(clip, i) {
   return out;
 }
 
+/**
+ * Puts the truth `q` (a clipPose / legClipPose bone map) on a three-vrm VRM's normalized bones:
+ * the bones `q` names turned, every other one at rest (identity). The caller updates the VRM.
+ */
+export function setNormalizedPose(vrm, q) {
+  for (const name of Object.keys(vrm.humanoid.humanBones)) {
+    const node = vrm.humanoid.getNormalizedBoneNode(name);
+    if (!node) continue;
+    const r = q[name];
+    if (r) node.quaternion.set(r[0], r[1], r[2], r[3]);
+    else node.quaternion.identity();
+  }
+}
+
 export const CLIPS = CLIPS_DEF;
 export const clipById = (id) => {
   const c = CLIPS.find((x) => x.id === id);

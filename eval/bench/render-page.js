@@ -6,7 +6,7 @@
 import * as THREE from "three";
 import { GLTFLoader } from "three/addons/loaders/GLTFLoader.js";
 import { VRMLoaderPlugin } from "@pixiv/three-vrm";
-import { LEG_REST_BONES, anyClipById, clipPose, legClipPose } from "/bench/motions.mjs";
+import { LEG_REST_BONES, anyClipById, clipPose, legClipPose, setNormalizedPose } from "/bench/motions.mjs";
 import { FACE_ARMS, faceClipById, faceFrame } from "/bench/face-motions.mjs";
 
 export const WIDTH = 640;
@@ -160,13 +160,7 @@ function pose(clip, i) {
     q = clipPose(clip, i);
     vrm.humanoid.getNormalizedBoneNode("hips").position.copy(hipsRestPosition);
   }
-  for (const name of Object.keys(vrm.humanoid.humanBones)) {
-    const node = vrm.humanoid.getNormalizedBoneNode(name);
-    if (!node) continue;
-    const r = q[name];
-    if (r) node.quaternion.set(r[0], r[1], r[2], r[3]);
-    else node.quaternion.identity();
-  }
+  setNormalizedPose(vrm, q);
   vrm.update(0);
   vrm.scene.updateMatrixWorld(true);
 }
@@ -175,13 +169,7 @@ function pose(clip, i) {
 function poseFace(clip, i) {
   const f = faceFrame(clip, i);
   const q = { ...FACE_ARMS, ...f.bones };
-  for (const name of Object.keys(vrm.humanoid.humanBones)) {
-    const node = vrm.humanoid.getNormalizedBoneNode(name);
-    if (!node) continue;
-    const r = q[name];
-    if (r) node.quaternion.set(r[0], r[1], r[2], r[3]);
-    else node.quaternion.identity();
-  }
+  setNormalizedPose(vrm, q);
   const em = vrm.expressionManager;
   for (const e of em?.expressions ?? []) em.setValue(e.expressionName, f.expressions[e.expressionName] ?? 0);
   if (vrm.lookAt) {

@@ -380,6 +380,17 @@ fn both_eyes_close_on_less_than_one_and_learn_the_users_closed_level() {
     );
 }
 
+/// Blendshape weights with both eyes' `eyeBlink` at `b` and their `eyeLookDown` at `down`.
+fn both_eyes(b: f32, down: f32) -> [f32; SHAPES] {
+    let mut w = [0.0; SHAPES];
+    w[shape("eyeBlinkLeft")] = b;
+    w[shape("eyeBlinkRight")] = b;
+    for n in ["eyeLookDownLeft", "eyeLookDownRight"] {
+        w[shape(n)] = down;
+    }
+    w
+}
+
 #[test]
 fn a_held_blink_does_not_follow_its_readings_noise() {
     // The bench's hooded man again (see above): once his closed level is learned, a held blink
@@ -387,15 +398,7 @@ fn a_held_blink_does_not_follow_its_readings_noise() {
     // (`BLINK_HOLD`), and still closes at once and opens limited.
     let mut r = rig(RigOptions::default());
     let mut out = SolveOutput::default();
-    let eyes = |b: f32, down: f32| {
-        let mut w = [0.0; SHAPES];
-        w[shape("eyeBlinkLeft")] = b;
-        w[shape("eyeBlinkRight")] = b;
-        for n in ["eyeLookDownLeft", "eyeLookDownRight"] {
-            w[shape(n)] = down;
-        }
-        w
-    };
+    let eyes = both_eyes;
     let mut t = 0.0;
     let mut step = |w: [f32; SHAPES], out: &mut SolveOutput| {
         r.solve(&frame(t, w, None), out).unwrap();
@@ -447,15 +450,7 @@ fn a_long_squint_does_not_teach_the_closed_level() {
     // would show as a blink (0.6).
     let mut r = rig(RigOptions::default());
     let mut out = SolveOutput::default();
-    let eyes = |b: f32, down: f32| {
-        let mut w = [0.0; SHAPES];
-        w[shape("eyeBlinkLeft")] = b;
-        w[shape("eyeBlinkRight")] = b;
-        for n in ["eyeLookDownLeft", "eyeLookDownRight"] {
-            w[shape(n)] = down;
-        }
-        w
-    };
+    let eyes = both_eyes;
     let mut t = 0.0;
     let mut step = |w: [f32; SHAPES], out: &mut SolveOutput| {
         r.solve(&frame(t, w, None), out).unwrap();
