@@ -391,38 +391,58 @@ fn both_eyes(b: f32, down: f32) -> [f32; SHAPES] {
     w
 }
 
+/// A rig (defaults) fed face frames of both eyes, 30 fps, after 70 frames of open eyes (its
+/// neutral face).
+struct BlinkRun {
+    rig: Rig,
+    out: SolveOutput,
+    t: f64,
+}
+
+impl BlinkRun {
+    fn calibrated() -> Self {
+        let mut run = BlinkRun {
+            rig: rig(RigOptions::default()),
+            out: SolveOutput::default(),
+            t: 0.0,
+        };
+        for _ in 0..70 {
+            run.eyes(0.03, 0.07);
+        }
+        run
+    }
+
+    /// One frame of [`both_eyes`]`(b, down)`: the `blink` shown.
+    fn eyes(&mut self, b: f32, down: f32) -> f32 {
+        self.rig
+            .solve(&frame(self.t, both_eyes(b, down), None), &mut self.out)
+            .unwrap();
+        self.t += 1000.0 / 30.0;
+        preset(&self.out, "blink")
+    }
+}
+
 #[test]
 fn a_held_blink_does_not_follow_its_readings_noise() {
     // The bench's hooded man again (see above): once his closed level is learned, a held blink
     // whose reading wanders by a frame's noise (`eyeBlink` 0.54-0.56) stays shown closed
     // (`BLINK_HOLD`), and still closes at once and opens limited.
-    let mut r = rig(RigOptions::default());
-    let mut out = SolveOutput::default();
-    let eyes = both_eyes;
-    let mut t = 0.0;
-    let mut step = |w: [f32; SHAPES], out: &mut SolveOutput| {
-        r.solve(&frame(t, w, None), out).unwrap();
-        t += 1000.0 / 30.0;
-        preset(out, "blink")
-    };
-    for _ in 0..70 {
-        step(eyes(0.03, 0.07), &mut out);
-    }
+    let mut run = BlinkRun::calibrated();
     for _ in 0..4 {
         for _ in 0..5 {
-            step(eyes(0.55, 0.68), &mut out);
+            run.eyes(0.55, 0.68);
         }
         for _ in 0..20 {
-            step(eyes(0.03, 0.07), &mut out);
+            run.eyes(0.03, 0.07);
         }
     }
-    let first = step(eyes(0.55, 0.68), &mut out);
+    let first = run.eyes(0.55, 0.68);
     assert!(first >= 0.8, "closes at once: {first}");
     // The hold from its second frame (the first reads without the hold).
-    let mut shown = step(eyes(0.55, 0.68), &mut out);
+    let mut shown = run.eyes(0.55, 0.68);
     let mut largest: f32 = 0.0;
     for b in [0.54, 0.56, 0.55, 0.54, 0.56, 0.55, 0.54, 0.56] {
-        let now = step(eyes(b, 0.68), &mut out);
+        let now = run.eyes(b, 0.68);
         largest = largest.max((now - shown).abs());
         shown = now;
     }
@@ -430,15 +450,15 @@ fn a_held_blink_does_not_follow_its_readings_noise() {
         largest <= 0.02,
         "a held blink moves {largest} a frame (shown {shown})"
     );
-    let opening = step(eyes(0.03, 0.07), &mut out);
+    let opening = run.eyes(0.03, 0.07);
     assert!(
         opening > 0.5 && opening < shown,
         "opens limited: {shown} -> {opening}"
     );
     for _ in 0..3 {
-        step(eyes(0.03, 0.07), &mut out);
+        run.eyes(0.03, 0.07);
     }
-    assert_eq!(preset(&out, "blink"), 0.0, "open again");
+    assert_eq!(preset(&run.out, "blink"), 0.0, "open again");
 }
 
 #[test]
@@ -448,39 +468,27 @@ fn a_long_squint_does_not_teach_the_closed_level() {
     // from closures that ended within a blink's length (`BLINK_LEARN_MS`). Learned from them,
     // it would sink to its floor (0.35), and a later look-down whose smaller eye reads 0.27
     // would show as a blink (0.6).
-    let mut r = rig(RigOptions::default());
-    let mut out = SolveOutput::default();
-    let eyes = both_eyes;
-    let mut t = 0.0;
-    let mut step = |w: [f32; SHAPES], out: &mut SolveOutput| {
-        r.solve(&frame(t, w, None), out).unwrap();
-        t += 1000.0 / 30.0;
-        preset(out, "blink")
-    };
-    for _ in 0..70 {
-        step(eyes(0.03, 0.07), &mut out);
-    }
-    type Step<'a> = dyn FnMut([f32; SHAPES], &mut SolveOutput) -> f32 + 'a;
-    let look_down = |step: &mut Step, out: &mut SolveOutput| {
+    let mut run = BlinkRun::calibrated();
+    let look_down = |run: &mut BlinkRun| {
         let mut most: f32 = 0.0;
         for _ in 0..10 {
-            most = most.max(step(eyes(0.43, 0.6), out));
+            most = most.max(run.eyes(0.43, 0.6));
         }
         for _ in 0..10 {
-            step(eyes(0.03, 0.07), out);
+            run.eyes(0.03, 0.07);
         }
         most
     };
-    let before = look_down(&mut step, &mut out);
+    let before = look_down(&mut run);
     assert!(before < 0.5, "looking down is no blink: {before}");
     let mut squint: f32 = 1.0;
     for _ in 0..900 {
-        squint = squint.min(step(eyes(0.379, 0.07), &mut out));
+        squint = squint.min(run.eyes(0.379, 0.07));
     }
     assert!(squint > 0.5, "the squint shows half shut: {squint}");
     for _ in 0..10 {
-        step(eyes(0.03, 0.07), &mut out);
+        run.eyes(0.03, 0.07);
     }
-    let after = look_down(&mut step, &mut out);
+    let after = look_down(&mut run);
     assert!(after < 0.5, "looking down after a long squint: {after}");
 }
