@@ -139,11 +139,11 @@ const scopeRig = HandRig.fromVrm(robot, KALIDOKIT_SCOPE);
 const scopeFlatRig = HandRig.fromVrm(robot, KALIDOKIT_SCOPE);
 // One flat-path call: the packed frame copied into the rig's input view, solved, read. The views
 // are taken once every rig exists (a new rig may grow the wasm memory and detach older views).
-const flatCall = (r) => {
+const flatCall = (r, frames = aslFrames, framesPacked = packed) => {
   const { input, output } = r;
   return (i) => {
-    input.set(packed[i]);
-    r.solveFlat(aslFrames[i].timeMs);
+    input.set(framesPacked[i]);
+    r.solveFlat(frames[i].timeMs);
     sink += output[0];
   };
 };
@@ -172,14 +172,7 @@ const handPacked = handFrames.map((f) => {
 const handFlatRig = HandRig.fromVrm(robot);
 const handScopeRig = HandRig.fromVrm(robot, KALIDOKIT_SCOPE);
 const handScopeFlatRig = HandRig.fromVrm(robot, KALIDOKIT_SCOPE);
-const handFlatCall = (r) => {
-  const { input, output } = r;
-  return (i) => {
-    input.set(handPacked[i]);
-    r.solveFlat(handFrames[i].timeMs);
-    sink += output[0];
-  };
-};
+const handFlatCall = (r) => flatCall(r, handFrames, handPacked);
 const [hands, handsFlat, handsScoped, handsScopedFlat, kdHand] = timeTogether(handFrames.length, [
   ["handrig object API: one hand", (i) => (sink += handRig.solve(handFrames[i]).timeMs)],
   ["handrig flat path: one hand", handFlatCall(handFlatRig)],
