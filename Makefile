@@ -209,11 +209,13 @@ eval-bench-contact: pkg eval/node_modules/.package-lock.json tests/node/node_mod
 	node eval/bench/tasks.mjs --contact
 	node eval/bench/chest-cue.mjs
 
-# The face on real faces (issue 50): FaceLandmarker recorded on the shared ASL clips (not
-# committed, ~1 MB a clip; recorded once), handrig and Kalidokit scored against the labels of
+# The face on real faces (issue 50): FaceLandmarker recorded on the shared ASL clips and the
+# talking-face clip (eval/talking-clip.mjs, fetched from PyPI; not committed, ~1 MB a clip;
+# recorded once), handrig and Kalidokit scored against the labels of
 # eval/labels/face.json (docs/measurements/2026-12-06-face.md).
 eval-face: pkg eval/node_modules/.package-lock.json
-	@for c in again brother eat hungry please sister thanks; do test -f eval/face/$$c.json || { node eval/face-record.mjs; break; }; done
+	@missing=""; for c in again brother eat hungry please sister thanks carphone; do test -f eval/face/$$c.json || missing="$$missing,$$c"; done; \
+	if [ -n "$$missing" ]; then node eval/face-record.mjs --clips "$${missing#,}"; fi
 	node eval/face.mjs
 
 # The face on the ground-truth bench (issue 50): known expressions, gaze and head motion rendered on
