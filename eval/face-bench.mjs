@@ -225,7 +225,7 @@ const mean = (xs) => (xs.length ? xs.reduce((a, b) => a + b, 0) / xs.length : Na
 const share = (xs, pred) => (xs.length ? xs.filter(pred).length / xs.length : NaN);
 
 function score(list, who) {
-  const acc = { frames: 0, tracked: 0, closed: [], closedBoth: [], closedWink: [], otherEye: [], open: [], shut: [], yaw: [], pitch: [], yawM: [], pitchM: [], yawRest: [], pitchRest: [], look: [], still: [], falseBlink: [] };
+  const acc = { talkOpen: [], talkShut: [], frames: 0, tracked: 0, closed: [], closedBoth: [], closedWink: [], otherEye: [], open: [], shut: [], yaw: [], pitch: [], yawM: [], pitchM: [], yawRest: [], pitchRest: [], look: [], still: [], falseBlink: [] };
   for (const avatar of list) {
     // The avatar's rest face as the solver reads it (mean head angles over face-still after its
     // first 10 frames): the rendered face at rest is not MediaPipe's canonical face at rest.
@@ -270,6 +270,12 @@ function score(list, who) {
         const s = r[who];
         if (!s || !r.tracked) continue;
         acc.tracked++;
+        // The talking clip: only its own rows (every frame: the truth's aa at least 0.8, or 0).
+        if (clip.talk) {
+          if (r.truth.aa >= 0.8) acc.talkOpen.push(s.aa);
+          else if (r.truth.aa === 0) acc.talkShut.push(s.aa);
+          continue;
+        }
         const [L, R] = swap ? [s.right, s.left] : [s.left, s.right];
         for (const [eye, other, te, to] of [[L, R, r.truth.left, r.truth.right], [R, L, r.truth.right, r.truth.left]]) {
           if (te >= 0.8) {
@@ -317,6 +323,10 @@ function score(list, who) {
     aaOpenAtLeast03: share(acc.open, (a) => a >= 0.3),
     openFrames: acc.open.length,
     aaShutAtMost01: share(acc.shut, (a) => a <= 0.1),
+    talkOpenAtLeast03: share(acc.talkOpen, (a) => a >= 0.3),
+    talkOpenFrames: acc.talkOpen.length,
+    talkShutAtMost01: share(acc.talkShut, (a) => a <= 0.1),
+    talkShutFrames: acc.talkShut.length,
     shutFrames: acc.shut.length,
     yawErrMean: mean(acc.yaw),
     yawErrP95: pct(acc.yaw, 0.95),
@@ -358,6 +368,7 @@ const rows = [
   ["false blinks (share of open-eye frames)", (s) => `${f(s.falseBlinks, 3)} (${s.openEyeFrames})`],
   ["aa on open-mouth frames: mean / share >= 0.3", (s) => `${f(s.aaOpenMean)} / ${f(s.aaOpenAtLeast03)} (${s.openFrames})`],
   ["aa on closed-mouth frames: share <= 0.1", (s) => `${f(s.aaShutAtMost01)} (${s.shutFrames})`],
+  ["talking (face-talk): aa >= 0.3 on open frames / <= 0.1 on closed ones", (s) => `${f(s.talkOpenAtLeast03)} (${s.talkOpenFrames}) / ${f(s.talkShutAtMost01)} (${s.talkShutFrames})`],
   ["head yaw vs matrix (deg): mean / max", (s) => `${f(s.yawMatrixMean, 1)} / ${f(s.yawMatrixMax, 1)}`],
   ["head pitch vs matrix (deg): mean / max", (s) => `${f(s.pitchMatrixMean, 1)} / ${f(s.pitchMatrixMax, 1)}`],
   ["head yaw vs truth (deg): mean / p95 / max", (s) => `${f(s.yawErrMean, 1)} / ${f(s.yawErrP95, 1)} / ${f(s.yawErrMax, 1)}`],

@@ -37,6 +37,15 @@ export const FACE_CLIPS = [
   { id: "face-wink", frames: 90, tracks: { "expr.blinkLeft": pulse(15, 3, 10, 4), "expr.blinkRight": pulse(55, 3, 10, 4) } },
   { id: "face-aa", frames: 100, tracks: { "expr.aa": pulses([[10, 4, 20, 4], [55, 4, 20, 4]]) } },
   { id: "face-ou", frames: 80, tracks: { "expr.ou": pulses([[10, 4, 20, 4], [45, 4, 20, 4]]) } },
+  // Talking: the jaw opening and closing at a syllable rate (4-5 a second: open in 1-2 frames,
+  // held 1-4, shut in 2-3, closed 2-5 frames between; a pause of 9), scored on its own
+  // (`talk`: every frame counts, a closed one right after an open one too).
+  {
+    id: "face-talk",
+    frames: 120,
+    talk: true,
+    tracks: { "expr.aa": pulses([[8, 2, 2, 2], [17, 2, 1, 2], [25, 2, 3, 2], [35, 1, 2, 2], [43, 2, 2, 3], [61, 2, 4, 2], [72, 2, 1, 2], [80, 2, 2, 2], [89, 1, 2, 2], [97, 2, 3, 2], [107, 2, 2, 2]]) },
+  },
   { id: "face-smile", frames: 80, tracks: { "expr.happy": pulses([[10, 6, 25, 6]]) } },
   { id: "face-look", frames: 100, tracks: { lookYaw: [[10, 0], [16, 20], [40, 20], [50, -20], [74, -20], [80, 0]] } },
   {

@@ -263,6 +263,21 @@ pub const BLINK_HOLD: f32 = 0.035;
 /// calibration so far; an interquartile mean moved them twice as fast as the mean. Figures:
 /// docs/measurements/2026-12-06-face.md.
 pub const NEUTRAL_OUTLIER: f32 = 0.35;
+/// The jaw's and mouth's weights (`jawForward` to `mouthUpperUpRight`, contiguous in
+/// [`ARKIT`]) are filtered faster than the rest: a talking mouth opens and shuts 4-5 times a
+/// second, and with the face's filter a mouth shut 1-2 frames after a wide opening still showed
+/// `aa` 0.3-0.7 (the bench's talking clip: 61% of the woman's closed frames at most 0.1). Their
+/// One Euro speed estimate is smoothed at [`MOUTH_D_CUTOFF`] Hz (the rest's at 1) and their speed
+/// coefficient is [`MOUTH_BETA`] times `face.beta`. Chosen on the tuning half (the bench woman's
+/// `face-talk`: every open frame at least 0.3 and every closed one at most 0.1; `aa`'s largest
+/// move a frame on the ASL clips again, eat, please, thanks 0.043 -> 0.072) by a replica of this
+/// arithmetic; reported on the man, the child and a real talking face in
+/// docs/measurements/2026-12-06-face.md.
+pub const MOUTH_D_CUTOFF: f32 = 10.0;
+/// See [`MOUTH_D_CUTOFF`].
+pub const MOUTH_BETA: f32 = 5.0;
+/// The jaw's and mouth's weights in [`ARKIT`] (see [`MOUTH_D_CUTOFF`]).
+const MOUTH: std::ops::Range<usize> = 22..49;
 /// The mouth's gain: `aa` is the calibrated `jawOpen` times this.
 pub const MOUTH_GAIN: f32 = 1.6;
 
@@ -275,9 +290,9 @@ struct Euro {
 
 /// Every weight's One Euro filter over one step (`dt` seconds; `None` or 0 restarts them at
 /// `raw`): the filtered weights. One loop without branches over all 52 (the blinks' filters
-/// run unused: their weights are limited instead), which the compiler vectorizes; the step's
-/// speed factor `alpha(dt, 1)` once, not per weight. The same arithmetic as one filter a
-/// weight: the same results, bit for bit.
+/// run unused: their weights are limited instead; the mouth's take their own speed factor and
+/// coefficient, [`MOUTH_D_CUTOFF`]); the speed factors once a step, not per weight. The same
+/// arithmetic as one filter a weight: the same results, bit for bit.
 fn filter_all(
     euro: &mut [Euro; SHAPES],
     raw: &[f32; SHAPES],
@@ -287,10 +302,13 @@ fn filter_all(
     let mut out = [0.0; SHAPES];
     match dt {
         Some(dt) if dt > 0.0 => {
-            let alpha_d = alpha(dt, 1.0);
-            for ((e, &v), y) in euro.iter_mut().zip(raw).zip(&mut out) {
-                e.dx += alpha_d * ((v - e.x) / dt - e.dx);
-                e.x += alpha(dt, o.min_cutoff + o.beta * e.dx.abs()) * (v - e.x);
+            // The mouth's weights with their own speed estimate and coefficient (MOUTH_D_CUTOFF).
+            let alphas = [alpha(dt, 1.0), alpha(dt, MOUTH_D_CUTOFF)];
+            let betas = [o.beta, o.beta * MOUTH_BETA];
+            for (k, ((e, &v), y)) in euro.iter_mut().zip(raw).zip(&mut out).enumerate() {
+                let m = usize::from(MOUTH.contains(&k));
+                e.dx += alphas[m] * ((v - e.x) / dt - e.dx);
+                e.x += alpha(dt, o.min_cutoff + betas[m] * e.dx.abs()) * (v - e.x);
                 *y = e.x;
             }
         }

@@ -492,3 +492,41 @@ fn a_long_squint_does_not_teach_the_closed_level() {
     let after = look_down(&mut run);
     assert!(after < 0.5, "looking down after a long squint: {after}");
 }
+
+/// A talking mouth: the jaw held open 3 frames then shut shows `aa` at most 0.1 two frames
+/// after the shut (the bench's talking clip; with the face's filter it still showed 0.3-0.7),
+/// and opens to at least 0.3 within two frames; a brow raised and dropped the same way is
+/// still smoothed (the mouth's faster filter is the jaw's and mouth's weights only).
+#[test]
+fn a_talking_mouth_shuts_within_two_frames_and_the_brows_stay_smoothed() {
+    let mut o = RigOptions::default();
+    o.face.calibration_time = 0.0;
+    let mut r = rig(o);
+    let mut out = SolveOutput::default();
+    let mut t = 0.0;
+    let mut step = |w: [f32; SHAPES], out: &mut SolveOutput| {
+        r.solve(&frame(t, w, None), out).unwrap();
+        t += 1000.0 / 30.0;
+    };
+    let mut shut = [0.0; SHAPES];
+    shut[shape("jawOpen")] = 0.02;
+    for _ in 0..10 {
+        step(shut, &mut out);
+    }
+    let mut open = shut;
+    open[shape("jawOpen")] = 0.7;
+    open[shape("browInnerUp")] = 0.7;
+    let mut seen = Vec::new();
+    for _ in 0..3 {
+        step(open, &mut out);
+        seen.push((preset(&out, "aa"), out.face.arkit[shape("browInnerUp")]));
+    }
+    assert!(seen[1].0 >= 0.3, "aa opens within two frames: {seen:?}");
+    for _ in 0..2 {
+        step(shut, &mut out);
+        seen.push((preset(&out, "aa"), out.face.arkit[shape("browInnerUp")]));
+    }
+    let (aa, brow) = seen[4];
+    assert!(aa <= 0.1, "aa two frames after the shut: {seen:?}");
+    assert!(brow > 0.1, "the brow still smoothed: {seen:?}");
+}
