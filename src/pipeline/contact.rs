@@ -65,15 +65,10 @@ impl Contact {
     }
 
     /// Each side's contact points into `f.points` (a hand placed this frame), and those of a
-    /// hand not seen, as last seen and turned to its rotation now (returned).
-    fn points(
-        &mut self,
-        cx: &Context,
-        ease: &Ease,
-        f: &mut Frame,
-        out: &SolveOutput,
-    ) -> [Option<HandPoints>; 2] {
-        let mut held = [None; 2];
+    /// hand not seen, as last seen and turned to its rotation now, into `f.held` (both cleared
+    /// by the caller). Written in place: an array of two `Option<HandPoints>` is 1.9 KB, and
+    /// returning it cost a copy a frame.
+    fn points(&mut self, cx: &Context, ease: &Ease, f: &mut Frame, out: &SolveOutput) {
         for side in Side::BOTH {
             let s = side.index();
             match f.plans[s] {
@@ -93,9 +88,8 @@ impl Contact {
                         let points = self.hand_points(cx, side, f, hand, hand_rot, local);
                         self.last_points[s] = points.map(|p| (p, hand_rot));
                         f.points[s] = points;
-                    } else {
-                        held[s] =
-                            self.last_points[s].map(|(p, q)| p.turned(hand_rot * q.conjugate()));
+                    } else if let Some((p, q)) = &self.last_points[s] {
+                        f.held[s] = Some(p.turned(hand_rot * q.conjugate()));
                     }
                 }
                 Plan::Reach { .. } => {}
@@ -103,7 +97,6 @@ impl Contact {
                 Plan::Rest | Plan::HandOnly(_) => self.last_points[s] = None,
             }
         }
-        held
     }
 
     /// The hand's contact points ([`HandPoints`]): the user's from this side's landmarks
@@ -299,18 +292,28 @@ impl Contact {
             return;
         }
         let (frame, options, skeleton) = (cx.input, cx.options, cx.skeleton);
-        let held = self.points(cx, ease, f, out);
-        f.held = held;
+        self.points(cx, ease, f, out);
         self.rate.begin(cx.dt, options.contact.max_speed);
-        let mut targets: [Option<SideTarget>; 2] = core::array::from_fn(|s| match f.plans[s] {
-            Plan::Reach { target, .. } => Some(SideTarget {
-                wrist: target,
-                hand: f.points[s],
-                held: held[s],
-            }),
-            _ => None,
-        });
-        if targets.iter().all(Option::is_none) {
+        // Filled in place, each side's points copied only when there are some (a
+        // `SideTarget` holds two `Option<HandPoints>`, 1.9 KB: built by value and moved, the
+        // array cost a dozen copies of 1.9 KB a frame).
+        let mut targets: [Option<SideTarget>; 2] = [None, None];
+        for (s, slot) in targets.iter_mut().enumerate() {
+            if let Plan::Reach { target, .. } = f.plans[s] {
+                let t = slot.insert(SideTarget {
+                    wrist: target,
+                    hand: None,
+                    held: None,
+                });
+                if let Some(p) = &f.points[s] {
+                    t.hand = Some(*p);
+                }
+                if let Some(p) = &f.held[s] {
+                    t.held = Some(*p);
+                }
+            }
+        }
+        if targets[0].is_none() && targets[1].is_none() {
             self.rate.forget();
             return;
         }
@@ -391,7 +394,7 @@ impl Contact {
             &mut out.contact,
             &mut self.rate,
         );
-        for (s, (plan, t)) in f.plans.iter_mut().zip(targets).enumerate() {
+        for (s, (plan, t)) in f.plans.iter_mut().zip(&targets).enumerate() {
             if let (Plan::Reach { target, .. }, Some(t)) = (plan, t) {
                 let delta = t.wrist - *target;
                 *target = t.wrist;
