@@ -217,14 +217,26 @@ function stanceOf(tr) {
 }
 
 // ---- 3. solving and scoring ----------------------------------------------------------------------
+// The MediaPipe segment each bone follows (world landmarks): thigh, shin, heel to foot index.
+const SEGMENT = { UpperLeg: { left: [23, 25], right: [24, 26] }, LowerLeg: { left: [25, 27], right: [26, 28] }, Foot: { left: [29, 31], right: [30, 32] } };
+/** The turn of the bone's MediaPipe segment between two frames' world landmarks (degrees; NaN without both). */
+function inputTurn(a, b, bone) {
+  if (!a || !b) return NaN;
+  const side = bone.startsWith("left") ? "left" : "right";
+  const [i, j] = SEGMENT[bone.slice(side.length)][side];
+  const d = (w) => [w[j][0] - w[i][0], w[j][1] - w[i][1], w[j][2] - w[i][2]];
+  const u = d(a.worldLandmarks);
+  const v = d(b.worldLandmarks);
+  return (Math.acos(Math.max(-1, Math.min(1, (u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (Math.hypot(...u) * Math.hypot(...v))))) * 180) / Math.PI;
+}
 const LEG_BONES = SIDES.flatMap((s) => ["UpperLeg", "LowerLeg", "Foot"].map((b) => `${s}${b}`));
 const turnDeg = (a, b) => (2 * Math.acos(Math.min(1, Math.abs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]))) * 180) / Math.PI;
 const METHODS = ["handrig", "tracked", "kalidokit"];
 const LABEL = { handrig: "handrig (defaults)", tracked: "handrig, as tracked", kalidokit: "Kalidokit 1.1.5" };
-const newAcc = () => Object.fromEntries(METHODS.map((m) => [m, { turns: [], over90: 0, frames: 0, backwards: 0, under: 0, slide: [], plantedSlide: [], float: 0, stanceFrames: 0, labelFloat: 0, labelFrames: 0, worst: null, hipsStep: [] }]));
+const newAcc = () => Object.fromEntries(METHODS.map((m) => [m, { turns: [], over90: 0, frames: 0, backwards: 0, under: 0, slide: [], plantedSlide: [], float: 0, stanceFrames: 0, labelFloat: 0, labelFrames: 0, worst: null, hipsStep: [], events: [] }]));
 function merge(into, acc) {
   for (const m of METHODS) {
-    for (const k of ["turns", "slide", "plantedSlide", "hipsStep"]) into[m][k].push(...acc[m][k]);
+    for (const k of ["turns", "slide", "plantedSlide", "hipsStep", "events"]) into[m][k].push(...acc[m][k]);
     for (const k of ["over90", "frames", "backwards", "under", "float", "stanceFrames", "labelFloat", "labelFrames"]) into[m][k] += acc[m][k];
     if (acc[m].worst && (!into[m].worst || acc[m].worst.deg > into[m].worst.deg)) into[m].worst = acc[m].worst;
   }
@@ -234,7 +246,8 @@ function scoreTrack(S, body, restPose, tr, labels, EXTRA) {
   const rigs = { handrig: new S.HandRig(restPose, EXTRA), tracked: new S.HandRig(restPose, { ...EXTRA, legs: { ...(EXTRA.legs ?? {}), moveHips: false, plant: false } }) };
   const acc = newAcc();
   const stance = stanceOf(tr);
-  const standing = new Set(labels.filter((l) => l.track === tr.id).flatMap((l) => Array.from({ length: l.frames[1] - l.frames[0] + 1 }, (_, k) => l.frames[0] + k)));
+  const mine = (l) => tr.frames.some((f) => f.frame === l.frames[0] && f.pose && dist2(hipsOf(f.pose.landmarks), l.at) < torsoOf(f.pose.landmarks));
+  const standing = new Set(labels.filter(mine).flatMap((l) => Array.from({ length: l.frames[1] - l.frames[0] + 1 }, (_, k) => l.frames[0] + k)));
   const prev = {};
   let kaliBones = null;
   const kept = {};
@@ -282,7 +295,17 @@ function scoreTrack(S, body, restPose, tr, labels, EXTRA) {
         for (const b of LEG_BONES) {
           const d = turnDeg(prev[m].rot[b], rot[m][b]);
           a.turns.push(d);
-          if (d > 90) a.over90++;
+          if (d > 90) {
+            a.over90++;
+            // The avatar's own segment (hip to knee, knee to ankle): a turn of the bone that does
+            // not move its segment is a twist about it.
+            const side = b.startsWith("left") ? "left" : "right";
+            const seg = (x) => (b.endsWith("UpperLeg") ? sub(x[side].knee, x[side].hip) : b.endsWith("LowerLeg") ? sub(x[side].ankle, x[side].knee) : null);
+            const u = seg(prev[m].s);
+            const v = seg(samples[m]);
+            const own = u ? (Math.acos(Math.max(-1, Math.min(1, (u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (len(u) * len(v))))) * 180) / Math.PI : NaN;
+            a.events.push({ track: tr.id, frame: frame.frame, bone: b, deg: d, input: inputTurn(tr.frames[i - 1]?.pose, frame.pose, b), own });
+          }
           if (!a.worst || d > a.worst.deg) a.worst = { deg: d, track: tr.id, frame: frame.frame, bone: b };
         }
       }
@@ -437,6 +460,11 @@ for (const [name, acc] of [...avatars.map((a) => [a, byAvatar[a]]), ...(avatars.
   console.log(`| figure | ${METHODS.map((m) => LABEL[m]).join(" | ")} |`);
   console.log(`| --- | ${METHODS.map(() => "---:").join(" | ")} |`);
   for (const [n, f] of FIG) console.log(`| ${n} | ${METHODS.map((m) => f(acc[m], m)).join(" | ")} |`);
+}
+for (const m of METHODS) {
+  if (!byAvatar[avatars[0]][m].events.length) continue;
+  console.log();
+  console.log(`${LABEL[m]} (${avatars[0]}), turns over 90 degrees: ${byAvatar[avatars[0]][m].events.map((e) => `${e.track} ${e.frame} ${e.bone} ${f1(e.deg)} (its segment ${f1(e.own)}, MediaPipe's ${f1(e.input)})`).join("; ")}`);
 }
 if (o.json) writeFileSync(o.json, JSON.stringify({ meta: rec.meta, tracks: tracks.map((t) => ({ id: t.id, first: t.frames[0].frame, last: t.frames[t.frames.length - 1].frame })), perTrack }, null, 1));
 if (o.shots) await shots(S, shotData.avatar, Object.fromEntries(tracks.map((t) => [t.id, t])), shotData.solvedBy);
