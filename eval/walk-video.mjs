@@ -50,7 +50,7 @@ import { dirname, join } from "node:path";
 import { fileURLToPath } from "node:url";
 import { parseArgs } from "node:util";
 import { len, loadSolvers, sub } from "./bench/scoring.mjs";
-import { Body, SIDES, bentBackwards, kalidokitLegs, mean, percentile } from "./bench/legs-scoring.mjs";
+import { Body, SIDES, bentBackwards, kalidokitLegs, kneeAngleOf, mean, percentile } from "./bench/legs-scoring.mjs";
 import { avatarFile } from "./bench/common.mjs";
 
 const REPO = join(dirname(fileURLToPath(import.meta.url)), "..");
@@ -304,7 +304,7 @@ function scoreTrack(S, body, restPose, tr, labels, EXTRA) {
             const u = seg(prev[m].s);
             const v = seg(samples[m]);
             const own = u ? (Math.acos(Math.max(-1, Math.min(1, (u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (len(u) * len(v))))) * 180) / Math.PI : NaN;
-            a.events.push({ track: tr.id, frame: frame.frame, bone: b, deg: d, input: inputTurn(tr.frames[i - 1]?.pose, frame.pose, b), own });
+            a.events.push({ track: tr.id, frame: frame.frame, bone: b, deg: d, input: inputTurn(tr.frames[i - 1]?.pose, frame.pose, b), own, knee: [kneeAngleOf(prev[m].s[side]), kneeAngleOf(samples[m][side])] });
           }
           if (!a.worst || d > a.worst.deg) a.worst = { deg: d, track: tr.id, frame: frame.frame, bone: b };
         }
@@ -464,7 +464,7 @@ for (const [name, acc] of [...avatars.map((a) => [a, byAvatar[a]]), ...(avatars.
 for (const m of METHODS) {
   if (!byAvatar[avatars[0]][m].events.length) continue;
   console.log();
-  console.log(`${LABEL[m]} (${avatars[0]}), turns over 90 degrees: ${byAvatar[avatars[0]][m].events.map((e) => `${e.track} ${e.frame} ${e.bone} ${f1(e.deg)} (its segment ${f1(e.own)}, MediaPipe's ${f1(e.input)})`).join("; ")}`);
+  console.log(`${LABEL[m]} (${avatars[0]}), turns over 90 degrees: ${byAvatar[avatars[0]][m].events.map((e) => `${e.track} ${e.frame} ${e.bone} ${f1(e.deg)} (its segment ${f1(e.own)}, MediaPipe's ${f1(e.input)}; the knee ${f1(e.knee[0])} -> ${f1(e.knee[1])})`).join("; ")}`);
 }
 if (o.json) writeFileSync(o.json, JSON.stringify({ meta: rec.meta, tracks: tracks.map((t) => ({ id: t.id, first: t.frames[0].frame, last: t.frames[t.frames.length - 1].frame })), perTrack }, null, 1));
 if (o.shots) await shots(S, shotData.avatar, Object.fromEntries(tracks.map((t) => [t.id, t])), shotData.solvedBy);
