@@ -49,7 +49,7 @@ help:
 	@echo "make bench-score  solve the recordings with handrig and Kalidokit, compare with the truth (prints the tables)"
 	@echo "make eval-bench-legs  the bench's leg clips (issue 51): render, track (Tasks API), score handrig and Kalidokit's legs (15 min)"
 	@echo "make bench-score-legs score the leg clips' recordings only (eval/bench/score-legs.mjs)"
-	@echo "make eval-walk-video  the legs on real video of people walking (issue 51): OpenCV's vtest.avi from Debian's opencv-doc, tracked (Tasks API, 20 min once), handrig and Kalidokit's legs per person"
+	@echo "make eval-walk-video  the legs on real video of people walking (issue 51): OpenCV's vtest.avi from Debian's opencv-doc, tracked (Tasks API, 16 min once), handrig and Kalidokit's legs per person"
 	@echo "make eval-bench-contact  the bench's contact clips (issue 52): a hand on and before the chest, rendered, tracked, solved (10 min)"
 	@echo "make avatars    regenerate the human avatars in tests/fixtures/avatars/ from ../shared/data/makehuman (tools/avatars/)"
 	@echo "make record-check  record the shared videos with tools/record-video.mjs and compare with the shared recordings"
