@@ -8,7 +8,7 @@
 //    the Tasks API PoseLandmarker (pose_landmarker_full.task, CPU, VIDEO mode, numPoses 6) in
 //    headless Chromium (eval/bench/walk-video-page.js) on every frame decoded by ffmpeg, as
 //    overlapping tiles (`--layout tiles`, the default: 2 x 2 tiles of 448 x 448, each its own
-//    landmarker) or the whole frame (`--layout full`: no pose found, the people are too small
+//    landmarker) or the whole frame (`--layout full`: no pose found at 2x, the people too small
 //    for the detector's 224 x 224 input), each scaled by `--scale` (default 1) first.
 // 2. People: the poses of a frame (tiles overlap: one person found twice is kept once, the
 //    pose with the higher visibility) are followed from frame to frame by the nearest hips
