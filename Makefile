@@ -27,7 +27,7 @@ NODE_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NODE_DIRS))
 .PHONY: help setup setup-system setup-rust setup-node pkg pkg-dev \
         test test-rust test-wasm test-node test-www test-docs docs demo eval bench record-check avatars clean \
         bench-truth bench-render bench-track bench-tasks bench-score fuzz soak \
-        eval-face eval-face-bench eval-bench-legs bench-score-legs eval-bench-contact
+        eval-face eval-face-bench eval-bench-legs bench-score-legs eval-bench-contact eval-walk-video
 
 help:
 	@echo "make demo       build the package (pkg/) and serve the demo on 127.0.0.1"
@@ -49,6 +49,7 @@ help:
 	@echo "make bench-score  solve the recordings with handrig and Kalidokit, compare with the truth (prints the tables)"
 	@echo "make eval-bench-legs  the bench's leg clips (issue 51): render, track (Tasks API), score handrig and Kalidokit's legs (15 min)"
 	@echo "make bench-score-legs score the leg clips' recordings only (eval/bench/score-legs.mjs)"
+	@echo "make eval-walk-video  the legs on real video of people walking (issue 51): OpenCV's vtest.avi from Debian's opencv-doc, tracked (Tasks API, 16 min once), handrig and Kalidokit's legs per person"
 	@echo "make eval-bench-contact  the bench's contact clips (issue 52): a hand on and before the chest, rendered, tracked, solved (10 min)"
 	@echo "make avatars    regenerate the human avatars in tests/fixtures/avatars/ from ../shared/data/makehuman (tools/avatars/)"
 	@echo "make record-check  record the shared videos with tools/record-video.mjs and compare with the shared recordings"
@@ -198,6 +199,14 @@ eval-bench-legs: pkg eval/node_modules/.package-lock.json tests/node/node_module
 
 bench-score-legs: pkg eval/node_modules/.package-lock.json tests/node/node_modules/.package-lock.json
 	node eval/bench/score-legs.mjs
+
+# The legs on real video (issue 51): OpenCV's sample vtest.avi (people walking across a campus
+# path, a fixed camera; from Debian's opencv-doc, apt-get download when missing, never
+# committed) tracked by the Tasks API PoseLandmarker in tiles (once, 20 min, cached in
+# eval/walk-video/vtest-poses.json), followed person by person, solved by handrig and
+# Kalidokit's legs (docs/measurements/2026-12-06-legs.md).
+eval-walk-video: pkg eval/node_modules/.package-lock.json tests/node/node_modules/.package-lock.json
+	node eval/walk-video.mjs --tracks
 
 # The bench's contact clips (issue 52): the right hand held on the chest and 18 cm before it (a flat
 # palm, a curved hand, a fist, a curved hand at the collar) rendered on the woman (tune), the man and

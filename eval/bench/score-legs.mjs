@@ -45,9 +45,10 @@
 import { existsSync, readFileSync, writeFileSync } from "node:fs";
 import { join } from "node:path";
 import { parseArgs } from "node:util";
-import { PosedHumanoid, add, angle, cap, cross, dot, fromVrm0, len, loadSolvers, mid, norm, qrot, quatFromEulerXYZ, scale, sub, toAvatar } from "./scoring.mjs";
-import { LEG_AVATARS, REPO, avatarFile, recordingFile } from "./common.mjs";
-import { LEG_CLIPS, LEG_REST_BONES, legClipPose } from "./motions.mjs";
+import { add, len, loadSolvers, mid, scale, sub, toAvatar } from "./scoring.mjs";
+import { Body, SIDES, bentBackwards, kalidokitLegs, kneeAngleOf, mean, percentile } from "./legs-scoring.mjs";
+import { LEG_AVATARS, avatarFile, recordingFile } from "./common.mjs";
+import { LEG_CLIPS, legClipPose } from "./motions.mjs";
 
 const { values: o } = parseArgs({
   options: {
@@ -60,91 +61,10 @@ const started = performance.now();
 const EXTRA = JSON.parse(o.options);
 const { pkgDir, HandRig, restPoseFromVRM, applyToVRM, loadVrm, Kalidokit } = await loadSolvers({ pkg: o.pkg, noKalidokit: o["no-kalidokit"] });
 
-const SIDES = ["left", "right"];
 // MediaPipe pose indices of each side's hip, knee, ankle (the subject's side).
 const MP_LEG = { left: [23, 25, 27], right: [24, 26, 28] };
 
-/** FK over a loaded VRM's normalized humanoid (rotations and the hips' position). */
-class Body extends PosedHumanoid {
-  constructor(vrm) {
-    super(vrm);
-    this.hips = this.h.getNormalizedBoneNode("hips");
-    this.hipsRest = this.hips.position.toArray();
-    this.reset();
-    const s = this.positions();
-    this.rest = Object.fromEntries(LEG_REST_BONES.filter((b) => s[b]).map((b) => [b, s[b].p]));
-    this.restFull = s;
-    // Sole points at rest: the heel under the foot joint, the ball under the toes joint (or a
-    // fifth of the leg ahead of the heel without toes), in each bone's frame.
-    this.sole = {};
-    for (const side of SIDES) {
-      const foot = s[`${side}Foot`].p;
-      const toes = s[`${side}Toes`]?.p;
-      const legLen = len(sub(s[`${side}UpperLeg`].p, s[`${side}LowerLeg`].p)) + len(sub(s[`${side}LowerLeg`].p, foot));
-      this.sole[side] = toes
-        ? { heel: [0, -foot[1], 0], ball: { bone: `${side}Toes`, off: [0, -toes[1], 0] } }
-        : { heel: [0, -foot[1], 0], ball: { bone: `${side}Foot`, off: [0, -foot[1], 0.2 * legLen] } };
-    }
-  }
-  reset() {
-    super.reset();
-    this.hips.position.fromArray(this.hipsRest);
-  }
-  set(bones, hipsOffset) {
-    super.set(bones);
-    if (hipsOffset) this.hips.position.fromArray(add(this.hipsRest, hipsOffset));
-  }
-  save() {
-    return { q: Object.fromEntries(this.names.map((n) => [n, this.h.getNormalizedBoneNode(n).quaternion.toArray()])), hips: this.hips.position.toArray() };
-  }
-  restore(s) {
-    for (const [n, q] of Object.entries(s.q)) this.h.getNormalizedBoneNode(n).quaternion.fromArray(q);
-    this.hips.position.fromArray(s.hips);
-  }
-  /** The legs of the current pose: per side hip joint, knee, ankle, sole points (room, meters); the hips' forward. */
-  sample() {
-    const s = this.positions();
-    const out = { forward: qrot(s.hips.q, [0, 0, 1]) };
-    for (const side of SIDES) {
-      const foot = s[`${side}Foot`];
-      const b = this.sole[side].ball;
-      const heel = add(foot.p, qrot(foot.q, this.sole[side].heel));
-      const ball = add(s[b.bone].p, qrot(s[b.bone].q, b.off));
-      out[side] = { hip: s[`${side}UpperLeg`].p, knee: s[`${side}LowerLeg`].p, ankle: foot.p, soles: [heel, ball] };
-    }
-    return out;
-  }
-}
-
-// ---- Kalidokit -------------------------------------------------------------------------------------
-const POSE_SWAP = [0, 4, 5, 6, 1, 2, 3, 8, 7, 10, 9, 12, 11, 14, 13, 16, 15, 18, 17, 20, 19, 22, 21, 24, 23, 26, 25, 28, 27, 30, 29, 32, 31];
-const mirrorPose = (lms, image) =>
-  POSE_SWAP.map((j) => {
-    const [x, y, z, v] = lms[j];
-    return { x: image ? 1 - x : -x, y, z, visibility: v };
-  });
-function kalidokitLegs(frame, rec) {
-  const p = frame.pose;
-  const solved = Kalidokit.Pose.solve(mirrorPose(p.worldLandmarks, false), mirrorPose(p.landmarks, true), {
-    runtime: "mediapipe", imageSize: { width: rec.width, height: rec.height }, enableLegs: true,
-  });
-  const bones = { hips: fromVrm0(quatFromEulerXYZ(solved.Hips.rotation)) };
-  for (const side of SIDES) {
-    for (const b of ["UpperArm", "LowerArm", "UpperLeg", "LowerLeg"]) bones[`${side}${b}`] = fromVrm0(quatFromEulerXYZ(solved[`${cap(side)}${b}`]));
-  }
-  return bones;
-}
-
 // ---- statistics --------------------------------------------------------------------------------
-const percentile = (v, p) => {
-  if (!v.length) return NaN;
-  const s = [...v].sort((a, b) => a - b);
-  const rank = (p / 100) * (s.length - 1);
-  const lo = Math.floor(rank);
-  const hi = Math.ceil(rank);
-  return s[lo] + (s[hi] - s[lo]) * (rank - lo);
-};
-const mean = (v) => (v.length ? v.reduce((a, b) => a + b, 0) / v.length : NaN);
 const METHODS = ["handrig", "tracked", "kalidokit", "mediapipe"].filter((m) => m !== "kalidokit" || Kalidokit);
 const LABEL = { handrig: "handrig (defaults)", tracked: "handrig, as tracked", kalidokit: "Kalidokit 1.1.5", mediapipe: "MediaPipe raw" };
 const SOLVERS = METHODS.filter((m) => m !== "mediapipe");
@@ -154,15 +74,6 @@ function merge(into, acc) {
     for (const k of ["knee", "ankle", "kneeRoom", "ankleRoom", "kneeAngle", "slide", "hipsRoom"]) into[m][k].push(...acc[m][k]);
     for (const k of ["under", "float", "backwards", "frames", "travel", "truthTravel"]) into[m][k] += acc[m][k];
   }
-}
-const kneeAngleOf = (l) => angle(sub(l.knee, l.hip), sub(l.ankle, l.knee));
-/** A knee bent more than 10 degrees whose knee lies behind the hip-ankle line (against the hips' forward). */
-function bentBackwards(l, forward) {
-  if (kneeAngleOf(l) < 10) return false;
-  const u = norm(sub(l.ankle, l.hip));
-  const k = sub(l.knee, l.hip);
-  const off = sub(k, scale(u, dot(k, u)));
-  return dot(off, forward) < 0;
 }
 
 // ---- one clip ------------------------------------------------------------------------------------
@@ -195,7 +106,7 @@ function scoreClip(body, restPose, clip, rec, acc, rows) {
     }
     if (Kalidokit) {
       body.reset();
-      if (frame.pose) body.set(kalidokitLegs(frame, rec));
+      if (frame.pose) body.set(kalidokitLegs(Kalidokit, frame.pose, rec));
       samples.kalidokit = body.sample();
     }
     if (!frame.pose?.worldLandmarks) {
