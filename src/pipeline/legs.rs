@@ -78,6 +78,8 @@ pub(super) struct Legs {
     last_ankle: [Option<Vec3>; 2],
     /// Each tracked ankle in the image last frame (x in heights).
     last_seen_ankle: [Option<Vec3>; 2],
+    /// Whether each tracked ankle moved at [`LIFT_SPEED`] or faster last frame.
+    fast: [bool; 2],
     /// How each leg is read from the image.
     reading: [Reading; 2],
 }
@@ -110,6 +112,7 @@ impl Legs {
             lock: [None; 2],
             last_ankle: [None; 2],
             last_seen_ankle: [None; 2],
+            fast: [false; 2],
             reading: [Reading::default(); 2],
         }
     }
@@ -132,6 +135,7 @@ impl Legs {
         self.lock = [None; 2];
         self.last_ankle = [None; 2];
         self.last_seen_ankle = [None; 2];
+        self.fast = [false; 2];
         self.reading = [Reading::default(); 2];
     }
 
@@ -245,9 +249,15 @@ impl Legs {
             {
                 speed[s] = (a - b).length() / dt.max(1e-3);
             }
-            if speed[s] >= LIFT_SPEED {
+            // A planted foot lifts by its speed only when it was fast the frame before too
+            // (or its speed is unknown): one frame's jump of the image ankle lifted and planted
+            // it again (the bench's figure of primitives: 41 of its 50 lifts planted again
+            // within 2 frames, each a slide).
+            let fast = speed[s] >= LIFT_SPEED;
+            if fast && (self.fast[s] || speed[s].is_infinite()) {
                 self.lock[s] = None;
             }
+            self.fast[s] = fast;
         }
         self.last_ankle = tracked_ankle;
         self.last_seen_ankle = seen_ankle;
@@ -392,8 +402,9 @@ impl Legs {
             let s = side.index();
             let speed = speed[s];
             let height = heights[s];
+            // A lock still held was not lifted by its speed above (two fast frames running).
             let planted = if self.lock[s].is_some() {
-                height < LIFT_HEIGHT && speed < LIFT_SPEED
+                height < LIFT_HEIGHT
             } else {
                 height < PLANT_HEIGHT && speed < PLANT_SPEED
             };
