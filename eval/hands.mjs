@@ -24,6 +24,7 @@ import { readFileSync } from "node:fs";
 import { createRequire } from "node:module";
 import { dirname, join, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
+import { percentile } from "./bench/scoring.mjs";
 
 const here = dirname(fileURLToPath(import.meta.url));
 const root = resolve(here, "..");
@@ -203,14 +204,6 @@ function kalidokitLocal(landmarks, side) {
 }
 
 // ---- statistics ----------------------------------------------------------------------------
-const percentile = (v, p) => {
-  if (!v.length) return NaN;
-  const s = [...v].sort((a, b) => a - b);
-  const rank = (p / 100) * (s.length - 1);
-  const lo = Math.floor(rank);
-  const hi = Math.ceil(rank);
-  return s[lo] + (s[hi] - s[lo]) * (rank - lo);
-};
 const stats = (v) => ({ samples: v.length, median: percentile(v, 50), p95: percentile(v, 95) });
 
 const results = {};

@@ -2,7 +2,7 @@
 // clips, against their truth) and eval/walk-video.mjs (real video, no truth): forward kinematics
 // of a VRM's legs with sole points, Kalidokit's legs on MediaPipe landmarks, and the statistics.
 
-import { add, angle, cap, dot, fromVrm0, len, norm, PosedHumanoid, qrot, quatFromEulerXYZ, scale, sub } from "./scoring.mjs";
+import { add, angle, cap, dot, fromVrm0, len, norm, percentile, PosedHumanoid, qrot, quatFromEulerXYZ, scale, sub } from "./scoring.mjs";
 import { LEG_REST_BONES } from "./motions.mjs";
 
 export const SIDES = ["left", "right"];
@@ -78,14 +78,7 @@ export function kalidokitLegs(Kalidokit, p, rec) {
 }
 
 // ---- statistics ----------------------------------------------------------------------------------
-export const percentile = (v, p) => {
-  if (!v.length) return NaN;
-  const s = [...v].sort((a, b) => a - b);
-  const rank = (p / 100) * (s.length - 1);
-  const lo = Math.floor(rank);
-  const hi = Math.ceil(rank);
-  return s[lo] + (s[hi] - s[lo]) * (rank - lo);
-};
+export { percentile };
 export const mean = (v) => (v.length ? v.reduce((a, b) => a + b, 0) / v.length : NaN);
 export const kneeAngleOf = (l) => angle(sub(l.knee, l.hip), sub(l.ankle, l.knee));
 /** A knee bent more than 10 degrees whose knee lies behind the hip-ankle line (against the hips' forward). */

@@ -41,7 +41,7 @@
 import { existsSync, readFileSync, writeFileSync } from "node:fs";
 import { join } from "node:path";
 import { parseArgs } from "node:util";
-import { PosedHumanoid, add, angle, cap, cross, dot, fromVrm0, len, loadSolvers, mid, norm, qrot, quatFromEulerXYZ, scale, sub, toAvatar } from "./scoring.mjs";
+import { PosedHumanoid, add, angle, cap, cross, dot, fromVrm0, len, loadSolvers, mid, norm, percentile, qrot, quatFromEulerXYZ, scale, sub, toAvatar } from "./scoring.mjs";
 import { AVATARS, CLIP_DIR, REPO, avatarFile, recordingFile } from "./common.mjs";
 import { CLIPS, clipPose } from "./motions.mjs";
 
@@ -161,14 +161,6 @@ function idealHand(h, cam, aspect) {
 }
 
 // ---- statistics --------------------------------------------------------------------------------
-const percentile = (v, p) => {
-  if (!v.length) return NaN;
-  const s = [...v].sort((a, b) => a - b);
-  const rank = (p / 100) * (s.length - 1);
-  const lo = Math.floor(rank);
-  const hi = Math.ceil(rank);
-  return s[lo] + (s[hi] - s[lo]) * (rank - lo);
-};
 const METHODS = ["handrig", "retarget", "kalidokit", "mediapipe", "oracle"].filter((m) => m !== "kalidokit" || Kalidokit);
 const METHOD_LABEL = {
   handrig: "handrig (defaults)", retarget: "handrig retarget", kalidokit: "Kalidokit 1.1.5", mediapipe: "MediaPipe raw",

@@ -38,6 +38,15 @@ export const norm = (a) => scale(a, 1 / len(a));
 /** The angle between two vectors, degrees. */
 export const angle = (a, b) => (Math.acos(Math.min(1, Math.max(-1, dot(norm(a), norm(b))))) * 180) / Math.PI;
 export const mid = (a, b) => scale(add(a, b), 0.5);
+/** The p-th percentile (0-100) of v, linear between ranks; NaN when empty. */
+export const percentile = (v, p) => {
+  if (!v.length) return NaN;
+  const s = [...v].sort((a, b) => a - b);
+  const rank = (p / 100) * (s.length - 1);
+  const lo = Math.floor(rank);
+  const hi = Math.ceil(rank);
+  return s[lo] + (s[hi] - s[lo]) * (rank - lo);
+};
 /** `v` turned by the unit quaternion `q`. */
 export const qrot = (q, v) => {
   const u = [q[0], q[1], q[2]];

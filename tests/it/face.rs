@@ -414,11 +414,16 @@ impl BlinkRun {
 
     /// One frame of [`both_eyes`]`(b, down)`: the `blink` shown.
     fn eyes(&mut self, b: f32, down: f32) -> f32 {
+        self.step(both_eyes(b, down));
+        preset(&self.out, "blink")
+    }
+
+    /// One frame (30 fps) of these weights.
+    fn step(&mut self, w: [f32; SHAPES]) {
         self.rig
-            .solve(&frame(self.t, both_eyes(b, down), None), &mut self.out)
+            .solve(&frame(self.t, w, None), &mut self.out)
             .unwrap();
         self.t += 1000.0 / 30.0;
-        preset(&self.out, "blink")
     }
 }
 
@@ -499,32 +504,30 @@ fn a_long_squint_does_not_teach_the_closed_level() {
 /// still smoothed (the mouth's faster filter is the jaw's and mouth's weights only).
 #[test]
 fn a_talking_mouth_shuts_within_two_frames_and_the_brows_stay_smoothed() {
-    let mut o = RigOptions::default();
-    o.face.calibration_time = 0.0;
-    let mut r = rig(o);
-    let mut out = SolveOutput::default();
-    let mut t = 0.0;
-    let mut step = |w: [f32; SHAPES], out: &mut SolveOutput| {
-        r.solve(&frame(t, w, None), out).unwrap();
-        t += 1000.0 / 30.0;
-    };
+    let mut run = BlinkRun::calibrated();
     let mut shut = [0.0; SHAPES];
     shut[shape("jawOpen")] = 0.02;
     for _ in 0..10 {
-        step(shut, &mut out);
+        run.step(shut);
     }
     let mut open = shut;
     open[shape("jawOpen")] = 0.7;
     open[shape("browInnerUp")] = 0.7;
     let mut seen = Vec::new();
     for _ in 0..3 {
-        step(open, &mut out);
-        seen.push((preset(&out, "aa"), out.face.arkit[shape("browInnerUp")]));
+        run.step(open);
+        seen.push((
+            preset(&run.out, "aa"),
+            run.out.face.arkit[shape("browInnerUp")],
+        ));
     }
     assert!(seen[1].0 >= 0.3, "aa opens within two frames: {seen:?}");
     for _ in 0..2 {
-        step(shut, &mut out);
-        seen.push((preset(&out, "aa"), out.face.arkit[shape("browInnerUp")]));
+        run.step(shut);
+        seen.push((
+            preset(&run.out, "aa"),
+            run.out.face.arkit[shape("browInnerUp")],
+        ));
     }
     let (aa, brow) = seen[4];
     assert!(aa <= 0.1, "aa two frames after the shut: {seen:?}");
