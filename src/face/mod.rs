@@ -635,3 +635,17 @@ fn normalize_sum(x: &mut [f32]) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`MOUTH`] is the jaw's and mouth's weights of [`ARKIT`], and only those.
+    #[test]
+    fn the_mouth_range_is_the_jaw_and_mouth_weights() {
+        for (k, name) in ARKIT.iter().enumerate() {
+            let mouth = name.starts_with("jaw") || name.starts_with("mouth");
+            assert_eq!(MOUTH.contains(&k), mouth, "{k} {name}");
+        }
+    }
+}

@@ -20,7 +20,8 @@ use super::output::SolveOutput;
 /// Largest height (m) of a foot's lowest sole point above the floor, and speed (m/s) of its
 /// tracked ankle, at which the foot counts as planted (bearing weight). A planted foot stays
 /// planted until it rises past [`LIFT_HEIGHT`] or its tracked ankle moves faster than
-/// [`LIFT_SPEED`]: the gap keeps noise from planting and lifting it frame to frame.
+/// [`LIFT_SPEED`] on two frames running: the gaps keep noise from planting and lifting it
+/// frame to frame.
 const PLANT_HEIGHT: f32 = 0.03;
 const PLANT_SPEED: f32 = 0.5;
 const LIFT_HEIGHT: f32 = 0.05;
