@@ -26,6 +26,7 @@
 //
 //   node eval/face-bench.mjs [--record] [--avatars woman,man,child] [--json FILE]
 //   node eval/face-bench.mjs --avatars woman --write-shots   # tests/fixtures/face/bench-shots.json
+//   FACE_STILL_TRACE=0.02 node eval/face-bench.mjs            # each still-stretch move over 0.02: where, which weight
 //
 // --record renders and tracks the clips again (about 4 s a frame-second here); the recordings
 // go to eval/face-bench/AVATAR-CLIP.json (not committed, ~0.8 MB a clip), made when missing.
@@ -302,7 +303,16 @@ function score(list, who) {
         const prev = res[k - 1];
         let still = k >= 6;
         for (let j = k - 6; still && j < k; j++) if (res[j].truth.key !== r.truth.key) still = false;
-        if (still && prev[who]) acc.still.push(Math.max(...s.weights.map((w, i) => Math.abs(w - prev[who].weights[i]))));
+        if (still && prev[who]) {
+          const moves = s.weights.map((w, i) => Math.abs(w - prev[who].weights[i]));
+          const m = Math.max(...moves);
+          acc.still.push(m);
+          if (process.env.FACE_STILL_TRACE && m > Number(process.env.FACE_STILL_TRACE)) {
+            const i = moves.indexOf(m);
+            const around = res.slice(Math.max(0, k - 8), k + 3).map((x) => x[who]?.weights[i].toFixed(3)).join(" ");
+            console.error(`still move ${m.toFixed(3)}: ${who} ${avatar} ${clip.id} frame ${k} ${(who === "handrig" ? PRESETS : ["A", "I", "U", "E", "O", "eye.l", "eye.r"])[i]} (frames ${Math.max(0, k - 8)}..${k + 2}: ${around})`);
+          }
+        }
       }
     }
   }
