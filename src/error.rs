@@ -78,3 +78,11 @@ impl std::error::Error for Error {}
 
 /// Result alias.
 pub type Result<T, E = Error> = core::result::Result<T, E>;
+
+impl From<handrig_gltf::error::Error> for Error {
+    fn from(e: handrig_gltf::error::Error) -> Self {
+        match e {
+            handrig_gltf::error::Error::Vrm(msg) => Error::Vrm(msg),
+        }
+    }
+}

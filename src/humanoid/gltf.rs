@@ -427,7 +427,7 @@ pub fn parse(bytes: &[u8], bone_map: &[(String, String)]) -> Result<GltfHumanoid
 
 /// [`parse`], with the document read (for the skin).
 fn parse_document(bytes: &[u8], bone_map: &[(String, String)]) -> Result<(Document, GltfHumanoid)> {
-    let doc = Document::read(bytes).map_err(as_gltf)?;
+    let doc = Document::read(bytes).map_err(|e| as_gltf(e.into()))?;
     let ext = doc.extensions.as_ref();
     let has_vrm = ext.is_some_and(|e| e.get("VRMC_vrm").is_some() || e.get("VRM").is_some());
     let (naming, version, entries) = if !bone_map.is_empty() {

@@ -14,16 +14,16 @@
 //! * [`vrm`]: the VRM 1.0 / 0.x extensions on top of the document (`HandRig.fromVrm`).
 //! * [`gltf`]: any glTF humanoid by bone names or a map (Mixamo, Unreal, a VRM; `fromGltf`).
 
-pub mod accessors;
 pub mod bones;
-pub mod document;
-pub mod glb;
 pub mod gltf;
 pub mod gltf_skin;
 pub mod measure;
 pub mod skeleton;
 pub mod skin;
 pub mod vrm;
+
+// The glTF document's reader is its own crate (compiled for size: crates/gltf), under its old paths.
+pub use handrig_gltf::{accessors, document, glb};
 
 pub use bones::{Finger, HumanBone, Side, BONE_COUNT};
 pub use skeleton::{Skeleton, VrmVersion, WorldPose};

@@ -8,28 +8,28 @@ use crate::error::{Error, Result};
 /// Largest JSON chunk read (real avatars: a few MB).
 pub const MAX_JSON_BYTES: usize = 64 << 20;
 
-pub(crate) const GLB_MAGIC: u32 = 0x4654_6C67; // "glTF", little-endian
-pub(crate) const CHUNK_JSON: u32 = 0x4E4F_534A; // "JSON"
-pub(crate) const CHUNK_BIN: u32 = 0x004E_4942; // "BIN\0"
-pub(crate) const HEADER_LEN: usize = 12;
-pub(crate) const CHUNK_HEADER_LEN: usize = 8;
+pub const GLB_MAGIC: u32 = 0x4654_6C67; // "glTF", little-endian
+pub const CHUNK_JSON: u32 = 0x4E4F_534A; // "JSON"
+pub const CHUNK_BIN: u32 = 0x004E_4942; // "BIN\0"
+pub const HEADER_LEN: usize = 12;
+pub const CHUNK_HEADER_LEN: usize = 8;
 
 /// The JSON chunk of a GLB, borrowed from the input, and where the BIN chunk is (its data is
 /// read only for the skin).
-pub(crate) struct Glb<'a> {
-    pub(crate) json: &'a [u8],
+pub struct Glb<'a> {
+    pub json: &'a [u8],
     /// The BIN chunk's byte range, empty when there is none.
-    pub(crate) bin: core::ops::Range<usize>,
+    pub bin: core::ops::Range<usize>,
 }
 
-pub(crate) fn read_u32(bytes: &[u8], at: usize) -> Option<u32> {
+pub fn read_u32(bytes: &[u8], at: usize) -> Option<u32> {
     let end = at.checked_add(4)?;
     let b: [u8; 4] = bytes.get(at..end)?.try_into().ok()?;
     Some(u32::from_le_bytes(b))
 }
 
 /// Shows four bytes as text when they are printable, else as hex, for error messages.
-pub(crate) fn show_tag(tag: u32) -> String {
+pub fn show_tag(tag: u32) -> String {
     let b = tag.to_le_bytes();
     if b.iter().all(|c| c.is_ascii_graphic() || *c == b' ') {
         format!("\"{}\"", String::from_utf8_lossy(&b))
@@ -39,7 +39,7 @@ pub(crate) fn show_tag(tag: u32) -> String {
 }
 
 impl<'a> Glb<'a> {
-    pub(crate) fn parse(bytes: &'a [u8]) -> Result<Self> {
+    pub fn parse(bytes: &'a [u8]) -> Result<Self> {
         let got = bytes.len();
         if let Some(magic) = read_u32(bytes, 0) {
             if magic != GLB_MAGIC {

@@ -13,7 +13,7 @@ pub const MAX_ENTRIES: usize = 65_536;
 
 /// A top-level glTF array read leniently: each entry as [`FromJson`] gives it (`None` when it
 /// is malformed), at most [`MAX_ENTRIES`] kept; anything but an array reads as empty.
-pub(crate) struct List<T>(pub(crate) Vec<Option<T>>);
+pub struct List<T>(pub Vec<Option<T>>);
 
 impl<T> Default for List<T> {
     fn default() -> Self {
@@ -22,13 +22,13 @@ impl<T> Default for List<T> {
 }
 
 impl<T> List<T> {
-    pub(crate) fn get(&self, i: Option<usize>) -> Option<&T> {
+    pub fn get(&self, i: Option<usize>) -> Option<&T> {
         self.0.get(i?)?.as_ref()
     }
 }
 
 /// An entry of a [`List`], from its JSON value.
-pub(crate) trait FromJson: Sized {
+pub trait FromJson: Sized {
     fn from_json(v: &Json) -> Option<Self>;
 }
 
@@ -85,7 +85,7 @@ impl<'de, T: FromJson> Deserialize<'de> for List<T> {
 }
 
 /// A non-negative integer (JSON `3` or `3.0`) small enough to be an index or a byte count.
-pub(crate) fn uint(v: Option<&Json>) -> Option<usize> {
+pub fn uint(v: Option<&Json>) -> Option<usize> {
     let f = v?.as_f64()?;
     (f.fract() == 0.0 && (0.0..9.0e15).contains(&f))
         .then(|| usize::try_from(f as u64).ok())
@@ -93,7 +93,7 @@ pub(crate) fn uint(v: Option<&Json>) -> Option<usize> {
 }
 
 /// `key` as an index; absent: `default`; present but not an index: `None`.
-pub(crate) fn uint_or(v: &Json, key: &str, default: usize) -> Option<usize> {
+pub fn uint_or(v: &Json, key: &str, default: usize) -> Option<usize> {
     match v.get(key) {
         None => Some(default),
         some => uint(some),
@@ -101,15 +101,15 @@ pub(crate) fn uint_or(v: &Json, key: &str, default: usize) -> Option<usize> {
 }
 
 /// `accessors[i]`.
-pub(crate) struct Accessor {
-    pub(crate) view: Option<usize>,
-    pub(crate) offset: usize,
-    pub(crate) component: u32,
-    pub(crate) normalized: bool,
-    pub(crate) count: usize,
+pub struct Accessor {
+    pub view: Option<usize>,
+    pub offset: usize,
+    pub component: u32,
+    pub normalized: bool,
+    pub count: usize,
     /// Components per element (SCALAR 1 ... MAT4 16).
-    pub(crate) width: usize,
-    pub(crate) sparse: bool,
+    pub width: usize,
+    pub sparse: bool,
 }
 
 impl FromJson for Accessor {
@@ -139,11 +139,11 @@ impl FromJson for Accessor {
 }
 
 /// `bufferViews[i]`.
-pub(crate) struct View {
-    pub(crate) buffer: usize,
-    pub(crate) offset: usize,
-    pub(crate) length: usize,
-    pub(crate) stride: Option<usize>,
+pub struct View {
+    pub buffer: usize,
+    pub offset: usize,
+    pub length: usize,
+    pub stride: Option<usize>,
 }
 
 impl FromJson for View {
@@ -161,8 +161,8 @@ impl FromJson for View {
 }
 
 /// `buffers[i]`: only a buffer without `uri` (the GLB's BIN chunk) is read.
-pub(crate) struct Buffer {
-    pub(crate) in_glb: bool,
+pub struct Buffer {
+    pub in_glb: bool,
 }
 
 impl FromJson for Buffer {
@@ -174,18 +174,18 @@ impl FromJson for Buffer {
 }
 
 /// A primitive's accessors (`None`: absent or not an index) and mode.
-pub(crate) struct Primitive {
-    pub(crate) position: Option<usize>,
-    pub(crate) joints: Option<usize>,
-    pub(crate) weights: Option<usize>,
+pub struct Primitive {
+    pub position: Option<usize>,
+    pub joints: Option<usize>,
+    pub weights: Option<usize>,
     /// `Some(None)`: not indexed; `None`: an `indices` that is not an index.
-    pub(crate) indices: Option<Option<usize>>,
-    pub(crate) mode: Option<usize>,
+    pub indices: Option<Option<usize>>,
+    pub mode: Option<usize>,
 }
 
 /// `meshes[i]`: its primitives.
-pub(crate) struct Mesh {
-    pub(crate) primitives: Vec<Primitive>,
+pub struct Mesh {
+    pub primitives: Vec<Primitive>,
 }
 
 impl FromJson for Mesh {
@@ -213,10 +213,10 @@ impl FromJson for Mesh {
 }
 
 /// `skins[i]`.
-pub(crate) struct Skin {
-    pub(crate) joints: Vec<usize>,
+pub struct Skin {
+    pub joints: Vec<usize>,
     /// `Some(None)`: no inverse bind matrices (identity); `None`: not an index.
-    pub(crate) inverse_bind: Option<Option<usize>>,
+    pub inverse_bind: Option<Option<usize>>,
 }
 
 impl FromJson for Skin {
@@ -237,32 +237,32 @@ impl FromJson for Skin {
 
 /// The glTF members the skin is read from (a part of [`Document`]).
 #[derive(Default)]
-pub(crate) struct MeshData {
-    pub(crate) accessors: List<Accessor>,
-    pub(crate) views: List<View>,
-    pub(crate) buffers: List<Buffer>,
-    pub(crate) meshes: List<Mesh>,
-    pub(crate) skins: List<Skin>,
+pub struct MeshData {
+    pub accessors: List<Accessor>,
+    pub views: List<View>,
+    pub buffers: List<Buffer>,
+    pub meshes: List<Mesh>,
+    pub skins: List<Skin>,
 }
 
-pub(crate) const U8: u32 = 5121;
-pub(crate) const U16: u32 = 5123;
-pub(crate) const U32: u32 = 5125;
-pub(crate) const F32: u32 = 5126;
+pub const U8: u32 = 5121;
+pub const U16: u32 = 5123;
+pub const U32: u32 = 5125;
+pub const F32: u32 = 5126;
 
 /// An accessor's elements in the BIN chunk, bounds checked once.
-pub(crate) struct Elements<'a> {
-    pub(crate) bytes: &'a [u8],
-    pub(crate) stride: usize,
-    pub(crate) component: u32,
-    pub(crate) normalized: bool,
-    pub(crate) count: usize,
+pub struct Elements<'a> {
+    pub bytes: &'a [u8],
+    pub stride: usize,
+    pub component: u32,
+    pub normalized: bool,
+    pub count: usize,
 }
 
 impl Elements<'_> {
     /// Component `k` of element `i` (normalized integers in 0..1), or `None` out of bounds
     /// (never for `i < count`, `k < width`: checked in [`MeshData::elements`]).
-    pub(crate) fn get(&self, i: usize, k: usize) -> Option<f32> {
+    pub fn get(&self, i: usize, k: usize) -> Option<f32> {
         let size = component_size(self.component)?;
         let at = i.checked_mul(self.stride)?.checked_add(k * size)?;
         let b = self.bytes.get(at..at + size)?;
@@ -277,7 +277,7 @@ impl Elements<'_> {
     }
 
     /// Element `i` of an integer scalar accessor (indices), exactly.
-    pub(crate) fn index(&self, i: usize) -> Option<u32> {
+    pub fn index(&self, i: usize) -> Option<u32> {
         let size = component_size(self.component)?;
         let at = i.checked_mul(self.stride)?;
         let b = self.bytes.get(at..at + size)?;
@@ -290,7 +290,7 @@ impl Elements<'_> {
     }
 }
 
-pub(crate) fn component_size(c: u32) -> Option<usize> {
+pub fn component_size(c: u32) -> Option<usize> {
     match c {
         5120 | U8 => Some(1),
         5122 | U16 => Some(2),
@@ -302,7 +302,7 @@ pub(crate) fn component_size(c: u32) -> Option<usize> {
 impl MeshData {
     /// Accessor `i` if it has `width` components of one of `components` (with `normalized`
     /// when given) and lies in the BIN chunk.
-    pub(crate) fn elements<'a>(
+    pub fn elements<'a>(
         &self,
         bin: &'a [u8],
         i: Option<usize>,

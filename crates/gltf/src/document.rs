@@ -3,7 +3,7 @@
 //! like JavaScript: a `matrix` decomposed and recomposed as `Object3D.applyMatrix4` does, so a
 //! sheared matrix loses its shear the same way; `matrix` wins over TRS; rotations used as
 //! written), world transforms through the whole hierarchy, the top-level `extensions`, and the
-//! mesh data the skin is read from ([`super::accessors`]).
+//! mesh data the skin is read from ([`crate::accessors`]).
 //!
 //! Every malformed input is an [`Error::Vrm`] naming the part of the file and the problem;
 //! nothing here panics or indexes out of bounds, whatever the bytes.
@@ -11,29 +11,29 @@
 use serde::de::{Deserialize, Deserializer, Error as _, SeqAccess, Visitor};
 use serde_json::Value as Json;
 
-use super::accessors::{Accessor, Buffer, List, Mesh, MeshData, Skin, View};
-use super::glb::Glb;
+use crate::accessors::{Accessor, Buffer, List, Mesh, MeshData, Skin, View};
 use crate::error::{Error, Result};
+use crate::glb::Glb;
 
-/// A GLB's node hierarchy, extensions and mesh data, checked (what [`super::vrm`] and
-/// [`super::gltf`] read).
-pub(crate) struct Document {
+/// A GLB's node hierarchy, extensions and mesh data, checked (what handrig's `humanoid::vrm` and
+/// `humanoid::gltf` read).
+pub struct Document {
     /// The `nodes` as written (for their names).
-    pub(crate) nodes: Vec<Json>,
+    pub nodes: Vec<Json>,
     /// The checked hierarchy with each node's local transform.
-    pub(crate) tree: NodeTree,
+    pub tree: NodeTree,
     /// The top-level `extensions`, if any.
-    pub(crate) extensions: Option<Json>,
-    /// What the skin is read from ([`super::gltf_skin`]).
-    pub(crate) meshes: MeshData,
+    pub extensions: Option<Json>,
+    /// What the skin is read from (handrig's `humanoid::gltf_skin`).
+    pub meshes: MeshData,
     /// The BIN chunk's byte range in the file (empty when there is none).
-    pub(crate) bin: core::ops::Range<usize>,
+    pub bin: core::ops::Range<usize>,
 }
 
 impl Document {
     /// Reads the container, the JSON chunk's `nodes` and `extensions`, and checks the
     /// hierarchy (every error an [`Error::Vrm`]).
-    pub(crate) fn read(bytes: &[u8]) -> Result<Document> {
+    pub fn read(bytes: &[u8]) -> Result<Document> {
         let glb = Glb::parse(bytes)?;
         let json = glb.json.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(glb.json);
         let top = read_top_level(json)?;
@@ -63,35 +63,35 @@ pub const MAX_DEPTH: usize = 1_024;
 
 /// The top-level members handrig reads, read by serde from the JSON chunk: `nodes` and
 /// `extensions`, and for the skin `accessors`, `bufferViews`, `buffers`, `meshes`, `skins`
-/// (leniently, each entry kept in a compact form, at most [`super::accessors::MAX_ENTRIES`]).
+/// (leniently, each entry kept in a compact form, at most [`crate::accessors::MAX_ENTRIES`]).
 /// Every other member (materials, animations, extras...) is checked but not kept, and
 /// `nodes` is refused beyond [`MAX_NODES`] entries as it is read, so a hostile file with
 /// millions of nodes or of other objects costs a scan of its text, not a document tree.
 #[derive(serde::Deserialize)]
-pub(crate) struct TopLevel {
+pub struct TopLevel {
     #[serde(default)]
-    pub(crate) nodes: Nodes,
+    pub nodes: Nodes,
     #[serde(default)]
-    pub(crate) extensions: Option<Json>,
+    pub extensions: Option<Json>,
     // Read leniently (a malformed entry is `None`, a bad member empty): the skin is optional.
     #[serde(default)]
-    pub(crate) accessors: List<Accessor>,
+    pub accessors: List<Accessor>,
     #[serde(default, rename = "bufferViews")]
-    pub(crate) buffer_views: List<View>,
+    pub buffer_views: List<View>,
     #[serde(default)]
-    pub(crate) buffers: List<Buffer>,
+    pub buffers: List<Buffer>,
     #[serde(default)]
-    pub(crate) meshes: List<Mesh>,
+    pub meshes: List<Mesh>,
     #[serde(default)]
-    pub(crate) skins: List<Skin>,
+    pub skins: List<Skin>,
 }
 
 /// `nodes`: at most [`MAX_NODES`] JSON values (each checked by [`NodeTree::parse`]).
 #[derive(Default)]
-pub(crate) struct Nodes(Vec<Json>);
+pub struct Nodes(Vec<Json>);
 
 /// Marks the error of a `nodes` array longer than [`MAX_NODES`].
-pub(crate) const TOO_MANY_NODES: &str = "more than MAX_NODES nodes";
+pub const TOO_MANY_NODES: &str = "more than MAX_NODES nodes";
 
 impl<'de> Deserialize<'de> for Nodes {
     fn deserialize<D: Deserializer<'de>>(d: D) -> core::result::Result<Self, D::Error> {
@@ -120,7 +120,7 @@ impl<'de> Deserialize<'de> for Nodes {
 }
 
 /// Reads the JSON chunk's `nodes` and `extensions` (serde_json; errors name the problem).
-pub(crate) fn read_top_level(json: &[u8]) -> Result<TopLevel> {
+pub fn read_top_level(json: &[u8]) -> Result<TopLevel> {
     // Check the encoding of the whole chunk up front (skipped members are not decoded).
     let json = std::str::from_utf8(json)
         .map_err(|e| Error::vrm(format!("JSON chunk is not valid JSON: not UTF-8 ({e})")))?;
@@ -151,13 +151,13 @@ pub(crate) fn read_top_level(json: &[u8]) -> Result<TopLevel> {
 }
 
 /// `nodes` with their local transforms and the parent of each node, validated to be a forest.
-pub(crate) struct NodeTree {
-    pub(crate) local: Vec<Affine>,
-    pub(crate) parent: Vec<Option<usize>>,
+pub struct NodeTree {
+    pub local: Vec<Affine>,
+    pub parent: Vec<Option<usize>>,
 }
 
 impl NodeTree {
-    pub(crate) fn parse(nodes: &[Json]) -> Result<Self> {
+    pub fn parse(nodes: &[Json]) -> Result<Self> {
         let n = nodes.len();
         if n > MAX_NODES {
             return Err(Error::vrm(format!(
@@ -206,13 +206,19 @@ impl NodeTree {
         Ok(tree)
     }
 
-    pub(crate) fn len(&self) -> usize {
+    /// How many nodes.
+    pub fn len(&self) -> usize {
         self.local.len()
+    }
+
+    /// Whether there are no nodes.
+    pub fn is_empty(&self) -> bool {
+        self.local.is_empty()
     }
 
     /// With one parent per node, a cycle is a loop of nodes none of which reaches a root.
     /// Walks up from every node once, marking nodes known to reach a root, so it is linear.
-    pub(crate) fn check_acyclic(&self) -> Result<()> {
+    pub fn check_acyclic(&self) -> Result<()> {
         const UNSEEN: u8 = 0;
         const ON_PATH: u8 = 1;
         const ROOTED: u8 = 2;
@@ -246,7 +252,7 @@ impl NodeTree {
 
     /// Rejects hierarchies deeper than [`MAX_DEPTH`]. Linear: each node's depth is its
     /// parent's plus one, memoized (the hierarchy is known to be acyclic).
-    pub(crate) fn check_depth(&self) -> Result<()> {
+    pub fn check_depth(&self) -> Result<()> {
         let n = self.len();
         let mut depth = vec![0usize; n];
         let mut known = vec![false; n];
@@ -279,7 +285,7 @@ impl NodeTree {
 
     /// World matrix of `node` (memoized in `cache`): product of the local matrices from the
     /// root down. The hierarchy is known to be acyclic, so the walk ends.
-    pub(crate) fn world(&self, node: usize, cache: &mut [Option<Affine>]) -> Affine {
+    pub fn world(&self, node: usize, cache: &mut [Option<Affine>]) -> Affine {
         let mut chain = Vec::new();
         let mut cur = Some(node);
         let mut base = Affine::IDENTITY;
@@ -308,7 +314,7 @@ impl NodeTree {
 
 /// The value for an error message, short whatever its size: integers and short strings as
 /// written, anything else by kind (`a number`, `a string`, `an array`, ...).
-pub(crate) fn describe(v: &Json) -> String {
+pub fn describe(v: &Json) -> String {
     match v {
         Json::Null => "null".into(),
         Json::Bool(b) => b.to_string(),
@@ -324,7 +330,7 @@ pub(crate) fn describe(v: &Json) -> String {
 }
 
 /// A non-negative integer index below `n` (JSON numbers such as `3.0` count as integers).
-pub(crate) fn index_value(v: &Json, n: usize, field: &str) -> Result<usize> {
+pub fn index_value(v: &Json, n: usize, field: &str) -> Result<usize> {
     let i = v
         .as_f64()
         .filter(|f| f.fract() == 0.0 && *f >= 0.0 && *f < 9.0e15)
@@ -345,7 +351,7 @@ pub(crate) fn index_value(v: &Json, n: usize, field: &str) -> Result<usize> {
 }
 
 /// `N` finite numbers from a JSON array field, or `default` when absent.
-pub(crate) fn numbers<const N: usize>(
+pub fn numbers<const N: usize>(
     node: &Json,
     i: usize,
     key: &str,
@@ -370,9 +376,9 @@ pub(crate) fn numbers<const N: usize>(
 /// An affine transform in f64 (three.js computes in doubles; so do we, to agree to the last
 /// digits): `p -> m * p + t`, `m` stored as columns.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Affine {
-    pub(crate) m: [[f64; 3]; 3],
-    pub(crate) t: [f64; 3],
+pub struct Affine {
+    pub m: [[f64; 3]; 3],
+    pub t: [f64; 3],
 }
 
 impl Affine {
@@ -381,7 +387,7 @@ impl Affine {
         t: [0.0; 3],
     };
 
-    pub(crate) fn apply_linear(&self, v: [f64; 3]) -> [f64; 3] {
+    pub fn apply_linear(&self, v: [f64; 3]) -> [f64; 3] {
         let c = &self.m;
         [
             c[0][0] * v[0] + c[1][0] * v[1] + c[2][0] * v[2],
@@ -391,7 +397,7 @@ impl Affine {
     }
 
     /// A column-major 4x4 matrix's affine part (its last row is taken as 0, 0, 0, 1).
-    pub(crate) fn from_cols_array(a: &[f64; 16]) -> Affine {
+    pub fn from_cols_array(a: &[f64; 16]) -> Affine {
         Affine {
             m: [[a[0], a[1], a[2]], [a[4], a[5], a[6]], [a[8], a[9], a[10]]],
             t: [a[12], a[13], a[14]],
@@ -399,13 +405,13 @@ impl Affine {
     }
 
     /// `m * p + t`.
-    pub(crate) fn apply_point(&self, p: [f64; 3]) -> [f64; 3] {
+    pub fn apply_point(&self, p: [f64; 3]) -> [f64; 3] {
         let l = self.apply_linear(p);
         [l[0] + self.t[0], l[1] + self.t[1], l[2] + self.t[2]]
     }
 
     /// `self * other`: `other` applied first.
-    pub(crate) fn mul(&self, other: &Affine) -> Affine {
+    pub fn mul(&self, other: &Affine) -> Affine {
         let m = other.m.map(|col| self.apply_linear(col));
         let lt = self.apply_linear(other.t);
         Affine {
@@ -414,19 +420,19 @@ impl Affine {
         }
     }
 
-    pub(crate) fn determinant(&self) -> f64 {
+    pub fn determinant(&self) -> f64 {
         let [a, b, c] = self.m;
         a[0] * (b[1] * c[2] - b[2] * c[1]) - b[0] * (a[1] * c[2] - a[2] * c[1])
             + c[0] * (a[1] * b[2] - a[2] * b[1])
     }
 }
 
-pub(crate) fn length(v: [f64; 3]) -> f64 {
+pub fn length(v: [f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
 /// The node's local transform, as three.js builds it.
-pub(crate) fn local_matrix(i: usize, node: &Json) -> Result<Affine> {
+pub fn local_matrix(i: usize, node: &Json) -> Result<Affine> {
     if node.get("matrix").is_some() {
         let a = numbers::<16>(node, i, "matrix", [0.0; 16])?;
         // Column-major; the last row of an affine glTF matrix is 0, 0, 0, 1.
@@ -451,7 +457,7 @@ pub(crate) fn local_matrix(i: usize, node: &Json) -> Result<Affine> {
 
 /// Translation * rotation * scale with the quaternion `[x, y, z, w]` used as given (three.js
 /// `Matrix4.compose`; a non-unit quaternion is not renormalized there either).
-pub(crate) fn compose(t: [f64; 3], q: [f64; 4], s: [f64; 3]) -> Affine {
+pub fn compose(t: [f64; 3], q: [f64; 4], s: [f64; 3]) -> Affine {
     let [x, y, z, w] = q;
     let (x2, y2, z2) = (x + x, y + y, z + z);
     let (xx, xy, xz) = (x * x2, x * y2, x * z2);
@@ -471,7 +477,7 @@ pub(crate) fn compose(t: [f64; 3], q: [f64; 4], s: [f64; 3]) -> Affine {
 /// `Matrix4.decompose` does: scale = column lengths, the x scale negated when the determinant
 /// is negative, and the rotation read from the scaled-back columns. A zero column gives
 /// non-finite values, which surface later as a non-finite bone position error.
-pub(crate) fn decompose(a: &Affine) -> ([f64; 3], [f64; 4], [f64; 3]) {
+pub fn decompose(a: &Affine) -> ([f64; 3], [f64; 4], [f64; 3]) {
     let mut sx = length(a.m[0]);
     let sy = length(a.m[1]);
     let sz = length(a.m[2]);
@@ -487,7 +493,7 @@ pub(crate) fn decompose(a: &Affine) -> ([f64; 3], [f64; 4], [f64; 3]) {
 /// Quaternion `[x, y, z, w]` of a rotation matrix given by columns (Shepperd's method: branch
 /// on the largest diagonal term for stability), the same branches as three.js
 /// `setFromRotationMatrix`.
-pub(crate) fn quat_from_rotation_columns(c0: [f64; 3], c1: [f64; 3], c2: [f64; 3]) -> [f64; 4] {
+pub fn quat_from_rotation_columns(c0: [f64; 3], c1: [f64; 3], c2: [f64; 3]) -> [f64; 4] {
     // mRC: row R, column C.
     let [m11, m21, m31] = c0;
     let [m12, m22, m32] = c1;
