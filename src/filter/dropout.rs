@@ -202,6 +202,16 @@ impl Presence {
     pub fn is_live(&self) -> bool {
         matches!(self.state, State::Live(_))
     }
+
+    /// Since when (ms) the group is tracked: `None` when lost; minus infinity when shown as
+    /// solved from its first detection or since its blend-in completed.
+    #[must_use]
+    pub fn live_since(&self) -> Option<f64> {
+        match self.state {
+            State::Live(t) => Some(t),
+            State::Lost(_) => None,
+        }
+    }
 }
 
 /// Progress of an easing `elapsed` ms into a `duration` ms fade (1 when there is no fade).

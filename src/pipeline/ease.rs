@@ -118,7 +118,13 @@ impl Ease {
             // arm reached the fingertip-aligned target for that rotation, so a blend-in would
             // move the fingertip off the user's (up to 90 mm on `eat`); the turn limit bounds
             // the hand's turn instead. The fingers still blend in.
+            // Only an arm placed while the hand was lost: tracked since before the hand came
+            // back (last frame's state; the arm's group is advanced after the hand's below). A
+            // hand and arm back together (a hand-only recording, a body tracker's dropout) have
+            // no placed arm to keep aligned with: the hand bone blends in like the fingers (on
+            // the hand video's 1 s drop it turned 55 degrees in one frame).
             let aligned = out.alignment[side.index()].is_some();
+            let arm_since = self.presence[side.index()][Group::Arm as usize].live_since();
             // Fingers blending in that alignment and contact already placed as shown
             // ([`Ease::fingers_blend`]) keep blending: completing them would move the
             // fingertip off what was placed.
@@ -126,8 +132,11 @@ impl Ease {
             for (group, live) in groups {
                 let presence = &mut self.presence[side.index()][group as usize];
                 let mut blend = presence.update(now_ms, live, &timing);
+                let arm_placed = arm_since
+                    .zip(presence.live_since())
+                    .is_some_and(|(arm, hand)| arm < hand);
                 let completes = (touching && !(group == Group::Fingers && placed_blending))
-                    || (aligned && group == Group::Hand);
+                    || (aligned && arm_placed && group == Group::Hand);
                 if completes && blend.to_solved && !blend.is_exact() {
                     presence.complete();
                     blend.weight = 1.0;
