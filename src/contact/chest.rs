@@ -34,7 +34,13 @@
 //!     report half (docs/measurements/2026-12-06-contact-any-avatar.md, "Chest cue for every
 //!     hand shape"). It does not take a fist on the chest (0.87-0.97 on the woman) nor
 //!     `hungry`'s curved hand at the collar (0.9-1.0): no reading of the hand's shape found
-//!     on the tuning data takes them without putting signing hands on the chest;
+//!     on the tuning data takes them without putting signing hands on the chest. What it
+//!     costs: real hands on the chest that read above the edge (on the report half `hungry`'s
+//!     curved hand low on the chest, 63% -> 58% of its chest hand-frames; `please`'s flat hand
+//!     curled into a fist 87% -> 83%): on real video the readings above 1.85 were all hands on
+//!     the chest, on the bench's renders most hands before it (MediaPipe reads the rendered
+//!     hand with the wrong chirality there). A recording of a real hand held before the chest
+//!     would settle which edge is right;
 //! * **the other hand away**: its palm center more than 0.5 shoulder widths off (fading from
 //!   0.4): two hands together over the torso are touching each other (hand-to-hand contact).
 //!
