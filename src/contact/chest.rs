@@ -24,6 +24,23 @@
 //!     hand-frames over the torso), reported on the other half (`brother`, `hungry`,
 //!     `thanks`: 24 of 32 chest hand-frames of `hungry`'s curved hand, 15 of 54 others over
 //!     the torso, 11 of them hands touching each other, which the next cue leaves out);
+//!     **and at most 1.85 times (fading out by 2.0)**: the reading measures nearness to the
+//!     camera, and a hand held well before the chest with its palm to the body reads far
+//!     higher than one resting on it (the ground-truth bench, `eval/bench/chest-cue.mjs`, on
+//!     the tuning avatar, the woman: 0.87-1.52 on the chest, 1.99-3.9 held 18 cm before it,
+//!     flat, curved, fist or at the collar; the real tuning clips' chest hand-frames, flat
+//!     palms, up to 1.87 on 48 of 50). The upper edge lies between the two; chosen on the
+//!     woman and the tuning clips only, reported on the bench's man and child and the real
+//!     report half (docs/measurements/2026-12-06-contact-any-avatar.md, "Chest cue for every
+//!     hand shape"). It does not take a fist on the chest (0.87-0.97 on the woman) nor
+//!     `hungry`'s curved hand at the collar (0.9-1.0): no reading of the hand's shape found
+//!     on the tuning data takes them without putting signing hands on the chest. What it
+//!     costs: real hands on the chest that read above the edge (on the report half `hungry`'s
+//!     curved hand low on the chest, 63% -> 58% of its chest hand-frames; `please`'s flat hand
+//!     curled into a fist 87% -> 83%): on real video the readings above 1.85 were all hands on
+//!     the chest, on the bench's renders most hands before it (MediaPipe reads the rendered
+//!     hand with the wrong chirality there). A recording of a real hand held before the chest
+//!     would settle which edge is right;
 //! * **the other hand away**: its palm center more than 0.5 shoulder widths off (fading from
 //!   0.4): two hands together over the torso are touching each other (hand-to-hand contact).
 //!
@@ -143,7 +160,8 @@ pub fn weight(torso: &TorsoImage, hand: &HandCue, other: Option<&HandCue>) -> (f
     let facing = smooth(0.05, 0.25, hand.facing);
     let flat = smooth(1.35, 1.55, hand.extension);
     let near = if torso.scale > 0.0 {
-        smooth(1.1, 1.3, hand.scale / torso.scale)
+        let s = hand.scale / torso.scale;
+        smooth(1.1, 1.3, s) * (1.0 - smooth(1.85, 2.0, s))
     } else {
         0.0
     };

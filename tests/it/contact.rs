@@ -1184,3 +1184,53 @@ fn the_contact_correction_changes_at_most_max_speed() {
         assert_eq!(frames, expected, "speed {speed}");
     }
 }
+
+/// The chest cue's size reading is a band, not a floor: on the ground-truth bench
+/// (`eval/bench/chest-cue.mjs`, the woman, who is the tuning avatar) a right hand held 18 cm
+/// before the chest with its palm turned to the body reads 1.99-3.9 times the body's image
+/// scale for its metric size, and one resting on it 0.87-1.52 (MediaPipe labels the rendered
+/// hand showing its back "Right", so the flat-palm cue's `facing` reads negative and only the
+/// size cue can take it). A hand before the chest at those readings gets no chest weight
+/// (below `CHEST_FLOOR`), one on it at the on-chest readings full weight, whatever its shape.
+#[test]
+fn a_hand_held_before_the_chest_is_not_on_it() {
+    use handrig::contact::chest::{weight, HandCue, TorsoImage};
+    // The bench's torso in the image (the woman's frame 40, rounded): shoulders 0.16 of the
+    // image width apart, hips 0.3 below them.
+    let torso = TorsoImage {
+        shoulders: [Vec3::new(0.58, 0.30, 0.0), Vec3::new(0.42, 0.30, 0.0)],
+        hips: [Vec3::new(0.55, 0.60, 0.0), Vec3::new(0.45, 0.60, 0.0)],
+        scale: 1.0,
+    };
+    // The palm a little to the body's right of the middle, a fifth of the way down; the back
+    // of the hand to the camera as MediaPipe reads the bench's renders (facing negative).
+    let hand = |extension: f32, scale: f32| HandCue {
+        palm: Vec3::new(0.48, 0.36, 0.0),
+        facing: -0.7,
+        extension,
+        scale,
+    };
+    // (extension, size) per shape, means of the holds on the woman.
+    let on = [(1.82, 1.49), (1.42, 1.40)];
+    let before = [
+        (2.59, 3.76),
+        (1.54, 2.90),
+        (0.88, 1.99),
+        (0.88, 2.07),
+        (1.50, 2.38),
+    ];
+    for (e, s) in on {
+        let (w, ..) = weight(&torso, &hand(e, s), None);
+        assert!(
+            w > 0.99,
+            "on the chest (extension {e}, size {s}): weight {w}"
+        );
+    }
+    for (e, s) in before {
+        let (w, ..) = weight(&torso, &hand(e, s), None);
+        assert!(
+            w < handrig::contact::CHEST_FLOOR,
+            "before the chest (extension {e}, size {s}): weight {w}"
+        );
+    }
+}
