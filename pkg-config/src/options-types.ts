@@ -184,7 +184,7 @@ export interface HandRigOptions {
     | undefined;
   /** Options. */
   camera?: {
-    /** How far the camera looks down (radians; negative: up; 0.5 = 29°), taken out of the pose's world landmarks (oriented with the camera) before the legs are solved; null = estimated over a few seconds from the user's straight legs. (number in -1.2..1.2, default unset.) */
+    /** How far the camera looks down (radians; negative: up; 0.5 = 29°), taken out of the pose's world landmarks (oriented with the camera) before the legs are solved; null = estimated over a few seconds from the user's straight legs. (number in -1.5..1.5, default unset.) */
     pitch?: number | null | undefined;
   } | undefined;
   /** Dotted paths as `optionDescriptions()` spells them are accepted too: `{ "alignment.weight": 0.5 }`. */
