@@ -121,6 +121,13 @@ pub const KNEE_FLEXION: f32 = 150.0 * DEG;
 const ANKLE_DORSIFLEXION: f32 = 40.0 * DEG;
 const ANKLE_PLANTARFLEXION: f32 = 50.0 * DEG;
 const FOOT_TURN: f32 = 20.0 * DEG;
+/// The knee's collinear cone ([`TwoBoneOptions::collinear_cone`], the arms' 10 degrees):
+/// a tracked knee within this of the hip-ankle line (the knee bent less than about twice
+/// it) only slowly turns the leg's bend plane from where it was, as the leg moves. A nearly
+/// straight leg's knee lies a few cm off the line, on the side MediaPipe's noise puts it:
+/// with 10 degrees the bend plane (the thigh's twist) followed that noise (the real walking
+/// video: a thigh twisted 93 degrees between frames, the knee bent 7).
+const KNEE_CONE: f32 = 20.0 * DEG;
 
 /// The leg bones of `side`: `[upperLeg, lowerLeg, foot, toes]`.
 #[must_use]
@@ -210,7 +217,7 @@ impl Leg {
         let hinge = (Vec3::X - thigh * thigh.x).try_normalize()?;
         let ik = TwoBoneIk::new(TwoBoneOptions {
             default_pole: Vec3::Z,
-            ..TwoBoneOptions::default()
+            collinear_cone: KNEE_CONE,
         })
         .ok()?;
         let outward = if side == Side::Left {

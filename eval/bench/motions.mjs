@@ -516,6 +516,15 @@ export const LEG_REST_BONES = ["hips", "leftUpperLeg", "rightUpperLeg", "leftLow
 
 export const LEG_CLIPS = LEG_CLIPS_DEF;
 
+/**
+ * The leg clips seen by a camera that looks down (issue 51, the camera's pitch): the same
+ * motion, the camera at the same distance from the same point but raised so that it looks
+ * `pitch` degrees down at it (a camera above the person, as the real walking video's). Not
+ * among LEG_CLIPS: the bench's figures stay those of the level camera; `--pitched` renders,
+ * tracks and scores these.
+ */
+export const PITCHED_LEG_CLIPS = LEG_CLIPS_DEF.map((c) => ({ ...c, id: `${c.id}-down30`, pitch: 30 }));
+
 // ---- contact clips (issue 52) ---------------------------------------------------------------------
 // The right hand brought onto the chest and held, then taken 18 cm straight out before it and
 // held, in four hand shapes: a flat palm, a curved (C) hand and a fist on the middle of the chest,
@@ -575,7 +584,7 @@ const touchClip = (avatar) => {
 };
 const CONTACT_CLIPS_DEF = Object.keys(TOUCH_POSES).map(touchClip);
 export const CONTACT_CLIPS = CONTACT_CLIPS_DEF;
-const ALL_CLIPS = [...CLIPS_DEF, ...LEG_CLIPS_DEF, ...CONTACT_CLIPS_DEF];
+const ALL_CLIPS = [...CLIPS_DEF, ...LEG_CLIPS_DEF, ...PITCHED_LEG_CLIPS, ...CONTACT_CLIPS_DEF];
 /** Any clip: arm, leg or contact. */
 export const anyClipById = (id) => {
   const c = ALL_CLIPS.find((x) => x.id === id);

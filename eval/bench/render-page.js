@@ -207,9 +207,11 @@ function placeCamera(clip) {
     const top = new THREE.Box3().setFromObject(vrm.scene).max.y;
     const y = 0.5 * top;
     const d = (0.6 * top) / Math.tan((camera.fov * Math.PI) / 360);
-    camera.position.set(0, y, d);
+    // A pitched clip (PITCHED_LEG_CLIPS): the same distance, raised to look `pitch` degrees down.
+    const p = ((clip.pitch ?? 0) * Math.PI) / 180;
+    camera.position.set(0, y + d * Math.sin(p), d * Math.cos(p));
     camera.lookAt(0, y, 0);
-    return { distance: d, target: [0, y, 0] };
+    return { distance: d, target: [0, y, 0], ...(clip.pitch ? { pitch: clip.pitch } : {}) };
   }
   const headY = world("head").y;
   const y = world("upperChest").y + 0.1 * headY;

@@ -24,7 +24,7 @@ import { tmpdir } from "node:os";
 import { extname, join, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
 import { parseArgs } from "node:util";
-import { CLIPS, CONTACT_CLIPS, FPS, LEG_CLIPS } from "./motions.mjs";
+import { CLIPS, CONTACT_CLIPS, FPS, LEG_CLIPS, PITCHED_LEG_CLIPS } from "./motions.mjs";
 
 import { AVATARS, CLIP_DIR, CONTACT_AVATARS, HERE, LEG_AVATARS, REPO, avatarPath, videoFile } from "./common.mjs";
 
@@ -121,10 +121,10 @@ function ffmpeg(args) {
 
 async function main() {
   const { values: o } = parseArgs({
-    options: { avatars: { type: "string" }, clips: { type: "string" }, png: { type: "string" }, "no-video": { type: "boolean" }, legs: { type: "boolean" }, contact: { type: "boolean" } },
+    options: { avatars: { type: "string" }, clips: { type: "string" }, png: { type: "string" }, "no-video": { type: "boolean" }, legs: { type: "boolean" }, pitched: { type: "boolean" }, contact: { type: "boolean" } },
   });
   const avatars = (o.avatars ?? (o.legs ? LEG_AVATARS : o.contact ? CONTACT_AVATARS : AVATARS).join(",")).split(",");
-  const all = o.legs ? LEG_CLIPS : o.contact ? CONTACT_CLIPS : CLIPS;
+  const all = o.legs ? (o.pitched ? PITCHED_LEG_CLIPS : LEG_CLIPS) : o.contact ? CONTACT_CLIPS : CLIPS;
   const clips = o.clips ? o.clips.split(",").map((id) => all.find((c) => c.id === id) ?? (() => { throw new Error(`no clip ${id}`); })()) : all;
   mkdirSync(CLIP_DIR, { recursive: true });
   const hashFile = join(CLIP_DIR, "frames.json");

@@ -48,12 +48,12 @@ import { parseArgs } from "node:util";
 import { add, len, loadSolvers, mid, scale, sub, toAvatar } from "./scoring.mjs";
 import { Body, SIDES, bentBackwards, kalidokitLegs, kneeAngleOf, mean, percentile } from "./legs-scoring.mjs";
 import { LEG_AVATARS, avatarFile, recordingFile } from "./common.mjs";
-import { LEG_CLIPS, legClipPose } from "./motions.mjs";
+import { LEG_CLIPS, PITCHED_LEG_CLIPS, legClipPose } from "./motions.mjs";
 
 const { values: o } = parseArgs({
   options: {
     avatars: { type: "string" }, clips: { type: "string" }, json: { type: "string" }, frames: { type: "boolean" }, pkg: { type: "string" },
-    options: { type: "string", default: "{}" },
+    options: { type: "string", default: "{}" }, pitched: { type: "boolean" },
     "no-kalidokit": { type: "boolean" },
   },
 });
@@ -206,7 +206,8 @@ function scoreClip(body, restPose, clip, rec, acc, rows) {
 
 // ---- run -----------------------------------------------------------------------------------------
 const avatars = (o.avatars ?? LEG_AVATARS.join(",")).split(",");
-const clips = o.clips ? LEG_CLIPS.filter((c) => o.clips.split(",").includes(c.id)) : LEG_CLIPS;
+const ALL_LEG = o.pitched ? PITCHED_LEG_CLIPS : LEG_CLIPS;
+const clips = o.clips ? ALL_LEG.filter((c) => o.clips.split(",").includes(c.id)) : ALL_LEG;
 const byClip = [];
 const perFrame = {};
 let selfCheck = 0;

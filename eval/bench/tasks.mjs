@@ -17,14 +17,14 @@ import { basename, join } from "node:path";
 import { readFileSync, writeFileSync } from "node:fs";
 import { parseArgs } from "node:util";
 import { AVATARS, CONTACT_AVATARS, LEG_AVATARS, REPO, recordingFile, videoFile } from "./common.mjs";
-import { CLIPS, CONTACT_CLIPS, FPS, LEG_CLIPS } from "./motions.mjs";
+import { CLIPS, CONTACT_CLIPS, FPS, LEG_CLIPS, PITCHED_LEG_CLIPS } from "./motions.mjs";
 import { HEIGHT, WIDTH, openBenchPage } from "./render.mjs";
 
 const tasksFile = (avatar, clip) => recordingFile(avatar, clip, "tasks");
 
-const { values: o } = parseArgs({ options: { avatars: { type: "string" }, clips: { type: "string" }, legs: { type: "boolean" }, contact: { type: "boolean" } } });
+const { values: o } = parseArgs({ options: { avatars: { type: "string" }, clips: { type: "string" }, legs: { type: "boolean" }, pitched: { type: "boolean" }, contact: { type: "boolean" } } });
 const avatars = (o.avatars ?? (o.legs ? LEG_AVATARS : o.contact ? CONTACT_AVATARS : AVATARS).join(",")).split(",");
-const all = o.legs ? LEG_CLIPS : o.contact ? CONTACT_CLIPS : CLIPS;
+const all = o.legs ? (o.pitched ? PITCHED_LEG_CLIPS : LEG_CLIPS) : o.contact ? CONTACT_CLIPS : CLIPS;
 const clips = o.clips ? all.filter((c) => o.clips.split(",").includes(c.id)) : all;
 const version = JSON.parse(readFileSync(join(REPO, "www", "node_modules", "@mediapipe", "tasks-vision", "package.json"), "utf8")).version;
 const t0 = Date.now();

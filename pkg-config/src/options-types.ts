@@ -182,6 +182,11 @@ export interface HandRigOptions {
         rest?: "standing" | "seated" | undefined;
       }
     | undefined;
+  /** Options. */
+  camera?: {
+    /** How far the camera looks down (radians; negative: up; 0.5 = 29°), taken out of the pose's world landmarks (oriented with the camera) before the legs are solved; null = estimated over a few seconds from the user's straight legs. (number in -1.5..1.5, default unset.) */
+    pitch?: number | null | undefined;
+  } | undefined;
   /** Dotted paths as `optionDescriptions()` spells them are accepted too: `{ "alignment.weight": 0.5 }`. */
   [dottedPath: `${string}.${string}`]: unknown;
 }

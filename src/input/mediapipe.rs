@@ -155,6 +155,17 @@ pub struct CameraMapping {
     pub mirror: bool,
 }
 
+/// The camera's orientation to gravity (JS: `options.camera`): MediaPipe's world landmarks
+/// are oriented with the camera, so a camera that looks down leans an upright body's legs in
+/// depth by its pitch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraOptions {
+    /// How far the camera looks down (radians; negative: up), taken out of the pose's world
+    /// landmarks before the legs are solved. `None` (the default): estimated over time from
+    /// the user's straight legs ([`crate::legs`]).
+    pub pitch: Option<f32>,
+}
+
 impl CameraMapping {
     /// Whether the x axis is negated on the way into the avatar frame.
     #[inline]

@@ -31,6 +31,7 @@ use crate::humanoid::bones::Finger;
 use crate::ik::{ArmIdle, ArmOptions, ArmSolver};
 pub use crate::input::hand_wrist::HandsOnlyOptions;
 use crate::input::mediapipe::CameraMapping;
+pub use crate::input::mediapipe::CameraOptions;
 pub use crate::legs::{LegOptions, LegRest};
 use crate::solve::least_squares::Settings;
 use crate::torso::TorsoSource;
@@ -78,6 +79,8 @@ pub struct RigOptions {
     pub face: FaceOptions,
     /// Legs from the pose's lower body (see [`crate::legs`]).
     pub legs: LegOptions,
+    /// The camera's orientation to gravity (its pitch).
+    pub camera: CameraOptions,
 }
 
 /// How a hand whose MediaPipe label contradicts the pose is treated (JS:
@@ -235,6 +238,7 @@ impl RigOptions {
             plant: false,
             rest: LegRest::Standing,
         },
+        camera: CameraOptions { pitch: None },
     };
 
     /// Reads options from JSON text: an object of the camelCase paths of [`table::OPTIONS`]
@@ -334,6 +338,7 @@ group_default! {
     HandsOnlyOptions => hands_only,
     FaceOptions => face,
     LegOptions => legs,
+    CameraOptions => camera,
     HandStrategy => hand_strategy,
     ArmSolver => arm_solver,
     AlignPoint => alignment.point,

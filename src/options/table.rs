@@ -345,6 +345,8 @@ pub static OPTIONS: &[OptionSpec] = &[
         "A foot on the floor that bears weight stays where it was planted (no sliding) until it lifts or moves off."),
     choice!("legs.rest", legs.rest: LegRest, "standing",
         "Where legs that are not seen rest: \"standing\" (the avatar's rest pose) or \"seated\" (hips and knees bent 90 degrees, feet flat, the hips in place: for a webcam that sees a seated user from the waist up)."),
+    number!(maybe "camera.pitch", camera.pitch, -1.5, 1.5, 0.01,
+        "How far the camera looks down (radians; negative: up; 0.5 = 29°), taken out of the pose's world landmarks (oriented with the camera) before the legs are solved; null = estimated over a few seconds from the user's straight legs."),
 ];
 
 impl Value {

@@ -46,6 +46,20 @@ const OWN_QUANTILE: f32 = 0.9;
 const OWN_RATE: f32 = 0.3;
 const OWN_FLAT: f32 = 0.087;
 
+/// The camera's pitch (`camera.pitch: null`) is estimated from the user's straight legs: the
+/// lean in depth of the hips' midpoint to the ankles' midpoint in the world landmarks, on
+/// frames where both legs are seen and each spans at least `STRAIGHT` of its thigh and shin
+/// (the knee bent less than about 36 degrees), averaged over `TILT_SECONDS`, less
+/// `LEVEL_LEAN`: the lean MediaPipe gives straight legs seen by a level camera (the bench's
+/// woman, the tuning avatar: 7-9 degrees, the feet further than the hips).
+const STRAIGHT: f32 = 0.95;
+const TILT_SECONDS: f32 = 2.0;
+const LEVEL_LEAN: f32 = 8.5 * (core::f32::consts::PI / 180.0);
+/// The estimate's dead zone (radians): only its excess over this is taken out, so that a
+/// level camera's legs are solved as they were (the woman's level leg clips: the estimate
+/// within 1.7 degrees of `LEVEL_LEAN` throughout).
+const TILT_FREE: f32 = 2.0 * (core::f32::consts::PI / 180.0);
+
 /// The legs stage: per side the leg solver, its presence, the rotations shown last frame and
 /// the blend's anchors; the grounding's state (the avatar's soles, the hips' offset, the
 /// image reference of the root motion, each planted foot's lock).
@@ -83,6 +97,10 @@ pub(super) struct Legs {
     fast: [bool; 2],
     /// How each leg is read from the image.
     reading: [Reading; 2],
+    /// The straight legs' lean in depth in the world landmarks (radians, averaged over time;
+    /// [`Legs::estimate_tilt`]) and the seconds of it seen, up to [`TILT_SECONDS`].
+    tilt: f32,
+    tilt_time: f32,
 }
 
 /// How one leg is read from the image: its thigh and shin directions' filters (the image
@@ -115,6 +133,8 @@ impl Legs {
             last_seen_ankle: [None; 2],
             fast: [false; 2],
             reading: [Reading::default(); 2],
+            tilt: LEVEL_LEAN,
+            tilt_time: 0.0,
         }
     }
 
@@ -138,6 +158,8 @@ impl Legs {
         self.last_seen_ankle = [None; 2];
         self.fast = [false; 2];
         self.reading = [Reading::default(); 2];
+        self.tilt = LEVEL_LEAN;
+        self.tilt_time = 0.0;
     }
 
     /// Each leg's bones into `out.local` (solved, held, easing or at rest), the legs' world
@@ -154,17 +176,27 @@ impl Legs {
             .skeleton
             .parent(leg_bones(Side::Left)[0])
             .map_or(Quat::IDENTITY, |p| out.world.rotation[p.index()]);
+        // The camera's pitch taken out of the world landmarks (camera axes: about +x): as set,
+        // or as estimated up to the last frame.
+        let lean = self.tilt - LEVEL_LEAN;
+        let pitch = (cx.options.camera.pitch).unwrap_or(lean - lean.clamp(-TILT_FREE, TILT_FREE));
+        let level = Quat::from_rotation_x(-pitch);
         for side in Side::BOTH {
             if let Some(leg) = &self.legs[side.index()] {
                 targets[side.index()] = pose.and_then(|p| {
+                    // The camera's axes to the avatar's commute with a turn about +x (they
+                    // negate y and z, and x too or not): the pitch goes into the turn.
                     let view = View {
-                        turn: pelvis_turn(cx, p, hips),
+                        turn: pelvis_turn(cx, p, hips, level) * level,
                         meters: meters_per_height(cx, p),
                     };
                     let reading = &mut self.reading[side.index()];
                     target(cx, &view, p, side, leg.lengths(), out, reading)
                 });
             }
+        }
+        if let (Some(p), [Some(_), Some(_)]) = (pose, targets) {
+            self.estimate_tilt(cx, p);
         }
         let blends = Side::BOTH.map(|side| {
             let live = targets[side.index()].is_some();
@@ -418,6 +450,29 @@ impl Legs {
         out.hips_offset = offset;
     }
 
+    /// The straight legs' lean in depth (the hips' midpoint to the ankles', world landmarks,
+    /// camera axes) averaged into [`Legs::tilt`]: a running mean over the first
+    /// [`TILT_SECONDS`] of frames with both legs seen and nearly straight, then an exponential
+    /// average with that time constant.
+    fn estimate_tilt(&mut self, cx: &Context, pose: &PoseObservation) {
+        let w = &pose.world;
+        let [lh, lk, la, ..] = leg_landmarks(Side::Left);
+        let [rh, rk, ra, ..] = leg_landmarks(Side::Right);
+        let straight = |h: usize, k: usize, a: usize| {
+            w[h].distance(w[a]) >= STRAIGHT * (w[h].distance(w[k]) + w[k].distance(w[a]))
+        };
+        let d = w[la] + w[ra] - w[lh] - w[rh];
+        if !(straight(lh, lk, la) && straight(rh, rk, ra) && d.y > 0.0) {
+            return;
+        }
+        let lean = d.z.atan2(d.y);
+        self.tilt_time = (self.tilt_time + cx.dt.unwrap_or(0.0)).min(TILT_SECONDS);
+        let k = cx.dt.map_or(1.0, |dt| dt / self.tilt_time.max(dt));
+        if lean.is_finite() && k.is_finite() {
+            self.tilt += k.min(1.0) * (lean - self.tilt);
+        }
+    }
+
     /// Solves `side`'s leg toward `target` (none: rest) and writes it into `out.local` as
     /// `blends` shows it (the history is committed by [`Legs::run`]). Whether it is off rest.
     // Out of line: called from two places per side (inlined, 2 KiB more .wasm).
@@ -515,10 +570,10 @@ impl Legs {
 /// upright (its world landmarks put a rendered avatar's shoulders behind its hips); the legs
 /// hang from the pelvis, and turned by that lean they leaned forward (the ground-truth bench's
 /// leg clips, docs/measurements/2026-12-06-legs-bench.md).
-fn pelvis_turn(cx: &Context, pose: &PoseObservation, hips: Quat) -> Quat {
+fn pelvis_turn(cx: &Context, pose: &PoseObservation, hips: Quat, level: Quat) -> Quat {
     let [l, ..] = leg_landmarks(cx.camera.pose_side_for(Side::Left));
     let [r, ..] = leg_landmarks(cx.camera.pose_side_for(Side::Right));
-    let d = cx.camera.to_avatar(pose.world[l] - pose.world[r]);
+    let d = level * cx.camera.to_avatar(pose.world[l] - pose.world[r]);
     let yaw = |v: Vec3| (-v.z).atan2(v.x);
     let user = if d.x.hypot(d.z) >= crate::torso::MIN_HIP_WIDTH {
         yaw(d)
@@ -554,6 +609,7 @@ fn meters_per_height(cx: &Context, pose: &PoseObservation) -> Option<f32> {
 /// How the user's leg segments are read on a frame: the pelvis' turn and the image's scale
 /// (meters per image height), when the image is given.
 struct View {
+    /// The camera's pitch taken out, then the pelvis' turn.
     turn: Quat,
     meters: Option<f32>,
 }
