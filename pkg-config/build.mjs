@@ -57,7 +57,7 @@ const WASM_NAME = "handrig_bg.wasm";
 // The SIMD build's file, beside it.
 const WASM_SIMD_NAME = "handrig_simd_bg.wasm";
 
-// Size budget of the shipped .wasm, gzipped: 271 KiB. 250 KiB from issue 24 (serde and
+// Size budget of the shipped .wasm, gzipped: 272 KiB. 250 KiB from issue 24 (serde and
 // serde-wasm-bindgen read the options, rest poses and the .vrm's JSON at setup: 148.4 KiB
 // before, 205 KiB with them); 265 KiB from milestone 4 (the face, issue 50: +4.8 KiB; the legs,
 // feet and hips, issue 51: +8.2 KiB; contact's faster skin queries and the chest cue for any
@@ -66,9 +66,11 @@ const WASM_SIMD_NAME = "handrig_simd_bg.wasm";
 // faster landing +1.5 KB: 265.8 KiB); 270 KiB at the fifth (the body kept solid after the
 // solve +0.9 KB, the legs' planted hips +0.7 KB: 269.1 KiB); 271 KiB at the sixth (the hand's
 // outline in contact's clearance +0.5 KB, the legs' locks that slide to the tracking +0.5 KB:
-// 270.5 KiB; docs/measurements/2026-12-05-size.md).
+// 270.5 KiB); 272 KiB on 2026-12-07 (the camera's pitch taken out of the legs, issue 51's real
+// walking video, +0.75 KB, less the glTF reader built for size -0.16 KB: 271.6 KiB;
+// docs/measurements/2026-12-05-size.md).
 // Printed with every build; tests/node guards it.
-const WASM_GZIP_BUDGET = 271 * 1024;
+const WASM_GZIP_BUDGET = 272 * 1024;
 
 // Code generation for both WebAssembly builds: LLVM unrolls loops up to a cost of 125 instead
 // of its -O3 default (300). Fully unrolled loops over bones, fingers and sides made the
