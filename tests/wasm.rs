@@ -213,6 +213,7 @@ fn constructs_from_flat_rest_positions_in_the_model_frame() {
             None,
             None,
             None,
+            None,
         )
         .unwrap();
         let states = rig.bone_states();
@@ -233,7 +234,8 @@ fn constructs_from_flat_rest_positions_in_the_model_frame() {
 
 #[wasm_bindgen_test]
 fn solves_a_real_frame_through_the_memory_views() {
-    let mut rig = HandRig::new(&rest_pose(1), 1, JsValue::UNDEFINED, None, None, None).unwrap();
+    let mut rig =
+        HandRig::new(&rest_pose(1), 1, JsValue::UNDEFINED, None, None, None, None).unwrap();
     write_frame(&rig, &recording_frame(0));
     assert_eq!(rig.solve_flat(0.0), 0);
     let out = read_output(&rig);
@@ -275,7 +277,8 @@ fn solves_a_real_frame_through_the_memory_views() {
 
 #[wasm_bindgen_test]
 fn bad_input_names_the_field_and_leaves_the_rig_working() {
-    let mut rig = HandRig::new(&rest_pose(1), 1, JsValue::UNDEFINED, None, None, None).unwrap();
+    let mut rig =
+        HandRig::new(&rest_pose(1), 1, JsValue::UNDEFINED, None, None, None, None).unwrap();
     write_frame(&rig, &recording_frame(3));
     assert_eq!(rig.solve_flat(1.0), 0);
     let before = read_output(&rig);
@@ -320,6 +323,7 @@ fn options_are_checked_and_every_described_default_is_accepted() {
         None,
         None,
         None,
+        None,
     ));
     assert!(
         m.starts_with("options.mirorr: unknown option (did you mean mirror?)"),
@@ -332,12 +336,14 @@ fn options_are_checked_and_every_described_default_is_accepted() {
         None,
         None,
         None,
+        None,
     ));
     assert!(m.starts_with("options: must be an object"), "{m}");
     let m = failure(HandRig::new(
         &rest_pose(1),
         1,
         js(json!({"arm": {"shoulderAngle": "0.3"}})),
+        None,
         None,
         None,
         None,
@@ -350,6 +356,7 @@ fn options_are_checked_and_every_described_default_is_accepted() {
         &rest_pose(1),
         1,
         js(json!({"alignment": {"weight": 2}})),
+        None,
         None,
         None,
         None,
@@ -368,7 +375,15 @@ fn options_are_checked_and_every_described_default_is_accepted() {
             .split('.')
             .rev()
             .fold(default, |inner, key| json!({ key: inner }));
-        let r = HandRig::new(&rest_pose(1), 1, js(options.clone()), None, None, None);
+        let r = HandRig::new(
+            &rest_pose(1),
+            1,
+            js(options.clone()),
+            None,
+            None,
+            None,
+            None,
+        );
         assert!(
             r.is_ok(),
             "option {path} with its default is rejected: {:?}",
@@ -388,16 +403,25 @@ fn rest_pose_errors_name_the_bone() {
         None,
         None,
         None,
+        None,
     ));
     assert_eq!(m, "restPose.bones: missing required bone(s) head");
     let mut huge = rest_pose(1);
     huge[4 * HumanBone::LeftHand.index() + 1] = 1e20;
-    let m = failure(HandRig::new(&huge, 1, JsValue::UNDEFINED, None, None, None));
+    let m = failure(HandRig::new(
+        &huge,
+        1,
+        JsValue::UNDEFINED,
+        None,
+        None,
+        None,
+        None,
+    ));
     assert!(
         m.starts_with("restPose.bones.leftHand: position out of range"),
         "{m}"
     );
-    assert!(HandRig::new(&rest_pose(1), 2, JsValue::UNDEFINED, None, None, None).is_err());
+    assert!(HandRig::new(&rest_pose(1), 2, JsValue::UNDEFINED, None, None, None, None).is_err());
 }
 
 #[wasm_bindgen_test]
@@ -479,7 +503,8 @@ fn degenerate_hands_are_reported_held_or_skipped() {
     collapsed.hands[0].world = [Vec3::new(0.01, 0.02, 0.03); HAND_LANDMARKS];
     // Frames solved on their own (no smoothing across them).
     let per_frame = r#"{ "filter": { "enabled": false }, "dropout": { "enabled": false } }"#;
-    let mut rig = HandRig::new(&rest_pose(1), 1, js_text(per_frame), None, None, None).unwrap();
+    let mut rig =
+        HandRig::new(&rest_pose(1), 1, js_text(per_frame), None, None, None, None).unwrap();
     // Nothing solved yet: skipped (3), the finger at rest, not solved (2).
     write_frame(&rig, &collapsed);
     assert_eq!(rig.solve_flat(0.0), 0);

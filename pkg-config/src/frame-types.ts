@@ -25,6 +25,13 @@ export interface RestPose {
    * rig models the body from its bones.
    */
   skin?: SkinRest;
+  /**
+   * The point between the avatar's eyes relative to its head bone's rest position (meters, the
+   * model's own frame: three-vrm's `vrm.lookAt.offsetFromHeadBone`, what `HandRig.fromVrm` reads
+   * from the file's look-at). Self-contact places the face with it when the avatar has no eye
+   * bones; `restPoseFromVRM` fills it. Optional.
+   */
+  lookAtOffset?: Vec3;
 }
 
 /** An avatar's skin at rest (`RestPose.skin`). */

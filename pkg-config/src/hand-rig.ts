@@ -186,8 +186,8 @@ export class HandRig {
     ensureReady("new HandRig()");
     let r: RawHandRig;
     try {
-      const { rest, version, skin } = restPoseToFlat(restPose);
-      r = new (wasm().HandRig)(rest, version, optionsValue(options), skin?.positions, skin?.bones, skin?.triangles);
+      const { rest, version, skin, lookAt } = restPoseToFlat(restPose);
+      r = new (wasm().HandRig)(rest, version, optionsValue(options), skin?.positions, skin?.bones, skin?.triangles, lookAt);
     } catch (e) {
       throw asError(e);
     }

@@ -10,6 +10,8 @@ import { readVec3 } from "./points.js";
 export interface FlatRestPose {
   rest: Float64Array;
   version: number;
+  /** `restPose.lookAtOffset`, when given. */
+  lookAt?: Float32Array;
   /** `restPose.skin` as typed arrays (checked further in Rust). */
   skin?: { positions: Float32Array; bones: Uint8Array; triangles: Uint32Array };
 }
@@ -43,8 +45,14 @@ function readRestPose(restPose: unknown): FlatRestPose {
     reading.part = `restPose.bones.${name}`;
     readVec3(bones[name], reading.part, rest, 4 * i + 1);
   }
+  let lookAt: Float32Array | undefined;
+  if (restPose.lookAtOffset !== undefined && restPose.lookAtOffset !== null) {
+    reading.part = "restPose.lookAtOffset";
+    lookAt = new Float32Array(3);
+    readVec3(restPose.lookAtOffset, "restPose.lookAtOffset", lookAt, 0);
+  }
   const skin = restPose.skin;
-  if (skin === undefined || skin === null) return { rest, version };
+  if (skin === undefined || skin === null) return lookAt ? { rest, version, lookAt } : { rest, version };
   reading.part = "restPose.skin";
   if (!isObject(skin) || Array.isArray(skin)) {
     fail("restPose.skin", "must be an object { positions, bones, triangles } (see restPoseFromVRM)");
@@ -52,6 +60,7 @@ function readRestPose(restPose: unknown): FlatRestPose {
   return {
     rest,
     version,
+    ...(lookAt ? { lookAt } : {}),
     skin: {
       positions: typedArray(skin.positions, "restPose.skin.positions", Float32Array),
       bones: typedArray(skin.bones, "restPose.skin.bones", Uint8Array),

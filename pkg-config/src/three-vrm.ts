@@ -45,8 +45,11 @@ export interface VRMLike {
     expressions: ReadonlyArray<{ expressionName: string }>;
     setValue(name: string, weight: number): void;
   } | null;
-  /** three-vrm's `VRMLookAt` (the face's look-at: `yaw`, `pitch` in degrees). */
-  lookAt?: { yaw: number; pitch: number } | null;
+  /**
+   * three-vrm's `VRMLookAt` (the face's look-at: `yaw`, `pitch` in degrees; `offsetFromHeadBone`,
+   * the point between the eyes from the head bone, which `restPoseFromVRM` passes on).
+   */
+  lookAt?: { yaw: number; pitch: number; offsetFromHeadBone?: { x: number; y: number; z: number } } | null;
 }
 
 /** Same shape as handrig's `RestPose` (import that type from "handrig"). */
@@ -55,6 +58,8 @@ export interface VRMRestPose {
   bones: { [boneName: string]: [number, number, number] };
   /** `vrm.meta.metaVersion`: "0" models face -Z, "1" models face +Z. */
   vrmVersion: "0" | "1";
+  /** `vrm.lookAt.offsetFromHeadBone` (absent when the model has no look-at). */
+  lookAtOffset?: [number, number, number];
   /** The skin at rest from the model's skinned meshes (absent when it has none). */
   skin?: { positions: Float32Array; bones: Uint8Array; triangles: Uint32Array };
 }
@@ -138,8 +143,15 @@ export function restPoseFromVRM(vrm: VRMLike): VRMRestPose {
     return world;
   };
   for (const name of nameOfNode.values()) worldOf(name);
+  const out: VRMRestPose = { bones, vrmVersion: metaVersion };
+  // The point between the eyes, as HandRig.fromVrm reads it from the file (lookAt's
+  // offsetFromHeadBone; VRM 0.x: firstPersonBoneOffset, z negated as three-vrm stores it):
+  // self-contact places the face with it on an avatar without eye bones.
+  const o = vrm.lookAt?.offsetFromHeadBone;
+  if (o && Number.isFinite(o.x) && Number.isFinite(o.y) && Number.isFinite(o.z)) out.lookAtOffset = [o.x, o.y, o.z];
   const skin = skinOf(vrm, humanoid);
-  return skin ? { bones, vrmVersion: metaVersion, skin } : { bones, vrmVersion: metaVersion };
+  if (skin) out.skin = skin;
+  return out;
 }
 
 // Per humanoid: bone name -> normalized bone node (null when the avatar lacks it), so a frame

@@ -32,6 +32,7 @@ export interface RawHandRigClass {
     skinPositions?: Float32Array,
     skinBones?: Uint8Array,
     skinTriangles?: Uint32Array,
+    lookAt?: Float32Array,
   ): RawHandRig;
   fromVrm(bytes: Uint8Array, options: unknown): RawHandRig;
   fromGltf(bytes: Uint8Array, boneMap: string[], options: unknown): RawHandRig;

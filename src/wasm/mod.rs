@@ -89,7 +89,8 @@ impl HandRig {
     /// `skinPositions`, `skinBones`, `skinTriangles` (optional, together): the avatar's skin
     /// at rest (`restPose.skin`: 3 floats per vertex in the model's own frame, each vertex's
     /// dominant bone as a `LAYOUT.bones` index, 3 vertex indices per triangle), from which
-    /// self-contact learns the body ([`crate::contact::skin`]).
+    /// self-contact learns the body ([`crate::contact::skin`]). `lookAt` (optional, 3 floats):
+    /// `restPose.lookAtOffset`, the point between the eyes from the head bone (model frame).
     #[wasm_bindgen(constructor)]
     pub fn new(
         rest: &[f64],
@@ -98,6 +99,7 @@ impl HandRig {
         skin_positions: Option<Vec<f32>>,
         skin_bones: Option<Vec<u8>>,
         skin_triangles: Option<Vec<u32>>,
+        look_at: Option<Vec<f32>>,
     ) -> JsResult<HandRig> {
         if rest.len() != 4 * BONE_COUNT {
             return Err(js_err(Error::invalid(
@@ -126,6 +128,9 @@ impl HandRig {
             .map(|(b, r)| (*b, Vec3::new(r[1] as f32, r[2] as f32, r[3] as f32)))
             .collect();
         let mut skeleton = Skeleton::new(&bones, version).map_err(js_err)?;
+        if let Some([x, y, z]) = look_at.as_deref() {
+            skeleton = skeleton.with_look_at_offset(Some(Vec3::new(*x, *y, *z)));
+        }
         if let (Some(p), Some(b)) = (skin_positions, skin_bones) {
             let mesh = crate::humanoid::SkinMesh::from_flat(
                 &p,
