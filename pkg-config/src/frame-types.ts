@@ -38,7 +38,11 @@ export interface RestPose {
 export interface SkinRest {
   /** Rest positions, 3 numbers per vertex (meters, the model's own frame, as `bones`). */
   positions: Float32Array | ArrayLike<number>;
-  /** Each vertex's dominant humanoid bone, as its index in `LAYOUT.bones` (a non-humanoid bone counts as its nearest humanoid ancestor). */
+  /**
+   * Each vertex's dominant humanoid bone, as its index in `LAYOUT.bones` (a non-humanoid bone
+   * counts as its nearest humanoid ancestor, and then adds 128: hair, cloth and accessories on
+   * bones of their own; the head's such vertices below the neck are not taken as the head).
+   */
   bones: Uint8Array | ArrayLike<number>;
   /** Triangles, 3 vertex indices each (optional: without them only the vertices are used). */
   triangles?: Uint32Array | ArrayLike<number>;

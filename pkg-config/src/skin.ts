@@ -3,6 +3,9 @@
 // reading `HandRig.fromVrm` / `fromGltf` do in Rust from the file (src/humanoid/gltf_skin.rs). Imports
 // nothing at run time (inlined into each adapter by build.mjs).
 
+/** Added to a vertex's bone index when its dominant joint is a non-humanoid bone under it. */
+const HANGING = 0x80;
+
 /** `restPose.skin`: positions 3 per vertex, each vertex's bone index, triangles. */
 export interface SkinArrays {
   positions: Float32Array;
@@ -48,10 +51,12 @@ export function skinOfScene(
   jointMatrix?: (bone: unknown) => ArrayLike<number>,
 ): SkinArrays | undefined {
   if (!scene || typeof scene.traverse !== "function") return undefined;
+  // The nearest humanoid ancestor's index, the bone itself included, plus HANGING when it is an
+  // ancestor (the vertex hangs on a non-humanoid bone under it: hair, cloth), as Rust reads it.
   const humanoidIndex = (node: unknown): number => {
     for (let n = node as { parent?: unknown } | undefined, depth = 0; n && depth < 256; n = n.parent as typeof n, depth++) {
       const i = boneOfNode.get(n);
-      if (i !== undefined) return i;
+      if (i !== undefined) return depth > 0 ? i | HANGING : i;
     }
     return -1;
   };

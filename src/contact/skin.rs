@@ -4,7 +4,8 @@
 //!
 //! The meshes' rest positions are sorted into parts by each vertex's dominant humanoid bone
 //! (head with eyes and jaw, neck, upper chest, chest, spine, hips; a shoulder's skin counts as
-//! its parent's; the hands for their thickness); a triangle belongs to the part of most of its
+//! its parent's; the hands for their thickness; what hangs from the head on bones of its own,
+//! such as long hair, only down to the neck's joint); a triangle belongs to the part of most of its
 //! corners, and is sampled every [`SPACING`] so that large triangles leave no holes. From the
 //! samples, at setup ([`BodySurface::new`]):
 //!
@@ -401,7 +402,28 @@ impl BodySurface {
     /// no head or torso.
     #[must_use]
     pub fn new(skeleton: &Skeleton, mesh: &SkinMesh) -> Option<BodySurface> {
-        let parts: Vec<Part> = mesh.bones.iter().map(|b| part_of(skeleton, *b)).collect();
+        // The head's skin ends at the neck's joint for what hangs from it (long hair, twin
+        // tails, a veil: skinned to non-humanoid bones under the head): below it that is not
+        // the head a hand can touch, and in the head's map it would fill the space beside the
+        // neck and shoulders. (The head bone's own skin is kept wherever it is: a large head's
+        // chin can be below the neck's joint.)
+        let neck = skeleton
+            .rest_world(HumanBone::Neck)
+            .map_or(f32::NEG_INFINITY, |n| n.y);
+        let parts: Vec<Part> = mesh
+            .bones
+            .iter()
+            .enumerate()
+            .map(|(i, b)| match part_of(skeleton, *b) {
+                Part::Map(HEAD_MAP)
+                    if mesh.hanging.get(i).copied().unwrap_or(false)
+                        && mesh.positions[i].y < neck =>
+                {
+                    Part::Other
+                }
+                part => part,
+            })
+            .collect();
         // Samples per part: vertices, plus triangle samples.
         let mut per_map: [Vec<Vec3>; MAP_BONES.len()] = Default::default();
         let mut hand_vertices: [Vec<(Vec3, HumanBone)>; 2] = Default::default();

@@ -38,10 +38,11 @@ pub(crate) fn skin_of(doc: &Document, bytes: &[u8], binding: &[(HumanBone, usize
     read(doc, bin, binding)
 }
 
-/// One skin's joints at rest: `jointWorld * inverseBind` and the humanoid bone of each.
+/// One skin's joints at rest: `jointWorld * inverseBind` and the humanoid bone of each (and
+/// whether the joint is a non-humanoid bone under it).
 struct Joints {
     matrices: Vec<Affine>,
-    bones: Vec<Option<HumanBone>>,
+    bones: Vec<Option<(HumanBone, bool)>>,
 }
 
 /// Reads the skin of a GLB whose humanoid binds `binding` (bone, node). `bin`: the BIN chunk
@@ -128,7 +129,7 @@ fn skin_joints(
         for _ in 0..=MAX_DEPTH {
             let Some(i) = cur else { break };
             if let Some(b) = bone_of_node.get(i).copied().flatten() {
-                bone = Some(b);
+                bone = Some((b, i != j));
                 break;
             }
             cur = doc.tree.parent.get(i).copied().flatten();
@@ -277,7 +278,7 @@ fn read_vertices(
         } else {
             w = [1.0, 0.0, 0.0, 0.0];
         }
-        let Some(bone) = joints.bones.get(j[best]).copied().flatten() else {
+        let Some((bone, hanging)) = joints.bones.get(j[best]).copied().flatten() else {
             keep.push(-1);
             continue;
         };
@@ -302,6 +303,7 @@ fn read_vertices(
         keep.push(out.positions.len() as i64);
         out.positions.push(p);
         out.bones.push(bone);
+        out.hanging.push(hanging);
     }
     Some(())
 }
@@ -314,5 +316,6 @@ impl Truncate for SkinMesh {
     fn truncate_to(&mut self, vertices: usize) {
         self.positions.truncate(vertices);
         self.bones.truncate(vertices);
+        self.hanging.truncate(vertices);
     }
 }

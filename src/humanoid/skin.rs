@@ -15,6 +15,9 @@ pub const MAX_REST_COORDINATE: f32 = 1000.0;
 pub const MAX_VERTICES: usize = 2_000_000;
 /// Most triangles a skin may have.
 pub const MAX_TRIANGLES: usize = 4_000_000;
+/// Added to a bone index in `restPose.skin.bones` ([`SkinMesh::from_flat`]): the vertex's
+/// dominant joint is a non-humanoid bone under that humanoid bone ([`SkinMesh::hanging`]).
+pub const HANGING: u8 = 0x80;
 /// An avatar's skin at rest (what self-contact learns the body from): every vertex's rest
 /// position and dominant humanoid bone (non-humanoid bones count as their nearest humanoid
 /// ancestor), and the triangles. Internal frame (see [`super::Skeleton::with_skin`]).
@@ -24,13 +27,17 @@ pub struct SkinMesh {
     pub positions: Vec<Vec3>,
     /// Each vertex's dominant humanoid bone.
     pub bones: Vec<HumanBone>,
+    /// Per vertex, whether its dominant joint is a non-humanoid bone under that humanoid bone
+    /// (hair, cloth, an accessory) rather than the bone itself. Missing entries are `false`.
+    pub hanging: Vec<bool>,
     /// Triangles, indices into `positions`.
     pub triangles: Vec<[u32; 3]>,
 }
 
 impl SkinMesh {
     /// A skin from flat arrays as JS passes them (`restPose.skin`): `positions` 3 per vertex
-    /// (meters, the model's own frame), `bones` one [`HumanBone::index`] per vertex,
+    /// (meters, the model's own frame), `bones` one [`HumanBone::index`] per vertex, plus
+    /// [`HANGING`] when the vertex's dominant joint is a non-humanoid bone under it,
     /// `triangles` 3 vertex indices each.
     ///
     /// # Errors
@@ -58,6 +65,7 @@ impl SkinMesh {
         let mut mesh = SkinMesh {
             positions: Vec::with_capacity(bones.len()),
             bones: Vec::with_capacity(bones.len()),
+            hanging: Vec::with_capacity(bones.len()),
             triangles: Vec::with_capacity(triangles.len() / 3),
         };
         for (p, &b) in positions.chunks_exact(3).zip(bones) {
@@ -68,14 +76,15 @@ impl SkinMesh {
                     "every coordinate must be finite and within 1000 m of the origin",
                 ));
             }
-            let Some(bone) = HumanBone::ALL.get(usize::from(b)) else {
+            let Some(bone) = HumanBone::ALL.get(usize::from(b & !HANGING)) else {
                 return Err(Error::invalid(
                     "restPose.skin.bones",
-                    "each entry must be a bone index of LAYOUT.bones",
+                    "each entry must be a bone index of LAYOUT.bones (+128: hanging)",
                 ));
             };
             mesh.positions.push(p);
             mesh.bones.push(*bone);
+            mesh.hanging.push(b & HANGING != 0);
         }
         let n = bones.len() as u32;
         for t in triangles.chunks_exact(3) {

@@ -6,6 +6,7 @@ use glam::{Quat, Vec3};
 use handrig::contact::skin::{self, BodySurface, MAP_BONES};
 use handrig::humanoid::bones::{Finger, HumanBone as B, BONE_COUNT};
 use handrig::humanoid::skeleton::WorldPose;
+use handrig::humanoid::skin as skin_mesh;
 use handrig::SkinMesh;
 use handrig::{Rig, RigOptions, Side, Skeleton};
 
@@ -1003,4 +1004,84 @@ fn clapping_hands_stay_together_when_the_wrist_limits_turn_them() {
         "{together} frames with both hands blended in"
     );
     assert!(apart.is_empty(), "hands apart (frame, mm): {apart:?}");
+}
+
+/// The synthetic body with two twin tails: tubes of skin hanging beside the neck and body from
+/// the neck's joint down to the hips, bound to the head (`hanging`: through bones of their own
+/// under it, as hair is, or on the head bone itself).
+fn with_twin_tails(skel: &Skeleton, center: Vec3, hanging: bool) -> SkinMesh {
+    let mut mesh = synthetic(skel, center);
+    mesh.hanging = vec![false; mesh.bones.len()];
+    let hips = skel.rest_world(B::Hips).unwrap().y;
+    for side in [-1.0f32, 1.0] {
+        let mut y = skel.rest_world(B::Neck).unwrap().y - 0.001;
+        while y > hips {
+            for j in 0..24 {
+                let az = std::f32::consts::TAU * j as f32 / 24.0;
+                let x = side * (HEAD_R + 0.04) + 0.03 * az.sin();
+                mesh.positions
+                    .push(Vec3::new(x, y, -0.02 + 0.03 * az.cos()));
+                mesh.bones.push(B::Head);
+                mesh.hanging.push(hanging);
+            }
+            y -= 0.005;
+        }
+    }
+    mesh
+}
+
+#[test]
+fn hair_hanging_from_the_head_is_not_the_head() {
+    let skel = recordings::vrm(recordings::FIXTURE_VRM1);
+    let center = skel.rest_world(B::Head).unwrap() + Vec3::new(0.0, 0.08, 0.02);
+    let world = rest_world(&skel);
+    let mut head = [false; MAP_BONES.len()];
+    head[skin::HEAD_MAP] = true;
+    let neck = skel.rest_world(B::Neck).unwrap();
+    let before_shoulders = [
+        Vec3::new(0.12, neck.y - 0.05, 0.12),
+        Vec3::new(-0.12, neck.y - 0.1, 0.12),
+    ];
+    let front = |s: &BodySurface| {
+        s.depth(center + Vec3::Z * 0.05, 0.0, &world, head)
+            .expect("the head map")
+            .0
+    };
+    let inside = |s: &BodySurface, p: Vec3| {
+        s.depth(p, 0.01, &world, head)
+            .is_some_and(|(d, _, _)| d > 0.0)
+    };
+    // Hair on bones of its own: the head is still the ball, and a hand before the shoulder,
+    // below the neck and off the tails, is not inside it.
+    let hair = BodySurface::new(&skel, &with_twin_tails(&skel, center, true)).expect("a body");
+    let d = front(&hair);
+    assert!((d - (HEAD_R - 0.05)).abs() < 0.006, "depth {d} in front");
+    for p in before_shoulders {
+        assert!(!inside(&hair, p), "{p} is inside the head's map");
+    }
+    // The same skin on the head bone itself (a large head reaching below the neck's joint is
+    // kept whole): the head's map takes it, and is no longer the ball.
+    let own = BodySurface::new(&skel, &with_twin_tails(&skel, center, false)).expect("a body");
+    assert!(
+        (front(&own) - (HEAD_R - 0.05)).abs() > 0.01,
+        "the head bone's own skin below the neck was dropped"
+    );
+}
+
+#[test]
+fn a_flat_skin_marks_vertices_hanging_on_non_humanoid_bones() {
+    let head = B::Head.index() as u8;
+    let mesh = SkinMesh::from_flat(
+        &[0.0, 1.5, 0.0, 0.1, 1.5, 0.0, 0.0, 1.6, 0.0],
+        &[head, head | skin_mesh::HANGING, B::Neck.index() as u8],
+        &[0, 1, 2],
+    )
+    .expect("a skin");
+    assert_eq!(mesh.bones, vec![B::Head, B::Head, B::Neck]);
+    assert_eq!(mesh.hanging, vec![false, true, false]);
+    // A bone index past the bones, with or without the flag, is named.
+    for bad in [100u8, 100 | skin_mesh::HANGING] {
+        let e = SkinMesh::from_flat(&[0.0; 3], &[bad], &[]).unwrap_err();
+        assert!(e.to_string().contains("restPose.skin.bones"), "{e}");
+    }
 }

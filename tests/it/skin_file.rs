@@ -109,11 +109,15 @@ fn expected(name: &str, bytes: &[u8]) -> SkinMesh {
             parent[index(c)] = Some(i);
         }
     }
-    let humanoid = |mut node: usize| loop {
-        if let Some((b, _)) = binding.iter().find(|(_, n)| *n == node) {
-            return Some(*b);
+    // The nearest bound ancestor (the node itself included), and whether it is an ancestor.
+    let humanoid = |start: usize| {
+        let mut node = start;
+        loop {
+            if let Some((b, _)) = binding.iter().find(|(_, n)| *n == node) {
+                return Some((*b, node != start));
+            }
+            node = parent[node]?;
         }
-        node = parent[node]?;
     };
     let mut out = SkinMesh::default();
     let skinned: Vec<&Value> = nodes.iter().filter(|n| n.get("skin").is_some()).collect();
@@ -146,10 +150,11 @@ fn expected(name: &str, bytes: &[u8]) -> SkinMesh {
             for ((v, j), w) in pos.iter().zip(&ji).zip(&wi) {
                 let best = (0..4).fold(0, |b, k| if w[k] > w[b] { k } else { b });
                 match humanoid(joints[j[best] as usize]) {
-                    Some(bone) => {
+                    Some((bone, hanging)) => {
                         keep.push(Some(out.positions.len() as u32 - base));
                         out.positions.push(Vec3::new(v[0], v[1], v[2]));
                         out.bones.push(bone);
+                        out.hanging.push(hanging);
                     }
                     None => keep.push(None),
                 }
@@ -207,6 +212,7 @@ fn generated_avatars_skin_is_the_stored_mesh_with_its_bones() {
             let gap = largest_gap(&got, &want, &name);
             assert!(gap < 2e-6, "{name}: a vertex {gap} m from the stored one");
             assert!(got.bones == want.bones, "{name}: bones differ");
+            assert!(got.hanging == want.hanging, "{name}: hanging flags differ");
             assert!(got.triangles == want.triangles, "{name}: triangles differ");
             assert_eq!(got.triangles.len(), 26_756 + 280, "{name}");
             // Skin on the head and on both hands (what self-contact needs).
@@ -645,4 +651,32 @@ proptest::proptest! {
         }
         Rig::new(s, RigOptions::default()).expect("a rig");
     }
+}
+
+#[test]
+fn vertices_on_non_humanoid_bones_are_marked_hanging() {
+    // The woman with her eyes left out of the humanoid: the eye nodes are then bones of their
+    // own under the head, as hair or an accessory would be, and their vertices hang on it.
+    let bytes = broken(|json, _| {
+        let bones = json["extensions"]["VRMC_vrm"]["humanoid"]["humanBones"]
+            .as_object_mut()
+            .unwrap();
+        bones.remove("leftEye");
+        bones.remove("rightEye");
+    });
+    let got = skin_in_model_frame(&load("woman-vrm1.vrm", &bytes));
+    let want = expected("woman-vrm1.vrm (no eye bones)", &bytes);
+    assert!(got.bones == want.bones, "bones differ");
+    assert!(got.hanging == want.hanging, "hanging flags differ");
+    let hanging = got.hanging.iter().filter(|h| **h).count();
+    // The eyeballs' vertices (280 triangles' worth), all on the head.
+    assert!(hanging > 100, "{hanging} vertices hanging");
+    assert!(got
+        .bones
+        .iter()
+        .zip(&got.hanging)
+        .all(|(b, h)| !h || *b == HumanBone::Head));
+    // With the eyes mapped, nothing hangs.
+    let whole = skin_in_model_frame(&load("woman-vrm1.vrm", &avatar("woman-vrm1.vrm")));
+    assert!(whole.hanging.iter().all(|h| !h));
 }

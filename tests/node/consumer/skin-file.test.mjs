@@ -10,7 +10,7 @@ import assert from "node:assert/strict";
 import path from "node:path";
 import { describe, it } from "node:test";
 
-import { HandRig } from "handrig";
+import { HandRig, LAYOUT } from "handrig";
 import { restPoseFromVRM } from "handrig/three-vrm";
 import { loadVRM, readBytes, repo } from "./support.mjs";
 
@@ -98,6 +98,22 @@ describe("the skin read from the file (issue 26)", () => {
 });
 
 describe("restPose.skin from JS", () => {
+  it("a vertex on a non-humanoid bone under a humanoid one is marked (its bone index plus 128), as fromVrm reads it", async () => {
+    const vrm = await loadVRM(file("woman-vrm1.vrm"));
+    const plain = restPoseFromVRM(vrm).skin.bones;
+    assert.ok(plain.every((b) => b < 128), "the whole woman is on humanoid bones");
+    // Her eyes taken out of the humanoid (as hair or an accessory on bones of its own): their
+    // vertices hang on the head.
+    const raw = vrm.humanoid.getRawBoneNode.bind(vrm.humanoid);
+    vrm.humanoid.getRawBoneNode = (name) => (name === "leftEye" || name === "rightEye" ? null : raw(name));
+    const bones = restPoseFromVRM(vrm).skin.bones;
+    const head = LAYOUT.bones.indexOf("head");
+    const hanging = bones.filter((b) => b >= 128);
+    assert.ok(hanging.length > 100, `${hanging.length} vertices hanging`);
+    assert.ok(hanging.every((b) => b === (head | 128)), "all on the head");
+    assert.equal(bones.length, plain.length);
+  });
+
   it("bad skins get an Error naming the field, and the rig is not made", async () => {
     const rest = restPoseFromVRM(await loadVRM(file("woman-vrm1.vrm")));
     const { skin, ...bones } = rest;
