@@ -904,6 +904,12 @@ impl BodySurface {
     /// the normals turn fast.
     #[must_use]
     pub fn lift_out(&self, wrist: Vec3, points: &[(Vec3, f32)], world: &WorldPose) -> Vec3 {
+        // Most hands are out: asked with floor 0 first, the maps and balls that cannot be
+        // inside are skipped by their bounds (the landing's own search asks every ball's
+        // depth however far out, for its deepest). Only a hand with a ball inside lands.
+        if self.deepest(wrist, points, world, 0.0) <= 0.0 {
+            return Vec3::ZERO;
+        }
         self.land(wrist, points, world, [true; MAP_BONES.len()], true)
     }
 
