@@ -904,12 +904,6 @@ impl BodySurface {
     /// the normals turn fast.
     #[must_use]
     pub fn lift_out(&self, wrist: Vec3, points: &[(Vec3, f32)], world: &WorldPose) -> Vec3 {
-        // Most hands are out: asked with floor 0 first, the maps and balls that cannot be
-        // inside are skipped by their bounds (the landing's own search asks every ball's
-        // depth however far out, for its deepest). Only a hand with a ball inside lands.
-        if self.deepest(wrist, points, world, 0.0) <= 0.0 {
-            return Vec3::ZERO;
-        }
         self.land(wrist, points, world, [true; MAP_BONES.len()], true)
     }
 
@@ -922,18 +916,16 @@ impl BodySurface {
         out_only: bool,
     ) -> Vec3 {
         let hull = Hull::of(points);
+        // Outward only, a hand whose deepest ball is not inside stays: its deepest is only
+        // looked for above 0, where the bounds skip the maps and balls that cannot be inside
+        // (the deepest above 0 is the deepest, found in the same order).
+        let least = if out_only { 0.0 } else { f32::NEG_INFINITY };
         let deepest = |shift: Vec3| -> Option<(f32, Vec3, usize, usize)> {
-            let mask = self.near(
-                wrist + hull.center + shift,
-                hull.reach,
-                world,
-                only,
-                f32::NEG_INFINITY,
-            );
+            let mask = self.near(wrist + hull.center + shift, hull.reach, world, only, least);
             // The depth, the point in its map's rest frame, the map and the ball.
             let mut best: Option<(f32, Vec3, usize, usize)> = None;
             for (i, (p, margin)) in points.iter().enumerate() {
-                let floor = best.map_or(f32::NEG_INFINITY, |(bd, ..)| bd);
+                let floor = best.map_or(least, |(bd, ..)| bd.max(least));
                 if let Some((d, q, k)) =
                     self.deepest_rest(wrist + *p + shift, *margin, world, mask, floor)
                 {
