@@ -938,18 +938,16 @@ impl BodySurface {
         out_only: bool,
     ) -> Vec3 {
         let hull = Hull::of(points);
+        // Outward only, a hand whose deepest ball is not inside stays: its deepest is only
+        // looked for above 0, where the bounds skip the maps and balls that cannot be inside
+        // (the deepest above 0 is the deepest, found in the same order).
+        let least = if out_only { 0.0 } else { f32::NEG_INFINITY };
         let deepest = |shift: Vec3| -> Option<(f32, Vec3, usize, usize)> {
-            let mask = self.near(
-                wrist + hull.center + shift,
-                hull.reach,
-                world,
-                only,
-                f32::NEG_INFINITY,
-            );
+            let mask = self.near(wrist + hull.center + shift, hull.reach, world, only, least);
             // The depth, the point in its map's rest frame, the map and the ball.
             let mut best: Option<(f32, Vec3, usize, usize)> = None;
             for (i, (p, margin)) in points.iter().enumerate() {
-                let floor = best.map_or(f32::NEG_INFINITY, |(bd, ..)| bd);
+                let floor = best.map_or(least, |(bd, ..)| bd.max(least));
                 if let Some((d, q, k)) =
                     self.deepest_rest(wrist + *p + shift, *margin, world, mask, floor)
                 {
