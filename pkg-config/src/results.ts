@@ -4,7 +4,7 @@
 
 import { isObject, type Bag } from "./errors.js";
 import { TIME } from "./frame.js";
-import { BONES, LAYOUT, LI, LO, SIDES, optionNames } from "./layout.js";
+import { BONES, LAYOUT, LI, LO, optionNames } from "./layout.js";
 
 type Mutable = { [key: string | symbol]: unknown };
 type Vec = [number, number, number];
@@ -38,7 +38,14 @@ export const BONE_FINGER: readonly string[] = BONES.map((name) => {
 });
 
 /** Per-finger points: `thumb` ... `little` (names from `optionNames()`), the reused arrays hidden. */
-type FingerSet = Mutable & { points: Vec[] };
+type FingerSet = Mutable & {
+  points: Vec[];
+  thumb: Vec | undefined;
+  index: Vec | undefined;
+  middle: Vec | undefined;
+  ring: Vec | undefined;
+  little: Vec | undefined;
+};
 
 interface SideParts {
   target: { position: Vec; rotation: Q };
@@ -89,16 +96,21 @@ export function fillResult(
   if (!isObject(hands)) hands = r.hands = {};
   const names = optionNames();
   const S = LO.side;
+  const sides = sideCaches(r);
+  // Each side's part stored and deleted by a fixed name (`.left` / `.right`): a store, `in` or
+  // delete by a varying key is a slow (megamorphic) lookup every time.
   for (let s = 0; s < 2; s++) {
-    const side = SIDES[s]!;
     const at = LO.sides + s * LO.sideStride;
-    const cache = sideCache(r, s);
+    const cache = sides[s]!;
     if (out[at + S.targetPresent] === 1) {
       const t = cache.target;
       vec(out, at + S.targetPosition, t.position);
       quat(out, at + S.targetRotation, t.rotation);
-      targets[side] = t;
-    } else if (side in targets) delete targets[side];
+      if (s === 0) targets.left = t;
+      else targets.right = t;
+    } else if (s === 0) {
+      if ("left" in targets) delete targets.left;
+    } else if ("right" in targets) delete targets.right;
     if (out[at + S.alignmentPresent] === 1) {
       const a = cache.alignment;
       vec(out, at + S.targetDip, a.targetDip);
@@ -122,8 +134,11 @@ export function fillResult(
         c.push = out[at + S.contactPush]!;
         a.contact = c;
       } else a.contact = null;
-      alignment[side] = a;
-    } else if (side in alignment) delete alignment[side];
+      if (s === 0) alignment.left = a;
+      else alignment.right = a;
+    } else if (s === 0) {
+      if ("left" in alignment) delete alignment.left;
+    } else if ("right" in alignment) delete alignment.right;
     const status = STATUS[out[at + S.handStatus]!];
     if (status !== undefined) {
       const h = cache.hand;
@@ -135,34 +150,44 @@ export function fillResult(
       h.check = LAYOUT.handCheck[out[at + S.handCheck]!] ?? "good";
       const resolved = out[at + S.handResolved]!;
       h.resolved = resolved > 0 ? (LAYOUT.handResolved[resolved] ?? null) : null;
-      hands[side] = h;
-    } else if (side in hands) delete hands[side];
+      if (s === 0) hands.left = h;
+      else hands.right = h;
+    } else if (s === 0) {
+      if ("left" in hands) delete hands.left;
+    } else if ("right" in hands) delete hands.right;
   }
   let tips = r.fingertips as Mutable;
   if (!isObject(tips)) tips = r.fingertips = {};
   let retarget = r.retarget as Mutable;
   if (!isObject(retarget)) retarget = r.retarget = {};
   for (let s = 0; s < 2; s++) {
-    const side = SIDES[s]!;
     const at = LO.sides + s * LO.sideStride;
-    const cache = sideCache(r, s);
-    if (fingers(out, at + S.fingertips, cache.tips, names.fingers)) tips[side] = cache.tips;
-    else if (side in tips) delete tips[side];
+    const cache = sides[s]!;
+    if (fingers(out, at + S.fingertips, cache.tips)) {
+      if (s === 0) tips.left = cache.tips;
+      else tips.right = cache.tips;
+    } else if (s === 0) {
+      if ("left" in tips) delete tips.left;
+    } else if ("right" in tips) delete tips.right;
     if (out[at + S.retargetPresent] === 1) {
       const rt = cache.retarget;
-      fingers(out, at + S.retargetTargets, rt.targets, names.fingers);
+      fingers(out, at + S.retargetTargets, rt.targets);
       rt.scale = out[at + S.retargetScale]!;
       rt.iterations = out[at + S.retargetIterations]!;
       rt.residual = out[at + S.retargetResidual]!;
-      retarget[side] = rt;
-    } else if (side in retarget) delete retarget[side];
+      if (s === 0) retarget.left = rt;
+      else retarget.right = rt;
+    } else if (s === 0) {
+      if ("left" in retarget) delete retarget.left;
+    } else if ("right" in retarget) delete retarget.right;
   }
   let use = r.handUse as (string | null | undefined)[];
   if (!Array.isArray(use)) use = r.handUse = [];
   const count = input[LI.handCount]!;
-  use.length = count;
+  // Setting an array's length calls into the runtime even when it is unchanged.
+  if (use.length !== count) use.length = count;
   for (let k = 0; k < count; k++) use[k] = HAND_USE[out[LO.handUse + k]!];
-  fillFace(r, out, arrays.bones, driven);
+  fillFace(r, out, arrays.bones, arrays.faceDriven);
   // Legs (issue 51).
   let hips = r.hipsOffset as Vec | undefined;
   if (!Array.isArray(hips)) r.hipsOffset = hips = [0, 0, 0] as Vec;
@@ -206,16 +231,24 @@ function writeExpressions(e: Expressions, out: Float32Array, o: number): void {
 const ARKIT_COUNT = LAYOUT.arkit.length;
 const FACE_STATE: readonly (string | null)[] = [null, "tracked", "lost"];
 
-function fillFace(r: Mutable, out: Float32Array, bones: Mutable, driven: number[]): void {
-  for (let k = 0; k < 2; k++) {
-    const b = FACE_BONES[k]!;
-    if (driven.includes(b)) continue;
-    const name = BONES[b]!;
+function fillFace(r: Mutable, out: Float32Array, bones: Mutable, faceDriven: readonly boolean[]): void {
+  // The neck and the head where the face turns them and the body does not drive them, each by
+  // its fixed name (a lookup by a varying name is a slow, megamorphic one).
+  if (!faceDriven[0]) {
+    const b = FACE_BONES[0]!;
     if (out[LO.boneFlags + b] !== 0) {
-      let q = bones[name] as number[] | undefined;
-      if (!Array.isArray(q) || q.length !== 4) q = bones[name] = [0, 0, 0, 1];
+      let q = bones.neck as number[] | undefined;
+      if (!Array.isArray(q) || q.length !== 4) q = bones.neck = [0, 0, 0, 1];
       quat(out, LO.boneRotations + 4 * b, q);
-    } else if (name in bones) delete bones[name];
+    } else if ("neck" in bones) delete bones.neck;
+  }
+  if (!faceDriven[1]) {
+    const b = FACE_BONES[1]!;
+    if (out[LO.boneFlags + b] !== 0) {
+      let q = bones.head as number[] | undefined;
+      if (!Array.isArray(q) || q.length !== 4) q = bones.head = [0, 0, 0, 1];
+      quat(out, LO.boneRotations + 4 * b, q);
+    } else if ("head" in bones) delete bones.head;
   }
   const state = FACE_STATE[out[LO.faceState]!] ?? null;
   let ex = r.expressions as Mutable;
@@ -234,26 +267,32 @@ function fillFace(r: Mutable, out: Float32Array, bones: Mutable, driven: number[
   look.pitch = out[LO.lookAt + 1]!;
 }
 
+/** Finger `f`'s point at `out[o..]` into its reused array, or undefined (NaN: the avatar lacks it). */
+function finger(out: Float32Array, o: number, points: Vec[], f: number): Vec | undefined {
+  if (Number.isNaN(out[o])) return undefined;
+  const p = points[f]!;
+  vec(out, o, p);
+  return p;
+}
+
 /**
  * Five points (NaN for a finger the avatar lacks) into `dst.thumb` ... `dst.little` (undefined
- * where missing). Returns whether any finger is there.
+ * where missing), each stored by its fixed name (FINGER_ORDER). Returns whether any finger is
+ * there.
  */
-function fingers(out: Float32Array, at: number, dst: FingerSet, names: readonly string[]): boolean {
-  let any = false;
-  for (let f = 0; f < 5; f++) {
-    const o = at + 3 * f;
-    const name = names[f]!;
-    if (Number.isNaN(out[o])) {
-      dst[name] = undefined;
-      continue;
-    }
-    const p = dst.points[f]!;
-    vec(out, o, p);
-    dst[name] = p;
-    any = true;
-  }
-  return any;
+function fingers(out: Float32Array, at: number, dst: FingerSet): boolean {
+  const points = dst.points;
+  const thumb = (dst.thumb = finger(out, at, points, 0));
+  const index = (dst.index = finger(out, at + 3, points, 1));
+  const middle = (dst.middle = finger(out, at + 6, points, 2));
+  const ring = (dst.ring = finger(out, at + 9, points, 3));
+  const little = (dst.little = finger(out, at + 12, points, 4));
+  return thumb !== undefined || index !== undefined || middle !== undefined || ring !== undefined || little !== undefined;
 }
+
+// The fingers by name, in Rust's order (`optionNames().fingers`, checked when a result's parts
+// are made): `fingers` stores each by its fixed name.
+const FINGER_ORDER = "thumb index middle ring little";
 
 /** { thumb, index, middle, ring, little } with the five reused arrays kept non-enumerable. */
 function fingerSet(names: readonly string[]): FingerSet {
@@ -269,6 +308,8 @@ interface BoneArrays {
   driven: number[];
   rotations: number[][];
   positions: number[][];
+  /** Whether the neck and the head (FACE_BONES) are driven: then in `rotations`. */
+  faceDriven: boolean[];
 }
 
 /**
@@ -294,6 +335,7 @@ function boneArrays(result: Mutable, driven: number[], present: number[]): BoneA
     driven,
     rotations: driven.map((i) => take(bones, BONES[i]!, 4)),
     positions: present.map((i) => take(world, BONES[i]!, 3)),
+    faceDriven: FACE_BONES.map((b) => driven.includes(b)),
   };
   Object.defineProperty(result, BONE_ARRAYS, { value: c, enumerable: false, configurable: true, writable: true });
   return c;
@@ -304,10 +346,11 @@ function boneArrays(result: Mutable, driven: number[], present: number[]): BoneA
  * (and a fresh `{}` gets its own).
  */
 const SIDE_CACHE: symbol | string = typeof Symbol === "function" ? Symbol("handrig.sides") : "__handrigSides";
-function sideCache(result: Mutable, s: number): SideParts {
+function sideCaches(result: Mutable): SideParts[] {
   let c = result[SIDE_CACHE] as SideParts[] | undefined;
   if (c === undefined) {
     const fingerNames = optionNames().fingers;
+    if (fingerNames.join(" ") !== FINGER_ORDER) throw new Error("handrig: the finger names changed: update results.ts");
     const make = (): SideParts => ({
       target: { position: [0, 0, 0], rotation: [0, 0, 0, 1] },
       alignment: {
@@ -329,5 +372,5 @@ function sideCache(result: Mutable, s: number): SideParts {
     c = [make(), make()];
     Object.defineProperty(result, SIDE_CACHE, { value: c, enumerable: false });
   }
-  return c[s]!;
+  return c;
 }

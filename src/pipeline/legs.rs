@@ -180,19 +180,24 @@ impl Legs {
         // or as estimated up to the last frame.
         let lean = self.tilt - LEVEL_LEAN;
         let pitch = (cx.options.camera.pitch).unwrap_or(lean - lean.clamp(-TILT_FREE, TILT_FREE));
-        let level = Quat::from_rotation_x(-pitch);
+        // The view is the same for both legs, and made only for a leg that is seen: a
+        // head-and-shoulders frame sees none and pays nothing for it.
+        let mut view = None;
         for side in Side::BOTH {
-            if let Some(leg) = &self.legs[side.index()] {
-                targets[side.index()] = pose.and_then(|p| {
-                    // The camera's axes to the avatar's commute with a turn about +x (they
-                    // negate y and z, and x too or not): the pitch goes into the turn.
-                    let view = View {
-                        turn: pelvis_turn(cx, p, hips, level) * level,
-                        meters: meters_per_height(cx, p),
-                    };
+            if let (Some(leg), Some(p)) = (&self.legs[side.index()], pose) {
+                if leg_seen(cx, p, side) {
+                    let view = view.get_or_insert_with(|| {
+                        // The camera's axes to the avatar's commute with a turn about +x (they
+                        // negate y and z, and x too or not): the pitch goes into the turn.
+                        let level = Quat::from_rotation_x(-pitch);
+                        View {
+                            turn: pelvis_turn(cx, p, hips, level) * level,
+                            meters: meters_per_height(cx, p),
+                        }
+                    });
                     let reading = &mut self.reading[side.index()];
-                    target(cx, &view, p, side, leg.lengths(), out, reading)
-                });
+                    targets[side.index()] = target(cx, view, p, side, leg.lengths(), out, reading);
+                }
             }
         }
         if let (Some(p), [Some(_), Some(_)]) = (pose, targets) {
@@ -243,10 +248,10 @@ impl Legs {
         };
         // Each tracked foot's height above the floor (a planted foot lifts when the tracked
         // one rises: after the re-solve below it stands on its lock).
-        let heights = [0, 1].map(|s| {
-            soles.map_or(f32::INFINITY, |soles| {
-                self.lowest(&soles, out, [s, s]) + offset.y - soles.floor
-            })
+        // (Read only for a tracked leg.)
+        let heights = [0, 1].map(|s| match (soles, targets[s]) {
+            (Some(soles), Some(_)) => self.lowest(&soles, out, [s, s]) + offset.y - soles.floor,
+            _ => f32::INFINITY,
         });
         // A planted foot's ankle stays where it was put down: the hips low enough for the
         // leg to reach it, the leg solved again toward it. A tracked ankle moving fast lifts
@@ -267,7 +272,9 @@ impl Legs {
                 0.0,
             ))
         });
-        let to_meters = pose.and_then(|p| Some(meters_per_height(cx, p)? * self.scale(cx, p)?));
+        let to_meters = pose
+            .filter(|_| seen_ankle.iter().any(Option::is_some))
+            .and_then(|p| Some(meters_per_height(cx, p)? * self.scale(cx, p)?));
         // On the session's first frame no speed is known: a foot on the floor is planted
         // (else it moved, unlocked, while the next frame measured it: the bench's woman, 3-8
         // mm of sliding on the first frames of every clip).
@@ -657,9 +664,28 @@ fn depth(length: f32, across: f32) -> f32 {
     (length * length - across * across).max(0.0).sqrt()
 }
 
+/// Whether pose landmark `i` is seen: visible enough and inside the image (MediaPipe guesses a
+/// leg below the frame's edge with a visibility up to 0.84 on the ASL clips).
+// Out of line: called for five landmarks per leg (inlined, more .wasm).
+#[inline(never)]
+fn seen(cx: &Context, pose: &PoseObservation, i: usize) -> bool {
+    let inside = |x: f32| (0.0..=1.0).contains(&x);
+    pose.visibility[i] >= cx.options.legs.min_visibility
+        && cx
+            .input
+            .pose_image
+            .is_none_or(|im| inside(im[i].x) && inside(im[i].y))
+}
+
+/// Whether the hip, knee and ankle of the avatar's `side` are seen ([`seen`]).
+fn leg_seen(cx: &Context, pose: &PoseObservation, side: Side) -> bool {
+    let [hip, knee, ankle, _, _] = leg_landmarks(cx.camera.pose_side_for(side));
+    seen(cx, pose, hip) && seen(cx, pose, knee) && seen(cx, pose, ankle)
+}
+
 /// Where the tracked leg of the avatar's `side` puts it (the user's thigh and shin directions,
-/// read as `view` says, with the avatar's thigh and shin `lengths`), or `None` when the hip,
-/// knee or ankle is not seen.
+/// read as `view` says, with the avatar's thigh and shin `lengths`), or `None` when its
+/// direction is not finite. For a leg that is seen ([`leg_seen`]).
 fn target(
     cx: &Context,
     view: &View,
@@ -670,20 +696,6 @@ fn target(
     reading: &mut Reading,
 ) -> Option<LegTarget> {
     let [hip, knee, ankle, heel, toe] = leg_landmarks(cx.camera.pose_side_for(side));
-    let min = cx.options.legs.min_visibility;
-    // Seen: visible enough and inside the image (MediaPipe guesses a leg below the frame's
-    // edge with a visibility up to 0.84 on the ASL clips).
-    let inside = |x: f32| (0.0..=1.0).contains(&x);
-    let seen = |i: usize| {
-        pose.visibility[i] >= min
-            && cx
-                .input
-                .pose_image
-                .is_none_or(|im| inside(im[i].x) && inside(im[i].y))
-    };
-    if !(seen(hip) && seen(knee) && seen(ankle)) {
-        return None;
-    }
     let at_hip = out.world.position[leg_bones(side)[0].index()];
     let w = &pose.world;
     let vector = |v| view.turn * cx.camera.to_avatar(v);
@@ -720,7 +732,7 @@ fn target(
         hip: at_hip,
         knee: knee_at,
         ankle: ankle_at,
-        foot: (seen(heel) && seen(toe)).then(|| vector(w[toe] - w[heel])),
+        foot: (seen(cx, pose, heel) && seen(cx, pose, toe)).then(|| vector(w[toe] - w[heel])),
     };
     (t.knee.is_finite() && t.ankle.is_finite()).then_some(t)
 }
