@@ -1,6 +1,7 @@
 #!/usr/bin/env node
 // The generated avatars' mouth shapes as rendered (issue 50): the lower face with each named
-// expression at weight 1 (VRM presets, ARKit names, "a+b" for both, "neutral" for none), at rest
+// expression at weight 1 (VRM presets, ARKit names, "a+b" for both, "a=0.4" for a weight,
+// "neutral" for none), at rest
 // otherwise, in the face bench's light and own colours (render-page.js), from the front and from
 // the avatar's right, one row a shape (labelled), into artifacts/screenshots/face-mouth-AVATAR.png
 // (or PREFIX-AVATAR.png). --distance: the camera's distance from the mouth, metres.
@@ -40,7 +41,8 @@ try {
     const target = [eyes[0], eyes[1] - 0.053, eyes[2]];
     const pngs = [];
     for (const shape of SHAPES) {
-      const ex = Object.fromEntries(shape === "neutral" ? [] : shape.split("+").map((n) => [n, 1]));
+      // "name" at 1, "name=w" at w.
+      const ex = Object.fromEntries(shape === "neutral" ? [] : shape.split("+").map((n) => [n.split("=")[0], Number(n.split("=")[1] ?? 1)]));
       for (const view of ["front", "side"]) {
         // From the side, the view's middle 3 cm ahead of the eyes (the lips' profile).
         const at = view === "side" ? [target[0], target[1], target[2] + 0.03] : target;
@@ -49,7 +51,7 @@ try {
         writeFileSync(raw, Buffer.from(b64, "base64"));
         const png = join(tmp, `${avatar}-${shape}-${view}.png`);
         // The middle 320 x 200 of the frame (the mouth, the nose and the chin).
-        ffmpeg(["-f", "rawvideo", "-pix_fmt", "rgba", "-s", `${WIDTH}x${HEIGHT}`, "-i", raw, "-vf", `crop=320:200:160:140,drawtext=text='${shape.replace(/\+/g, " ")} ${view}':x=4:y=4:fontsize=14:fontcolor=white`, "-frames:v", "1", png]);
+        ffmpeg(["-f", "rawvideo", "-pix_fmt", "rgba", "-s", `${WIDTH}x${HEIGHT}`, "-i", raw, "-vf", `crop=320:200:160:140,drawtext=text='${shape.replace(/\+/g, " ").replace(/=/g, " ")} ${view}':x=4:y=4:fontsize=14:fontcolor=white`, "-frames:v", "1", png]);
         pngs.push(png);
       }
     }
