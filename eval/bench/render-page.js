@@ -263,6 +263,38 @@ window.__bench = {
     camera.lookAt(0, saved.y, 0);
     return pixels();
   },
+  /**
+   * A close-up of the face at rest with `expressions` set ({ name: weight }, VRM presets or the
+   * ARKit custom names; others 0), from `distance` m before the point `target` ([x, y, z], world)
+   * ("front") or from the avatar's right ("side"): base64 RGBA as frame() (the mouth's shots,
+   * eval/bench/face-mouth-shots.mjs). Select a face clip first (its own colours).
+   */
+  faceShot(expressions, target, view = "front", distance = 0.2) {
+    setNormalizedPose(vrm, FACE_ARMS);
+    const em = vrm.expressionManager;
+    for (const e of em?.expressions ?? []) em.setValue(e.expressionName, expressions[e.expressionName] ?? 0);
+    if (vrm.lookAt) {
+      vrm.lookAt.autoUpdate = false;
+      vrm.lookAt.yaw = 0;
+      vrm.lookAt.pitch = 0;
+    }
+    vrm.update(0);
+    vrm.scene.updateMatrixWorld(true);
+    const saved = camera.position.clone();
+    const savedQ = camera.quaternion.clone();
+    const [x, y, z] = target;
+    if (view === "side") camera.position.set(x - distance, y, z);
+    else camera.position.set(x, y, z + distance);
+    camera.lookAt(x, y, z);
+    renderer.render(scene, camera);
+    camera.position.copy(saved);
+    camera.quaternion.copy(savedQ);
+    return pixels();
+  },
+  /** World position of the middle between the eyes (as posed). */
+  eyesMiddle() {
+    return world("leftEye").add(world("rightEye")).multiplyScalar(0.5).toArray();
+  },
   /** Renders frame `i` of the current clip: base64 RGBA, WIDTH x HEIGHT, top row first. */
   frame(i) {
     pose(current, i);

@@ -98,6 +98,46 @@ function measure(v, groups, tris) {
   return f;
 }
 
+// The lips' seam: the base mesh's lips are joined by a row of faces across the slit (facing
+// forward, from the upper lip's edge to the lower lip's), which stretches over the opening when
+// the jaw drops. Its two edges, as vertex indices of the base mesh (the same in every body:
+// the body targets only move vertices), from the midline (UPPER_LIP, LOWER_LIP) out to the
+// corners, the avatar's left then its right. The lips part along them, not along a height:
+// on a body whose lips are pressed together (the man) the lower lip's edge lies partly above
+// the upper lip's midline vertex.
+const SEAM_UPPER = [[362, 357, 356, 355, 5334, 5363, 5341, 372], [362, 7118, 7117, 7116, 11938, 11965, 11944, 7132]];
+const SEAM_LOWER = [[455, 454, 450, 456, 409, 5364, 5340, 374, 376], [455, 7214, 7210, 7215, 7169, 11966, 11943, 7134, 7136]];
+// Two of the seam's faces on each side fan out to a vertex of the lip's next row (one above,
+// one below): they stretch over the opening too, so they are coloured as the edges.
+const SEAM_FAN = [5346, 5354, 11948, 11956];
+/**
+ * The seam's edges (`f.seam`: vertex index -> 1 on the upper lip's edge, -1 on the lower's) and
+ * the slit's height across the mouth (`f.slitY(x)`: halfway between the two edges, each
+ * interpolated along |x| and averaged over both sides).
+ */
+function slit(f, v) {
+  f.seam = new Map();
+  for (const side of SEAM_UPPER) for (const i of side) f.seam.set(i, 1);
+  for (const side of SEAM_LOWER) for (const i of side) f.seam.set(i, -1);
+  f.fan = new Set(SEAM_FAN);
+  // Each side's edge interpolated along |x| (its end's height beyond it), the mean of the sides.
+  const along = (lines) => {
+    const qs = lines.map((line) => line.map((i) => [Math.abs(v(i)[0]), v(i)[1]]));
+    const at = (q, x) => {
+      for (let k = 1; k < q.length; k++) {
+        if (x > q[k][0]) continue;
+        const t = Math.max(0, x - q[k - 1][0]) / (q[k][0] - q[k - 1][0] || 1);
+        return q[k - 1][1] + t * (q[k][1] - q[k - 1][1]);
+      }
+      return q[q.length - 1][1];
+    };
+    return (x) => qs.reduce((sum, q) => sum + at(q, x), 0) / qs.length;
+  };
+  const up = along(SEAM_UPPER);
+  const lo = along(SEAM_LOWER);
+  f.slitY = (x) => (up(Math.abs(x)) + lo(Math.abs(x))) / 2;
+}
+
 // The eye's opening, as seen from straight ahead: per azimuth theta = atan2(x, z) about the
 // eye's centre, the elevations phi = atan2(y, z) of the highest and lowest points of the eyeball
 // (the sphere of the eye's mean radius) that a ray straight ahead (+Z) from them leaves without
@@ -282,20 +322,35 @@ function lids(f, p, upper, lower, yaw = 0, how = SQUINT_LID) {
 }
 
 // The lower face (jaw) weight: below the slit, in front of the jaw's pivot, not the neck.
-function jawWeight(f, p) {
+function jawWeight(f, p, i) {
   const [x, y, z] = p;
   const s = f.s;
   const ax = Math.abs(x);
-  const band = 0.0025 * s + 0.6 * Math.max(0, ax - f.mouthHalf * 0.9);
-  const below = smoothstep(-band, band, f.mouth[1] - y);
+  const band = 0.0008 * s + 0.6 * Math.max(0, ax - f.mouthHalf * 0.9);
+  let below = smoothstep(-band, band, f.slitY(x) - y);
+  // The lips' edges by side (toward the corners, by height again).
+  const edge = f.seam.get(i);
+  if (edge) below += (edge < 0 ? 1 - below : -below) * (1 - smoothstep(0.8, 1, ax / f.mouthHalf));
   const front = smoothstep(f.pivot[2] + 0.01 * s, f.pivot[2] + 0.06 * s, z);
   const side = 1 - smoothstep(0.05 * s, 0.075 * s, ax);
   const chin = smoothstep(f.mouth[1] - 0.1 * s, f.mouth[1] - 0.055 * s, y);
   return below * front * side * chin;
 }
-function jawTurn(f, p, w, a) {
+// The jaw's turn at jawOpen 1 (radians about `pivot`): the lower lip drops about 2.4 cm at the
+// midline on the adult bodies (with aa's mouthLowerDown, 2.5 cm between the lips).
+const JAW_TURN = 0.24;
+// How far (m, for the base mesh) jawOpen takes the lips' edges back into the mouth.
+const SEAM_TUCK = 0.004;
+function jawTurn(f, p, w, a = JAW_TURN) {
   const q = sub(p, f.pivot);
   return scale(sub(rotX(q, a), q), w);
+}
+
+// The lips' edges (the seam's vertices): 1 over the middle of the mouth, fading out toward the
+// corners (where the seam's faces are short and fan out onto the lips); 0 elsewhere.
+function lipEdge(f, p, i) {
+  if (!f.seam.has(i)) return 0;
+  return 1 - smoothstep(0.75, 1, Math.abs(p[0]) / f.mouthHalf);
 }
 
 // The lips: a band around the slit, out to past the corners, in front.
@@ -306,7 +361,12 @@ function lipWeight(f, p) {
   const front = smoothstep(f.mouth[2] - 0.035 * s, f.mouth[2] - 0.015 * s, p[2]);
   return (1 - smoothstep(0.75, 1, u)) * (1 - smoothstep(0.55, 1, Math.abs(dv))) * front;
 }
-const upperSide = (f, p) => smoothstep(-0.0015 * f.s, 0.0015 * f.s, p[1] - f.mouth[1]);
+// Above the slit (1) or below (0); the lips' edges by side (toward the corners, by height).
+function upperSide(f, p, i) {
+  const u = smoothstep(-0.0008 * f.s, 0.0008 * f.s, p[1] - f.slitY(p[0]));
+  const side = f.seam.get(i);
+  return side ? u + ((side > 0 ? 1 : 0) - u) * (1 - smoothstep(0.8, 1, Math.abs(p[0]) / f.mouthHalf)) : u;
+}
 // The left half of the mouth fading across the midline.
 const leftHalf = (f, p) => smoothstep(-0.006 * f.s, 0.006 * f.s, p[0]);
 // A bump around a point (x, y) on the face (front of the head only), radius rx, ry.
@@ -354,16 +414,16 @@ const LEFT = {
     const w = cornerWeight(f, p, 0.022);
     return w ? scale([0.007, -0.003, -0.001], w * f.s) : null;
   },
-  mouthPress: (f, p) => {
+  mouthPress: (f, p, i) => {
     const w = lipWeight(f, p) * leftHalf(f, p);
-    return w ? scale([0, upperSide(f, p) > 0.5 ? -0.0015 : 0.0015, -0.0015], w * f.s) : null;
+    return w ? scale([0, upperSide(f, p, i) > 0.5 ? -0.0015 : 0.0015, -0.0015], w * f.s) : null;
   },
-  mouthLowerDown: (f, p) => {
-    const w = lipWeight(f, p) * (1 - upperSide(f, p)) * leftHalf(f, p);
+  mouthLowerDown: (f, p, i) => {
+    const w = lipWeight(f, p) * (1 - upperSide(f, p, i)) * leftHalf(f, p);
     return w ? scale([0, -0.005, 0.0005], w * f.s) : null;
   },
-  mouthUpperUp: (f, p) => {
-    const w = lipWeight(f, p) * upperSide(f, p) * leftHalf(f, p);
+  mouthUpperUp: (f, p, i) => {
+    const w = lipWeight(f, p) * upperSide(f, p, i) * leftHalf(f, p);
     return w ? scale([0, 0.005, 0.0005], w * f.s) : null;
   },
   browDown: (f, p) => {
@@ -388,36 +448,43 @@ const LEFT = {
 };
 
 const SYMMETRIC = {
-  jawOpen: (f, p) => {
-    const w = jawWeight(f, p);
-    return w ? jawTurn(f, p, w, 0.2) : null;
+  // The jaw turned down about its pivot; the lips' edges (the seam) tucked in behind the lips,
+  // so that the seam's faces, stretched over the opening, lie inside the mouth.
+  jawOpen: (f, p, i) => {
+    const w = jawWeight(f, p, i);
+    const e = lipEdge(f, p, i);
+    if (!w && !e) return null;
+    return add(w ? jawTurn(f, p, w) : [0, 0, 0], [0, 0, -SEAM_TUCK * f.s * e]);
   },
-  jawForward: (f, p) => {
-    const w = jawWeight(f, p);
+  jawForward: (f, p, i) => {
+    const w = jawWeight(f, p, i);
     return w ? scale([0, 0, 0.006], w * f.s) : null;
   },
-  jawLeft: (f, p) => {
-    const w = jawWeight(f, p);
+  jawLeft: (f, p, i) => {
+    const w = jawWeight(f, p, i);
     return w ? scale([0.008, 0, 0], w * f.s) : null;
   },
-  jawRight: (f, p) => {
-    const w = jawWeight(f, p);
+  jawRight: (f, p, i) => {
+    const w = jawWeight(f, p, i);
     return w ? scale([-0.008, 0, 0], w * f.s) : null;
   },
   // With jawOpen: the lips closed again over the open jaw (ARKit's use).
-  mouthClose: (f, p) => {
+  mouthClose: (f, p, i) => {
     const w = lipWeight(f, p);
     if (!w) return null;
-    const up = upperSide(f, p);
-    const jaw = jawTurn(f, p, jawWeight(f, p), 0.2);
-    const half = scale(jawTurn(f, [p[0], f.mouth[1] - 0.002 * f.s, p[2]], 1, 0.2), 0.5);
+    const up = upperSide(f, p, i);
+    const jaw = jawTurn(f, p, jawWeight(f, p, i));
+    const half = scale(jawTurn(f, [p[0], f.mouth[1] - 0.002 * f.s, p[2]], 1), 0.5);
     return scale(up > 0.5 ? half : sub(half, jaw), w);
   },
-  mouthFunnel: (f, p) => {
+  mouthFunnel: (f, p, i) => {
     const w = lipWeight(f, p);
     if (!w) return null;
-    const open = upperSide(f, p) > 0.5 ? 0.0035 : -0.0035;
-    return scale([-0.25 * p[0] / f.s, open, 0.006], w * f.s);
+    // The lips part most at the middle (a round opening, not a slot): 5 mm each there, none at
+    // the corners, which come in.
+    const u = Math.min(1, Math.abs(p[0]) / f.mouthHalf);
+    const open = (upperSide(f, p, i) > 0.5 ? 0.005 : -0.005) * (1 - u * u);
+    return scale([-0.3 * p[0] / f.s, open, 0.006], w * f.s);
   },
   mouthPucker: (f, p) => {
     const w = lipWeight(f, p);
@@ -431,20 +498,20 @@ const SYMMETRIC = {
     const w = lipWeight(f, p);
     return w ? scale([-0.007, 0, 0], w * f.s) : null;
   },
-  mouthRollLower: (f, p) => {
-    const w = lipWeight(f, p) * (1 - upperSide(f, p));
+  mouthRollLower: (f, p, i) => {
+    const w = lipWeight(f, p) * (1 - upperSide(f, p, i));
     return w ? scale([0, 0.001, -0.004], w * f.s) : null;
   },
-  mouthRollUpper: (f, p) => {
-    const w = lipWeight(f, p) * upperSide(f, p);
+  mouthRollUpper: (f, p, i) => {
+    const w = lipWeight(f, p) * upperSide(f, p, i);
     return w ? scale([0, -0.001, -0.004], w * f.s) : null;
   },
-  mouthShrugLower: (f, p) => {
-    const w = lipWeight(f, p) * (1 - upperSide(f, p));
+  mouthShrugLower: (f, p, i) => {
+    const w = lipWeight(f, p) * (1 - upperSide(f, p, i));
     return w ? scale([0, 0.003, 0.002], w * f.s) : null;
   },
-  mouthShrugUpper: (f, p) => {
-    const w = lipWeight(f, p) * upperSide(f, p);
+  mouthShrugUpper: (f, p, i) => {
+    const w = lipWeight(f, p) * upperSide(f, p, i);
     return w ? scale([0, 0.0025, 0.001], w * f.s) : null;
   },
   browInnerUp: (f, p) => {
@@ -459,8 +526,8 @@ const SYMMETRIC = {
   },
   // No tongue in the mesh (the base mesh's tongue helper is dropped): the lower lip drops
   // forward, as it does around a tongue stuck out.
-  tongueOut: (f, p) => {
-    const w = lipWeight(f, p) * (1 - upperSide(f, p));
+  tongueOut: (f, p, i) => {
+    const w = lipWeight(f, p) * (1 - upperSide(f, p, i));
     return w ? scale([0, -0.004, 0.004], w * f.s) : null;
   },
 };
@@ -471,9 +538,9 @@ function shapeOf(name) {
   const left = LEFT[m[1]];
   if (m[2] === "Left") return left;
   // The right side: the field of the left evaluated on the mirrored point, mirrored back.
-  return (f, p) => {
+  return (f, p, i) => {
     const fm = { ...f, eyeL: { ...f.eyeR, c: mirror(f.eyeR.c) }, lidL: f.lidR };
-    const d = left(fm, mirror(p));
+    const d = left(fm, mirror(p), i);
     return d ? mirror(d) : null;
   };
 }
@@ -489,6 +556,7 @@ export function faceTargets(positions, groups, kept, bodyFaces) {
   const tris = [];
   for (const q of bodyFaces) for (let k = 1; k + 1 < q.length; k++) tris.push([q[0], q[k], q[k + 1]]);
   const f = measure(v, groups, tris);
+  slit(f, v);
   const targets = [];
   for (const name of ARKIT) {
     const shape = shapeOf(name);
@@ -496,7 +564,7 @@ export function faceTargets(positions, groups, kept, bodyFaces) {
     const deltas = [];
     kept.forEach((vi, k) => {
       if (vi >= bodyCount) return; // the eyes turn with their bones, never morph
-      const d = shape(f, v(vi));
+      const d = shape(f, v(vi), vi);
       if (!d) return;
       const d32 = d.map(Math.fround);
       if (Math.max(Math.abs(d32[0]), Math.abs(d32[1]), Math.abs(d32[2])) < 1e-5) return;
@@ -517,7 +585,7 @@ export const COLOURS = {
   trousers: [0.09, 0.09, 0.1],
   shoes: [0.25, 0.12, 0.05],
   hair: [0.05, 0.03, 0.02],
-  mouth: [0.2, 0.04, 0.04],
+  mouth: [0.03, 0.006, 0.006],
   sclera: [0.85, 0.83, 0.8],
   iris: [0.12, 0.22, 0.35],
   pupil: [0.01, 0.01, 0.01],
@@ -557,6 +625,7 @@ export function faceColours(positions, groups, kept, weights, skeleton, measures
   kept.forEach((vi, k) => {
     const p = v(vi);
     let region;
+    let edge = 0;
     if (vi >= bodyCount) {
       const left = p[0] > 0;
       const e = left ? f.eyeL : f.eyeR;
@@ -572,15 +641,19 @@ export function faceColours(positions, groups, kept, weights, skeleton, measures
           p[1] - f.mouth[1] < 0.015 * s &&
           f.mouth[1] - p[1] < 0.025 * s &&
           p[2] > f.pivot[2] &&
+          p[2] < f.mouth[2] - 0.008 * s &&
           occluded(p);
-        // The lips' seam: the base mesh's lips are joined by faces across the slit, which
-        // stretch over the opening when the jaw drops; dark, they show it as open.
-        const slit = Math.abs(p[0]) < 0.95 * f.mouthHalf && Math.abs(p[1] - f.mouth[1]) < 0.0022 * s && p[2] > f.pivot[2];
-        if (inMouth || slit) region = "mouth";
+        // The lips' edges (the seam's vertices, see `slit`): dark, so that the seam's faces,
+        // stretched over an opening, show it as the mouth's dark inside; toward the corners,
+        // the skin's colour mixed in (a hard edge there drew dark spikes along the corners).
+        // Only inside vertices behind the lips' front: 8 mm in front of a crease, the upper
+        // lip's skin under the philtrum read as occluded (a red patch above the lip).
+        edge = inMouth ? 0 : f.fan.has(vi) ? 1 : lipEdge(f, p, vi);
+        if (inMouth || edge === 1) region = "mouth";
         else if (bone === "head" && (p[1] > eyeY + 0.045 * s || (p[2] < head.head[2] - 0.026 * s && p[1] > eyeY - 0.06 * s))) region = "hair";
       }
     }
-    const c = COLOURS[region];
+    const c = edge > 0 && edge < 1 ? COLOURS.skin.map((x, j) => x + edge * (COLOURS.mouth[j] - x)) : COLOURS[region];
     for (let j = 0; j < 3; j++) out[4 * k + j] = Math.round(255 * c[j]);
     out[4 * k + 3] = 255;
   });

@@ -197,6 +197,56 @@ describe("the generated avatars' face (issue 50)", () => {
     assert.deepEqual(gaps, []);
   });
 
+  it("the open mouth: aa parts the lips 2-3 cm at the middle over a dark inside, and no mouth colour shows outside the lips at rest", async (t) => {
+    // The mouth's region in front of the face (VRM 1.0 faces +Z); dark: the inside's and the
+    // lips' edges' colour (skin's red channel is 0.72).
+    for (const name of ["woman-vrm1.vrm", "man-vrm1.vrm", "child-vrm1.vrm"]) {
+      const vrm = await loadVRM(vrms.find((f) => path.basename(f) === name));
+      const mesh = bodyMesh(vrm);
+      const eye = vrm.humanoid.getRawBoneNode("leftEye").getWorldPosition(new (vrm.scene.position.constructor)());
+      const g = mesh.geometry;
+      const pos = g.attributes.position;
+      const color = g.attributes.color;
+      const region = [];
+      for (let v = 0; v < pos.count; v++) {
+        const p = [pos.getX(v), pos.getY(v), pos.getZ(v)];
+        if (Math.abs(p[0]) < 0.04 && p[1] < eye.y - 0.03 && p[1] > eye.y - 0.09 && p[2] > eye.z) region.push({ v, p, dark: color.getX(v) < 0.2 });
+      }
+      // The lips' front: the frontmost dark vertex at the middle (the lower lip's edge).
+      const front = Math.max(...region.filter((r) => r.dark && Math.abs(r.p[0]) < 0.005).map((r) => r.p[2]));
+      // The lips' edges at the middle: the dark vertices there at the lips' front.
+      const mid = region.filter((r) => r.dark && Math.abs(r.p[0]) < 0.002 && r.p[2] > front - 0.003);
+      assert.ok(mid.length >= 2, `${name}: ${mid.length} dark vertices at the middle of the lips`);
+      const slit = mid.reduce((a, r) => a + r.p[1], 0) / mid.length;
+      // Nothing dark on the upper lip's front away from the slit (its skin under the nose once
+      // read as the mouth's inside: a red patch 14 mm above the slit). Below, the inside shows
+      // in the base mesh's crease under the lower lip, as a dark line there.
+      const stray = region.filter((r) => r.dark && r.p[2] > front - 0.008 && r.p[1] - slit > 0.004);
+      assert.deepEqual(stray.map((r) => r.p.map((x) => x.toFixed(4))), [], `${name}: dark vertices on the upper lip's front, off the slit (${slit.toFixed(4)})`);
+      // aa at 1 (its morph binds, as three-vrm applies them): the upper edge stays, the lower
+      // one drops with the jaw.
+      vrm.expressionManager.setValue("aa", 1);
+      vrm.update(0);
+      const infl = mesh.morphTargetInfluences;
+      const at = (v) => {
+        const q = [pos.getX(v), pos.getY(v), pos.getZ(v)];
+        g.morphAttributes.position.forEach((d, t) => {
+          q[0] += infl[t] * d.getX(v);
+          q[1] += infl[t] * d.getY(v);
+          q[2] += infl[t] * d.getZ(v);
+        });
+        return q;
+      };
+      const upper = Math.min(...mid.filter((r) => r.p[1] > slit).map((r) => at(r.v)[1]));
+      const lower = Math.max(...mid.filter((r) => r.p[1] < slit).map((r) => at(r.v)[1]));
+      const gap = upper - lower;
+      t.diagnostic(`${name}: aa parts the lips ${(gap * 1000).toFixed(1)} mm at the middle`);
+      const adult = !name.startsWith("child");
+      assert.ok(gap > (adult ? 0.02 : 0.015) && gap < 0.035, `${name}: aa parts the lips ${(gap * 1000).toFixed(1)} mm at the middle`);
+      assert.ok(Math.abs(at(mid.find((r) => r.p[1] > slit).v)[1] - slit) < 0.004, `${name}: the upper lip's edge stays`);
+    }
+  });
+
   it("the eyes have a dark iris and pupil on a light sclera, and the look-at turns them", async () => {
     const file = vrms.find((f) => path.basename(f) === "woman-vrm1.vrm");
     const vrm = await loadVRM(file);
