@@ -68,6 +68,10 @@ function dress(v, own) {
       if (!o.isSkinnedMesh) return;
       const g = o.geometry;
       if (g.userData.ownColour) g.setAttribute("color", g.userData.ownColour);
+      // The mouth's own material (the faces across the lips' slit) back to its dark colour.
+      for (const m of Array.isArray(o.material) ? o.material : [o.material]) {
+        if (m.userData.ownColour) m.color.copy(m.userData.ownColour);
+      }
     });
     return;
   }
@@ -89,7 +93,9 @@ function dress(v, own) {
       for (const m of mats) m.color.setRGB(1, 1, 1);
       return;
     }
-    if (!mats.some((m) => m.name === "skin")) return;
+    // The faces across the lips' slit have a material of their own ("mouth", dark, since
+    // 2026-12-07): dressed as skin here, as they were when they were part of it.
+    if (!mats.some((m) => m.name === "skin" || m.name === "mouth")) return;
     const n = g.attributes.position.count;
     const col = new Float32Array(n * 3);
     const p = new THREE.Vector3();
@@ -115,7 +121,8 @@ function dress(v, own) {
     }
     g.setAttribute("color", new THREE.BufferAttribute(col, 3));
     for (const m of mats) {
-      if (m.name !== "skin") continue;
+      if (m.name === "mouth") m.userData.ownColour ??= m.color.clone();
+      else if (m.name !== "skin") continue;
       m.vertexColors = true;
       m.color.setRGB(1, 1, 1);
       m.needsUpdate = true;

@@ -110,6 +110,18 @@ const SEAM_LOWER = [[455, 454, 450, 456, 409, 5364, 5340, 374, 376], [455, 7214,
 // Two of the seam's faces on each side fan out to a vertex of the lip's next row (one above,
 // one below): they stretch over the opening too, so they are coloured as the edges.
 const SEAM_FAN = [5346, 5354, 11948, 11956];
+const SEAM_EDGES = new Set([...SEAM_UPPER.flat(), ...SEAM_LOWER.flat(), ...SEAM_FAN]);
+const SEAM_LOWER_SET = new Set(SEAM_LOWER.flat());
+/**
+ * Whether a base-mesh face (its vertex indices) is one of the seam's faces across the slit: all
+ * its corners on the seam's two edges or its fan, at least one on the lower edge and one not. Those faces get a material of
+ * their own (dark: the mouth's inside, `generate.mjs`), so the lips around them keep the skin's
+ * colour whether the mouth is open or closed (vertex colours dark enough for the opening
+ * darkened the lips next to them, up to the nose).
+ */
+export function isSeamFace(vs) {
+  return vs.every((i) => SEAM_EDGES.has(i)) && vs.some((i) => SEAM_LOWER_SET.has(i)) && vs.some((i) => !SEAM_LOWER_SET.has(i));
+}
 /**
  * The seam's edges (`f.seam`: vertex index -> 1 on the upper lip's edge, -1 on the lower's) and
  * the slit's height across the mouth (`f.slitY(x)`: halfway between the two edges, each
@@ -625,7 +637,6 @@ export function faceColours(positions, groups, kept, weights, skeleton, measures
   kept.forEach((vi, k) => {
     const p = v(vi);
     let region;
-    let edge = 0;
     if (vi >= bodyCount) {
       const left = p[0] > 0;
       const e = left ? f.eyeL : f.eyeR;
@@ -643,17 +654,15 @@ export function faceColours(positions, groups, kept, weights, skeleton, measures
           p[2] > f.pivot[2] &&
           p[2] < f.mouth[2] - 0.008 * s &&
           occluded(p);
-        // The lips' edges (the seam's vertices, see `slit`): dark, so that the seam's faces,
-        // stretched over an opening, show it as the mouth's dark inside; toward the corners,
-        // the skin's colour mixed in (a hard edge there drew dark spikes along the corners).
-        // Only inside vertices behind the lips' front: 8 mm in front of a crease, the upper
-        // lip's skin under the philtrum read as occluded (a red patch above the lip).
-        edge = inMouth ? 0 : f.fan.has(vi) ? 1 : lipEdge(f, p, vi);
-        if (inMouth || edge === 1) region = "mouth";
+        // The seam's faces, stretched over an opening, are dark by a material of their own
+        // (`isSeamFace`), so the lips' edges keep the skin's colour. Only inside vertices
+        // behind the lips' front: 8 mm in front of a crease, the upper lip's skin under the
+        // philtrum read as occluded (a red patch above the lip).
+        if (inMouth) region = "mouth";
         else if (bone === "head" && (p[1] > eyeY + 0.045 * s || (p[2] < head.head[2] - 0.026 * s && p[1] > eyeY - 0.06 * s))) region = "hair";
       }
     }
-    const c = edge > 0 && edge < 1 ? COLOURS.skin.map((x, j) => x + edge * (COLOURS.mouth[j] - x)) : COLOURS[region];
+    const c = COLOURS[region];
     for (let j = 0; j < 3; j++) out[4 * k + j] = Math.round(255 * c[j]);
     out[4 * k + 3] = 255;
   });

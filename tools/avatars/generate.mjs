@@ -19,7 +19,7 @@ import { fileURLToPath } from "node:url";
 
 import { writeGlb } from "./gltf.mjs";
 import { figureFileNames, figureMesh, figureShapes, FIGURES } from "./figures.mjs";
-import { ARKIT, faceColours, faceTargets, PRESETS } from "./face.mjs";
+import { ARKIT, faceColours, faceTargets, isSeamFace, PRESETS } from "./face.mjs";
 import { stylize } from "./stylize.mjs";
 import {
   applyTarget,
@@ -286,15 +286,15 @@ function meshArrays(src, prep, posed, frame, jointOfBone, face) {
   const positions = new Float32Array(3 * n);
   posed.positions.forEach((p, i) => positions.set(frame(p), 3 * i));
   // Triangles (quads split along their first diagonal), per material.
-  const tri = { skin: [], eyes: [] };
+  const tri = { skin: [], eyes: [], mouth: [] };
   for (const f of src.keptFaces) {
     const v = f.v.map((x) => posed.remap.get(x));
-    const list = f.group === "body" ? tri.skin : tri.eyes;
+    const list = f.group !== "body" ? tri.eyes : face && isSeamFace(f.v) ? tri.mouth : tri.skin;
     for (let k = 1; k + 1 < v.length; k++) list.push(v[0], v[k], v[k + 1]);
   }
   // Area-weighted smooth normals (from the frame's positions, so they turn with the body).
   const acc = new Float64Array(3 * n);
-  for (const list of [tri.skin, tri.eyes]) {
+  for (const list of [tri.skin, tri.eyes, tri.mouth]) {
     for (let t = 0; t < list.length; t += 3) {
       const [a, b, c] = [list[t], list[t + 1], list[t + 2]].map((i) => [positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]]);
       const nrm = cross(sub(b, a), sub(c, a));
@@ -325,10 +325,12 @@ function meshArrays(src, prep, posed, frame, jointOfBone, face) {
     normals,
     joints,
     weights,
-    ...(face ? { colors: face.colors, targets: withNormals(positions, normals, [tri.skin, tri.eyes], face.targets.map((t) => ({ ...t, deltas: framed(t.deltas, frame) }))) } : {}),
+    ...(face ? { colors: face.colors, targets: withNormals(positions, normals, [tri.skin, tri.eyes, tri.mouth], face.targets.map((t) => ({ ...t, deltas: framed(t.deltas, frame) }))) } : {}),
     primitives: [
       { indices: Uint16Array.from(tri.skin), material: 0 },
       { indices: Uint16Array.from(tri.eyes), material: 1 },
+      // The faces across the lips' slit (face.mjs `isSeamFace`): the open mouth's inside.
+      ...(tri.mouth.length ? [{ indices: Uint16Array.from(tri.mouth), material: 2 }] : []),
     ],
   };
 }
@@ -404,6 +406,9 @@ const MATERIALS = [
 const FACE_MATERIALS = [
   { name: "skin", pbrMetallicRoughness: { baseColorFactor: [1, 1, 1, 1], metallicFactor: 0, roughnessFactor: 0.65 } },
   { name: "eyes", pbrMetallicRoughness: { baseColorFactor: [1, 1, 1, 1], metallicFactor: 0, roughnessFactor: 0.3 } },
+  // The faces across the lips' slit (the open mouth's inside): the skin's vertex colours
+  // darkened to a near-black red. Its roughness is the skin's (the bench dresses it as skin).
+  { name: "mouth", pbrMetallicRoughness: { baseColorFactor: [0.05, 0.012, 0.012, 1], metallicFactor: 0, roughnessFactor: 0.65 } },
 ];
 
 const identityFrame = (p) => p;

@@ -197,12 +197,22 @@ describe("the generated avatars' face (issue 50)", () => {
     assert.deepEqual(gaps, []);
   });
 
-  it("the open mouth: aa parts the lips 2-3 cm at the middle over a dark inside, and no mouth colour shows outside the lips at rest", async (t) => {
-    // The mouth's region in front of the face (VRM 1.0 faces +Z); dark: the inside's and the
-    // lips' edges' colour (skin's red channel is 0.72).
+  it("the open mouth: aa parts the lips 2-3 cm at the middle over the seam's dark faces, and no dark colour shows outside the lips at rest", async (t) => {
+    // The mouth's region in front of the face (VRM 1.0 faces +Z); dark: the inside's colour
+    // (skin's red channel is 0.72). The faces across the lips' slit (the seam) are a primitive
+    // of their own with a dark material; their vertices keep the skin's colour.
     for (const name of ["woman-vrm1.vrm", "man-vrm1.vrm", "child-vrm1.vrm"]) {
       const vrm = await loadVRM(vrms.find((f) => path.basename(f) === name));
       const mesh = bodyMesh(vrm);
+      let mouth = null;
+      vrm.scene.traverse((o) => {
+        if (o.isSkinnedMesh && o.material.name === "mouth") mouth = o;
+      });
+      assert.ok(mouth, `${name}: the seam's faces have their own material`);
+      const c = mouth.material.color;
+      assert.ok(c.r < 0.1 && c.g < 0.1 && c.b < 0.1, `${name}: the mouth's material is dark (${c.r}, ${c.g}, ${c.b})`);
+      assert.ok(mouth.geometry.index.count >= 30, `${name}: ${mouth.geometry.index.count / 3} seam triangles`);
+      const seam = new Set(mouth.geometry.index.array);
       const eye = vrm.humanoid.getRawBoneNode("leftEye").getWorldPosition(new (vrm.scene.position.constructor)());
       const g = mesh.geometry;
       const pos = g.attributes.position;
@@ -212,15 +222,16 @@ describe("the generated avatars' face (issue 50)", () => {
         const p = [pos.getX(v), pos.getY(v), pos.getZ(v)];
         if (Math.abs(p[0]) < 0.04 && p[1] < eye.y - 0.03 && p[1] > eye.y - 0.09 && p[2] > eye.z) region.push({ v, p, dark: color.getX(v) < 0.2 });
       }
-      // The lips' front: the frontmost dark vertex at the middle (the lower lip's edge).
-      const front = Math.max(...region.filter((r) => r.dark && Math.abs(r.p[0]) < 0.005).map((r) => r.p[2]));
-      // The lips' edges at the middle: the dark vertices there at the lips' front.
-      const mid = region.filter((r) => r.dark && Math.abs(r.p[0]) < 0.002 && r.p[2] > front - 0.003);
-      assert.ok(mid.length >= 2, `${name}: ${mid.length} dark vertices at the middle of the lips`);
+      // The lips' edges at the middle: the seam's vertices there, none of them dark.
+      const mid = region.filter((r) => seam.has(r.v) && Math.abs(r.p[0]) < 0.002);
+      assert.ok(mid.length >= 2, `${name}: ${mid.length} seam vertices at the middle of the lips`);
+      assert.deepEqual(region.filter((r) => seam.has(r.v) && r.dark).length, 0, `${name}: the lips' edges keep the skin's colour`);
       const slit = mid.reduce((a, r) => a + r.p[1], 0) / mid.length;
+      const front = Math.max(...mid.map((r) => r.p[2]));
       // Nothing dark on the upper lip's front away from the slit (its skin under the nose once
-      // read as the mouth's inside: a red patch 14 mm above the slit). Below, the inside shows
-      // in the base mesh's crease under the lower lip, as a dark line there.
+      // read as the mouth's inside: a red patch 14 mm above the slit; then the lips' edges
+      // coloured dark smeared it up to the nose). Below, the inside shows in the base mesh's
+      // crease under the lower lip, as a dark line there.
       const stray = region.filter((r) => r.dark && r.p[2] > front - 0.008 && r.p[1] - slit > 0.004);
       assert.deepEqual(stray.map((r) => r.p.map((x) => x.toFixed(4))), [], `${name}: dark vertices on the upper lip's front, off the slit (${slit.toFixed(4)})`);
       // aa at 1 (its morph binds, as three-vrm applies them): the upper edge stays, the lower
