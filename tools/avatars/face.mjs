@@ -108,16 +108,16 @@ function measure(v, groups, tris) {
 const SEAM_UPPER = [[362, 357, 356, 355, 5334, 5363, 5341, 372], [362, 7118, 7117, 7116, 11938, 11965, 11944, 7132]];
 const SEAM_LOWER = [[455, 454, 450, 456, 409, 5364, 5340, 374, 376], [455, 7214, 7210, 7215, 7169, 11966, 11943, 7134, 7136]];
 // Two of the seam's faces on each side fan out to a vertex of the lip's next row (one above,
-// one below): they stretch over the opening too, so they are coloured as the edges.
+// one below): they stretch over the opening too, so they belong to the seam (`isSeamFace`).
 const SEAM_FAN = [5346, 5354, 11948, 11956];
 const SEAM_EDGES = new Set([...SEAM_UPPER.flat(), ...SEAM_LOWER.flat(), ...SEAM_FAN]);
 const SEAM_LOWER_SET = new Set(SEAM_LOWER.flat());
 /**
- * Whether a base-mesh face (its vertex indices) is one of the seam's faces across the slit: all
- * its corners on the seam's two edges or its fan, at least one on the lower edge and one not. Those faces get a material of
- * their own (dark: the mouth's inside, `generate.mjs`), so the lips around them keep the skin's
- * colour whether the mouth is open or closed (vertex colours dark enough for the opening
- * darkened the lips next to them, up to the nose).
+ * Whether a base-mesh face (its vertex indices) is one of the seam's faces across the slit:
+ * all its corners on the seam's two edges or its fan, at least one on the lower edge and one
+ * not. Those faces get a material of their own (dark: the mouth's inside, `generate.mjs`), so
+ * the lips around them keep the skin's colour whether the mouth is open or closed (vertex
+ * colours dark enough for the opening darkened the lips next to them, up to the nose).
  */
 export function isSeamFace(vs) {
   return vs.every((i) => SEAM_EDGES.has(i)) && vs.some((i) => SEAM_LOWER_SET.has(i)) && vs.some((i) => !SEAM_LOWER_SET.has(i));
@@ -131,7 +131,6 @@ function slit(f, v) {
   f.seam = new Map();
   for (const side of SEAM_UPPER) for (const i of side) f.seam.set(i, 1);
   for (const side of SEAM_LOWER) for (const i of side) f.seam.set(i, -1);
-  f.fan = new Set(SEAM_FAN);
   // Each side's edge interpolated along |x| (its end's height beyond it), the mean of the sides.
   const along = (lines) => {
     const qs = lines.map((line) => line.map((i) => [Math.abs(v(i)[0]), v(i)[1]]));
