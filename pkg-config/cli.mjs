@@ -24,7 +24,10 @@ import { Worker, isMainThread, parentPort, workerData } from "node:worker_thread
 // No optimizing compiles on background threads: on Node 20 a busy machine left 1 in 4-15 runs
 // hanging at exit after the file was written (the main thread draining the platform's tasks, a
 // background TurboFan job waiting for a garbage collection only the main thread can run;
-// gdb on the hung process). With this flag: 0 of 50 under the same load.
+// gdb on the hung process; nodejs/node#54918). A flag set at run time only reaches isolates
+// created after it (`node --trace-opt` shows the main thread's compiles still concurrent), so
+// every recording is solved on a worker thread, even a single one: the main thread only reads
+// the command line, checks the avatar once and waits.
 v8.setFlagsFromString("--no-concurrent-recompilation");
 
 const { HandRig, MotionRecorder, version } = createRequire(import.meta.url)("./index.cjs");
@@ -312,42 +315,31 @@ async function main(argv) {
       );
     }
   };
-  if (workers === 1) {
-    for (const task of tasks) {
-      const t = process.hrtime.bigint();
-      try {
-        report({ ok: true, ...exportOne(task, avatar), ms: Number(process.hrtime.bigint() - t) / 1e6 });
-      } catch (e) {
-        report({ ok: false, file: task.file, message: e.message });
-      }
-    }
-  } else {
-    await new Promise((resolve, reject) => {
-      let next = 0;
-      let running = workers;
-      for (let w = 0; w < workers; w++) {
-        const worker = new Worker(new URL(import.meta.url), { workerData: { avatar } });
-        const feed = () => {
-          if (next < tasks.length) worker.postMessage(tasks[next++]);
-          else {
-            worker.terminate();
-            if (--running === 0) resolve();
-          }
-        };
-        worker.on("message", (r) => {
-          report(r);
-          feed();
-        });
-        worker.on("error", reject);
+  await new Promise((resolve, reject) => {
+    let next = 0;
+    let running = workers;
+    for (let w = 0; w < workers; w++) {
+      const worker = new Worker(new URL(import.meta.url), { workerData: { avatar } });
+      const feed = () => {
+        if (next < tasks.length) worker.postMessage(tasks[next++]);
+        else {
+          worker.terminate();
+          if (--running === 0) resolve();
+        }
+      };
+      worker.on("message", (r) => {
+        report(r);
         feed();
-      }
-    });
-  }
+      });
+      worker.on("error", reject);
+      feed();
+    }
+  });
   const wall = Number(process.hrtime.bigint() - t0) / 1e9;
   const sum = (k) => done.reduce((s, r) => s + r[k], 0);
   process.stdout.write(
     `handrig export: ${done.length} of ${tasks.length} written: ${sum("frames")} frames, ${sum("seconds").toFixed(2)} s of motion, ` +
-      `${sum("bytes")} bytes, ${wall.toFixed(2)} s wall time on ${workers} worker${workers > 1 ? " threads" : " (main thread)"} (${cores} cores)` +
+      `${sum("bytes")} bytes, ${wall.toFixed(2)} s wall time on ${workers} worker thread${workers > 1 ? "s" : ""} (${cores} cores)` +
       `${failed.length ? `; ${failed.length} failed` : ""}\n`,
   );
   return failed.length ? 1 : 0;

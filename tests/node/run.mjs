@@ -139,7 +139,10 @@ try {
     HANDRIG_PACK: JSON.stringify(pack),
     HANDRIG_CARGO_VERSION: cargoVersion ?? "",
   };
-  const res = spawnSync(process.execPath, ["--test", "--test-reporter=spec", ...extra, ...files], {
+  // --no-concurrent-recompilation reaches every test file's process (node --test passes its own
+  // flags on): Node 20 can hang at exit on a background TurboFan job (consumer/support.mjs,
+  // CHILD_NODE_FLAGS), and a test file that never exits would hold CI until its time runs out.
+  const res = spawnSync(process.execPath, ["--no-concurrent-recompilation", "--test", "--test-reporter=spec", ...extra, ...files], {
     cwd: project,
     env,
     stdio: "inherit",

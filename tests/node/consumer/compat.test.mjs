@@ -14,7 +14,7 @@ import { fileURLToPath } from "node:url";
 import { HandRig, LAYOUT } from "handrig";
 import * as compat from "handrig/compat";
 import { codeBlocks, docPage } from "./readme-blocks.mjs";
-import { CHILD_TIMEOUT_MS, avatars, shared } from "./support.mjs";
+import { CHILD_NODE_FLAGS, CHILD_TIMEOUT_MS, avatars, shared } from "./support.mjs";
 
 const require = createRequire(import.meta.url);
 const installed = path.dirname(require.resolve("handrig/package.json"));
@@ -40,7 +40,7 @@ describe("handrig/compat", () => {
   for (const flavor of ["esm", "cjs"]) {
     it(`${flavor}: with the .wasm files deleted and fetch undefined, init() and a real clip solve as handrig does`, () => {
       assert.equal(deleted, 2);
-      const res = spawnSync(process.execPath, [child, copy, flavor, avatars.robot, clip], { encoding: "utf8", maxBuffer: 64 * 1024 * 1024, timeout: CHILD_TIMEOUT_MS });
+      const res = spawnSync(process.execPath, [...CHILD_NODE_FLAGS, child, copy, flavor, avatars.robot, clip], { encoding: "utf8", maxBuffer: 64 * 1024 * 1024, timeout: CHILD_TIMEOUT_MS });
       assert.equal(res.status, 0, res.stderr);
       const got = JSON.parse(res.stdout);
       assert.match(got.before, /before the WebAssembly module was initialized/);
@@ -84,7 +84,7 @@ describe("handrig/compat", () => {
         'process.stdout.write(JSON.stringify({ status: result.hands.right?.status ?? result.hands.left?.status, index: result.bones.rightIndexProximal ?? result.bones.leftIndexProximal }));',
       ].join("\n"),
     );
-    const res = spawnSync(process.execPath, [file], { encoding: "utf8", timeout: CHILD_TIMEOUT_MS });
+    const res = spawnSync(process.execPath, [...CHILD_NODE_FLAGS, file], { encoding: "utf8", timeout: CHILD_TIMEOUT_MS });
     fs.rmSync(file);
     assert.equal(res.status, 0, res.stderr);
     const got = JSON.parse(res.stdout);

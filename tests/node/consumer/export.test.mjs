@@ -21,7 +21,7 @@ import validator from "gltf-validator";
 import { spawnSync } from "node:child_process";
 
 import { codeBlocks, docPage } from "./readme-blocks.mjs";
-import { CHILD_TIMEOUT_MS, avatarFiles, avatars, loadVRM, readBytes, shared } from "./support.mjs";
+import { CHILD_NODE_FLAGS, CHILD_TIMEOUT_MS, avatarFiles, avatars, loadVRM, readBytes, shared } from "./support.mjs";
 
 const DEG = Math.PI / 180;
 const LIMIT = 0.5 * DEG;
@@ -413,7 +413,7 @@ describe("docs/guide/export.md: a recording in Node", () => {
       fs.copyFileSync(avatar, path.join(dir, "avatar.vrm"));
       fs.copyFileSync(path.join(aslDir, "thanks.json"), path.join(dir, "thanks.json"));
       fs.writeFileSync(path.join(dir, "record.mjs"), block);
-      const run = spawnSync(process.execPath, ["record.mjs"], { cwd: dir, encoding: "utf8", timeout: CHILD_TIMEOUT_MS });
+      const run = spawnSync(process.execPath, [...CHILD_NODE_FLAGS, "record.mjs"], { cwd: dir, encoding: "utf8", timeout: CHILD_TIMEOUT_MS });
       assert.equal(run.status, 0, run.stderr);
       const frames = clips.find((c) => c.name === "thanks.json").frames;
       assert.equal(run.stdout.trim(), `${frames.length} frames, ${frames.at(-1).timeMs - frames[0].timeMs} ms`);

@@ -13,7 +13,7 @@ import path from "node:path";
 import { after, before, describe, it } from "node:test";
 
 import { codeBlocks, readme } from "./readme-blocks.mjs";
-import { CHILD_TIMEOUT_MS, avatars, recordingPath } from "./support.mjs";
+import { CHILD_NODE_FLAGS, CHILD_TIMEOUT_MS, avatars, recordingPath } from "./support.mjs";
 
 const PROBE = `
 import { HandRig } from "handrig";
@@ -45,7 +45,7 @@ after(() => fs.rmSync(dir, { recursive: true, force: true }));
 /** Runs `file` (written from `code`) with node in the quick-start folder. */
 function run(file, code) {
   fs.writeFileSync(path.join(dir, file), code);
-  const res = spawnSync(process.execPath, ["--import", "./probe.mjs", file], { cwd: dir, encoding: "utf8", timeout: CHILD_TIMEOUT_MS });
+  const res = spawnSync(process.execPath, [...CHILD_NODE_FLAGS, "--import", "./probe.mjs", file], { cwd: dir, encoding: "utf8", timeout: CHILD_TIMEOUT_MS });
   assert.equal(res.status, 0, `${file} exited ${res.status}:\n${res.stderr}`);
   assert.equal(res.stderr, "", `${file} wrote to stderr`);
   const line = res.stdout.split("\n").find((l) => l.startsWith("PROBE "));
@@ -144,7 +144,7 @@ describe("README quick start (HolisticLandmarker)", () => {
     const clipPath = path.join(shared, "data", "asl", "thanks.json");
     const code = `${HOLISTIC_HARNESS(clipPath, avatars.robot)}\n${holistic[0]}\nconsole.log("SEEN " + JSON.stringify(seen));\n`;
     fs.writeFileSync(path.join(dir, "holistic.mjs"), code);
-    const res = spawnSync(process.execPath, ["holistic.mjs"], { cwd: dir, encoding: "utf8", timeout: CHILD_TIMEOUT_MS });
+    const res = spawnSync(process.execPath, [...CHILD_NODE_FLAGS, "holistic.mjs"], { cwd: dir, encoding: "utf8", timeout: CHILD_TIMEOUT_MS });
     assert.equal(res.status, 0, `holistic.mjs exited ${res.status}:\n${res.stderr}`);
     const line = res.stdout.split("\n").find((l) => l.startsWith("SEEN "));
     assert.ok(line, res.stdout);

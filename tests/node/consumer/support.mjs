@@ -13,6 +13,14 @@ export const shared = process.env.HANDRIG_SHARED;
  * loop, so node:test's own timeouts cannot fire meanwhile.
  */
 export const CHILD_TIMEOUT_MS = 180_000;
+/**
+ * Node's flags for the children the tests run (users' scripts, tsc; not the `handrig` command,
+ * which is tested as a user runs it). Node 20 can hang at exit when a background TurboFan job
+ * waits for a garbage collection while the main thread drains the platform's tasks
+ * (nodejs/node#54918; the futex above); without concurrent recompilation there is no such job.
+ * It must be on the command line: set at run time it only reaches isolates created later.
+ */
+export const CHILD_NODE_FLAGS = ["--no-concurrent-recompilation"];
 export const repo = process.env.HANDRIG_REPO;
 if (!shared || !repo) throw new Error("run these tests through tests/node/run.mjs");
 

@@ -14,7 +14,7 @@ import { describe, it } from "node:test";
 import { fileURLToPath } from "node:url";
 
 import { HandRig } from "handrig";
-import { CHILD_TIMEOUT_MS } from "./support.mjs";
+import { CHILD_NODE_FLAGS, CHILD_TIMEOUT_MS } from "./support.mjs";
 
 const require = createRequire(import.meta.url);
 const typesDir = path.join(path.dirname(fileURLToPath(import.meta.url)), "types");
@@ -74,7 +74,7 @@ function generatedSource() {
 }
 
 function runTsc(project) {
-  const res = spawnSync(process.execPath, [tsc, "-p", path.join(typesDir, project)], { encoding: "utf8", timeout: CHILD_TIMEOUT_MS });
+  const res = spawnSync(process.execPath, [...CHILD_NODE_FLAGS, tsc, "-p", path.join(typesDir, project)], { encoding: "utf8", timeout: CHILD_TIMEOUT_MS });
   return { status: res.status, output: `${res.stdout}${res.stderr}` };
 }
 

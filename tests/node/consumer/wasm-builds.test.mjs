@@ -9,12 +9,12 @@ import { describe, it } from "node:test";
 import { fileURLToPath } from "node:url";
 
 import { wasmBuild, LAYOUT } from "handrig";
-import { CHILD_TIMEOUT_MS } from "./support.mjs";
+import { CHILD_NODE_FLAGS, CHILD_TIMEOUT_MS } from "./support.mjs";
 
 const child = path.join(path.dirname(fileURLToPath(import.meta.url)), "wasm-builds.child.cjs");
 
 function run(build) {
-  const res = spawnSync(process.execPath, [child], {
+  const res = spawnSync(process.execPath, [...CHILD_NODE_FLAGS, child], {
     encoding: "utf8",
     timeout: CHILD_TIMEOUT_MS,
     env: { ...process.env, HANDRIG_WASM: build },
@@ -64,7 +64,7 @@ describe("wasmFile()", () => {
   it("names the file the process loaded, before and without init", async () => {
     const { wasmFile } = await import("handrig");
     assert.equal(wasmFile(), "handrig_simd_bg.wasm");
-    const res = spawnSync(process.execPath, ["-e", 'console.log(require("handrig").wasmFile())'], {
+    const res = spawnSync(process.execPath, [...CHILD_NODE_FLAGS, "-e", 'console.log(require("handrig").wasmFile())'], {
       encoding: "utf8",
       timeout: CHILD_TIMEOUT_MS,
       env: { ...process.env, HANDRIG_WASM: "baseline" },
