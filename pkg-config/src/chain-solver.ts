@@ -57,9 +57,9 @@ function chainOptions(given: unknown): object {
   if (!isObject(given) || Array.isArray(given)) {
     fail("options", `must be an object { method?, joints, constraints?, iterations?, tolerance? }, got ${describe(given)}`);
   }
-  // Fields this function does not read go to Rust as given: its reader (serde, unknown fields
-  // denied) names them and lists the known ones, so no list of names is kept here. Fields set to
-  // undefined are absent (givenFields).
+  // Fields this function does not read go to Rust as given: its reader
+  // (`ChainSolverOptions::from_value`, unknown fields denied) names them and lists the known
+  // ones, so no list of names is kept here. Fields set to undefined are absent (givenFields).
   const options = givenFields(given, "options");
   const out: { [key: string]: unknown } = { ...options };
   const method = options.method;

@@ -29,8 +29,11 @@
 
 use glam::{Quat, Vec3};
 
+use serde_json::Value as Json;
+
 use crate::error::{Error, Result};
 use crate::kinematics::{Chain, JointLimit};
+use crate::options::describe;
 
 use super::ccd::{Ccd, CcdOptions};
 use super::fabrik::{Fabrik, FabrikOptions};
@@ -83,32 +86,114 @@ impl Default for ChainSolverOptions {
     }
 }
 
-/// The JSON form of [`ChainSolverOptions`] (serde): `joints` required, every other field
-/// optional (`null` for an unset optional number), no other field. Other fields are collected
-/// rather than denied by serde: serde-wasm-bindgen reads a struct by looking up its declared
-/// fields only, so `deny_unknown_fields` would never see them; a flattened map makes every
-/// reader go through all of the object's keys.
-#[derive(serde::Deserialize)]
-#[serde(rename_all = "camelCase")]
-struct ChainSolverJson {
-    #[serde(default)]
-    method: ChainMethod,
-    joints: Vec<[f32; 3]>,
-    /// `null` (or, from JS, `undefined`) is none, as when left out.
-    #[serde(default)]
-    constraints: Option<Vec<Option<JointLimit>>>,
-    #[serde(default)]
-    iterations: Option<u32>,
-    #[serde(default)]
-    tolerance: Option<f32>,
-    #[serde(default)]
-    max_step_angle: Option<f32>,
-    #[serde(flatten)]
-    unknown: std::collections::BTreeMap<String, serde::de::IgnoredAny>,
+/// The fields of the options' JSON form, for the error naming an unknown one.
+const CHAIN_FIELDS: &str = "method, joints, constraints, iterations, tolerance, maxStepAngle";
+
+/// `options.{path}`, the name of a field in errors.
+fn field(path: &str) -> String {
+    if path.is_empty() {
+        "options".into()
+    } else {
+        format!("options.{path}")
+    }
 }
 
-/// The fields of [`ChainSolverJson`], for the error naming an unknown one.
-const CHAIN_FIELDS: &str = "method, joints, constraints, iterations, tolerance, maxStepAngle";
+/// A field's value as an `f32`.
+fn number(v: &Json, path: &str) -> Result<f32> {
+    match v.as_f64() {
+        #[allow(clippy::cast_possible_truncation)]
+        Some(x) => Ok(x as f32),
+        None => Err(Error::invalid(
+            field(path),
+            format!("must be a number, got {}", describe(v)),
+        )),
+    }
+}
+
+/// A field's value as three numbers `[x, y, z]`.
+fn point(v: &Json, path: &str) -> Result<Vec3> {
+    match v.as_array() {
+        Some(a) if a.len() == 3 => Ok(Vec3::new(
+            number(&a[0], &format!("{path}[0]"))?,
+            number(&a[1], &format!("{path}[1]"))?,
+            number(&a[2], &format!("{path}[2]"))?,
+        )),
+        _ => Err(Error::invalid(
+            field(path),
+            format!("must be three numbers [x, y, z], got {}", describe_len(v)),
+        )),
+    }
+}
+
+/// [`describe`], with an array's length.
+fn describe_len(v: &Json) -> String {
+    match v.as_array() {
+        Some(a) => format!("an array of {}", a.len()),
+        None => describe(v),
+    }
+}
+
+/// An optional number: absent or `null` is `None`.
+fn optional(o: &serde_json::Map<String, Json>, key: &str) -> Result<Option<f32>> {
+    match o.get(key) {
+        None | Some(Json::Null) => Ok(None),
+        Some(v) => number(v, key).map(Some),
+    }
+}
+
+/// A limit's JSON form: `{ "type": "cone", "maxAngle" }` or `{ "type": "hinge", "axis",
+/// "min", "max" }`, no other field.
+fn limit(v: &Json, path: &str) -> Result<JointLimit> {
+    let Json::Object(o) = v else {
+        return Err(Error::invalid(
+            field(path),
+            format!(
+                "must be {{ type: \"cone\", maxAngle }} or {{ type: \"hinge\", axis, min, max }} or null, got {}",
+                describe(v)
+            ),
+        ));
+    };
+    let get = |key: &str| {
+        o.get(key).ok_or_else(|| {
+            Error::invalid(
+                field(&format!("{path}.{key}")),
+                "missing (a number is required)",
+            )
+        })
+    };
+    let (limit, keys): (JointLimit, &[&str]) = match o.get("type").and_then(Json::as_str) {
+        Some("cone") => (
+            JointLimit::Cone {
+                max_angle: number(get("maxAngle")?, &format!("{path}.maxAngle"))?,
+            },
+            &["type", "maxAngle"],
+        ),
+        Some("hinge") => (
+            JointLimit::Hinge {
+                axis: point(get("axis")?, &format!("{path}.axis"))?,
+                min: number(get("min")?, &format!("{path}.min"))?,
+                max: number(get("max")?, &format!("{path}.max"))?,
+            },
+            &["type", "axis", "min", "max"],
+        ),
+        _ => {
+            return Err(Error::invalid(
+                field(&format!("{path}.type")),
+                format!(
+                    "must be \"cone\" or \"hinge\", got {}",
+                    o.get("type").map_or("nothing".into(), describe)
+                ),
+            ))
+        }
+    };
+    if let Some(key) = o.keys().find(|k| !keys.contains(&k.as_str())) {
+        return Err(Error::invalid(
+            field(&format!("{path}.{key}")),
+            format!("unknown field (expected one of {})", keys.join(", ")),
+        ));
+    }
+    Ok(limit)
+}
 
 impl ChainSolverOptions {
     /// Reads the options from JSON text: `{ method, joints, constraints, iterations,
@@ -120,12 +205,13 @@ impl ChainSolverOptions {
     /// [`Error::InvalidInput`] naming the field (`options.constraints[1].maxAngle`): text
     /// that is not JSON, a wrong type, an unknown or missing name.
     pub fn from_json(text: &str) -> Result<ChainSolverOptions> {
-        let mut de = serde_json::Deserializer::from_str(text);
-        Self::deserialize_from(&mut de)
+        let value: Json =
+            serde_json::from_str(text).map_err(|e| Error::invalid("options", e.to_string()))?;
+        Self::from_value(&value)
     }
 
-    /// Reads the options from any serde deserializer (the wasm binding's JS object); errors
-    /// as [`ChainSolverOptions::from_json`].
+    /// Reads the options from any serde deserializer (the wasm binding's JS object, read into
+    /// a JSON value); errors as [`ChainSolverOptions::from_json`].
     ///
     /// # Errors
     /// As [`ChainSolverOptions::from_json`].
@@ -133,28 +219,100 @@ impl ChainSolverOptions {
     where
         D::Error: core::fmt::Display,
     {
-        let o: ChainSolverJson = serde_path_to_error::deserialize(de).map_err(|e| {
-            let path = e.path().to_string();
-            let field = if path == "." {
-                "options".to_string()
-            } else {
-                format!("options.{path}")
-            };
-            Error::invalid(field, e.inner().to_string())
-        })?;
-        if let Some(key) = o.unknown.keys().next() {
+        let value = <Json as serde::Deserialize>::deserialize(de)
+            .map_err(|e| Error::invalid("options", e.to_string()))?;
+        Self::from_value(&value)
+    }
+
+    /// Reads the options from a JSON value; errors as [`ChainSolverOptions::from_json`].
+    ///
+    /// # Errors
+    /// As [`ChainSolverOptions::from_json`].
+    pub fn from_value(value: &Json) -> Result<ChainSolverOptions> {
+        let Json::Object(o) = value else {
             return Err(Error::invalid(
-                format!("options.{key}"),
+                "options",
+                format!(
+                    "must be an object {{ method?, joints, constraints?, ... }}, got {}",
+                    describe(value)
+                ),
+            ));
+        };
+        if let Some(key) = o
+            .keys()
+            .find(|k| !CHAIN_FIELDS.split(", ").any(|f| f == k.as_str()))
+        {
+            return Err(Error::invalid(
+                field(key),
                 format!("unknown option (expected one of {CHAIN_FIELDS})"),
             ));
         }
+        let method = match o.get("method") {
+            None | Some(Json::Null) => ChainMethod::Fabrik,
+            Some(Json::String(m)) if m == "fabrik" => ChainMethod::Fabrik,
+            Some(Json::String(m)) if m == "ccd" => ChainMethod::Ccd,
+            Some(v) => {
+                return Err(Error::invalid(
+                    "options.method",
+                    format!("must be \"fabrik\" or \"ccd\", got {}", describe(v)),
+                ))
+            }
+        };
+        let joints = match o.get("joints") {
+            Some(Json::Array(a)) => a
+                .iter()
+                .enumerate()
+                .map(|(k, p)| point(p, &format!("joints[{k}]")))
+                .collect::<Result<Vec<_>>>()?,
+            v => {
+                return Err(Error::invalid(
+                    "options.joints",
+                    format!(
+                        "must be an array of [x, y, z] rest joint positions, root first, got {}",
+                        v.map_or("nothing".into(), describe)
+                    ),
+                ))
+            }
+        };
+        let constraints = match o.get("constraints") {
+            None | Some(Json::Null) => Vec::new(),
+            Some(Json::Array(a)) => a
+                .iter()
+                .enumerate()
+                .map(|(i, c)| match c {
+                    Json::Null => Ok(None),
+                    c => limit(c, &format!("constraints[{i}]")).map(Some),
+                })
+                .collect::<Result<Vec<_>>>()?,
+            Some(v) => {
+                return Err(Error::invalid(
+                    "options.constraints",
+                    format!(
+                        "must be an array (one entry per bone, or null), got {}",
+                        describe(v)
+                    ),
+                ))
+            }
+        };
+        let iterations =
+            match o.get("iterations") {
+                None | Some(Json::Null) => None,
+                Some(v) => Some(v.as_u64().and_then(|n| u32::try_from(n).ok()).ok_or_else(
+                    || {
+                        Error::invalid(
+                            "options.iterations",
+                            format!("must be a whole number, got {}", describe(v)),
+                        )
+                    },
+                )?),
+            };
         Ok(ChainSolverOptions {
-            method: o.method,
-            joints: o.joints.into_iter().map(Vec3::from_array).collect(),
-            constraints: o.constraints.unwrap_or_default(),
-            iterations: o.iterations,
-            tolerance: o.tolerance,
-            max_step_angle: o.max_step_angle,
+            method,
+            joints,
+            constraints,
+            iterations,
+            tolerance: optional(o, "tolerance")?,
+            max_step_angle: optional(o, "maxStepAngle")?,
         })
     }
 }

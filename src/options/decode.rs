@@ -259,7 +259,7 @@ fn expected(field: &str, what: &str, got: &Json) -> Error {
 }
 
 /// A value as an error message shows it.
-fn describe(v: &Json) -> String {
+pub(crate) fn describe(v: &Json) -> String {
     match v {
         Json::Null => "null".into(),
         Json::Bool(b) => b.to_string(),

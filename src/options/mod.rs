@@ -36,6 +36,7 @@ pub use crate::legs::{LegOptions, LegRest};
 use crate::solve::least_squares::Settings;
 use crate::torso::TorsoSource;
 
+pub(crate) use decode::describe;
 pub use table::{Kind, OptionSpec, Value, OPTIONS};
 
 /// Everything a [`crate::Rig`] can be told (JS: the `options` object; see [`table::OPTIONS`]

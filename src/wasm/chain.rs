@@ -25,12 +25,15 @@ pub struct RawChainSolver {
 impl RawChainSolver {
     /// `options`: a plain object (the JS layer's checked copy of the user's), `{ method,
     /// joints, constraints, iterations, tolerance, maxStepAngle }`, read with
-    /// serde-wasm-bindgen.
+    /// serde-wasm-bindgen into a JSON value as the rig's options are (the same code), then
+    /// walked by [`ChainSolverOptions::from_value`].
     #[wasm_bindgen(constructor)]
     pub fn new(options: JsValue) -> Result<RawChainSolver, JsError> {
-        let options =
-            ChainSolverOptions::deserialize_from(serde_wasm_bindgen::Deserializer::from(options))
-                .map_err(|e| JsError::new(&e.to_string()))?;
+        let options = serde_wasm_bindgen::from_value::<serde_json::Value>(options)
+            .map_err(|e| JsError::new(&format!("options: {e}")))
+            .and_then(|v| {
+                ChainSolverOptions::from_value(&v).map_err(|e| JsError::new(&e.to_string()))
+            })?;
         let solver = ChainSolver::new(&options).map_err(|e| JsError::new(&e.to_string()))?;
         let n = solver.joint_count();
         Ok(RawChainSolver {

@@ -602,33 +602,39 @@ fn options_deserialize_from_the_js_shape() {
     };
     let cone = limit(r#"{ "type": "cone", "maxAngle": 0.5 }"#).unwrap();
     assert_eq!(cone, Some(JointLimit::Cone { max_angle: 0.5 }));
-    // serde words the problems; each message names the field.
+    // Each message names the field, down to the limit's own.
     for (text, field, problem) in [
         (
             r#"{ "type": "ball" }"#,
-            "options.constraints[0]",
-            "unknown variant `ball`",
+            "options.constraints[0].type",
+            r#"must be "cone" or "hinge", got "ball""#,
         ),
         (
             r#"{ "maxAngle": 0.5 }"#,
-            "options.constraints[0]",
-            "missing field `type`",
+            "options.constraints[0].type",
+            "got nothing",
         ),
         (
             r#"{ "type": "cone", "maxAngle": 0.5, "axis": [0, 0, 1] }"#,
-            "options.constraints[0]",
-            "unknown field `axis`",
+            "options.constraints[0].axis",
+            "unknown field (expected one of type, maxAngle)",
         ),
         (
             r#"{ "type": "hinge", "axis": [0, 0, 1], "min": -1 }"#,
-            "options.constraints[0]",
-            "missing field `max`",
+            "options.constraints[0].max",
+            "missing",
         ),
         (
             r#"{ "type": "hinge", "axis": [0, 1], "min": -1, "max": 1 }"#,
-            "options.constraints[0]",
-            "invalid length 2",
+            "options.constraints[0].axis",
+            "must be three numbers [x, y, z], got an array of 2",
         ),
+        (
+            r#"{ "type": "cone", "maxAngle": "1" }"#,
+            "options.constraints[0].maxAngle",
+            r#"must be a number, got "1""#,
+        ),
+        ("3", "options.constraints[0]", "or null, got 3"),
     ] {
         let m = limit(text).unwrap_err().to_string();
         assert!(m.starts_with(field) && m.contains(problem), "{text}: {m}");
@@ -641,19 +647,36 @@ fn options_deserialize_from_the_js_shape() {
         ),
         (
             r#"{ "method": "ccd" }"#,
-            "options",
-            "missing field `joints`",
+            "options.joints",
+            "must be an array of [x, y, z] rest joint positions, root first, got nothing",
         ),
         (
-            r#"{ "joints": [], "constraints": [{ "type": "cone", "maxAngle": "1" }] }"#,
-            "options.constraints[0]",
-            "invalid type: string \"1\", expected f32",
+            r#"{ "joints": [[0, 0, 0], [0, 1, "2"]] }"#,
+            "options.joints[1][2]",
+            r#"must be a number, got "2""#,
+        ),
+        (
+            r#"{ "joints": [], "method": "jacobian" }"#,
+            "options.method",
+            r#"must be "fabrik" or "ccd", got "jacobian""#,
         ),
         (
             r#"{ "joints": [], "iterations": 1.5 }"#,
             "options.iterations",
-            "invalid type: floating point `1.5`",
+            "must be a whole number, got 1.5",
         ),
+        (
+            r#"{ "joints": [], "iterations": -2 }"#,
+            "options.iterations",
+            "must be a whole number, got -2",
+        ),
+        (
+            r#"{ "joints": [], "tolerance": true }"#,
+            "options.tolerance",
+            "must be a number, got true",
+        ),
+        ("[1, 2]", "options", "must be an object"),
+        ("{ not json", "options", "key must be a string"),
     ] {
         let m = ChainSolverOptions::from_json(text).unwrap_err().to_string();
         assert!(m.starts_with(field) && m.contains(problem), "{text}: {m}");

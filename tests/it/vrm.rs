@@ -560,6 +560,23 @@ fn deep_and_huge_hierarchies_are_refused() {
 }
 
 #[test]
+fn nodes_of_the_wrong_type_are_named() {
+    for nodes in [json!({ "0": {} }), json!("nodes"), json!(3)] {
+        let b = edited(ROBOT, |j| j["nodes"] = nodes.clone());
+        assert_eq!(vrm_message(parse(&b)), "nodes: must be an array", "{nodes}");
+    }
+    // A syntax error inside `nodes` is not "must be an array".
+    let b = edited(ROBOT, |j| {
+        j["nodes"][3]["name"] = json!("12345.678");
+    });
+    let at = b.windows(11).position(|w| w == b"\"12345.678\"").unwrap();
+    let mut broken = b.clone();
+    broken[at..at + 11].copy_from_slice(b"[1,,2.3456]");
+    let e = vrm_message(parse(&broken));
+    assert!(e.starts_with("JSON chunk is not valid JSON"), "{e}");
+}
+
+#[test]
 fn non_finite_and_malformed_numbers() {
     // A zero-scale matrix on the hips: every bone below has no finite position in three.js
     // either (its decomposition divides by zero).

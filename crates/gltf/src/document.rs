@@ -93,13 +93,17 @@ pub struct Nodes(Vec<Json>);
 /// Marks the error of a `nodes` array longer than [`MAX_NODES`].
 pub const TOO_MANY_NODES: &str = "more than MAX_NODES nodes";
 
+/// What `nodes` must be, in serde's type errors: marks an error as the `nodes` member's (no
+/// other member reads as this), without tracking every error's path.
+const NODES_EXPECTED: &str = "the nodes array";
+
 impl<'de> Deserialize<'de> for Nodes {
     fn deserialize<D: Deserializer<'de>>(d: D) -> core::result::Result<Self, D::Error> {
         struct Bounded;
         impl<'de> Visitor<'de> for Bounded {
             type Value = Nodes;
             fn expecting(&self, f: &mut core::fmt::Formatter) -> core::fmt::Result {
-                f.write_str("an array")
+                f.write_str(NODES_EXPECTED)
             }
             fn visit_seq<A: SeqAccess<'de>>(
                 self,
@@ -133,16 +137,15 @@ pub fn read_top_level(json: &[u8]) -> Result<TopLevel> {
         });
     }
     let mut de = serde_json::Deserializer::from_str(json);
-    let top = serde_path_to_error::deserialize::<_, TopLevel>(&mut de)
-        .map_err(|e| (e.path().to_string(), e.into_inner()))
-        .and_then(|t| de.end().map(|()| t).map_err(|e| (String::new(), e)));
-    top.map_err(|(path, e)| {
+    let top = TopLevel::deserialize(&mut de).and_then(|t| de.end().map(|()| t));
+    top.map_err(|e| {
         let data = e.classify() == serde_json::error::Category::Data;
-        if path == "nodes" && e.to_string().starts_with(TOO_MANY_NODES) {
+        let message = e.to_string();
+        if data && message.starts_with(TOO_MANY_NODES) {
             Error::vrm(format!(
                 "nodes: more than the {MAX_NODES} nodes handrig reads"
             ))
-        } else if data && path == "nodes" {
+        } else if data && message.contains(NODES_EXPECTED) {
             Error::vrm("nodes: must be an array")
         } else {
             Error::vrm(format!("JSON chunk is not valid JSON: {e}"))
