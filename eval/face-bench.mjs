@@ -10,6 +10,9 @@
 //     frames or more from any closing) where either eye's blink is at least 0.5;
 //     the same split into frames with both eyes closed (a blink) and one (a wink);
 //   - the wink's side: on one-eye closed frames, the other eye stays under 0.5;
+//   - closing and opening: from each frame the truth closes an eye (>= 0.8), how many frames
+//     to its blink at least 0.5 (within the closure, else not read); from each frame it opens
+//     again (an eye shown closed), how many to its blink under 0.5;
 //   - aa on open-mouth frames (truth aa >= 0.8: mean, share >= 0.3) and on closed-mouth ones
 //     (no mouth expression within 2 frames: share <= 0.1);
 //   - head yaw and pitch against the transformation matrix's (issue 50's criterion, as
@@ -226,7 +229,7 @@ const mean = (xs) => (xs.length ? xs.reduce((a, b) => a + b, 0) / xs.length : Na
 const share = (xs, pred) => (xs.length ? xs.filter(pred).length / xs.length : NaN);
 
 function score(list, who) {
-  const acc = { talkOpen: [], talkShut: [], frames: 0, tracked: 0, closed: [], closedBoth: [], closedWink: [], otherEye: [], open: [], shut: [], yaw: [], pitch: [], yawM: [], pitchM: [], yawRest: [], pitchRest: [], look: [], still: [], falseBlink: [] };
+  const acc = { talkOpen: [], talkShut: [], frames: 0, tracked: 0, closed: [], closedBoth: [], closedWink: [], otherEye: [], open: [], shut: [], yaw: [], pitch: [], yawM: [], pitchM: [], yawRest: [], pitchRest: [], look: [], still: [], falseBlink: [], toClose: [], toOpen: [] };
   for (const avatar of list) {
     // The avatar's rest face as the solver reads it (mean head angles over face-still after its
     // first 10 frames): the rendered face at rest is not MediaPipe's canonical face at rest.
@@ -265,6 +268,25 @@ function score(list, who) {
         for (let j = Math.max(0, k - d); j <= Math.min(res.length - 1, k + d); j++) if (pred(res[j].truth)) return true;
         return false;
       };
+      // Each closure of an eye in the truth (>= 0.8 from frame k): frames from k to the eye shown
+      // closed (>= 0.5) within it; and from its opening (under 0.8) to the eye shown open (< 0.5).
+      if (!clip.talk) {
+        for (const side of ["left", "right"]) {
+          const eye = (j) => res[j][who]?.[swap ? (side === "left" ? "right" : "left") : side];
+          for (let k = 1; k < res.length; k++) {
+            const was = res[k - 1].truth[side] >= 0.8;
+            if (was === res[k].truth[side] >= 0.8) continue;
+            let j = k;
+            if (!was) {
+              while (j < res.length && res[j].truth[side] >= 0.8 && !(eye(j) >= 0.5)) j++;
+              acc.toClose.push(j < res.length && res[j].truth[side] >= 0.8 ? j - k : null);
+            } else if (eye(k - 1) >= 0.5) {
+              while (j < res.length && !(eye(j) < 0.5)) j++;
+              acc.toOpen.push(j - k);
+            }
+          }
+        }
+      }
       for (let k = 0; k < res.length; k++) {
         const r = res[k];
         acc.frames++;
@@ -359,6 +381,13 @@ function score(list, who) {
     stillFrames: acc.still.length,
     stillMoveP95: pct(acc.still, 0.95),
     stillMoveMax: Math.max(...acc.still),
+    closures: acc.toClose.length,
+    closuresRead: acc.toClose.filter((x) => x !== null).length,
+    toCloseMean: mean(acc.toClose.filter((x) => x !== null)),
+    toCloseMax: Math.max(...acc.toClose.filter((x) => x !== null)),
+    openings: acc.toOpen.length,
+    toOpenMean: mean(acc.toOpen),
+    toOpenMax: Math.max(...acc.toOpen),
   };
 }
 
@@ -375,6 +404,8 @@ const rows = [
   ["of which both eyes closed (a blink)", (s) => `${f(s.blinkBothRecall)} (${s.closedBothFrames})`],
   ["of which one eye closed (a wink)", (s) => `${f(s.winkRecall)} (${s.winkClosedFrames})`],
   ["wink: the other eye stays open", (s) => `${f(s.winkOtherOpen)} (${s.winkFrames})`],
+  ["closing: frames from the truth's (>= 0.8) to shown closed (>= 0.5): mean / max (closures read)", (s) => `${f(s.toCloseMean)} / ${s.toCloseMax} (${s.closuresRead} of ${s.closures})`],
+  ["opening: frames from the truth's (< 0.8) to shown open (< 0.5): mean / max (openings)", (s) => `${f(s.toOpenMean)} / ${s.toOpenMax} (${s.openings})`],
   ["false blinks (share of open-eye frames)", (s) => `${f(s.falseBlinks, 3)} (${s.openEyeFrames})`],
   ["aa on open-mouth frames: mean / share >= 0.3", (s) => `${f(s.aaOpenMean)} / ${f(s.aaOpenAtLeast03)} (${s.openFrames})`],
   ["aa on closed-mouth frames: share <= 0.1", (s) => `${f(s.aaShutAtMost01)} (${s.shutFrames})`],

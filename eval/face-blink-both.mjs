@@ -26,9 +26,16 @@
 //   5. --squint: both eyes held at a squint's reading for 1-30 s before every clip: the user's
 //      closed level after it, the both-eyes ramp's largest on the ASL clips' other frames, and
 //      the same with the level learned only from closures that ended within 0.5 s;
+//   6. --still: a fall smaller than K smoothed (still13): the variants' rows and, on the bench,
+//      how many frames after the truth's closing (>= 0.8) each eye shows closed (>= 0.5) and
+//      after its opening (under 0.8) shows open (under 0.5): mean / max;
+//   7. --trace AVATAR/CLIP:FROM-TO (a bench clip, e.g. child/face-wink:16-32): each frame's
+//      eyeBlink and eyeLookDown (left, right) as read and their neutral, the corrected blinks,
+//      the user's closed level, the three ramps' largest per eye and what each eye shows
+//      before and after BLINK_STILL (still13);
 //   --calibration SECONDS: the neutral face over the clips' first seconds (2 by default).
 //
-//   node eval/face-blink-both.mjs [--report] [--grid] [--noise] [--squint] [--calibration S]
+//   node eval/face-blink-both.mjs [--report] [--grid] [--noise] [--squint] [--still] [--trace A/C:F-T] [--calibration S]
 
 import { readFileSync } from "node:fs";
 import { join } from "node:path";
@@ -36,11 +43,13 @@ import { parseArgs } from "node:util";
 import { REPO } from "./bench/common.mjs";
 import { FACE_CLIPS, faceFrame } from "./bench/face-motions.mjs";
 
-const { values: o } = parseArgs({ options: { report: { type: "boolean" }, grid: { type: "boolean" }, noise: { type: "boolean" }, squint: { type: "boolean" }, calibration: { type: "string" } } });
+const { values: o } = parseArgs({ options: { report: { type: "boolean" }, grid: { type: "boolean" }, noise: { type: "boolean" }, squint: { type: "boolean" }, still: { type: "boolean" }, trace: { type: "string" }, calibration: { type: "string" } } });
 const BENCH = o.report ? ["man", "child"] : ["woman"];
 const ASL = o.report ? ["brother", "hungry", "sister"] : ["again", "eat", "please", "thanks"];
 const labels = JSON.parse(readFileSync(join(REPO, "eval", "labels", "face.json"), "utf8"));
 const clamp01 = (x) => Math.min(1, Math.max(0, x));
+/** src/filter/one_euro.rs's alpha: a low-pass at `cutoff` Hz over `ms` milliseconds. */
+const alphaAt = (ms, cutoff) => 1 / (1 + 1 / (2 * Math.PI * cutoff) / (ms / 1000));
 const BLINK = 8;
 const LOOK_DOWN = 10;
 // src/face/mod.rs
@@ -74,7 +83,13 @@ function series(frames) {
       const neutral = Math.min(0.5, sum[k] / n[k]);
       return clamp01((raw[k] - neutral) / (1 - neutral));
     };
-    return { t: f.timeMs, b: [0, 1].map((e) => cal(BLINK + e) - LOOK_DOWN_BLINK * cal(LOOK_DOWN + e)) };
+    const ks = [BLINK, BLINK + 1, LOOK_DOWN, LOOK_DOWN + 1];
+    return {
+      t: f.timeMs,
+      b: [0, 1].map((e) => cal(BLINK + e) - LOOK_DOWN_BLINK * cal(LOOK_DOWN + e)),
+      raw: ks.map((k) => raw[k]),
+      neutral: ks.map((k) => Math.min(0.5, sum[k] / n[k])),
+    };
   });
 }
 
@@ -152,8 +167,34 @@ function solve(s0, v) {
     }
     if (v.wink) y = y.map((z, e) => Math.max(z, clamp01((x.b[e] + hold[e] - x.b[1 - e] - v.wink.open) / (v.wink.closed - v.wink.open))));
     if (v.margin) y = y.map((z) => clamp01((z - v.margin) / (1 - 2 * v.margin)));
-    prev = y.map((z, e) => (step !== null && z < prev[e] ? Math.max(z, prev[e] - step) : z));
-    return v.trace ? Object.assign(prev.slice(), { together: v.trace.together, level: v.trace.level }) : prev;
+    if (v.trace) v.trace.target = y.slice();
+    // v.still: a fall of the shown weight smaller than this, to a target above 0 (jitter, not an
+    // opening), is smoothed at the face's cutoff at rest (face.minCutoff, 2 Hz: alpha); a rise
+    // and a larger fall as before (still13).
+    const a = step === null ? 1 : alphaAt(step * 100, 2);
+    // v.soft: every move but a closing (to at least half closed from under it) and an opening
+    // to 0 has its first K (either way) smoothed, the rest passed; then the opening's limit.
+    if (v.soft && step !== null) {
+      prev = y.map((z, e) => {
+        const p = prev[e];
+        if (z === 0 || (p < 0.5 && (v.closedOnly || z >= 0.5))) return z < p ? Math.max(z, p - step) : z;
+        // v.fallAtOnce: a fall of K or more opens as before (limited), a smaller one is smoothed.
+        if (v.fallAtOnce && z < p) return p - z < v.soft ? p - a * (p - z) : Math.max(z, p - step);
+        return Math.max(z - (1 - a) * Math.min(v.soft, Math.max(-v.soft, z - p)), p - step);
+      });
+      return v.trace ? Object.assign(prev.slice(), { together: v.trace.together, level: v.trace.level, target: v.trace.target }) : prev;
+    }
+    // v.both2: a rise smaller than K smoothed too.
+    prev = y.map((z, e) =>
+      v.still && v.both2 && step !== null && z > 0 && Math.abs(prev[e] - z) < v.still
+        ? prev[e] + a * (z - prev[e])
+        : step !== null && z < prev[e]
+          ? v.still && z > 0 && prev[e] - z < v.still
+            ? prev[e] - a * (prev[e] - z)
+            : Math.max(z, prev[e] - step)
+          : z,
+    );
+    return v.trace ? Object.assign(prev.slice(), { together: v.trace.together, level: v.trace.level, target: v.trace.target }) : prev;
   }).slice(pre.length);
 }
 
@@ -317,5 +358,60 @@ if (o.grid) {
   console.log(`\n| wink ramp (with both eyes as merged) ${HEAD}\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |`);
   for (const open of [0.15, 0.2, 0.25, 0.3]) {
     for (const closed of [0.4, 0.45, 0.5, 0.55, 0.6, 0.7]) if (closed > open + 0.1) console.log(row(`${open}..${closed}`, { ...MERGED, wink: { open, closed } }));
+  }
+}
+
+/** The bench: frames from the truth's closing (an eye >= 0.8) to the eye shown closed (>= 0.5), and from its opening (under 0.8) to shown open. */
+function lags(v) {
+  const close = [], open = [];
+  for (const c of bench) {
+    const out = solve(c.s, v);
+    for (const e of [0, 1]) {
+      for (let k = 1; k < c.truth.length; k++) {
+        const was = c.truth[k - 1][e] >= 0.8, is = c.truth[k][e] >= 0.8;
+        if (was === is) continue;
+        let j = k;
+        while (j < out.length && out[j] && (out[j][e] >= 0.5) !== is) j++;
+        (is ? close : open).push(j - k);
+      }
+    }
+  }
+  const m = (xs) => `${(xs.reduce((a, b) => a + b, 0) / xs.length).toFixed(2)} / ${Math.max(...xs)}`;
+  return `${m(close)} (${close.length}) | ${m(open)} (${open.length}) |`;
+}
+if (o.still) {
+  const NOW = { ...MERGED, both: { ...MERGED.both, maxRun: 500 }, hold: 0.035 };
+  console.log(`\n| a fall under K smoothed ${HEAD} bench: frames to shown closed, mean / max | bench: frames to shown open, mean / max |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |`);
+  console.log(`${row("main (BLINK_HOLD, BLINK_LEARN_MS)", NOW)} ${lags(NOW)}`);
+  for (const k of (process.env.STILL_K ?? "0.03,0.04,0.05,0.0667,0.08,0.1,0.117,0.15").split(",").map(Number)) {
+    const v = { ...NOW, soft: k };
+    console.log(`${row(`every move but a closing and an opening to 0: its first K ${k} smoothed`, v)} ${lags(v)}`);
+    const w = { ...NOW, soft: k, closedOnly: true };
+    console.log(`${row(`the same, only from an eye shown at least half closed: K ${k}`, w)} ${lags(w)}`);
+    const x = { ...NOW, soft: k, fallAtOnce: true };
+    console.log(`${row(`a rise but a closing: its first K ${k} smoothed; a fall under K smoothed, a larger one limited${k === 0.0667 ? " (kept: BLINK_STILL)" : ""}`, x)} ${lags(x)}`);
+  }
+  for (const both2 of [false, true]) {
+    for (const k of (process.env.STILL_K ?? "0.03,0.04,0.05,0.0667,0.08,0.1,0.117,0.15").split(",").map(Number)) {
+      const v = { ...NOW, still: k, both2 };
+      console.log(`${row(`${both2 ? "a rise or a fall" : "a fall"} under K ${k}`, v)} ${lags(v)}`);
+    }
+  }
+}
+
+if (o.trace) {
+  const [, avatar, clip, from, to] = o.trace.match(/^(\w+)\/([\w-]+):(\d+)-(\d+)$/);
+  const c = bench.find((x) => x.avatar === avatar && x.clip === clip) ?? (() => { throw new Error(`${o.trace}: not on this half (--report for man, child)`); })();
+  const NOW = { ...MERGED, both: { ...MERGED.both, maxRun: 500 }, hold: 0.035 };
+  const before = solve(c.s, { ...NOW, trace: {} });
+  const after = solve(c.s, { ...NOW, soft: 0.02 / 0.3, fallAtOnce: true, trace: {} }); // BLINK_STILL
+  const f = (x) => x.toFixed(3);
+  console.log(`\n${avatar} ${clip}: frame | truth L / R | eyeBlink L / R (neutral) | eyeLookDown L / R (neutral) | corrected L / R | level | target L / R (largest ramp) | shown before L / R | shown after L / R |\n| ---: | --- | --- | --- | --- | ---: | --- | --- | --- |`);
+  for (let k = Number(from); k <= Number(to); k++) {
+    const x = c.s[k];
+    if (!x) continue;
+    const [bl, br, dl, dr] = x.raw;
+    const [nbl, nbr, ndl, ndr] = x.neutral;
+    console.log(`| ${k} | ${c.truth[k].map((t) => t.toFixed(2)).join(" / ")} | ${f(bl)} / ${f(br)} (${f(nbl)} / ${f(nbr)}) | ${f(dl)} / ${f(dr)} (${f(ndl)} / ${f(ndr)}) | ${x.b.map(f).join(" / ")} | ${f(before[k].level)} | ${before[k].target.map(f).join(" / ")} | ${before[k].slice(0, 2).map(f).join(" / ")} | ${after[k].slice(0, 2).map(f).join(" / ")} |`);
   }
 }

@@ -5,6 +5,7 @@
 // in eval/labels/face.json (eyes closed, mouth open, head turned):
 //   - blink recall: labelled closed-eye frames where the blink (either eye) is at least 0.5;
 //   - false blinks: other frames (not next to a closed one) where it is at least 0.5;
+//   - closing: from each labelled closure's first frame, the frames to the blink at least 0.5;
 //   - aa on open-mouth frames (mean, and the share at least 0.3) and on the others (share at most 0.1);
 //   - head yaw and pitch against the transformation matrix's (degrees, mean and largest);
 //   - on still stretches (the matrix turning under 1 degree a frame, no blendshape moving 0.1 or
@@ -114,7 +115,7 @@ const pct = (xs, p) => {
 const mean = (xs) => (xs.length ? xs.reduce((a, b) => a + b, 0) / xs.length : NaN);
 
 function score(clips, who) {
-  const acc = { closed: 0, closedHit: 0, other: 0, falseBlink: 0, down: 0, downBlink: 0, open: [], shut: [], yaw: [], pitch: [], still: [], stillRaw: [], frames: 0, turned: 0, turnedRight: 0 };
+  const acc = { closed: 0, closedHit: 0, other: 0, falseBlink: 0, down: 0, downBlink: 0, open: [], shut: [], yaw: [], pitch: [], still: [], stillRaw: [], frames: 0, turned: 0, turnedRight: 0, toClose: [] };
   for (const clip of clips) {
     const res = run(clip);
     const l = labels[clip];
@@ -133,6 +134,14 @@ function score(clips, who) {
       return who === "handrig" || agree <= 0 ? 1 : -1;
     });
     const near = (set, k, d) => { for (let j = k - d; j <= k + d; j++) if (set.has(j)) return true; return false; };
+    // Each labelled closure's first frame: how many frames to the blink shown at least 0.5
+    // (within the closure, else not read).
+    for (const k of closed) {
+      if (closed.has(k - 1)) continue;
+      let j = k;
+      while (closed.has(j) && !(res[j]?.[who]?.blink >= 0.5)) j++;
+      acc.toClose.push(closed.has(j) ? j - k : null);
+    }
     for (let k = 0; k < res.length; k++) {
       const r = res[k];
       const s = r[who];
@@ -178,6 +187,8 @@ function score(clips, who) {
   return {
     frames: acc.frames,
     blinkRecall: acc.closed ? acc.closedHit / acc.closed : NaN,
+    closures: acc.toClose.length,
+    toClose: acc.toClose.map((x) => (x === null ? "not read" : x)).join(", "),
     closedFrames: acc.closed,
     falseBlinks: acc.other ? acc.falseBlink / acc.other : NaN,
     falseBlinksDown: acc.down ? acc.downBlink / acc.down : NaN,
@@ -209,6 +220,7 @@ const f = (v, d = 2) => (Number.isNaN(v) ? "n/a" : v.toFixed(d));
 const rows = [
   ["frames with a face", (s) => String(s.frames)],
   ["blink recall (closed frames)", (s) => `${f(s.blinkRecall)} (${s.closedFrames})`],
+  ["closing: frames from a labelled closure's first frame to the blink >= 0.5, each closure", (s) => (s.closures ? s.toClose : "n/a")],
   ["false blinks (share of other frames)", (s) => f(s.falseBlinks, 3)],
   ["false blinks on eyes-down frames", (s) => `${f(s.falseBlinksDown, 3)} (${s.downFrames})`],
   ["head turn to the labelled side", (s) => `${f(s.turnedRight)} (${s.turnedFrames})`],

@@ -250,6 +250,19 @@ pub const BLINK_LEARN_MS: f64 = 500.0;
 /// (the bench woman's still stretches: 0.035 open, 0.020 closed; `eval/face-blink-both.mjs
 /// --noise`), so a closed eye keeps closed through a frame's noise.
 pub const BLINK_HOLD: f32 = 0.035;
+/// A shown blink's move of up to this in a frame is the channel's jitter, not a closing or an
+/// opening: it is smoothed at the face's cutoff at rest (`alpha(dt, face.minCutoff)`, 0.295 at
+/// 30 fps and the default 2 Hz). A rise: its first this much smoothed, the rest at once, and a
+/// closing (from under half closed to at least half) all at once, so no blink is shown closed
+/// a frame later; a fall of this or more, or to an eye read open, opens limited as before. A
+/// half-read wink held on the report half (the bench child's: `eyeBlink` 0.42-0.44, a wink
+/// ramp three times as steep) followed its reading's noise, 0.039 a frame. The size is not
+/// chosen on data: issue 50's 0.02 a frame over that smoothing step (0.3), so jitter within it
+/// moves at most 0.02 a frame at the defaults. On the tuning half (the bench woman, the ASL
+/// clips again, eat, please, thanks) every size from 0.03 to 0.15 gives the same blink rows
+/// and still moves under 0.02 (`eval/face-blink-both.mjs --still`). Figures:
+/// docs/measurements/2026-12-06-face.md (still13).
+pub const BLINK_STILL: f32 = 0.02 / 0.3;
 /// A calibration frame whose weight is more than this above that weight's mean so far is left
 /// out of its neutral value: an expression only raises a weight above the user's rest, and a
 /// blink within the calibration (the bench's first two blinks fall within its 2 s; a user
@@ -523,6 +536,8 @@ impl Face {
             Some(step) if x < prev => x.max(prev - step),
             _ => x,
         };
+        // A shown blink's small moves are smoothed (BLINK_STILL).
+        let settle = dt.map_or(1.0, |dt| alpha(dt, o.min_cutoff));
         let shown_blinks = [
             self.presets[10] + self.presets[11],
             self.presets[10] + self.presets[12],
@@ -567,7 +582,17 @@ impl Face {
             let own = clamp01((b[e] + hold - BLINK_OPEN) / (BLINK_CLOSED - BLINK_OPEN));
             let together = clamp01((both + hold - BOTH_OPEN) / (level - BOTH_OPEN));
             let wink = clamp01((b[e] + hold - b[1 - e] - WINK_OPEN) / (WINK_CLOSED - WINK_OPEN));
-            blinks[e] = limit(own.max(together).max(wink), shown_blinks[e]);
+            let (x, p) = (own.max(together).max(wink), shown_blinks[e]);
+            blinks[e] = match open_step {
+                // A rise but a closing (from under half closed to at least half): its first
+                // BLINK_STILL smoothed, the rest at once.
+                Some(_) if x > p && (p >= 0.5 || x < 0.5) => {
+                    x - (1.0 - settle) * (x - p).min(BLINK_STILL)
+                }
+                // A fall under BLINK_STILL to an eye not read open: smoothed.
+                Some(_) if x > 0.0 && x < p && p - x < BLINK_STILL => p - settle * (p - x),
+                _ => limit(x, p),
+            };
         }
         let filtered = filter_all(&mut self.euro, &raw, dt, o);
         for k in (0..SHAPES).filter(|k| *k != BLINK && *k != BLINK + 1) {

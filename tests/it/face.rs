@@ -467,6 +467,64 @@ fn a_held_blink_does_not_follow_its_readings_noise() {
 }
 
 #[test]
+fn a_held_half_read_wink_stays_still_and_a_blink_still_closes_at_once() {
+    // The bench child's held left wink (face-wink, frames 21-28): `eyeBlinkLeft` 0.42-0.44
+    // moving about 0.01 a frame, the other eye 0.01, both eyes' `eyeLookDown` 0.47. Half read
+    // by the wink's ramp (three times as steep as a reading), it followed that noise 0.03-0.06
+    // a frame; a fall that small is smoothed now (`BLINK_STILL`): at most 0.02 a frame, and the
+    // wink still read.
+    let mut run = BlinkRun::calibrated();
+    let left = |run: &BlinkRun| preset(&run.out, "blink") + preset(&run.out, "blinkLeft");
+    let wink = |l: f32| {
+        let mut w = both_eyes(0.01, 0.47);
+        w[shape("eyeBlinkLeft")] = l;
+        w
+    };
+    for l in [0.2, 0.35, 0.42, 0.43] {
+        run.step(wink(l));
+    }
+    let mut shown = left(&run);
+    assert!((0.5..0.9).contains(&shown), "half read: {shown}");
+    let (mut largest, mut least): (f32, f32) = (0.0, 1.0);
+    for l in [
+        0.422, 0.417, 0.435, 0.424, 0.43, 0.425, 0.432, 0.429, 0.417, 0.435,
+    ] {
+        run.step(wink(l));
+        let now = left(&run);
+        largest = largest.max((now - shown).abs());
+        least = least.min(now);
+        shown = now;
+    }
+    assert!(largest <= 0.02, "a held wink moves {largest} a frame");
+    assert!(least >= 0.5, "the wink still read: {least}");
+    assert_eq!(
+        preset(&run.out, "blinkRight") + preset(&run.out, "blink"),
+        0.0
+    );
+    // It opens as before (limited), to 0.
+    run.eyes(0.03, 0.07);
+    let opening = left(&run);
+    assert!(opening < shown - 0.2, "opens: {shown} -> {opening}");
+    for _ in 0..3 {
+        run.eyes(0.03, 0.07);
+    }
+    assert_eq!(left(&run), 0.0, "open again");
+    // A blink closes at once (its first frame) and opens limited as before.
+    for _ in 0..20 {
+        run.eyes(0.03, 0.07);
+    }
+    let first = run.eyes(0.6, 0.7);
+    assert!(first >= 0.8, "closes at once: {first}");
+    run.eyes(0.6, 0.7);
+    let opening = run.eyes(0.03, 0.07);
+    assert!(opening > 0.5 && opening < 0.9, "opens limited: {opening}");
+    for _ in 0..3 {
+        run.eyes(0.03, 0.07);
+    }
+    assert_eq!(preset(&run.out, "blink"), 0.0, "open again");
+}
+
+#[test]
 fn a_long_squint_does_not_teach_the_closed_level() {
     // Both eyes held half shut for 30 s (a squint, a long laugh: both eyes read 0.36, which the
     // both-eyes ramp shows as 0.7 closed) are no blinks: the user's closed level learns only
