@@ -404,16 +404,13 @@ impl ContactSolver {
                 // turn, a palm facing the mouth was held off it (`eat`), and grown fingertips
                 // held the touching finger off the face.
                 let s = side.index();
-                let palm = t.hand.as_ref().and_then(|h| {
-                    let j = |f: Finger| h.joints[3 * f.index()];
-                    Some(
-                        j(Finger::Index)?
-                            .cross(j(Finger::Little)?)
-                            .normalize_or_zero(),
-                    )
-                });
                 let head = (t.wrist - world.position[HumanBone::Head.index()]).normalize_or_zero();
-                let edge = palm.map_or(0.0, |p| p.cross(head).length());
+                // The palm's normal (a missing knuckle: none, and no growth).
+                let edge = t.hand.as_ref().map_or(0.0, |h| {
+                    let [i, l] = [Finger::Index, Finger::Little]
+                        .map(|f| h.joints[3 * f.index()].unwrap_or(Vec3::ZERO));
+                    i.cross(l).normalize_or_zero().cross(head).length()
+                });
                 let mut balls = [(Vec3::ZERO, 0.0); skin::HAND_SPHERES];
                 for (k, (b, p)) in balls.iter_mut().zip(points).enumerate() {
                     *b = *p;
