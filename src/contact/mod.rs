@@ -392,7 +392,33 @@ impl ContactSolver {
                 // Landing is complete from a blend of 2/3 on: a finger that the blend brought
                 // most of the way rests on the skin rather than hovering a centimeter or two off.
                 let land = (1.5 * face).min(1.0);
-                t.wrist += land * surface.settle(t.wrist, points, world, only);
+                // The wrist's and the palm centre's balls (the first two, with the palm's
+                // half-thickness) grown by how far the palm's skin reaches past such balls
+                // (`BodySurface::hand_excess`, the avatar's own measure) times how far the
+                // palm stands edge-on to the head (the sine between the palm's normal and the
+                // direction from the head bone to the wrist): the palm's outline reaches past
+                // its balls within the palm's plane, not through its faces. Settled as balls,
+                // a palm turned edge-on
+                // with its wrist ball resting on the skin left the voxel figure's box palm
+                // 15.5 mm inside its box head (`brother`, frame 27); grown whatever the palm's
+                // turn, a palm facing the mouth was held off it (`eat`), and grown fingertips
+                // held the touching finger off the face.
+                let s = side.index();
+                let head = (t.wrist - world.position[HumanBone::Head.index()]).normalize_or_zero();
+                // The palm's normal (a missing knuckle: none, and no growth).
+                let edge = t.hand.as_ref().map_or(0.0, |h| {
+                    let [i, l] = [Finger::Index, Finger::Little]
+                        .map(|f| h.joints[3 * f.index()].unwrap_or(Vec3::ZERO));
+                    i.cross(l).normalize_or_zero().cross(head).length()
+                });
+                let mut balls = [(Vec3::ZERO, 0.0); skin::HAND_SPHERES];
+                for (k, (b, p)) in balls.iter_mut().zip(points).enumerate() {
+                    *b = *p;
+                    if k < 2 && p.1 == surface.palm_half[s] {
+                        b.1 += edge * surface.hand_excess[s][0];
+                    }
+                }
+                t.wrist += land * surface.settle(t.wrist, &balls[..points.len()], world, only);
             }
         }
         if o.hands {

@@ -1085,3 +1085,65 @@ fn a_flat_skin_marks_vertices_hanging_on_non_humanoid_bones() {
         assert!(e.to_string().contains("restPose.skin.bones"), "{e}");
     }
 }
+
+#[test]
+fn a_box_palm_settled_on_a_box_head_stays_out_of_it() {
+    // The voxel figure (a report avatar) on `brother` (a report clip): the signer's right fist
+    // leaves the forehead. The hand is settled onto the head as balls; the voxel hand's box
+    // palm reaches 21 mm past its wrist ball (`BodySurface::hand_excess`), and on frame 27,
+    // with the wrist ball the one resting on the skin, a corner of the box palm ended 15.5 mm
+    // inside the box head (`eval/skin-contact.mjs`, measured on three-vrm's skin); now the
+    // wrist's and palm centre's balls are grown by that excess times how far the palm stands
+    // edge-on to the head (6.0 mm here; a 1 cm bar, issue 52's "inside"). Here the
+    // head is the box its own vertices span at rest (the figure is skinned rigidly), and each
+    // hand vertex inside it is as deep as its distance to the box's nearest face.
+    let skel = recordings::vrm("tests/fixtures/avatars/figures/voxel-vrm1.vrm");
+    let body = RigidSkin::of(&skel);
+    let h = B::Head.index();
+    let head_rest = body.rest[h];
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for (p, b) in body.skin.positions.iter().zip(&body.skin.bones) {
+        if *b == B::Head {
+            lo = lo.min(*p - head_rest);
+            hi = hi.max(*p - head_rest);
+        }
+    }
+    assert!((hi - lo).min_element() > 0.1, "a head box {lo} .. {hi}");
+    let hands = [body.hand(Side::Left), body.hand(Side::Right)];
+    let mut rig = Rig::new(skel.clone(), RigOptions::default()).unwrap();
+    let mut out = handrig::SolveOutput::default();
+    let (mut deepest, mut at, mut touched) = (0.0f32, (0, 0), 0);
+    for (k, f) in recordings::asl("../shared/data/asl/brother.json")
+        .iter()
+        .enumerate()
+    {
+        rig.solve(f, &mut out).unwrap();
+        let (hp, hr) = (out.world.position[h], out.world.rotation[h]);
+        for side in Side::BOTH {
+            if out.contact[side.index()].is_some_and(|r| r.weight > 0.0) {
+                touched += 1;
+            }
+            for &i in &hands[side.index()] {
+                let q = hr.inverse() * (body.posed(&out.world, i) - hp);
+                let d = (q - lo).min(hi - q).min_element();
+                if d > deepest {
+                    (deepest, at) = (d, (k, side.index()));
+                }
+            }
+        }
+    }
+    eprintln!(
+        "deepest {:.1} mm (frame {}, side {}), {touched} hand-frames in face contact",
+        deepest * 1e3,
+        at.0,
+        at.1
+    );
+    assert!(touched > 10, "{touched} hand-frames in face contact");
+    assert!(
+        deepest < 0.010,
+        "{:.1} mm inside the head (frame {}, side {})",
+        deepest * 1e3,
+        at.0,
+        at.1
+    );
+}
