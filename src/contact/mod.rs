@@ -398,11 +398,10 @@ impl ContactSolver {
                 // palm stands edge-on to the head (the sine between the palm's normal and the
                 // direction from the head bone to the wrist): the palm's outline reaches past
                 // its balls within the palm's plane, not through its faces. Settled as balls,
-                // a palm turned edge-on
-                // with its wrist ball resting on the skin left the voxel figure's box palm
-                // 15.5 mm inside its box head (`brother`, frame 27); grown whatever the palm's
-                // turn, a palm facing the mouth was held off it (`eat`), and grown fingertips
-                // held the touching finger off the face.
+                // a palm turned edge-on with its wrist ball resting on the skin left the voxel
+                // figure's box palm 15.5 mm inside its box head (`brother`, frame 27); grown
+                // whatever the palm's turn, a palm facing the mouth was held off it (`eat`),
+                // and grown fingertips held the touching finger off the face.
                 let s = side.index();
                 let head = (t.wrist - world.position[HumanBone::Head.index()]).normalize_or_zero();
                 // The palm's normal (a missing knuckle: none, and no growth).
