@@ -91,11 +91,7 @@ const CHAIN_FIELDS: &str = "method, joints, constraints, iterations, tolerance, 
 
 /// `options.{path}`, the name of a field in errors.
 fn field(path: &str) -> String {
-    if path.is_empty() {
-        "options".into()
-    } else {
-        format!("options.{path}")
-    }
+    format!("options.{path}")
 }
 
 /// A field's value as an `f32`.
