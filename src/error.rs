@@ -282,6 +282,28 @@ mod tests {
         }
     }
 
+    /// serde's own type errors (serde-wasm-bindgen's among them) write their float with zmij
+    /// in the patched serde_core (vendor/serde_core/PATCHED.md), as serde's `{}` did.
+    #[test]
+    fn serde_type_errors_still_show_the_float() {
+        use serde::de::{value::Error as DeError, Error as _, Unexpected};
+        let msg = |x| DeError::invalid_type(Unexpected::Float(x), &"a string").to_string();
+        assert_eq!(
+            msg(1.5),
+            "invalid type: floating point `1.5`, expected a string"
+        );
+        assert_eq!(
+            msg(-2.0),
+            "invalid type: floating point `-2.0`, expected a string"
+        );
+        assert_eq!(
+            msg(0.1),
+            "invalid type: floating point `0.1`, expected a string"
+        );
+        assert!(msg(f64::NAN).contains("`NaN`"), "{}", msg(f64::NAN));
+        assert!(msg(1e300).contains("`1e"), "{}", msg(1e300));
+    }
+
     #[test]
     fn numbers_out_of_the_plain_range_and_not_finite() {
         assert_eq!(Num::f64(1e20).to_string(), "1e20");
