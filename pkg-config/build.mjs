@@ -454,6 +454,15 @@ function buildWasm(args, work, out, shippedWasm, shippedSimd) {
     CARGO_TARGET_DIR: path.join(root, "target", "simd128"),
   });
 
+  // core's float formatting (flt2dec: Grisu, Dragon and their tables, 8 KB of the gzipped .wasm)
+  // stays out: a `{}` of an f32 or f64 in a message links it again. Its source paths (the names,
+  // the panic locations) give it away.
+  if (!args.dev && fs.readFileSync(path.join(work, "web", "handrig_wasm_bg.wasm")).includes("flt2dec")) {
+    fail(
+      "the .wasm links core's float formatting again (flt2dec, 8 KB gzip): some `{}` of an f32 or f64 " +
+        "reaches it; write numbers in messages with handrig::error::Num (docs/measurements/2026-12-05-size.md)",
+    );
+  }
   fs.rmSync(out, { recursive: true, force: true });
   fs.mkdirSync(path.join(out, "wasm"), { recursive: true });
   const web = path.join(work, "web");
