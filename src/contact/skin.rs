@@ -37,6 +37,7 @@ use crate::humanoid::bones::{Finger, HumanBone, Side};
 use crate::humanoid::skeleton::{Skeleton, WorldPose};
 use crate::humanoid::SkinMesh;
 use crate::math::angle::atan2_fast;
+use crate::math::stats::nth_smallest;
 
 /// Triangles are sampled at most this far apart (m).
 pub const SPACING: f32 = 0.006;
@@ -671,7 +672,7 @@ fn hand_thickness(
             return None;
         }
         let k = v.len() * 3 / 4;
-        Some(*v.select_nth_unstable_by(k, f32::total_cmp).1)
+        nth_smallest(v, k)
     };
     let f = median(&mut finger)?;
     let p = median(&mut palm).unwrap_or(1.6 * f);

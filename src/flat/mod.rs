@@ -17,7 +17,7 @@
 
 use glam::{Quat, Vec3};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Num, Result};
 use crate::hand::HandStatus;
 use crate::humanoid::bones::{HumanBone, Side};
 use crate::input::mediapipe::{
@@ -155,7 +155,10 @@ fn read_input_inner(buf: &[f32], time_ms: f64, frame: &mut FrameInput) -> Result
     if !(count >= 0.0 && count <= MAX_HANDS as f32 && count.fract() == 0.0) {
         return Err(Error::invalid(
             "frame.hands",
-            format!("hand count must be a whole number in 0..={MAX_HANDS}, got {count}"),
+            format!(
+                "hand count must be a whole number in 0..={MAX_HANDS}, got {}",
+                Num::f32(count)
+            ),
         ));
     }
     let aspect = match buf[input::IMAGE_ASPECT] {

@@ -32,7 +32,7 @@ use super::document::{Document, MAX_DEPTH};
 use super::gltf_skin::skin_of;
 use super::skeleton::{Skeleton, VrmVersion};
 use super::vrm::{self, BoneEntry, VrmHumanoid};
-use crate::error::{Error, Result};
+use crate::error::{Error, Num, Result};
 
 /// Where a binding came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -72,6 +72,11 @@ pub struct GltfHumanoid {
     /// Every bound bone in [`HumanBone::ALL`] order with its node index and node name (`""`
     /// for a node without a name).
     pub binding: Vec<(HumanBone, usize, String)>,
+}
+
+/// A coordinate for a message, to the millimeter (as `{:.3}` would, without the trailing zeros).
+fn milli(x: f32) -> Num {
+    Num::f32((x * 1000.0).round() / 1000.0)
 }
 
 fn err(msg: impl Into<String>) -> Error {
@@ -405,9 +410,11 @@ fn facing(bones: &[(HumanBone, Vec3)]) -> Result<VrmVersion> {
             });
         }
         return Err(err(format!(
-            "facing: the skeleton's left-right axis ({l} - {r} = [{:.3}, {:.3}, {:.3}]) is not \
+            "facing: the skeleton's left-right axis ({l} - {r} = [{}, {}, {}]) is not \
              along X: the model must face +Z or -Z with +Y up (turn its root node)",
-            d.x, d.y, d.z
+            milli(d.x),
+            milli(d.y),
+            milli(d.z)
         )));
     }
     // Required bones are missing; Skeleton::new names them.

@@ -7,7 +7,7 @@
 
 use serde_json::Value as Json;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Num, Result};
 
 use super::table::{Kind, OptionSpec, Value, OPTIONS};
 use super::RigOptions;
@@ -114,7 +114,7 @@ fn read(spec: &OptionSpec, json: &Json, field: &str) -> Result<Value> {
                     if x.fract() != 0.0 {
                         return Err(Error::invalid(
                             field,
-                            format!("must be a whole number{}, got {x}", range(spec)),
+                            format!("must be a whole number{}, got {}", range(spec), Num::f64(x)),
                         ));
                     }
                 }
@@ -206,7 +206,7 @@ pub(super) fn check(spec: &OptionSpec, value: Value) -> Result<()> {
             };
             return Err(Error::invalid(
                 field(),
-                format!("must be {what}{}, got {x}", range(spec)),
+                format!("must be {what}{}, got {}", range(spec), Num::f32(x)),
             ));
         }
         (
@@ -224,7 +224,8 @@ pub(super) fn check(spec: &OptionSpec, value: Value) -> Result<()> {
                         return Err(Error::invalid(
                             format!("{}.{name}", field()),
                             format!(
-                                "must be [x, y, z]: finite meters within {limit} of the head bone"
+                                "must be [x, y, z]: finite meters within {} of the head bone",
+                                Num::f32(limit)
                             ),
                         ));
                     }
@@ -236,7 +237,12 @@ pub(super) fn check(spec: &OptionSpec, value: Value) -> Result<()> {
                 if !(x.is_finite() && *x >= min && *x <= max) {
                     return Err(Error::invalid(
                         format!("{}[{k}]", field()),
-                        format!("must be a number in {min}..{max}, got {x}"),
+                        format!(
+                            "must be a number in {}..{}, got {}",
+                            Num::f32(min),
+                            Num::f32(max),
+                            Num::f32(*x)
+                        ),
                     ));
                 }
             }
@@ -249,7 +255,7 @@ pub(super) fn check(spec: &OptionSpec, value: Value) -> Result<()> {
 /// ` in min..max` of a number row.
 fn range(spec: &OptionSpec) -> String {
     match spec.kind {
-        Kind::Number { min, max, .. } => format!(" in {min}..{max}"),
+        Kind::Number { min, max, .. } => format!(" in {}..{}", Num::f32(min), Num::f32(max)),
         _ => String::new(),
     }
 }

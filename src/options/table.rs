@@ -12,6 +12,7 @@ use crate::torso::TorsoSource;
 
 use super::{HandednessPolicy, OptionDescription, OptionEnum, OptionKind, RigOptions};
 use crate::align::AlignPoint;
+use crate::error::Num;
 use crate::humanoid::bones::Finger;
 
 /// The type and accepted values of an option.
@@ -357,12 +358,17 @@ impl Value {
             Value::Bool(b) => b.to_string(),
             Value::Enum(n) => format!("\"{n}\""),
             Value::Number(None) => "null".into(),
-            Value::Number(Some(x)) => format!("{x}"),
+            Value::Number(Some(x)) => Num::f32(*x).to_string(),
             Value::Points(p) => {
                 let given: Vec<String> = FaceAnchor::NAMES
                     .iter()
                     .zip(p)
-                    .filter_map(|(n, p)| p.map(|[x, y, z]| format!("\"{n}\": [{x}, {y}, {z}]")))
+                    .filter_map(|(n, p)| {
+                        p.map(|[x, y, z]| {
+                            let [x, y, z] = [x, y, z].map(Num::f32);
+                            format!("\"{n}\": [{x}, {y}, {z}]")
+                        })
+                    })
                     .collect();
                 if given.is_empty() {
                     "null".into()
@@ -371,7 +377,7 @@ impl Value {
                 }
             }
             Value::Numbers(v) => {
-                let v: Vec<String> = v.iter().map(|x| format!("{x}")).collect();
+                let v: Vec<String> = v.iter().map(|x| Num::f32(*x).to_string()).collect();
                 format!("[{}]", v.join(", "))
             }
         }
