@@ -97,6 +97,9 @@ pub(super) struct Legs {
     fast: [bool; 2],
     /// How each leg is read from the image.
     reading: [Reading; 2],
+    /// The user's own thigh length in the image, in torso lengths (learned, [`target`]): one
+    /// for both legs.
+    own: Option<f32>,
     /// The straight legs' lean in depth in the world landmarks (radians, averaged over time;
     /// [`Legs::estimate_tilt`]) and the seconds of it seen, up to [`TILT_SECONDS`].
     tilt: f32,
@@ -109,7 +112,6 @@ pub(super) struct Legs {
 #[derive(Clone, Copy, Debug, Default)]
 struct Reading {
     filter: PointFilters<2>,
-    thigh: Option<f32>,
 }
 
 impl Legs {
@@ -133,6 +135,7 @@ impl Legs {
             last_seen_ankle: [None; 2],
             fast: [false; 2],
             reading: [Reading::default(); 2],
+            own: None,
             tilt: LEVEL_LEAN,
             tilt_time: 0.0,
         }
@@ -158,6 +161,7 @@ impl Legs {
         self.last_seen_ankle = [None; 2];
         self.fast = [false; 2];
         self.reading = [Reading::default(); 2];
+        self.own = None;
         self.tilt = LEVEL_LEAN;
         self.tilt_time = 0.0;
     }
@@ -196,7 +200,9 @@ impl Legs {
                         }
                     });
                     let reading = &mut self.reading[side.index()];
-                    targets[side.index()] = target(cx, view, p, side, leg.lengths(), out, reading);
+                    let own = &mut self.own;
+                    targets[side.index()] =
+                        target(cx, view, p, side, leg.lengths(), out, reading, own);
                 }
             }
         }
@@ -686,6 +692,7 @@ fn leg_seen(cx: &Context, pose: &PoseObservation, side: Side) -> bool {
 /// Where the tracked leg of the avatar's `side` puts it (the user's thigh and shin directions,
 /// read as `view` says, with the avatar's thigh and shin `lengths`), or `None` when its
 /// direction is not finite. For a leg that is seen ([`leg_seen`]).
+#[allow(clippy::too_many_arguments)]
 fn target(
     cx: &Context,
     view: &View,
@@ -694,6 +701,7 @@ fn target(
     lengths: (f32, f32),
     out: &SolveOutput,
     reading: &mut Reading,
+    own: &mut Option<f32>,
 ) -> Option<LegTarget> {
     let [hip, knee, ankle, heel, toe] = leg_landmarks(cx.camera.pose_side_for(side));
     let at_hip = out.world.position[leg_bones(side)[0].index()];
@@ -713,13 +721,16 @@ fn target(
         let d = image[knee] - image[hip];
         let r = (d.x * cx.input.image_aspect).hypot(d.y) * m / torso;
         if thigh.z.abs() < OWN_FLAT * thigh.length() && r.is_finite() {
-            let q = reading.thigh.get_or_insert(r);
+            let q = own.get_or_insert(r);
             let below = if r < *q { 1.0 } else { 0.0 };
-            *q += OWN_RATE * cx.dt.unwrap_or(0.0) * (OWN_QUANTILE - below);
+            // Both legs feed it: each at half the rate.
+            *q += 0.5 * OWN_RATE * cx.dt.unwrap_or(0.0) * (OWN_QUANTILE - below);
         }
     }
-    let thigh_dir = view.segment(cx, pose, hip, knee, reading.thigh.map(|q| q * torso));
-    let shin_dir = view.segment(cx, pose, knee, ankle, None);
+    let thigh_dir = view.segment(cx, pose, hip, knee, own.map(|q| q * torso));
+    let shin = w[ankle].distance(w[knee]);
+    let own_shin = own.map(|q| (q * torso * shin / w[knee].distance(w[hip])).min(shin));
+    let shin_dir = view.segment(cx, pose, knee, ankle, own_shin);
     let mut dirs = [thigh_dir, shin_dir];
     if cx.options.filter.enabled && view.meters.is_some() && cx.input.pose_image.is_some() {
         let o = cx.options.filter.one_euro();
