@@ -91,6 +91,21 @@ fn with_legs(frame: &FrameInput, knee: Vec3, ankle: Vec3) -> FrameInput {
     f
 }
 
+/// Both legs' image knees and ankles straight below the hips, the thigh `thigh` and the shin
+/// `shin` long (m, at the frame's image scale): the image shows them across the camera at
+/// those lengths whatever depth the world landmarks give them.
+fn image_legs(f: &mut FrameInput, thigh: f32, shin: f32) {
+    let aspect = f.image_aspect;
+    let world = f.pose.as_ref().expect("pose").world;
+    let image = f.pose_image.as_mut().expect("image");
+    let at = |p: Vec3| Vec3::new(0.5 + 0.5 * p.x / aspect, 0.5 + 0.5 * p.y, 0.5 * p.z);
+    for user in Side::BOTH {
+        let [hip, k, a, ..] = leg_landmarks(user);
+        image[k] = at(world[hip] + Vec3::new(0.0, thigh, 0.0));
+        image[a] = at(world[hip] + Vec3::new(0.0, thigh + shin, 0.0));
+    }
+}
+
 /// The defaults with the camera declared level (`camera.pitch: 0`): the synthetic legs hang
 /// straight down in the world landmarks, where MediaPipe's lean a level camera's straight legs
 /// 7-9 degrees (the feet further), so the pitch's estimate would read them as a camera looking
@@ -475,15 +490,7 @@ fn a_thigh_is_bounded_by_its_own_length_in_the_image() {
                 _ => (deep(40.0), 0.30),
             };
             let mut f = with_legs(frame, knee, knee + Vec3::new(0.0, 0.4, 0.0));
-            let aspect = f.image_aspect;
-            let world = f.pose.as_ref().expect("pose").world;
-            let image = f.pose_image.as_mut().expect("image");
-            for user in Side::BOTH {
-                let [hip, k, a, ..] = leg_landmarks(user);
-                let at = |p: Vec3| Vec3::new(0.5 + 0.5 * p.x / aspect, 0.5 + 0.5 * p.y, 0.5 * p.z);
-                image[k] = at(world[hip] + Vec3::new(0.0, seen, 0.0));
-                image[a] = at(world[hip] + Vec3::new(0.0, seen + 0.4, 0.0));
-            }
+            image_legs(&mut f, seen, 0.4);
             rig.solve(&f, &mut out).expect("solve");
             out.turn_to_internal_frame(rig.skeleton().version());
             for side in Side::BOTH {
@@ -543,15 +550,7 @@ fn a_standing_shin_is_bounded_by_its_own_length_in_the_image() {
                 (back(50.0), 0.26)
             };
             let mut f = with_legs(frame, knee, knee + shin);
-            let aspect = f.image_aspect;
-            let world = f.pose.as_ref().expect("pose").world;
-            let image = f.pose_image.as_mut().expect("image");
-            for user in Side::BOTH {
-                let [hip, k, a, ..] = leg_landmarks(user);
-                let at = |p: Vec3| Vec3::new(0.5 + 0.5 * p.x / aspect, 0.5 + 0.5 * p.y, 0.5 * p.z);
-                image[k] = at(world[hip] + Vec3::new(0.0, 0.40, 0.0));
-                image[a] = at(world[hip] + Vec3::new(0.0, 0.40 + seen, 0.0));
-            }
+            image_legs(&mut f, 0.40, seen);
             rig.solve(&f, &mut out).expect("solve");
             out.turn_to_internal_frame(rig.skeleton().version());
             for side in Side::BOTH {
