@@ -192,6 +192,14 @@ impl Presence {
         }
     }
 
+    /// The group's rest pose is on show (another group of the body is tracked): its first
+    /// detection then blends in from rest, as a return does, rather than jump to its solve.
+    pub fn shown_at_rest(&mut self) {
+        if self.state == State::Lost(f64::NEG_INFINITY) {
+            self.state = State::Lost(f64::MIN);
+        }
+    }
+
     /// Back to rest (as if lost long ago).
     pub fn reset(&mut self) {
         *self = Presence::default();

@@ -104,6 +104,9 @@ pub(super) struct Legs {
     /// [`Legs::estimate_tilt`]) and the seconds of it seen, up to [`TILT_SECONDS`].
     tilt: f32,
     tilt_time: f32,
+    /// The torso's image length (heights) on the last frame with a pose and on the last frame
+    /// not held ([`Legs::held`]).
+    torso: [f32; 2],
 }
 
 /// How one leg is read from the image: its thigh and shin directions' filters (the image
@@ -138,6 +141,7 @@ impl Legs {
             own: None,
             tilt: LEVEL_LEAN,
             tilt_time: 0.0,
+            torso: [f32::NAN; 2],
         }
     }
 
@@ -164,6 +168,7 @@ impl Legs {
         self.own = None;
         self.tilt = LEVEL_LEAN;
         self.tilt_time = 0.0;
+        self.torso = [f32::NAN; 2];
     }
 
     /// Each leg's bones into `out.local` (solved, held, easing or at rest), the legs' world
@@ -175,6 +180,20 @@ impl Legs {
         }
         let timing = cx.options.dropout.effective();
         let pose = f.pose.as_ref();
+        if self.held(cx, pose) {
+            // Last frame's legs, hips and planted feet, the state untouched.
+            for side in Side::BOTH {
+                for (k, bone) in leg_bones(side).iter().enumerate() {
+                    if cx.skeleton.has(*bone) {
+                        out.local[bone.index()] = self.shown[side.index()][k];
+                    }
+                }
+            }
+            cx.skeleton.forward_body(&out.local, &mut out.world);
+            out.hips_offset = self.offset;
+            out.planted = self.lock.map(|l| l.is_some());
+            return;
+        }
         let mut targets = [None; 2];
         let hips = cx
             .skeleton
@@ -208,6 +227,15 @@ impl Legs {
         }
         if let (Some(p), [Some(_), Some(_)]) = (pose, targets) {
             self.estimate_tilt(cx, p);
+        }
+        // A leg not seen while the other is shows its rest: its first detection blends in
+        // from it (the real walking video: a knee shown at rest, then bent 93 degrees).
+        if targets.iter().any(Option::is_some) {
+            for (p, t) in self.presence.iter_mut().zip(&targets) {
+                if t.is_none() {
+                    p.shown_at_rest();
+                }
+            }
         }
         let blends = Side::BOTH.map(|side| {
             let live = targets[side.index()].is_some();
@@ -463,6 +491,28 @@ impl Legs {
         out.hips_offset = offset;
     }
 
+    /// Whether this frame's pose is held (last frame's legs shown, nothing learned from it): its
+    /// torso's image length more than twice or less than half both last frame's and the last
+    /// frame used, a leg seen. No body changes its distance or its torso's lean that much in one frame;
+    /// MediaPipe's pose of such a frame is no person's (the real walking video, T15 578: the
+    /// torso 33 -> 5 -> 30 px, the ankles above the hips, the thighs turned 150-160 degrees
+    /// and back). A new size that stays is taken on its second frame.
+    fn held(&mut self, cx: &Context, pose: Option<&PoseObservation>) -> bool {
+        let (Some(p), Some(now)) = (pose, image_torso(cx)) else {
+            return false;
+        };
+        let jump = |r: f32| !(0.5..=2.0).contains(&(now / r));
+        let held = jump(self.torso[0])
+            && jump(self.torso[1])
+            && self.torso[1].is_finite()
+            && Side::BOTH.into_iter().any(|side| leg_seen(cx, p, side));
+        self.torso[0] = now;
+        if !held {
+            self.torso[1] = now;
+        }
+        held
+    }
+
     /// The straight legs' lean in depth (the hips' midpoint to the ankles', world landmarks,
     /// camera axes) averaged into [`Legs::tilt`]: a running mean over the first
     /// [`TILT_SECONDS`] of frames with both legs seen and nearly straight, then an exponential
@@ -608,15 +658,22 @@ fn torso_length(pose: &PoseObservation) -> f32 {
 /// to hip midpoint) over its image length (x in widths, y in heights); `None` without image
 /// landmarks or a measurable torso.
 fn meters_per_height(cx: &Context, pose: &PoseObservation) -> Option<f32> {
-    use crate::input::mediapipe::pose_landmark as pl;
-    let image = cx.input.pose_image?;
-    let mid = |a: usize, b: usize, p: &[Vec3; 33]| 0.5 * (p[a] + p[b]);
-    let chord = |p: &[Vec3; 33]| {
-        mid(pl::LEFT_SHOULDER, pl::RIGHT_SHOULDER, p) - mid(pl::LEFT_HIP, pl::RIGHT_HIP, p)
-    };
-    let d = chord(&image);
-    let meters = chord(&pose.world).length() / (d.x * cx.input.image_aspect).hypot(d.y);
+    let meters = chord(&pose.world).length() / image_torso(cx)?;
     (meters.is_finite() && meters > 0.0).then_some(meters)
+}
+
+/// The torso's chord: shoulder midpoint less hip midpoint.
+fn chord(p: &[Vec3; 33]) -> Vec3 {
+    use crate::input::mediapipe::pose_landmark as pl;
+    let mid = |a: usize, b: usize| 0.5 * (p[a] + p[b]);
+    mid(pl::LEFT_SHOULDER, pl::RIGHT_SHOULDER) - mid(pl::LEFT_HIP, pl::RIGHT_HIP)
+}
+
+/// The torso's image length (shoulder midpoint to hip midpoint, x in widths, y in heights,
+/// measured in heights); `None` without image landmarks.
+fn image_torso(cx: &Context) -> Option<f32> {
+    let d = chord(&cx.input.pose_image?);
+    Some((d.x * cx.input.image_aspect).hypot(d.y))
 }
 
 /// How the user's leg segments are read on a frame: the pelvis' turn and the image's scale
