@@ -220,6 +220,13 @@ function stanceOf(tr) {
 // The MediaPipe segment each bone follows (world landmarks): thigh, shin, heel to foot index.
 const SEGMENT = { UpperLeg: { left: [23, 25], right: [24, 26] }, LowerLeg: { left: [25, 27], right: [26, 28] }, Foot: { left: [29, 31], right: [30, 32] } };
 /** The turn of the bone's MediaPipe segment between two frames' world landmarks (degrees; NaN without both). */
+/** MediaPipe's knee angle (deg) from the world landmarks. */
+function mpKnee(w, side) {
+  const [h, k, a] = LEG[side].map((j) => w[j]);
+  const u = [k[0] - h[0], k[1] - h[1], k[2] - h[2]];
+  const v = [a[0] - k[0], a[1] - k[1], a[2] - k[2]];
+  return (Math.acos(Math.max(-1, Math.min(1, (u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (Math.hypot(...u) * Math.hypot(...v))))) * 180) / Math.PI;
+}
 function inputTurn(a, b, bone) {
   if (!a || !b) return NaN;
   const side = bone.startsWith("left") ? "left" : "right";
@@ -252,6 +259,7 @@ function scoreTrack(S, body, restPose, tr, labels, EXTRA) {
   let kaliBones = null;
   const kept = {};
   const solved = [];
+  let lastRot = null;
   tr.frames.forEach((frame, i) => {
     const samples = {};
     const rot = {};
@@ -276,7 +284,13 @@ function scoreTrack(S, body, restPose, tr, labels, EXTRA) {
       const sm = samples.handrig;
       const lm = frame.pose?.landmarks;
       console.error(`${tr.id} ${frame.frame} ${lm ? `hips px ${hipsOf(lm).map(Math.round)} torso ${torsoOf(lm).toFixed(0)}` : "no pose"} off ${res.hipsOffset ? mm([...res.hipsOffset]) : "-"} `
-        + SIDES.map((sd) => `${sd[0]}: stance ${+stance[i][sd]} planted ${+planted[sd]} ankle ${mm(sm[sd].ankle)} sole ${(1000 * Math.min(...sm[sd].soles.map((p) => p[1]))).toFixed(0)}${lm ? ` px ${px(lm[LEG[sd][2]]).map(Math.round)} v ${lm[LEG[sd][2]][3].toFixed(2)}` : ""}`).join(" "));
+        + SIDES.map((sd) => `${sd[0]}: stance ${+stance[i][sd]} planted ${+planted[sd]} ankle ${mm(sm[sd].ankle)} sole ${(1000 * Math.min(...sm[sd].soles.map((p) => p[1]))).toFixed(0)}${lm ? ` px ${px(lm[LEG[sd][2]]).map(Math.round)} v ${[...LEG[sd], LEG[sd][0] + 6, LEG[sd][0] + 8].map((j) => lm[j][3].toFixed(2)).join("/")}` : ""}`
+          // The knee angle (deg) as solved and MediaPipe's (world), and each leg bone's turn since the last frame.
+          + ` knee ${kneeAngleOf(sm[sd]).toFixed(1)}${frame.pose ? ` mp ${mpKnee(frame.pose.worldLandmarks, sd).toFixed(1)}` : ""}`
+          + (lastRot ? ` turn ${["UpperLeg", "LowerLeg", "Foot"].map((b) => turnDeg(lastRot[`${sd}${b}`], rot.handrig[`${sd}${b}`]).toFixed(1)).join("/")}` : "")).join(" "));
+    }
+    lastRot = rot.handrig;
+    if (false) {
     }
     if (S.Kalidokit) {
       body.reset();
