@@ -1051,10 +1051,21 @@ impl BodySurface {
                 let next = s1 - f1 * (s1 - s0) / (f1 - f0);
                 (s0, f0, s1) = (s1, f1, next);
             }
+            // In just after: the deepest ball is inside there by construction, so it is asked
+            // first (its map's bound, then its depth, as `reaches` asks them); the whole hand
+            // only when it says no (`reaches` is true when any ball is).
+            let after = s1 + LAND_CHECK;
+            let first_in = || {
+                only[k0]
+                    && map.may_hold(hub[k0] + dir[k0] * after, hull.reach, 0.0)
+                    && map
+                        .depth_rest(base[k0][i0] + dir[k0] * after, *margin, 0.0)
+                        .is_some_and(|d| d > 0.0)
+            };
             if along(s1).is_some_and(|f| f.abs() <= LAND_TOLERANCE)
                 && (lo..=hi).contains(&s1)
                 && !reaches(s1 - LAND_CHECK, false)
-                && reaches(s1 + LAND_CHECK, false)
+                && (first_in() || reaches(after, false))
             {
                 let total = -n * (s1 - LAND_CHECK);
                 if total.is_finite() {
