@@ -562,6 +562,18 @@ impl BodySurface {
         only: [bool; MAP_BONES.len()],
         floor: f32,
     ) -> Option<(f32, Vec3, usize)> {
+        self.depth_in(p, margin, world, mask_of(only), floor)
+    }
+
+    /// [`BodySurface::depth_above`] with the maps as a [`Mask`].
+    fn depth_in(
+        &self,
+        p: Vec3,
+        margin: f32,
+        world: &WorldPose,
+        only: Mask,
+        floor: f32,
+    ) -> Option<(f32, Vec3, usize)> {
         let (d, q, k) = self.deepest_rest(p, margin, world, only, floor)?;
         let map = self.maps[k].as_ref()?;
         Some((d, map.outward(q, world.rotation[map.bone.index()]), k))
@@ -579,11 +591,14 @@ impl BodySurface {
         floor: f32,
     ) -> Option<(f32, Vec3, usize)> {
         let mut best: Option<(f32, Vec3, usize)> = None;
-        for (k, map) in self.maps.iter().enumerate() {
-            let Some(map) = map else { continue };
-            if !only[k] {
+        // The maps of `only` in order, without a test per map left out.
+        let mut bits = only;
+        while bits != 0 {
+            let k = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            let Some(map) = self.maps.get(k).and_then(Option::as_ref) else {
                 continue;
-            }
+            };
             let b = map.bone.index();
             let floor = best.map_or(floor, |(bd, _, _)| bd.max(floor));
             let q = map.rest + world.rotation[b].inverse() * (p - world.position[b]);
@@ -787,8 +802,18 @@ pub fn hand_spheres(
     n
 }
 
-/// Which maps a query looks at.
-type Mask = [bool; MAP_BONES.len()];
+/// Which maps a query looks at: bit k for the map of `MAP_BONES[k]`.
+type Mask = u8;
+
+/// The maps whose flag is set, as a [`Mask`].
+fn mask_of(only: [bool; MAP_BONES.len()]) -> Mask {
+    only.iter()
+        .enumerate()
+        .fold(0, |m, (k, &on)| m | (u8::from(on) << k))
+}
+
+/// Every map.
+const ALL_MAPS: Mask = (1 << MAP_BONES.len()) - 1;
 
 /// A ball around a hand's balls: center relative to the wrist, and the largest distance
 /// from it to a ball's far side.
@@ -830,15 +855,14 @@ impl BodySurface {
     /// answer `None` to [`BodySurface::depth_above`] for every one of its balls, so a query
     /// can skip them, rotating one point per map instead of one per ball.
     fn near(&self, center: Vec3, reach: f32, world: &WorldPose, only: Mask, floor: f32) -> Mask {
-        let mut mask = only;
+        let mut mask = 0;
         for (k, map) in self.maps.iter().enumerate() {
-            let Some(map) = map else { continue };
-            if !only[k] {
+            let Some(map) = map.as_ref().filter(|_| only >> k & 1 != 0) else {
                 continue;
-            }
+            };
             let b = map.bone.index();
             let q = map.rest + world.rotation[b].inverse() * (center - world.position[b]);
-            mask[k] = map.may_hold(q, reach, floor);
+            mask |= u8::from(map.may_hold(q, reach, floor)) << k;
         }
         mask
     }
@@ -854,13 +878,11 @@ impl BodySurface {
         floor: f32,
     ) -> f32 {
         let hull = Hull::of(points);
-        let mask = self.near(
-            wrist + hull.center,
-            hull.reach,
-            world,
-            [true; MAP_BONES.len()],
-            floor,
-        );
+        let mask = self.near(wrist + hull.center, hull.reach, world, ALL_MAPS, floor);
+        // No map near: every ball answers `None` (a hand away from the body).
+        if mask == 0 {
+            return floor;
+        }
         points.iter().fold(floor, |best, (p, margin)| {
             match self.deepest_rest(wrist + *p, *margin, world, mask, best) {
                 Some((d, ..)) if d > best => d,
@@ -878,14 +900,18 @@ impl BodySurface {
         // (the hand's hull, where the pushes so far have taken it) are not sampled, which
         // answers as sampling them would (`depth_above` with floor 0 skips them too).
         let hull = Hull::of(points);
-        let all = [true; MAP_BONES.len()];
+        let all = ALL_MAPS;
         let mut total = Vec3::ZERO;
         let mut mask = self.near(wrist + hull.center, hull.reach, world, all, 0.0);
         for _ in 0..3 {
+            // No map near: no ball moves (a hand away from the body).
+            if mask == 0 {
+                break;
+            }
             let mut moved = false;
             for (p, margin) in points {
                 if let Some((d, n, _)) =
-                    self.depth_above(wrist + *p + total, *margin, world, mask, 0.0)
+                    self.depth_in(wrist + *p + total, *margin, world, mask, 0.0)
                 {
                     if d > 0.0 {
                         total += n * d;
@@ -939,12 +965,16 @@ impl BodySurface {
         out_only: bool,
     ) -> Vec3 {
         let hull = Hull::of(points);
+        let only = mask_of(only);
         // Outward only, a hand whose deepest ball is not inside stays: its deepest is only
         // looked for above 0, where the bounds skip the maps and balls that cannot be inside
         // (the deepest above 0 is the deepest, found in the same order).
         let least = if out_only { 0.0 } else { f32::NEG_INFINITY };
         let deepest = |shift: Vec3| -> Option<(f32, Vec3, usize, usize)> {
             let mask = self.near(wrist + hull.center + shift, hull.reach, world, only, least);
+            if mask == 0 {
+                return None;
+            }
             // The depth, the point in its map's rest frame, the map and the ball.
             let mut best: Option<(f32, Vec3, usize, usize)> = None;
             for (i, (p, margin)) in points.iter().enumerate() {
@@ -992,7 +1022,7 @@ impl BodySurface {
         let mut hub = [Vec3::ZERO; MAP_BONES.len()];
         let mut dir = [Vec3::ZERO; MAP_BONES.len()];
         for (k, map) in self.maps.iter().enumerate() {
-            let Some(map) = map.as_ref().filter(|_| only[k]) else {
+            let Some(map) = map.as_ref().filter(|_| only >> k & 1 != 0) else {
                 continue;
             };
             let b = map.bone.index();
@@ -1012,7 +1042,7 @@ impl BodySurface {
             // The largest float below 0: a bound at most it is below 0.
             let floor = if or_zero { -f32::from_bits(1) } else { 0.0 };
             self.maps.iter().enumerate().any(|(k, map)| {
-                let Some(map) = map.as_ref().filter(|_| only[k]) else {
+                let Some(map) = map.as_ref().filter(|_| only >> k & 1 != 0) else {
                     return false;
                 };
                 map.may_hold(hub[k] + dir[k] * s, hull.reach, floor)
@@ -1056,7 +1086,7 @@ impl BodySurface {
             // only when it says no (`reaches` is true when any ball is).
             let after = s1 + LAND_CHECK;
             let first_in = || {
-                only[k0]
+                only >> k0 & 1 != 0
                     && map.may_hold(hub[k0] + dir[k0] * after, hull.reach, 0.0)
                     && map
                         .depth_rest(base[k0][i0] + dir[k0] * after, *margin, 0.0)
