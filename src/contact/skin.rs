@@ -776,16 +776,33 @@ pub fn hand_spheres(
     target: &super::SideTarget,
     out: &mut [(Vec3, f32); HAND_SPHERES],
 ) -> usize {
+    hand_spheres_of(
+        surface,
+        side,
+        target.body_points(),
+        target.hand.is_some(),
+        out,
+    )
+}
+
+/// [`hand_spheres`] of the points `body` (a target's [`super::SideTarget::body_points`]), all
+/// of them when `seen` (the hand was seen this frame), without a target to hold them.
+pub fn hand_spheres_of(
+    surface: &BodySurface,
+    side: Side,
+    body: Option<&super::HandPoints>,
+    seen: bool,
+    out: &mut [(Vec3, f32); HAND_SPHERES],
+) -> usize {
     let s = side.index();
     let (palm, finger) = (surface.palm_half[s], surface.finger_radius[s]);
     out[0] = (Vec3::ZERO, palm);
     let mut n = 1;
-    if let Some(hand) = target.body_points() {
+    if let Some(hand) = body {
         if let Some(c) = hand.avatar[0] {
             out[n] = (c, palm);
             n += 1;
         }
-        let seen = target.hand.is_some();
         for (k, j) in hand.joints.iter().enumerate() {
             if let Some(j) = j.filter(|_| seen) {
                 // Each finger's first joint is in the palm (the thumb's: at its root).
