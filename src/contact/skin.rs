@@ -354,6 +354,27 @@ impl RadialMap {
         Some(self.lookup(row, sec) + margin - r)
     }
 
+    /// Whether [`RadialMap::depth_rest`] surely answers `None` for a ball at world point `p`
+    /// (radius `margin`, depths above `floor`), asked in world axes (`at`, `axis`:
+    /// [`BodySurface::axes`]) before the ball is rotated into the map: beyond the band or
+    /// the widest skin by more than [`AXES_SLACK`], which covers the rounding of both ways of
+    /// measuring.
+    #[inline]
+    fn skips(&self, (at, axis): (Vec3, Vec3), p: Vec3, margin: f32, floor: f32) -> bool {
+        let rel = p - at;
+        let reach = match self.kind {
+            MapKind::Cylinder => {
+                let h = rel.dot(axis);
+                if h < -margin - AXES_SLACK || h > self.rows as f32 * ROW + margin + AXES_SLACK {
+                    return true;
+                }
+                (rel.length_squared() - h * h).max(0.0).sqrt()
+            }
+            MapKind::Sphere => rel.length(),
+        };
+        self.widest + margin - reach + AXES_SLACK <= floor
+    }
+
     /// Whether a hand within `reach` of `q` (rest frame) may have a ball deeper than `floor`
     /// in this map or within a cylinder's band (see [`BodySurface::near`]).
     #[inline]
@@ -562,7 +583,8 @@ impl BodySurface {
         only: [bool; MAP_BONES.len()],
         floor: f32,
     ) -> Option<(f32, Vec3, usize)> {
-        self.depth_in(p, margin, world, mask_of(only), floor)
+        let only = mask_of(only);
+        self.depth_in(p, margin, world, only, &self.axes(world, only), floor)
     }
 
     /// [`BodySurface::depth_above`] with the maps as a [`Mask`].
@@ -572,9 +594,10 @@ impl BodySurface {
         margin: f32,
         world: &WorldPose,
         only: Mask,
+        axes: &Axes,
         floor: f32,
     ) -> Option<(f32, Vec3, usize)> {
-        let (d, q, k) = self.deepest_rest(p, margin, world, only, floor)?;
+        let (d, q, k) = self.deepest_rest(p, margin, world, only, axes, floor)?;
         let map = self.maps[k].as_ref()?;
         Some((d, map.outward(q, world.rotation[map.bone.index()]), k))
     }
@@ -588,6 +611,7 @@ impl BodySurface {
         margin: f32,
         world: &WorldPose,
         only: Mask,
+        axes: &Axes,
         floor: f32,
     ) -> Option<(f32, Vec3, usize)> {
         let mut best: Option<(f32, Vec3, usize)> = None;
@@ -601,6 +625,10 @@ impl BodySurface {
             };
             let b = map.bone.index();
             let floor = best.map_or(floor, |(bd, _, _)| bd.max(floor));
+            // Beyond the band or the widest skin in world axes: not rotated into the map.
+            if map.skips(axes[k], p, margin, floor) {
+                continue;
+            }
             let q = map.rest + world.rotation[b].inverse() * (p - world.position[b]);
             if let Some(d) = map.depth_rest(q, margin, floor) {
                 if best.is_none_or(|(bd, _, _)| d > bd) {
@@ -822,6 +850,12 @@ pub fn hand_spheres_of(
 /// Which maps a query looks at: bit k for the map of `MAP_BONES[k]`.
 type Mask = u8;
 
+/// Each map placed in world axes ([`BodySurface::axes`]).
+type Axes = [(Vec3, Vec3); MAP_BONES.len()];
+
+/// Rounding allowance of [`RadialMap::skips`] (m).
+const AXES_SLACK: f32 = 1e-3;
+
 /// The maps whose flag is set, as a [`Mask`].
 fn mask_of(only: [bool; MAP_BONES.len()]) -> Mask {
     only.iter()
@@ -884,6 +918,25 @@ impl BodySurface {
         mask
     }
 
+    /// Each map of `only` placed in world axes for [`RadialMap::skips`]: a point of its axis
+    /// (a cylinder's at its lowest row's bottom) or its center, and its axis's direction.
+    fn axes(&self, world: &WorldPose, only: Mask) -> Axes {
+        let mut axes = [(Vec3::ZERO, Vec3::Y); MAP_BONES.len()];
+        for (k, map) in self.maps.iter().enumerate() {
+            let Some(map) = map.as_ref().filter(|_| only >> k & 1 != 0) else {
+                continue;
+            };
+            let b = map.bone.index();
+            let r = world.rotation[b];
+            let anchor = match map.kind {
+                MapKind::Cylinder => Vec3::new(map.center.x, map.bottom, map.center.z),
+                MapKind::Sphere => map.center,
+            };
+            axes[k] = (world.position[b] + r * (anchor - map.rest), r * Vec3::Y);
+        }
+        axes
+    }
+
     /// How deep the hand's deepest ball (centers relative to `wrist`, world axes) is inside
     /// the body, or `floor` if none is deeper. Allocates nothing.
     #[must_use]
@@ -900,8 +953,9 @@ impl BodySurface {
         if mask == 0 {
             return floor;
         }
+        let axes = self.axes(world, mask);
         points.iter().fold(floor, |best, (p, margin)| {
-            match self.deepest_rest(wrist + *p, *margin, world, mask, best) {
+            match self.deepest_rest(wrist + *p, *margin, world, mask, &axes, best) {
                 Some((d, ..)) if d > best => d,
                 _ => best,
             }
@@ -920,6 +974,7 @@ impl BodySurface {
         let all = ALL_MAPS;
         let mut total = Vec3::ZERO;
         let mut mask = self.near(wrist + hull.center, hull.reach, world, all, 0.0);
+        let mut axes = self.axes(world, mask);
         for _ in 0..3 {
             // No map near: no ball moves (a hand away from the body).
             if mask == 0 {
@@ -928,12 +983,13 @@ impl BodySurface {
             let mut moved = false;
             for (p, margin) in points {
                 if let Some((d, n, _)) =
-                    self.depth_in(wrist + *p + total, *margin, world, mask, 0.0)
+                    self.depth_in(wrist + *p + total, *margin, world, mask, &axes, 0.0)
                 {
                     if d > 0.0 {
                         total += n * d;
                         moved = true;
                         mask = self.near(wrist + hull.center + total, hull.reach, world, all, 0.0);
+                        axes = self.axes(world, mask);
                     }
                 }
             }
@@ -992,12 +1048,13 @@ impl BodySurface {
             if mask == 0 {
                 return None;
             }
+            let axes = self.axes(world, mask);
             // The depth, the point in its map's rest frame, the map and the ball.
             let mut best: Option<(f32, Vec3, usize, usize)> = None;
             for (i, (p, margin)) in points.iter().enumerate() {
                 let floor = best.map_or(least, |(bd, ..)| bd.max(least));
                 if let Some((d, q, k)) =
-                    self.deepest_rest(wrist + *p + shift, *margin, world, mask, floor)
+                    self.deepest_rest(wrist + *p + shift, *margin, world, mask, &axes, floor)
                 {
                     if best.is_none_or(|(bd, ..)| d > bd) {
                         best = Some((d, q, k, i));
