@@ -9,7 +9,10 @@
 //! HANDRIG_AVATAR=tests/fixtures/avatars/woman-vrm1.vrm cargo run ...  (another avatar: a
 //!                                     generated one times self-contact on its skin)
 //! HANDRIG_FRAMES=eval/frames/hands-near-face.json cargo run ...  (other full frames, in the
-//!                                     ASL clips' format: e.g. where self-contact engages)
+//!                                     ASL clips' format: e.g. where self-contact engages;
+//!                                     or a hands-only recording, e.g.
+//!                                     ../shared/data/hands/right-hand-video-mediapipe.json,
+//!                                     `eval/speed.mjs`'s "one hand" frames)
 //! HANDRIG_DIGEST=1 cargo run ... -- --passes 1   (also prints a digest of every output of
 //!                                     every frame: two builds with the same digest gave
 //!                                     bit-identical outputs on these frames)

@@ -354,6 +354,27 @@ impl RadialMap {
         Some(self.lookup(row, sec) + margin - r)
     }
 
+    /// Whether [`RadialMap::depth_rest`] surely answers `None` for a ball at world point `p`
+    /// (radius `margin`, depths above `floor`), asked in world axes (`at`, `axis`:
+    /// [`BodySurface::axes`]) before the ball is rotated into the map: beyond the band or
+    /// the widest skin by more than [`AXES_SLACK`], which covers the rounding of both ways of
+    /// measuring.
+    #[inline]
+    fn skips(&self, (at, axis): (Vec3, Vec3), p: Vec3, margin: f32, floor: f32) -> bool {
+        let rel = p - at;
+        let reach = match self.kind {
+            MapKind::Cylinder => {
+                let h = rel.dot(axis);
+                if h < -margin - AXES_SLACK || h > self.rows as f32 * ROW + margin + AXES_SLACK {
+                    return true;
+                }
+                (rel.length_squared() - h * h).max(0.0).sqrt()
+            }
+            MapKind::Sphere => rel.length(),
+        };
+        self.widest + margin - reach + AXES_SLACK <= floor
+    }
+
     /// Whether a hand within `reach` of `q` (rest frame) may have a ball deeper than `floor`
     /// in this map or within a cylinder's band (see [`BodySurface::near`]).
     #[inline]
@@ -562,7 +583,21 @@ impl BodySurface {
         only: [bool; MAP_BONES.len()],
         floor: f32,
     ) -> Option<(f32, Vec3, usize)> {
-        let (d, q, k) = self.deepest_rest(p, margin, world, only, floor)?;
+        let only = mask_of(only);
+        self.depth_in(p, margin, world, only, &self.axes(world, only), floor)
+    }
+
+    /// [`BodySurface::depth_above`] with the maps as a [`Mask`].
+    fn depth_in(
+        &self,
+        p: Vec3,
+        margin: f32,
+        world: &WorldPose,
+        only: Mask,
+        axes: &Axes,
+        floor: f32,
+    ) -> Option<(f32, Vec3, usize)> {
+        let (d, q, k) = self.deepest_rest(p, margin, world, only, axes, floor)?;
         let map = self.maps[k].as_ref()?;
         Some((d, map.outward(q, world.rotation[map.bone.index()]), k))
     }
@@ -576,16 +611,24 @@ impl BodySurface {
         margin: f32,
         world: &WorldPose,
         only: Mask,
+        axes: &Axes,
         floor: f32,
     ) -> Option<(f32, Vec3, usize)> {
         let mut best: Option<(f32, Vec3, usize)> = None;
-        for (k, map) in self.maps.iter().enumerate() {
-            let Some(map) = map else { continue };
-            if !only[k] {
+        // The maps of `only` in order, without a test per map left out.
+        let mut bits = only;
+        while bits != 0 {
+            let k = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            let Some(map) = self.maps.get(k).and_then(Option::as_ref) else {
                 continue;
-            }
+            };
             let b = map.bone.index();
             let floor = best.map_or(floor, |(bd, _, _)| bd.max(floor));
+            // Beyond the band or the widest skin in world axes: not rotated into the map.
+            if map.skips(axes[k], p, margin, floor) {
+                continue;
+            }
             let q = map.rest + world.rotation[b].inverse() * (p - world.position[b]);
             if let Some(d) = map.depth_rest(q, margin, floor) {
                 if best.is_none_or(|(bd, _, _)| d > bd) {
@@ -761,16 +804,33 @@ pub fn hand_spheres(
     target: &super::SideTarget,
     out: &mut [(Vec3, f32); HAND_SPHERES],
 ) -> usize {
+    hand_spheres_of(
+        surface,
+        side,
+        target.body_points(),
+        target.hand.is_some(),
+        out,
+    )
+}
+
+/// [`hand_spheres`] of the points `body` (a target's [`super::SideTarget::body_points`]), all
+/// of them when `seen` (the hand was seen this frame), without a target to hold them.
+pub fn hand_spheres_of(
+    surface: &BodySurface,
+    side: Side,
+    body: Option<&super::HandPoints>,
+    seen: bool,
+    out: &mut [(Vec3, f32); HAND_SPHERES],
+) -> usize {
     let s = side.index();
     let (palm, finger) = (surface.palm_half[s], surface.finger_radius[s]);
     out[0] = (Vec3::ZERO, palm);
     let mut n = 1;
-    if let Some(hand) = target.body_points() {
+    if let Some(hand) = body {
         if let Some(c) = hand.avatar[0] {
             out[n] = (c, palm);
             n += 1;
         }
-        let seen = target.hand.is_some();
         for (k, j) in hand.joints.iter().enumerate() {
             if let Some(j) = j.filter(|_| seen) {
                 // Each finger's first joint is in the palm (the thumb's: at its root).
@@ -787,8 +847,24 @@ pub fn hand_spheres(
     n
 }
 
-/// Which maps a query looks at.
-type Mask = [bool; MAP_BONES.len()];
+/// Which maps a query looks at: bit k for the map of `MAP_BONES[k]`.
+type Mask = u8;
+
+/// Each map placed in world axes ([`BodySurface::axes`]).
+type Axes = [(Vec3, Vec3); MAP_BONES.len()];
+
+/// Rounding allowance of [`RadialMap::skips`] (m).
+const AXES_SLACK: f32 = 1e-3;
+
+/// The maps whose flag is set, as a [`Mask`].
+fn mask_of(only: [bool; MAP_BONES.len()]) -> Mask {
+    only.iter()
+        .enumerate()
+        .fold(0, |m, (k, &on)| m | (u8::from(on) << k))
+}
+
+/// Every map.
+const ALL_MAPS: Mask = (1 << MAP_BONES.len()) - 1;
 
 /// A ball around a hand's balls: center relative to the wrist, and the largest distance
 /// from it to a ball's far side.
@@ -830,17 +906,35 @@ impl BodySurface {
     /// answer `None` to [`BodySurface::depth_above`] for every one of its balls, so a query
     /// can skip them, rotating one point per map instead of one per ball.
     fn near(&self, center: Vec3, reach: f32, world: &WorldPose, only: Mask, floor: f32) -> Mask {
-        let mut mask = only;
+        let mut mask = 0;
         for (k, map) in self.maps.iter().enumerate() {
-            let Some(map) = map else { continue };
-            if !only[k] {
+            let Some(map) = map.as_ref().filter(|_| only >> k & 1 != 0) else {
                 continue;
-            }
+            };
             let b = map.bone.index();
             let q = map.rest + world.rotation[b].inverse() * (center - world.position[b]);
-            mask[k] = map.may_hold(q, reach, floor);
+            mask |= u8::from(map.may_hold(q, reach, floor)) << k;
         }
         mask
+    }
+
+    /// Each map of `only` placed in world axes for [`RadialMap::skips`]: a point of its axis
+    /// (a cylinder's at its lowest row's bottom) or its center, and its axis's direction.
+    fn axes(&self, world: &WorldPose, only: Mask) -> Axes {
+        let mut axes = [(Vec3::ZERO, Vec3::Y); MAP_BONES.len()];
+        for (k, map) in self.maps.iter().enumerate() {
+            let Some(map) = map.as_ref().filter(|_| only >> k & 1 != 0) else {
+                continue;
+            };
+            let b = map.bone.index();
+            let r = world.rotation[b];
+            let anchor = match map.kind {
+                MapKind::Cylinder => Vec3::new(map.center.x, map.bottom, map.center.z),
+                MapKind::Sphere => map.center,
+            };
+            axes[k] = (world.position[b] + r * (anchor - map.rest), r * Vec3::Y);
+        }
+        axes
     }
 
     /// How deep the hand's deepest ball (centers relative to `wrist`, world axes) is inside
@@ -854,15 +948,14 @@ impl BodySurface {
         floor: f32,
     ) -> f32 {
         let hull = Hull::of(points);
-        let mask = self.near(
-            wrist + hull.center,
-            hull.reach,
-            world,
-            [true; MAP_BONES.len()],
-            floor,
-        );
+        let mask = self.near(wrist + hull.center, hull.reach, world, ALL_MAPS, floor);
+        // No map near: every ball answers `None` (a hand away from the body).
+        if mask == 0 {
+            return floor;
+        }
+        let axes = self.axes(world, mask);
         points.iter().fold(floor, |best, (p, margin)| {
-            match self.deepest_rest(wrist + *p, *margin, world, mask, best) {
+            match self.deepest_rest(wrist + *p, *margin, world, mask, &axes, best) {
                 Some((d, ..)) if d > best => d,
                 _ => best,
             }
@@ -878,19 +971,25 @@ impl BodySurface {
         // (the hand's hull, where the pushes so far have taken it) are not sampled, which
         // answers as sampling them would (`depth_above` with floor 0 skips them too).
         let hull = Hull::of(points);
-        let all = [true; MAP_BONES.len()];
+        let all = ALL_MAPS;
         let mut total = Vec3::ZERO;
         let mut mask = self.near(wrist + hull.center, hull.reach, world, all, 0.0);
+        let mut axes = self.axes(world, mask);
         for _ in 0..3 {
+            // No map near: no ball moves (a hand away from the body).
+            if mask == 0 {
+                break;
+            }
             let mut moved = false;
             for (p, margin) in points {
                 if let Some((d, n, _)) =
-                    self.depth_above(wrist + *p + total, *margin, world, mask, 0.0)
+                    self.depth_in(wrist + *p + total, *margin, world, mask, &axes, 0.0)
                 {
                     if d > 0.0 {
                         total += n * d;
                         moved = true;
                         mask = self.near(wrist + hull.center + total, hull.reach, world, all, 0.0);
+                        axes = self.axes(world, mask);
                     }
                 }
             }
@@ -939,18 +1038,23 @@ impl BodySurface {
         out_only: bool,
     ) -> Vec3 {
         let hull = Hull::of(points);
+        let only = mask_of(only);
         // Outward only, a hand whose deepest ball is not inside stays: its deepest is only
         // looked for above 0, where the bounds skip the maps and balls that cannot be inside
         // (the deepest above 0 is the deepest, found in the same order).
         let least = if out_only { 0.0 } else { f32::NEG_INFINITY };
         let deepest = |shift: Vec3| -> Option<(f32, Vec3, usize, usize)> {
             let mask = self.near(wrist + hull.center + shift, hull.reach, world, only, least);
+            if mask == 0 {
+                return None;
+            }
+            let axes = self.axes(world, mask);
             // The depth, the point in its map's rest frame, the map and the ball.
             let mut best: Option<(f32, Vec3, usize, usize)> = None;
             for (i, (p, margin)) in points.iter().enumerate() {
                 let floor = best.map_or(least, |(bd, ..)| bd.max(least));
                 if let Some((d, q, k)) =
-                    self.deepest_rest(wrist + *p + shift, *margin, world, mask, floor)
+                    self.deepest_rest(wrist + *p + shift, *margin, world, mask, &axes, floor)
                 {
                     if best.is_none_or(|(bd, ..)| d > bd) {
                         best = Some((d, q, k, i));
@@ -992,7 +1096,7 @@ impl BodySurface {
         let mut hub = [Vec3::ZERO; MAP_BONES.len()];
         let mut dir = [Vec3::ZERO; MAP_BONES.len()];
         for (k, map) in self.maps.iter().enumerate() {
-            let Some(map) = map.as_ref().filter(|_| only[k]) else {
+            let Some(map) = map.as_ref().filter(|_| only >> k & 1 != 0) else {
                 continue;
             };
             let b = map.bone.index();
@@ -1012,7 +1116,7 @@ impl BodySurface {
             // The largest float below 0: a bound at most it is below 0.
             let floor = if or_zero { -f32::from_bits(1) } else { 0.0 };
             self.maps.iter().enumerate().any(|(k, map)| {
-                let Some(map) = map.as_ref().filter(|_| only[k]) else {
+                let Some(map) = map.as_ref().filter(|_| only >> k & 1 != 0) else {
                     return false;
                 };
                 map.may_hold(hub[k] + dir[k] * s, hull.reach, floor)
@@ -1051,10 +1155,21 @@ impl BodySurface {
                 let next = s1 - f1 * (s1 - s0) / (f1 - f0);
                 (s0, f0, s1) = (s1, f1, next);
             }
+            // In just after: the deepest ball is inside there by construction, so it is asked
+            // first (its map's bound, then its depth, as `reaches` asks them); the whole hand
+            // only when it says no (`reaches` is true when any ball is).
+            let after = s1 + LAND_CHECK;
+            let first_in = || {
+                only >> k0 & 1 != 0
+                    && map.may_hold(hub[k0] + dir[k0] * after, hull.reach, 0.0)
+                    && map
+                        .depth_rest(base[k0][i0] + dir[k0] * after, *margin, 0.0)
+                        .is_some_and(|d| d > 0.0)
+            };
             if along(s1).is_some_and(|f| f.abs() <= LAND_TOLERANCE)
                 && (lo..=hi).contains(&s1)
                 && !reaches(s1 - LAND_CHECK, false)
-                && reaches(s1 + LAND_CHECK, false)
+                && (first_in() || reaches(after, false))
             {
                 let total = -n * (s1 - LAND_CHECK);
                 if total.is_finite() {

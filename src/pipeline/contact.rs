@@ -432,23 +432,15 @@ impl<'a> HandBody<'a> {
         let o = &cx.options.contact;
         let surface = contact.surface().filter(|_| o.enabled && o.colliders)?;
         let s = side.index();
-        let Plan::Reach {
-            target,
-            hand_rotation,
-            ..
-        } = f.plans[s]
-        else {
+        let Plan::Reach { hand_rotation, .. } = f.plans[s] else {
             return None;
         };
         // A hand not seen is pushed with 7 of its balls (`skin::hand_spheres`); it is checked
         // here with all it was last seen with: between those 7 its knuckles sank up to 18 mm.
-        let hand = SideTarget {
-            wrist: target,
-            hand: f.points[s].or(f.held[s]),
-            held: None,
-        };
+        // (The points are read where they are: a copy of them cost more than the balls.)
+        let body = f.points[s].as_ref().or(f.held[s].as_ref());
         let mut balls = [(Vec3::ZERO, 0.0); skin::HAND_SPHERES];
-        let count = skin::hand_spheres(surface, side, &hand, &mut balls);
+        let count = skin::hand_spheres_of(surface, side, body, body.is_some(), &mut balls);
         Some(HandBody {
             surface,
             balls,

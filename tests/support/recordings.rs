@@ -150,13 +150,15 @@ pub fn hand_video_frames() -> Vec<FrameInput> {
         .collect()
 }
 
-/// Every frame of an ASL clip at `path` as rig input: its hands (at most [`MAX_HANDS`], in
-/// file order, world and image landmarks), the pose world landmarks with their visibilities
-/// and its image landmarks, and the time.
+/// Every frame of an ASL clip at `path` (or of a hands-only recording such as [`HAND_VIDEO`])
+/// as rig input: its hands (at most [`MAX_HANDS`], in file order, world and image landmarks),
+/// the pose world landmarks with their visibilities and its image landmarks, and the time.
 pub fn read_asl(path: &Path) -> Result<Vec<FrameInput>, String> {
     let v = read_json(path)?;
+    // `{ frames: [...] }`, or a bare array of frames (the hand video's format).
     let frames = v["frames"]
         .as_array()
+        .or(v.as_array())
         .ok_or(format!("{}: no frames array", path.display()))?;
     frames
         .iter()
