@@ -240,11 +240,12 @@ const LEG_BONES = SIDES.flatMap((s) => ["UpperLeg", "LowerLeg", "Foot"].map((b) 
 const turnDeg = (a, b) => (2 * Math.acos(Math.min(1, Math.abs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]))) * 180) / Math.PI;
 const METHODS = ["handrig", "tracked", "kalidokit"];
 const LABEL = { handrig: "handrig (defaults)", tracked: "handrig, as tracked", kalidokit: "Kalidokit 1.1.5" };
-const newAcc = () => Object.fromEntries(METHODS.map((m) => [m, { turns: [], over90: 0, frames: 0, backwards: 0, under: 0, slide: [], plantedSlide: [], float: 0, stanceFrames: 0, labelFloat: 0, labelFrames: 0, worst: null, hipsStep: [], events: [] }]));
+const newAcc = () => Object.fromEntries(METHODS.map((m) => [m, { turns: [], over90: 0, frames: 0, backwards: 0, under: 0, slide: [], plantedSlide: [], float: 0, stanceFrames: 0, labelFloat: 0, labelFrames: 0, half: { tune: [0, 0, 0, 0], report: [0, 0, 0, 0] }, worst: null, hipsStep: [], events: [] }]));
 function merge(into, acc) {
   for (const m of METHODS) {
     for (const k of ["turns", "slide", "plantedSlide", "hipsStep", "events"]) into[m][k].push(...acc[m][k]);
     for (const k of ["over90", "frames", "backwards", "under", "float", "stanceFrames", "labelFloat", "labelFrames"]) into[m][k] += acc[m][k];
+    for (const h of ["tune", "report"]) for (let k = 0; k < 4; k++) into[m].half[h][k] += acc[m].half[h][k];
     if (acc[m].worst && (!into[m].worst || acc[m].worst.deg > into[m].worst.deg)) into[m].worst = acc[m].worst;
   }
 }
@@ -345,6 +346,13 @@ function scoreTrack(S, body, restPose, tr, labels, EXTRA) {
       if (backwards) a.backwards++;
       if (float) a.float++;
       if (labelFloat) a.labelFloat++;
+      // The tracks' halves: odd tracks tune, even ones report ([stance frames with a foot up, stance
+      // frames, standing frames with a foot up, standing frames]).
+      const h = a.half[Number(tr.id.slice(1)) % 2 ? "tune" : "report"];
+      h[0] += +float;
+      h[1] += +(stance[i].left || stance[i].right);
+      h[2] += +labelFloat;
+      h[3] += +standing.has(frame.frame);
       prev[m] = { rot: rot[m], s: samples[m], planted: m === "handrig" ? planted : null };
     }
   });
@@ -466,6 +474,7 @@ const FIG = [
   ["sliding while handrig's foot is planted (mm per frame, mean / p95 / max; leg-frames)", (a, m) => (m === "handrig" ? `${f2(mean(a.plantedSlide))} / ${f1(percentile(a.plantedSlide, 95))} / ${f1(Math.max(...a.plantedSlide))} (${a.plantedSlide.length})` : "-")],
   ["frames with a stance foot > 2 cm above the floor", (a) => `${a.float} of ${a.stanceFrames}`],
   ["frames standing still (by eye) with a foot > 2 cm above the floor", (a) => `${a.labelFloat} of ${a.labelFrames}`],
+  ["the same two, tune tracks (odd) / report tracks (even)", (a) => `${a.half.tune[0]} of ${a.half.tune[1]}, ${a.half.tune[2]} of ${a.half.tune[3]} / ${a.half.report[0]} of ${a.half.report[1]}, ${a.half.report[2]} of ${a.half.report[3]}`],
 ];
 for (const [name, acc] of [...avatars.map((a) => [a, byAvatar[a]]), ...(avatars.length > 1 ? [["all avatars", total]] : [])]) {
   console.log();

@@ -269,6 +269,17 @@ impl Legs {
             cx.skeleton.forward_body(&out.local, &mut out.world);
         }
         let soles = self.soles.filter(|_| o.move_hips);
+        // The feet that stand the hips on the floor: those shown as tracked, both when none
+        // is. A leg not seen shows a guess, held or easing to rest: it held a seen foot that
+        // stood still up to 10 cm in the air (the real walking video's T13). A leg blending in
+        // bears as far as it is blended in.
+        let shown = [0, 1].map(|s| targets[s].is_some() && blends[s].is_exact());
+        let alone = match shown {
+            [true, false] => Some(0),
+            [false, true] => Some(1),
+            _ => None,
+        };
+        let bearing = alone.map_or([0, 1], |b| [b, b]);
         offset.y = match (moved, soles) {
             // Seated legs that are not seen leave the hips where they rest (on the chair).
             _ if o.rest == LegRest::Seated && targets.iter().all(Option::is_none) => {
@@ -277,7 +288,17 @@ impl Legs {
                 });
                 offset.y - k * offset.y
             }
-            (true, Some(soles)) => soles.floor - self.lowest(&soles, out, [0, 1]),
+            (true, Some(soles)) => {
+                let both = soles.floor - self.lowest(&soles, out, [0, 1]);
+                match alone {
+                    Some(b) if targets[1 - b].is_some() => {
+                        let one = soles.floor - self.lowest(&soles, out, bearing);
+                        one + blends[1 - b].weight.clamp(0.0, 1.0) * (both - one)
+                    }
+                    Some(_) => soles.floor - self.lowest(&soles, out, bearing),
+                    None => both,
+                }
+            }
             _ => 0.0,
         };
         // Each tracked foot's height above the floor (a planted foot lifts when the tracked
@@ -454,7 +475,38 @@ impl Legs {
             cx.skeleton.forward_body(&out.local, &mut out.world);
             // No sole under the floor (a planted foot turned by its ankle may dip).
             if let Some(soles) = soles {
-                offset.y = offset.y.max(soles.floor - self.lowest(&soles, out, [0, 1]));
+                offset.y = offset
+                    .y
+                    .max(soles.floor - self.lowest(&soles, out, bearing));
+            }
+        }
+        // A leg not bearing while the other is: its foot kept out of the floor, the leg bent up
+        // (its ankle raised by what its sole is under) with its foot turned as shown.
+        if let (Some(soles), Some(b)) = (soles, alone) {
+            let s = 1 - b;
+            let side = Side::BOTH[s];
+            let under = soles.floor - self.lowest(&soles, out, [s, s]) - offset.y;
+            if let (true, Some(leg)) = (under > 0.0, self.legs[s].as_mut()) {
+                let bones = leg_bones(side);
+                let at = |k: usize| out.world.position[bones[k].index()];
+                let t = LegTarget {
+                    hip: at(0),
+                    knee: at(1),
+                    ankle: at(2) + Vec3::Y * under,
+                    foot: None,
+                };
+                let parent = cx.skeleton.parent(bones[0]).map_or(0, |p| p.index());
+                let hips = out.world.rotation[parent];
+                let solved = leg.solve(hips, &t);
+                let [upper, lower, _] = solved.local;
+                let turned = out.world.rotation[bones[2].index()];
+                out.local[bones[0].index()] = upper;
+                out.local[bones[1].index()] = lower;
+                out.local[bones[2].index()] =
+                    ((hips * upper * lower).conjugate() * turned).normalize();
+                cx.skeleton.forward_body(&out.local, &mut out.world);
+                // Where the leg cannot bend that far (its hip's range), the hips rise.
+                offset.y = offset.y.max(soles.floor - self.lowest(&soles, out, [s, s]));
             }
         }
         // Commit what is shown.

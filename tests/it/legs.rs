@@ -753,3 +753,56 @@ fn a_leg_first_seen_while_the_other_walks_blends_in() {
         assert!(step < 40.0, "a leg bone turned {step} degrees in a frame");
     }
 }
+
+#[test]
+fn a_leg_not_seen_does_not_hold_the_seen_foot_in_the_air() {
+    // Standing straight for 20 frames; then one leg is lost (its knee's visibility 0.1) while
+    // the other bends 40 degrees at the knee, its foot under it (the real walking video's T13:
+    // a held leg stood the hips on its foot and the seen one stood still up to 10 cm above the
+    // floor). The seen foot stays on the floor, the lost one does not go under it.
+    let base = recordings::asl(recordings::ASL[0]);
+    let straight = (Vec3::new(0.0, 0.42, 0.0), Vec3::new(0.0, 0.82, 0.0));
+    let half = 20f32.to_radians();
+    let thigh = Vec3::new(0.0, 0.42 * half.cos(), -0.42 * half.sin());
+    let bent = (
+        thigh,
+        thigh + Vec3::new(0.0, 0.4 * half.cos(), 0.4 * half.sin()),
+    );
+    let [_, k, ..] = leg_landmarks(Side::Right);
+    for avatar in recordings::real_avatars() {
+        let soles = Soles::new(&avatar).expect("soles");
+        let mut rig = Rig::new(avatar.clone(), RigOptions::default()).expect("rig");
+        let mut out = SolveOutput::default();
+        for (i, frame) in base.iter().enumerate().take(50) {
+            let mut f = if i < 20 {
+                with_legs(frame, straight.0, straight.1)
+            } else {
+                // The user's left leg bent, the right one as it was (then lost).
+                let mut f = with_legs(frame, bent.0, bent.1);
+                let g = with_legs(frame, straight.0, straight.1);
+                let pose = f.pose.as_mut().expect("pose");
+                let image = f.pose_image.as_mut().expect("image");
+                for j in leg_landmarks(Side::Right) {
+                    pose.world[j] = g.pose.as_ref().expect("pose").world[j];
+                    image[j] = g.pose_image.expect("image")[j];
+                }
+                pose.visibility[k] = 0.1;
+                f
+            };
+            if i < 20 {
+                f.pose.as_mut().expect("pose").visibility[k] = 0.95;
+            }
+            rig.solve(&f, &mut out).expect("solve");
+            out.turn_to_internal_frame(rig.skeleton().version());
+            let low = lowest_sole(&soles, &out);
+            assert!(
+                low[0].min(low[1]) > soles.floor - 1e-3,
+                "frame {i}: a sole under the floor {low:?}"
+            );
+            if i >= 30 {
+                let up = low[0].max(low[1]) - soles.floor;
+                assert!(up < 0.01, "frame {i}: a foot {up} m above the floor");
+            }
+        }
+    }
+}
