@@ -93,6 +93,9 @@ pub(super) struct Legs {
     last_ankle: [Option<Vec3>; 2],
     /// Each tracked ankle in the image last frame (x in heights).
     last_seen_ankle: [Option<Vec3>; 2],
+    /// Each tracked ankle in the image two frames back, and the time between it and the last.
+    before_seen_ankle: [Option<Vec3>; 2],
+    last_dt: f32,
     /// Whether each tracked ankle moved at [`LIFT_SPEED`] or faster last frame.
     fast: [bool; 2],
     /// How each leg is read from the image.
@@ -136,6 +139,8 @@ impl Legs {
             lock: [None; 2],
             last_ankle: [None; 2],
             last_seen_ankle: [None; 2],
+            before_seen_ankle: [None; 2],
+            last_dt: 0.0,
             fast: [false; 2],
             reading: [Reading::default(); 2],
             own: None,
@@ -163,6 +168,8 @@ impl Legs {
         self.lock = [None; 2];
         self.last_ankle = [None; 2];
         self.last_seen_ankle = [None; 2];
+        self.before_seen_ankle = [None; 2];
+        self.last_dt = 0.0;
         self.fast = [false; 2];
         self.reading = [Reading::default(); 2];
         self.own = None;
@@ -335,27 +342,37 @@ impl Legs {
         // mm of sliding on the first frames of every clip).
         let mut speed = [if cx.dt.is_none() { 0.0 } else { f32::INFINITY }; 2];
         for s in 0..2 {
+            // Over the last two frames: a jump there and back again moves the ankle nowhere.
+            let mut away = true;
             if let (Some(a), Some(b), Some(dt), Some(m)) =
                 (seen_ankle[s], self.last_seen_ankle[s], cx.dt, to_meters)
             {
                 speed[s] = (a - b).length() * m / dt.max(1e-3);
+                if let Some(c) = self.before_seen_ankle[s] {
+                    away = (a - c).length() * m / (dt + self.last_dt).max(1e-3) >= LIFT_SPEED;
+                }
             } else if let (Some(a), Some(b), Some(dt)) =
                 (tracked_ankle[s], self.last_ankle[s], cx.dt)
             {
                 speed[s] = (a - b).length() / dt.max(1e-3);
             }
-            // A planted foot lifts by its speed only when it was fast the frame before too
-            // (or its speed is unknown): one frame's jump of the image ankle lifted and planted
-            // it again (the bench's figure of primitives: 41 of its 50 lifts planted again
-            // within 2 frames, each a slide).
-            let fast = speed[s] >= LIFT_SPEED;
-            if fast && (self.fast[s] || speed[s].is_infinite()) {
+            // A planted foot lifts by its speed only when it was fast the frame before too and
+            // has moved away over both frames (or its speed is unknown): one frame's jump of
+            // the image ankle lifted and planted it again (the bench's figure of primitives: 41
+            // of its 50 lifts planted again within 2 frames, each a slide), and so did a still
+            // foot's image jitter of 2-3 pixels back and forth at 10 frames a second (the real
+            // walking video: a person 20 pixels from shoulders to hips).
+            // (A leg not seen has no speed: its lock is kept or dropped below.)
+            let fast = targets[s].is_some() && speed[s] >= LIFT_SPEED;
+            if fast && ((self.fast[s] && away) || speed[s].is_infinite()) {
                 self.lock[s] = None;
             }
             self.fast[s] = fast;
         }
         self.last_ankle = tracked_ankle;
+        self.before_seen_ankle = self.last_seen_ankle;
         self.last_seen_ankle = seen_ankle;
+        self.last_dt = cx.dt.unwrap_or(0.0);
         // A planted foot's lock stays within [`HOVER`] of the floor as the tracked foot turns
         // (its ankle no lower than where the tracked foot's lowest sole meets the floor, nor
         // more than HOVER above that): a foot planted early, up to PLANT_HEIGHT above the
@@ -481,18 +498,30 @@ impl Legs {
             }
         }
         // A leg not bearing while the other is: its foot kept out of the floor, the leg bent up
-        // (its ankle raised by what its sole is under) with its foot turned as shown.
+        // (its ankle raised by what its sole is under) with its foot turned as shown. A foot
+        // planted when its leg was lost stays on its lock while the leg is held (not seen is
+        // not lifted: the real walking video's T13, a man standing still with one knee hidden,
+        // showed that leg held bent with its foot 5-7 cm up), while the leg reaches it.
         if let (Some(soles), Some(b)) = (soles, alone) {
             let s = 1 - b;
             let side = Side::BOTH[s];
+            let bones = leg_bones(side);
+            let at = |k: usize| out.world.position[bones[k].index()];
+            let held = !blends[s].to_solved && blends[s].weight <= 0.0;
+            let lock = self.lock[s].filter(|_| o.plant && held && targets[s].is_none());
+            let reach = self.legs[s].as_ref().map_or(0.0, Leg::length);
             let under = soles.floor - self.lowest(&soles, out, [s, s]) - offset.y;
-            if let (true, Some(leg)) = (under > 0.0, self.legs[s].as_mut()) {
-                let bones = leg_bones(side);
-                let at = |k: usize| out.world.position[bones[k].index()];
+            let lock = lock.filter(|l| (*l - offset - at(0)).length() < reach);
+            self.lock[s] = lock.or(self.lock[s].filter(|_| targets[s].is_some()));
+            let goal = match lock {
+                Some(l) => Some(l - offset),
+                None => (under > 0.0).then(|| at(2) + Vec3::Y * under),
+            };
+            if let (Some(ankle), Some(leg)) = (goal, self.legs[s].as_mut()) {
                 let t = LegTarget {
                     hip: at(0),
                     knee: at(1),
-                    ankle: at(2) + Vec3::Y * under,
+                    ankle,
                     foot: None,
                 };
                 let parent = cx.skeleton.parent(bones[0]).map_or(0, |p| p.index());
@@ -535,8 +564,11 @@ impl Legs {
                 height < PLANT_HEIGHT && speed < PLANT_SPEED
             };
             let ankle = out.world.position[leg_bones(side)[2].index()] + offset;
-            self.lock[s] =
-                (o.plant && planted && targets[s].is_some()).then(|| self.lock[s].unwrap_or(ankle));
+            // A lost leg's lock was kept or dropped above.
+            if targets[s].is_some() || alone.is_none() {
+                self.lock[s] = (o.plant && planted && targets[s].is_some())
+                    .then(|| self.lock[s].unwrap_or(ankle));
+            }
             out.planted[s] = self.lock[s].is_some();
         }
         self.offset = offset;

@@ -614,6 +614,27 @@ fn a_planted_foot_stays_put_through_one_frames_jump_of_its_image_ankle() {
     }
 }
 
+/// A standing foot's image ankle jittering back and forth every frame (the real walking video
+/// at 10 frames a second: 2-3 pixels on a person 20 pixels from shoulders to hips, 0.7 m/s at
+/// their scale): it is fast on every frame but goes nowhere, and stays planted.
+#[test]
+fn a_planted_foot_stays_put_through_its_image_ankles_jitter() {
+    let base = recordings::asl(recordings::ASL[0]);
+    let stand = (Vec3::new(0.0, 0.42, 0.0), Vec3::new(0.0, 0.82, 0.0));
+    let mut rig =
+        Rig::new(recordings::real_avatars()[0].clone(), RigOptions::default()).expect("rig");
+    let mut out = SolveOutput::default();
+    for (i, frame) in base.iter().enumerate().take(30) {
+        let mut f = with_legs(frame, stand.0, stand.1);
+        if i >= 10 && i % 2 == 0 {
+            let a = leg_landmarks(Side::Right)[2];
+            f.pose_image.as_mut().expect("image")[a].x += 0.025;
+        }
+        rig.solve(&f, &mut out).expect("solve");
+        assert!(out.planted == [true, true], "frame {i}: {:?}", out.planted);
+    }
+}
+
 /// A nearly straight leg's knee (bent 7 degrees) that MediaPipe's noise puts now to one side
 /// of the hip-ankle line, now to the other: the thigh does not twist about its own axis with
 /// it (the real walking video: a thigh turned 93 degrees between frames while its direction
@@ -759,7 +780,8 @@ fn a_leg_not_seen_does_not_hold_the_seen_foot_in_the_air() {
     // Standing straight for 20 frames; then one leg is lost (its knee's visibility 0.1) while
     // the other bends 40 degrees at the knee, its foot under it (the real walking video's T13:
     // a held leg stood the hips on its foot and the seen one stood still up to 10 cm above the
-    // floor). The seen foot stays on the floor, the lost one does not go under it.
+    // floor). The seen foot stays on the floor, the lost one stays planted while it is held and
+    // does not go under the floor after.
     let base = recordings::asl(recordings::ASL[0]);
     let straight = (Vec3::new(0.0, 0.42, 0.0), Vec3::new(0.0, 0.82, 0.0));
     let half = 20f32.to_radians();
@@ -795,10 +817,18 @@ fn a_leg_not_seen_does_not_hold_the_seen_foot_in_the_air() {
             rig.solve(&f, &mut out).expect("solve");
             out.turn_to_internal_frame(rig.skeleton().version());
             let low = lowest_sole(&soles, &out);
+            eprintln!(
+                "DBG {i} planted {:?} low {low:?} off {:?}",
+                out.planted, out.hips_offset
+            );
             assert!(
                 low[0].min(low[1]) > soles.floor - 1e-3,
                 "frame {i}: a sole under the floor {low:?}"
             );
+            // The lost foot was planted: it stays planted while the leg is held (250 ms).
+            if (20..25).contains(&i) {
+                assert!(out.planted == [true, true], "frame {i}: {:?}", out.planted);
+            }
             if i >= 30 {
                 let up = low[0].max(low[1]) - soles.floor;
                 assert!(up < 0.01, "frame {i}: a foot {up} m above the floor");
