@@ -453,33 +453,12 @@ impl RadialMap {
                 }
             }
         }
-        // `lookup`'s bins and weights as lanes (its casts are of floats in the table's range,
-        // or NaN: the same indices as i32), its reads and blends for the lanes kept.
-        let (mut i0, mut i1) = ([0i32; LANES], [0i32; LANES]);
-        let (mut j0, mut j1) = ([0i32; LANES], [0i32; LANES]);
-        let (mut fu, mut fv) = ([0.0f32; LANES], [0.0f32; LANES]);
-        let last = (self.rows - 1) as i32;
-        let sectors = SECTORS as i32;
-        for l in 0..LANES {
-            let u = (row[l] - 0.5).clamp(0.0, (self.rows - 1) as f32);
-            i0[l] = u as i32;
-            i1[l] = (i0[l] + 1).min(last);
-            fu[l] = u - i0[l] as f32;
-            let v = sec[l] - 0.5;
-            let v = if v < 0.0 { v + SECTORS as f32 } else { v };
-            let whole = v as i32;
-            j0[l] = whole.min(sectors - 1);
-            j1[l] = if j0[l] + 1 == sectors { 0 } else { j0[l] + 1 };
-            fv[l] = v - whole as f32;
-        }
+        // `lookup` for the lanes kept (its casts do not become vector instructions in SSE2).
         let mut left = bits;
         while left != 0 {
             let l = left.trailing_zeros() as usize;
             left &= left - 1;
-            let at = |i: i32, j: i32| self.radius[i as usize * SECTORS + j as usize];
-            let a = at(i0[l], j0[l]) + (at(i0[l], j1[l]) - at(i0[l], j0[l])) * fv[l];
-            let b = at(i1[l], j0[l]) + (at(i1[l], j1[l]) - at(i1[l], j0[l])) * fv[l];
-            depth[l] = a + (b - a) * fu[l] + q.m[l] - reach[l];
+            depth[l] = self.lookup(row[l], sec[l]) + q.m[l] - reach[l];
         }
         (depth, bits)
     }
