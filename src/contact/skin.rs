@@ -1725,10 +1725,10 @@ mod tests {
     fn balls(d: &mut Draw) -> (Lanes, [f32; LANES]) {
         let mut b = Lanes::default();
         let mut floor = [0.0; LANES];
-        for l in 0..LANES {
+        for (l, floor) in floor.iter_mut().enumerate() {
             let c = d.around(Vec3::new(0.0, 1.3, 0.0), 0.3);
             (b.x[l], b.y[l], b.z[l], b.m[l]) = (c.x, c.y, c.z, d.within(0.004, 0.03));
-            floor[l] = match (d.next() * 3.0) as u32 {
+            *floor = match (d.next() * 3.0) as u32 {
                 0 => f32::NEG_INFINITY,
                 1 => 0.0,
                 _ => d.within(-0.05, 0.05),
