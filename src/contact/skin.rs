@@ -392,6 +392,166 @@ impl RadialMap {
         };
         self.widest + reach - r + BOUND_SLACK > floor
     }
+
+    /// [`RadialMap::depth_rest`] for [`LANES`] balls at once (rest-frame points and radii by
+    /// coordinate, each lane with its own floor): each lane's depth, and a bit per lane that
+    /// has one (`depth_rest` answered `Some`). The same float operations in the same order
+    /// per lane, so the same bits; every step a select, so that the loops become vector
+    /// instructions (SSE2 natively, simd128 in the SIMD `.wasm`). The trigonometry and the
+    /// lookup only run when some lane passes the bounds.
+    // The negated comparisons are the one-ball query's, whose NaN answers they keep.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    #[inline]
+    fn depths(&self, q: &Lanes, floor: &[f32; LANES]) -> ([f32; LANES], u32) {
+        let c = self.center;
+        let mut reach = [0.0f32; LANES];
+        let mut ok = [0u32; LANES];
+        match self.kind {
+            MapKind::Cylinder => {
+                let top = self.rows as f32;
+                for l in 0..LANES {
+                    let (dx, dz, margin) = (q.x[l] - c.x, q.z[l] - c.z, q.m[l]);
+                    let row = (q.y[l] - self.bottom) / ROW;
+                    let r = (dx * dx + dz * dz).sqrt();
+                    reach[l] = r;
+                    ok[l] = lane_bit(
+                        l,
+                        !(row < -margin / ROW || row > top + margin / ROW)
+                            & !(self.widest + margin - r <= floor[l]),
+                    );
+                }
+            }
+            MapKind::Sphere => {
+                for l in 0..LANES {
+                    let (dx, dy, dz) = (q.x[l] - c.x, q.y[l] - c.y, q.z[l] - c.z);
+                    let r = (dx * dx + dy * dy + dz * dz).sqrt();
+                    ok[l] = lane_bit(l, !(self.widest + q.m[l] - r <= floor[l]));
+                }
+            }
+        }
+        let bits = bits_of(ok);
+        let mut depth = [0.0f32; LANES];
+        if bits == 0 {
+            return (depth, 0);
+        }
+        let (mut row, mut sec) = ([0.0f32; LANES], [0.0f32; LANES]);
+        match self.kind {
+            MapKind::Cylinder => {
+                for l in 0..LANES {
+                    row[l] = (q.y[l] - self.bottom) / ROW;
+                    sec[l] = sector(q.x[l] - c.x, q.z[l] - c.z);
+                }
+            }
+            MapKind::Sphere => {
+                for l in 0..LANES {
+                    let (dx, dy, dz) = (q.x[l] - c.x, q.y[l] - c.y, q.z[l] - c.z);
+                    let across = (dx * dx + dz * dz).sqrt();
+                    reach[l] = (across * across + dy * dy).sqrt();
+                    let polar = atan2_fast(across, dy);
+                    row[l] = polar / core::f32::consts::PI * HEAD_ROWS as f32;
+                    sec[l] = sector(dx, dz);
+                }
+            }
+        }
+        // `lookup` for the lanes kept (its casts do not become vector instructions in SSE2).
+        let mut left = bits;
+        while left != 0 {
+            let l = left.trailing_zeros() as usize;
+            left &= left - 1;
+            depth[l] = self.lookup(row[l], sec[l]) + q.m[l] - reach[l];
+        }
+        (depth, bits)
+    }
+}
+
+/// Balls a map answers at once ([`RadialMap::depths`]): natively 8 floats, two SSE2
+/// registers; 4 in the SIMD `.wasm`, one simd128 register (as fast in Node as 8, 1.4 KB of
+/// gzip fewer); one in the `.wasm` without SIMD, where the lanes' loops would only be
+/// unrolled (4.6 KB of gzip for 8 lanes): there the queries go a ball at a time as before.
+#[cfg(not(target_arch = "wasm32"))]
+const LANES: usize = 8;
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+const LANES: usize = 4;
+#[cfg(all(target_arch = "wasm32", not(target_feature = "simd128")))]
+const LANES: usize = 1;
+
+/// Lane `l`'s bit if `on`, else 0 (a select of a constant: vector instructions, where a
+/// shift by the lane would not be in SSE2).
+#[inline]
+fn lane_bit(l: usize, on: bool) -> u32 {
+    const BIT: [u32; LANES] = {
+        let mut bit = [0; LANES];
+        let mut l = 0;
+        while l < LANES {
+            bit[l] = 1 << l;
+            l += 1;
+        }
+        bit
+    };
+    if on {
+        BIT[l]
+    } else {
+        0
+    }
+}
+
+/// The lanes' bits of [`lane_bit`] together.
+#[inline]
+fn bits_of(bits: [u32; LANES]) -> u32 {
+    bits.iter().fold(0, |a, &b| a | b)
+}
+
+/// Chunks of [`LANES`] a hand's balls take.
+const CHUNKS: usize = HAND_SPHERES.div_ceil(LANES);
+
+/// Up to [`LANES`] balls: centers by coordinate and radii.
+#[derive(Clone, Copy, Debug, Default)]
+struct Lanes {
+    x: [f32; LANES],
+    y: [f32; LANES],
+    z: [f32; LANES],
+    m: [f32; LANES],
+}
+
+impl Lanes {
+    /// Balls `from..` of `points` (at most [`LANES`]; the rest of the lanes' balls are at the
+    /// origin with radius 0), each at `at + its center`, and the bits of the lanes filled.
+    #[inline]
+    fn of(at: Vec3, points: &[(Vec3, f32)], from: usize) -> (Lanes, u32) {
+        let mut b = Lanes::default();
+        let mut n = 0;
+        for (l, (p, m)) in points.iter().skip(from).take(LANES).enumerate() {
+            let c = at + *p;
+            (b.x[l], b.y[l], b.z[l], b.m[l]) = (c.x, c.y, c.z, *m);
+            n = l + 1;
+        }
+        (b, (1u32 << n) - 1)
+    }
+
+    /// Lane `l`'s center.
+    #[inline]
+    fn at(&self, l: usize) -> Vec3 {
+        Vec3::new(self.x[l], self.y[l], self.z[l])
+    }
+
+    /// The centers moved by `d`, radii kept.
+    #[inline]
+    fn moved(&self, d: Vec3) -> Lanes {
+        Lanes::along(&[self.x, self.y, self.z], self.m, d)
+    }
+
+    /// Balls at centers `xyz` (by coordinate) moved by `d`, radii `m`.
+    #[inline]
+    fn along([x, y, z]: &[[f32; LANES]; 3], m: [f32; LANES], d: Vec3) -> Lanes {
+        let mut b = Lanes {
+            m,
+            ..Lanes::default()
+        };
+        for l in 0..LANES {
+            (b.x[l], b.y[l], b.z[l]) = (x[l] + d.x, y[l] + d.y, z[l] + d.z);
+        }
+        b
+    }
 }
 
 /// Everything self-contact learned from the skin (see the module docs).
@@ -637,6 +797,100 @@ impl BodySurface {
             }
         }
         best
+    }
+
+    /// [`BodySurface::deepest_rest`] for [`LANES`] balls at once (world centers, each lane's
+    /// answer as `deepest_rest` gives it with that lane's `floor`): per lane the depth, the
+    /// map (`u8::MAX`: `None`) and the point in that map's rest frame. Each map of `only` in
+    /// turn: the lanes' world-axes bounds, their rotation into the map and their depths all
+    /// as lanes, then each lane's best kept as `deepest_rest` keeps it (a depth counts when
+    /// above the best so far).
+    // The negated comparisons are `RadialMap::skips`'s, whose NaN answers they keep.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    fn deepest_lanes(
+        &self,
+        p: &Lanes,
+        live: u32,
+        world: &WorldPose,
+        only: Mask,
+        axes: &Axes,
+        floor: [f32; LANES],
+    ) -> ([f32; LANES], [u8; LANES], Lanes) {
+        let mut best = [f32::NEG_INFINITY; LANES];
+        let mut which = [u8::MAX; LANES];
+        let mut at = Lanes::default();
+        // Each lane's floor: its own, then its best so far.
+        let mut fl = floor;
+        let mut bits = only;
+        while bits != 0 {
+            let k = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            let Some(map) = self.maps.get(k).and_then(Option::as_ref) else {
+                continue;
+            };
+            // Beyond the band or the widest skin in world axes (`RadialMap::skips`).
+            let (a, axis) = axes[k];
+            let mut kept = [0u32; LANES];
+            match map.kind {
+                MapKind::Cylinder => {
+                    let top = map.rows as f32 * ROW;
+                    for l in 0..LANES {
+                        let (rx, ry, rz) = (p.x[l] - a.x, p.y[l] - a.y, p.z[l] - a.z);
+                        let margin = p.m[l];
+                        let h = rx * axis.x + ry * axis.y + rz * axis.z;
+                        let band = !(h < -margin - AXES_SLACK || h > top + margin + AXES_SLACK);
+                        let reach = (rx * rx + ry * ry + rz * rz - h * h).max(0.0).sqrt();
+                        kept[l] = lane_bit(
+                            l,
+                            band & !(map.widest + margin - reach + AXES_SLACK <= fl[l]),
+                        );
+                    }
+                }
+                MapKind::Sphere => {
+                    for l in 0..LANES {
+                        let (rx, ry, rz) = (p.x[l] - a.x, p.y[l] - a.y, p.z[l] - a.z);
+                        let reach = (rx * rx + ry * ry + rz * rz).sqrt();
+                        kept[l] = lane_bit(l, !(map.widest + p.m[l] - reach + AXES_SLACK <= fl[l]));
+                    }
+                }
+            }
+            let kept = bits_of(kept) & live;
+            if kept == 0 {
+                continue;
+            }
+            // Into the map's rest frame: `rest + rotation⁻¹ (p - position)`, glam's quaternion
+            // product written out (its order in every build: scalar, SSE2, simd128).
+            let bone = map.bone.index();
+            let (pos, rot) = (world.position[bone], world.rotation[bone]);
+            let (bx, by, bz, w) = (-rot.x, -rot.y, -rot.z, rot.w);
+            let b2 = bx * bx + by * by + bz * bz;
+            let (ww, w2) = (w * w - b2, w * 2.0);
+            let mut q = Lanes {
+                m: p.m,
+                ..Lanes::default()
+            };
+            for l in 0..LANES {
+                let (vx, vy, vz) = (p.x[l] - pos.x, p.y[l] - pos.y, p.z[l] - pos.z);
+                let t = (vx * bx + vy * by + vz * bz) * 2.0;
+                let (cx, cy, cz) = (by * vz - vy * bz, bz * vx - vz * bx, bx * vy - vx * by);
+                q.x[l] = map.rest.x + (vx * ww + bx * t + cx * w2);
+                q.y[l] = map.rest.y + (vy * ww + by * t + cy * w2);
+                q.z[l] = map.rest.z + (vz * ww + bz * t + cz * w2);
+            }
+            let (depth, some) = map.depths(&q, &fl);
+            let mut found = some & kept;
+            while found != 0 {
+                let l = found.trailing_zeros() as usize;
+                found &= found - 1;
+                if which[l] == u8::MAX || depth[l] > best[l] {
+                    best[l] = depth[l];
+                    fl[l] = depth[l].max(floor[l]);
+                    which[l] = k as u8;
+                    (at.x[l], at.y[l], at.z[l]) = (q.x[l], q.y[l], q.z[l]);
+                }
+            }
+        }
+        (best, which, at)
     }
 
     /// Moves `anchor` (relative to the head bone, rest, internal frame) onto the head's skin:
@@ -954,12 +1208,18 @@ impl BodySurface {
             return floor;
         }
         let axes = self.axes(world, mask);
-        points.iter().fold(floor, |best, (p, margin)| {
-            match self.deepest_rest(wrist + *p, *margin, world, mask, &axes, best) {
-                Some((d, ..)) if d > best => d,
-                _ => best,
+        // The balls LANES at a time, each chunk with the best before it as its floor.
+        let mut best = floor;
+        for from in (0..points.len()).step_by(LANES) {
+            let (balls, live) = Lanes::of(wrist, points, from);
+            let (d, which, _) = self.deepest_lanes(&balls, live, world, mask, &axes, [best; LANES]);
+            for l in 0..LANES {
+                if live >> l & 1 != 0 && which[l] != u8::MAX && d[l] > best {
+                    best = d[l];
+                }
             }
-        })
+        }
+        best
     }
 
     /// The translation that moves the hand spheres (centers relative to `wrist`, world axes)
@@ -981,17 +1241,31 @@ impl BodySurface {
                 break;
             }
             let mut moved = false;
-            for (p, margin) in points {
-                if let Some((d, n, _)) =
-                    self.depth_in(wrist + *p + total, *margin, world, mask, &axes, 0.0)
-                {
-                    if d > 0.0 {
-                        total += n * d;
+            // The balls LANES at a time where the hand is; a ball that moves it moves the
+            // balls after it, which are asked again from there.
+            let mut from = 0;
+            while from < points.len() {
+                let (balls, live) = Lanes::of(wrist, points, from);
+                let balls = balls.moved(total);
+                let (d, which, q) =
+                    self.deepest_lanes(&balls, live, world, mask, &axes, [0.0; LANES]);
+                let mut next = from + LANES;
+                for l in 0..LANES {
+                    let k = usize::from(which[l]);
+                    let Some(map) = self.maps.get(k).and_then(Option::as_ref) else {
+                        continue;
+                    };
+                    if live >> l & 1 != 0 && d[l] > 0.0 {
+                        let n = map.outward(q.at(l), world.rotation[map.bone.index()]);
+                        total += n * d[l];
                         moved = true;
                         mask = self.near(wrist + hull.center + total, hull.reach, world, all, 0.0);
                         axes = self.axes(world, mask);
+                        next = from + l + 1;
+                        break;
                     }
                 }
+                from = next;
             }
             if !moved {
                 break;
@@ -1051,13 +1325,24 @@ impl BodySurface {
             let axes = self.axes(world, mask);
             // The depth, the point in its map's rest frame, the map and the ball.
             let mut best: Option<(f32, Vec3, usize, usize)> = None;
-            for (i, (p, margin)) in points.iter().enumerate() {
+            // The balls LANES at a time, each chunk with the best before it as its floor.
+            for from in (0..points.len()).step_by(LANES) {
+                let (balls, live) = Lanes::of(wrist, points, from);
                 let floor = best.map_or(least, |(bd, ..)| bd.max(least));
-                if let Some((d, q, k)) =
-                    self.deepest_rest(wrist + *p + shift, *margin, world, mask, &axes, floor)
-                {
-                    if best.is_none_or(|(bd, ..)| d > bd) {
-                        best = Some((d, q, k, i));
+                let (d, which, q) = self.deepest_lanes(
+                    &balls.moved(shift),
+                    live,
+                    world,
+                    mask,
+                    &axes,
+                    [floor; LANES],
+                );
+                for l in 0..LANES {
+                    if live >> l & 1 != 0
+                        && which[l] != u8::MAX
+                        && best.is_none_or(|(bd, ..)| d[l] > bd)
+                    {
+                        best = Some((d[l], q.at(l), usize::from(which[l]), from + l));
                     }
                 }
             }
@@ -1092,7 +1377,18 @@ impl BodySurface {
         // and the direction of the move there: the hand moved by -s n puts a ball at
         // `base + s dir`, so the search below rotates nothing.
         let balls = &points[..points.len().min(HAND_SPHERES)];
-        let mut base = [[Vec3::ZERO; HAND_SPHERES]; MAP_BONES.len()];
+        // By coordinate, per map and chunk (the radii in `margins`: under 2 KB to clear, which
+        // `memset` does without `rep stos`).
+        let mut base = [[[[0.0f32; LANES]; 3]; CHUNKS]; MAP_BONES.len()];
+        let mut margins = [[0.0f32; LANES]; CHUNKS];
+        for (i, (_, m)) in balls.iter().enumerate() {
+            margins[i / LANES][i % LANES] = *m;
+        }
+        // The lanes of each chunk that hold a ball.
+        let live = |c: usize| -> u32 {
+            let n = balls.len().saturating_sub(c * LANES).min(LANES);
+            (1u32 << n) - 1
+        };
         let mut hub = [Vec3::ZERO; MAP_BONES.len()];
         let mut dir = [Vec3::ZERO; MAP_BONES.len()];
         for (k, map) in self.maps.iter().enumerate() {
@@ -1104,8 +1400,10 @@ impl BodySurface {
             let at = |p: Vec3| map.rest + inv * (p - world.position[b]);
             dir[k] = inv * -n;
             hub[k] = at(wrist + hull.center);
-            for (q, (p, _)) in base[k].iter_mut().zip(balls) {
-                *q = at(wrist + *p);
+            for (i, (p, _)) in balls.iter().enumerate() {
+                let ([x, y, z], l) = (&mut base[k][i / LANES], i % LANES);
+                let q = at(wrist + *p);
+                (x[l], y[l], z[l]) = (q.x, q.y, q.z);
             }
         }
         // With the hand moved by -s n (in for s > 0): is the deepest ball deeper than 0
@@ -1120,9 +1418,18 @@ impl BodySurface {
                     return false;
                 };
                 map.may_hold(hub[k] + dir[k] * s, hull.reach, floor)
-                    && base[k].iter().zip(balls).any(|(q, (_, margin))| {
-                        map.depth_rest(*q + dir[k] * s, *margin, floor)
-                            .is_some_and(|d| if or_zero { d >= 0.0 } else { d > 0.0 })
+                    && base[k].iter().enumerate().any(|(c, lanes)| {
+                        let live = live(c);
+                        if live == 0 {
+                            return false;
+                        }
+                        let lanes = Lanes::along(lanes, margins[c], dir[k] * s);
+                        let (d, some) = map.depths(&lanes, &[floor; LANES]);
+                        let mut inside = [0u32; LANES];
+                        for l in 0..LANES {
+                            inside[l] = lane_bit(l, if or_zero { d[l] >= 0.0 } else { d[l] > 0.0 });
+                        }
+                        some & live & bits_of(inside) != 0
                     })
             })
         };
@@ -1143,8 +1450,9 @@ impl BodySurface {
         // When no other ball comes first (none inside just before it, one just after), that
         // is the hand's landing, for 2 checks of the hand instead of the 11-18 of a bisection.
         if let (Some(map), Some((_, margin))) = (self.maps[k0].as_ref(), balls.get(i0)) {
-            let along =
-                |s: f32| map.depth_rest(base[k0][i0] + dir[k0] * s, *margin, f32::NEG_INFINITY);
+            let [x, y, z] = &base[k0][i0 / LANES];
+            let start = Vec3::new(x[i0 % LANES], y[i0 % LANES], z[i0 % LANES]);
+            let along = |s: f32| map.depth_rest(start + dir[k0] * s, *margin, f32::NEG_INFINITY);
             let (mut s0, mut f0) = (0.0f32, d0);
             let mut s1 = -d0;
             for _ in 0..LAND_STEPS {
@@ -1163,7 +1471,7 @@ impl BodySurface {
                 only >> k0 & 1 != 0
                     && map.may_hold(hub[k0] + dir[k0] * after, hull.reach, 0.0)
                     && map
-                        .depth_rest(base[k0][i0] + dir[k0] * after, *margin, 0.0)
+                        .depth_rest(start + dir[k0] * after, *margin, 0.0)
                         .is_some_and(|d| d > 0.0)
             };
             if along(s1).is_some_and(|f| f.abs() <= LAND_TOLERANCE)
@@ -1354,5 +1662,131 @@ pub fn close_meeting(
         (total, Some(best))
     } else {
         (Vec3::ZERO, None)
+    }
+}
+
+#[cfg(all(test, not(target_arch = "wasm32")))]
+mod tests {
+    use super::*;
+
+    /// A stream of numbers in `[0, 1)` from a seed (xorshift), for maps and balls made up
+    /// whole from one proptest seed.
+    struct Draw(u64);
+
+    impl Draw {
+        fn next(&mut self) -> f32 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 >> 40) as f32 / (1u64 << 24) as f32
+        }
+
+        fn within(&mut self, lo: f32, hi: f32) -> f32 {
+            lo + (hi - lo) * self.next()
+        }
+
+        fn around(&mut self, c: Vec3, r: f32) -> Vec3 {
+            c + Vec3::new(self.within(-r, r), self.within(-r, r), self.within(-r, r))
+        }
+    }
+
+    /// A body of random maps (the head's a sphere, the torso's cylinders; skin radii 3-12
+    /// cm, rows of a cylinder's band 5-30), each bone posed at a random place and turn near
+    /// the others, so that balls scattered among them are inside some, near others' skin
+    /// and outside or beyond the band of the rest.
+    fn body(d: &mut Draw) -> (BodySurface, WorldPose) {
+        let mut world = WorldPose::default();
+        let maps = core::array::from_fn(|k| {
+            if d.next() < 0.2 {
+                return None;
+            }
+            let bone = MAP_BONES[k];
+            let (kind, rows) = if k == HEAD_MAP {
+                (MapKind::Sphere, HEAD_ROWS)
+            } else {
+                (MapKind::Cylinder, 5 + (d.next() * 25.0) as usize)
+            };
+            let rest = d.around(Vec3::new(0.0, 1.3, 0.0), 0.2);
+            let center = d.around(rest, 0.03);
+            let mut map = RadialMap::empty(bone, kind, center, rest.y - d.within(0.0, 0.1), rows);
+            for r in &mut map.radius {
+                *r = d.within(0.03, 0.12);
+            }
+            map.measure_widest();
+            map.rest = rest;
+            let b = bone.index();
+            world.position[b] = d.around(Vec3::new(0.0, 1.3, 0.0), 0.1);
+            world.rotation[b] = Quat::from_xyzw(
+                d.within(-1.0, 1.0),
+                d.within(-1.0, 1.0),
+                d.within(-1.0, 1.0),
+                d.within(-1.0, 1.0),
+            )
+            .normalize();
+            Some(map)
+        });
+        let surface = BodySurface {
+            maps,
+            finger_radius: [0.01; 2],
+            palm_half: [0.015; 2],
+            hand_excess: [[0.0; 2]; 2],
+            head_samples: Vec::new(),
+            samples: 0,
+        };
+        (surface, world)
+    }
+
+    /// Random balls among the maps (world), and a floor per lane: none, 0, or a depth.
+    fn balls(d: &mut Draw) -> (Lanes, [f32; LANES]) {
+        let mut b = Lanes::default();
+        let mut floor = [0.0; LANES];
+        for (l, floor) in floor.iter_mut().enumerate() {
+            let c = d.around(Vec3::new(0.0, 1.3, 0.0), 0.3);
+            (b.x[l], b.y[l], b.z[l], b.m[l]) = (c.x, c.y, c.z, d.within(0.004, 0.03));
+            *floor = match (d.next() * 3.0) as u32 {
+                0 => f32::NEG_INFINITY,
+                1 => 0.0,
+                _ => d.within(-0.05, 0.05),
+            };
+        }
+        (b, floor)
+    }
+
+    proptest::proptest! {
+        /// [`RadialMap::depths`] and [`BodySurface::deepest_lanes`], a map asked for LANES
+        /// balls at once, give each ball's answer of [`RadialMap::depth_rest`] and
+        /// [`BodySurface::deepest_rest`] asked one ball at a time, to the bit (the depth, the
+        /// map, the point in its rest frame, and which balls have none), on random maps and
+        /// balls inside, near and far from them.
+        #[test]
+        fn lanes_give_every_balls_answer_to_the_bit(seed in 1u64.., mask in 1u8..64) {
+            let mut d = Draw(seed);
+            let (surface, world) = body(&mut d);
+            let (p, floor) = balls(&mut d);
+            let axes = surface.axes(&world, mask);
+            let (best, which, at) = surface.deepest_lanes(&p, 0xff, &world, mask, &axes, floor);
+            for l in 0..LANES {
+                let one = surface.deepest_rest(p.at(l), p.m[l], &world, mask, &axes, floor[l]);
+                let lanes = (which[l] != u8::MAX)
+                    .then(|| (best[l].to_bits(), at.at(l).to_array().map(f32::to_bits), usize::from(which[l])));
+                let one = one.map(|(d, q, k)| (d.to_bits(), q.to_array().map(f32::to_bits), k));
+                proptest::prop_assert_eq!(lanes, one, "ball {}", l);
+            }
+            for map in surface.maps.iter().flatten() {
+                let b = map.bone.index();
+                let inv = world.rotation[b].inverse();
+                let mut q = p;
+                for l in 0..LANES {
+                    let r = map.rest + inv * (p.at(l) - world.position[b]);
+                    (q.x[l], q.y[l], q.z[l]) = (r.x, r.y, r.z);
+                }
+                let (depth, some) = map.depths(&q, &floor);
+                for l in 0..LANES {
+                    let lanes = (some >> l & 1 != 0).then(|| depth[l].to_bits());
+                    let one = map.depth_rest(q.at(l), q.m[l], floor[l]).map(f32::to_bits);
+                    proptest::prop_assert_eq!(lanes, one, "ball {}", l);
+                }
+            }
+        }
     }
 }

@@ -37,9 +37,9 @@ pub fn atan2_fast(y: f32, x: f32) -> f32 {
     let (ax, ay) = (x.abs(), y.abs());
     let steep = ay > ax;
     let (num, den) = if steep { (ax, ay) } else { (ay, ax) };
-    if den == 0.0 {
-        return if x < 0.0 { PI } else { 0.0 };
-    }
+    // No early return: every step a select, so that a loop over lanes of points (the skin's
+    // maps asked for several balls at once) becomes vector instructions. The origin's answer
+    // is chosen at the end, over the polynomial's NaN.
     let a = num / den;
     let s = a * a;
     let p = -0.002_866_225_7_f32;
@@ -57,8 +57,13 @@ pub fn atan2_fast(y: f32, x: f32) -> f32 {
     if x < 0.0 {
         r = PI - r;
     }
-    if y < 0.0 {
-        -r
+    let r = if y < 0.0 { -r } else { r };
+    if den == 0.0 {
+        if x < 0.0 {
+            PI
+        } else {
+            0.0
+        }
     } else {
         r
     }
