@@ -1303,6 +1303,11 @@ impl BodySurface {
         self.land(wrist, points, world, [true; MAP_BONES.len()], true)
     }
 
+    // One lane in the `.wasm` without SIMD: a ball's lane is then `i % 1`.
+    #[cfg_attr(
+        all(target_arch = "wasm32", not(target_feature = "simd128")),
+        allow(clippy::modulo_one)
+    )]
     fn land(
         &self,
         wrist: Vec3,
