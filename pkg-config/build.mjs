@@ -167,13 +167,22 @@ const WASM_FEATURES = [
   "--enable-multivalue",
 ];
 
+// wasm-opt's inlining, after LLVM's (which already inlined what pays per frame): no function is
+// inlined only because it has one caller (binaryen's default inlines every such function,
+// whatever its size: the constructors' and readers' out-of-line parts were copied into their
+// one caller and grew there), and the "flexible" inlining stops at 10 bytes of body instead of
+// 20. gzip -9 of the SIMD build 255,763 -> 249,583 bytes, the baseline 254,068 -> 247,836, the
+// frame no slower (node eval/speed.mjs, woman-vrm1, alternated with main's package:
+// docs/measurements/2026-12-05-size.md, 2026-12-08).
+const WASM_OPT_INLINING = ["--one-caller-inline-max-function-size=0", "--flexible-inline-max-function-size=10"];
+
 function wasmOpt(input, output, simd = false) {
   const bin = path.join(here, "node_modules", ".bin", "wasm-opt");
   if (!fs.existsSync(bin)) fail(`${bin} is missing; run \`make setup\` (npm ci --prefix pkg-config)`);
   // Names and producers sections only add bytes: with panic=abort there are no symbolized
   // panics to print.
   const features = simd ? [...WASM_FEATURES, "--enable-simd"] : WASM_FEATURES;
-  run(bin, ["-O3", ...features, "--strip-debug", "--strip-producers", input, "-o", output]);
+  run(bin, ["-O3", ...WASM_OPT_INLINING, ...features, "--strip-debug", "--strip-producers", input, "-o", output]);
 }
 
 // Prepended to both glues: which .wasm to load. The probe is the smallest module using a SIMD
