@@ -1438,26 +1438,24 @@ impl BodySurface {
                     })
             })
         };
-        if d0 < 0.0 && !reaches(hi, true) {
-            return -n * hi;
-        }
-        if d0 >= 0.0 && reaches(lo, false) {
-            return -n * lo;
-        }
-        // Where the deepest ball alone would land (moved by its depth along the normal) is
-        // where the hand lands unless another ball comes first: when the landing lies within
-        // a millimeter of it, that bracket needs 9 halvings; otherwise the whole one 16 (at
-        // most twice the depth plus 1 cm), to a few micrometers either way (coarser, the
-        // landing differed by a bisection step between the SIMD and the baseline builds: 2e-4
-        // in the arm's rotations on `eat`).
         // The deepest ball alone lands where its own depth along the move is 0: a few secant
-        // steps on that one ball (its map, its rest-frame line) find it to a micrometer.
-        // When no other ball comes first (none inside just before it, one just after), that
-        // is the hand's landing, for 2 checks of the hand instead of the 11-18 of a bisection.
-        if let (Some(map), Some((_, margin))) = (self.maps[k0].as_ref(), balls.get(i0)) {
-            let [x, y, z] = &base[k0][i0 / LANES];
-            let start = Vec3::new(x[i0 % LANES], y[i0 % LANES], z[i0 % LANES]);
-            let along = |s: f32| map.depth_rest(start + dir[k0] * s, *margin, f32::NEG_INFINITY);
+        // steps on that one ball (its map, its rest-frame line) find it to a micrometer (the
+        // line's first crossing into its map, from outside: the secant starts on the near
+        // side, between 0 and that ball's own distance).
+        let ball = self.maps[k0]
+            .as_ref()
+            .zip(balls.get(i0))
+            .map(|(map, (_, margin))| {
+                let [x, y, z] = &base[k0][i0 / LANES];
+                let start = Vec3::new(x[i0 % LANES], y[i0 % LANES], z[i0 % LANES]);
+                (map, start, *margin)
+            });
+        let along = |s: f32| {
+            ball.and_then(|(map, start, margin)| {
+                map.depth_rest(start + dir[k0] * s, margin, f32::NEG_INFINITY)
+            })
+        };
+        let own_landing = || {
             let (mut s0, mut f0) = (0.0f32, d0);
             let mut s1 = -d0;
             for _ in 0..LAND_STEPS {
@@ -1468,6 +1466,39 @@ impl BodySurface {
                 let next = s1 - f1 * (s1 - s0) / (f1 - f0);
                 (s0, f0, s1) = (s1, f1, next);
             }
+            s1
+        };
+        if d0 < 0.0 && !reaches(hi, true) {
+            // No ball inside at the bracket's far end: the hand misses the body along this
+            // line, or passes through it (a hand far in front of a body thinner than its
+            // distance: the far end is behind the body, and landing there put a hand 30 cm
+            // before the man's chest 2 cm behind his back). Where the deepest ball's own
+            // landing is found and that ball is inside just after it, the line enters the body
+            // there: the bracket ends just past it, and the hand lands at the first crossing.
+            let s1 = own_landing();
+            let enters = along(s1).is_some_and(|f| f.abs() <= LAND_TOLERANCE)
+                && (lo..=hi).contains(&s1)
+                && along(s1 + LAND_CHECK).is_some_and(|f| f > 0.0);
+            if !enters {
+                return -n * hi;
+            }
+            hi = s1 + LAND_CHECK;
+        }
+        if d0 >= 0.0 && reaches(lo, false) {
+            return -n * lo;
+        }
+        // Where the deepest ball alone would land (moved by its depth along the normal) is
+        // where the hand lands unless another ball comes first: when the landing lies within
+        // a millimeter of it, that bracket needs 9 halvings; otherwise the whole one 16 (at
+        // most twice the depth plus 1 cm), to a few micrometers either way (coarser, the
+        // landing differed by a bisection step between the SIMD and the baseline builds: 2e-4
+        // in the arm's rotations on `eat`).
+        // When no other ball comes first (none inside just before the deepest ball's own
+        // landing, one just after), that is the hand's landing, for 2 checks of the hand
+        // instead of the 11-18 of a bisection.
+        if let Some((map, start, margin)) = ball {
+            let s1 = own_landing();
+            let margin = &margin;
             // In just after: the deepest ball is inside there by construction, so it is asked
             // first (its map's bound, then its depth, as `reaches` asks them); the whole hand
             // only when it says no (`reaches` is true when any ball is).

@@ -175,6 +175,41 @@ fn settle_lands_the_nearest_sphere_on_the_skin_and_push_takes_it_out() {
 }
 
 #[test]
+fn a_hand_far_before_a_thin_torso_lands_on_its_front() {
+    // The landing's bracket reaches twice the hand's distance past it: from 30 cm before a
+    // torso 28 cm deep, that end lies behind the back, where no ball is inside; the landing
+    // then took the hand there (`hungry` on the man: a curved hand 30 cm before his chest
+    // was carried 54 cm back, and the chest blend's share of that left it in his chest, to
+    // be pushed out 19 cm sideways). It lands on the front, at the first crossing.
+    let (skel, _, surface) = fixture();
+    let world = rest_world(&skel);
+    let mut torso = [true; MAP_BONES.len()];
+    torso[skin::HEAD_MAP] = false;
+    torso[skin::NECK_MAP] = false;
+    let spheres = [
+        (Vec3::ZERO, 0.012),
+        (Vec3::new(0.0, 0.04, -0.02), 0.01),
+        (Vec3::new(0.03, 0.07, -0.04), 0.008),
+    ];
+    let chest = skel.rest_world(B::Chest).unwrap();
+    for gap in [0.05, 0.3, 0.5] {
+        let wrist = Vec3::new(0.0, chest.y + 0.02, TORSO_R + 0.04 + gap);
+        let shift = surface.settle(wrist, &spheres, &world, torso);
+        let deepest = surface.deepest(wrist + shift, &spheres, &world, f32::NEG_INFINITY);
+        assert!(
+            deepest.abs() < 0.002,
+            "{gap} m off: the deepest ball {:.1} mm deep after the landing",
+            deepest * 1e3
+        );
+        assert!(
+            (wrist + shift).z > TORSO_R,
+            "{gap} m off: the hand landed at {}, not on the torso's front",
+            wrist + shift
+        );
+    }
+}
+
+#[test]
 fn close_brings_two_hands_into_touch() {
     let l = [(Vec3::ZERO, 0.01), (Vec3::new(0.05, 0.0, 0.0), 0.015)];
     let r = [(Vec3::ZERO, 0.01), (Vec3::new(-0.05, 0.02, 0.0), 0.015)];
