@@ -134,6 +134,13 @@ fn maps_follow_a_turned_head() {
     assert!((d_rest - d).abs() > 0.005, "{d_rest} vs {d}");
 }
 
+/// A hand of three balls (centers relative to the wrist, radii), for the landing's tests.
+const THREE_BALLS: [(Vec3, f32); 3] = [
+    (Vec3::ZERO, 0.012),
+    (Vec3::new(0.0, 0.04, -0.02), 0.01),
+    (Vec3::new(0.03, 0.07, -0.04), 0.008),
+];
+
 #[test]
 fn settle_lands_the_nearest_sphere_on_the_skin_and_push_takes_it_out() {
     let (skel, center, surface) = fixture();
@@ -141,11 +148,7 @@ fn settle_lands_the_nearest_sphere_on_the_skin_and_push_takes_it_out() {
     let mut only = [false; MAP_BONES.len()];
     only[skin::HEAD_MAP] = true;
     // A hand of three spheres in front of the face, 5 cm off; then the same 3 cm inside.
-    let spheres = [
-        (Vec3::ZERO, 0.012),
-        (Vec3::new(0.0, 0.04, -0.02), 0.01),
-        (Vec3::new(0.03, 0.07, -0.04), 0.008),
-    ];
+    let spheres = THREE_BALLS;
     for gap in [0.05, -0.03] {
         let wrist = center + Vec3::new(0.0, -0.07, HEAD_R + 0.04 + gap);
         let shift = surface.settle(wrist, &spheres, &world, only);
@@ -186,11 +189,7 @@ fn a_hand_far_before_a_thin_torso_lands_on_its_front() {
     let mut torso = [true; MAP_BONES.len()];
     torso[skin::HEAD_MAP] = false;
     torso[skin::NECK_MAP] = false;
-    let spheres = [
-        (Vec3::ZERO, 0.012),
-        (Vec3::new(0.0, 0.04, -0.02), 0.01),
-        (Vec3::new(0.03, 0.07, -0.04), 0.008),
-    ];
+    let spheres = THREE_BALLS;
     let chest = skel.rest_world(B::Chest).unwrap();
     for gap in [0.05, 0.3, 0.5] {
         let wrist = Vec3::new(0.0, chest.y + 0.02, TORSO_R + 0.04 + gap);
