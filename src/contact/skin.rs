@@ -1439,9 +1439,8 @@ impl BodySurface {
             })
         };
         // The deepest ball alone lands where its own depth along the move is 0: a few secant
-        // steps on that one ball (its map, its rest-frame line) find it to a micrometer (the
-        // line's first crossing into its map, from outside: the secant starts on the near
-        // side, between 0 and that ball's own distance).
+        // steps on that one ball (its map, its rest-frame line) find it to a micrometer (from
+        // outside, its first steps lie between 0 and that ball's own distance).
         let ball = self.maps[k0]
             .as_ref()
             .zip(balls.get(i0))
@@ -1468,6 +1467,7 @@ impl BodySurface {
             }
             s1
         };
+        let mut landing = None;
         if d0 < 0.0 && !reaches(hi, true) {
             // No ball inside at the bracket's far end: the hand misses the body along this
             // line, or passes through it (a hand far in front of a body thinner than its
@@ -1483,6 +1483,7 @@ impl BodySurface {
                 return -n * hi;
             }
             hi = s1 + LAND_CHECK;
+            landing = Some(s1);
         }
         if d0 >= 0.0 && reaches(lo, false) {
             return -n * lo;
@@ -1497,8 +1498,7 @@ impl BodySurface {
         // landing, one just after), that is the hand's landing, for 2 checks of the hand
         // instead of the 11-18 of a bisection.
         if let Some((map, start, margin)) = ball {
-            let s1 = own_landing();
-            let margin = &margin;
+            let s1 = landing.unwrap_or_else(own_landing);
             // In just after: the deepest ball is inside there by construction, so it is asked
             // first (its map's bound, then its depth, as `reaches` asks them); the whole hand
             // only when it says no (`reaches` is true when any ball is).
@@ -1507,7 +1507,7 @@ impl BodySurface {
                 only >> k0 & 1 != 0
                     && map.may_hold(hub[k0] + dir[k0] * after, hull.reach, 0.0)
                     && map
-                        .depth_rest(start + dir[k0] * after, *margin, 0.0)
+                        .depth_rest(start + dir[k0] * after, margin, 0.0)
                         .is_some_and(|d| d > 0.0)
             };
             if along(s1).is_some_and(|f| f.abs() <= LAND_TOLERANCE)
