@@ -179,11 +179,11 @@ fn settle_lands_the_nearest_sphere_on_the_skin_and_push_takes_it_out() {
 
 #[test]
 fn a_hand_far_before_a_thin_torso_lands_on_its_front() {
-    // The landing's bracket reaches twice the hand's distance past it: from 30 cm before a
-    // torso 28 cm deep, that end lies behind the back, where no ball is inside; the landing
-    // then took the hand there (`hungry` on the man: a curved hand 30 cm before his chest
-    // was carried 54 cm back, and the chest blend's share of that left it in his chest, to
-    // be pushed out 19 cm sideways). It lands on the front, at the first crossing.
+    // The landing's bracket reaches twice the hand's distance past it: from far enough before
+    // a torso (here 28 cm deep; the 0.5 m case), that end lies behind the back, where no ball
+    // is inside, and the landing took the hand there (`hungry` on the man: a curved hand 30 cm
+    // before his chest was carried 54 cm back, and the chest blend's share of that left it in
+    // his chest, to be pushed out 19 cm sideways). It lands on the front, at the first crossing.
     let (skel, _, surface) = fixture();
     let world = rest_world(&skel);
     let mut torso = [true; MAP_BONES.len()];
